@@ -1,0 +1,34 @@
+# odomcal_add_library(NAME SOURCES ... HEADERS ... PUBLIC_LIBS ... PRIVATE_LIBS ...)
+# One library per top-level folder, aliased odomcal::NAME, installed and exported.
+function(odomcal_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;HEADERS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  add_library(${name} ${ARG_SOURCES} ${ARG_HEADERS})
+  add_library(odomcal::${name} ALIAS ${name})
+  target_compile_features(${name} PUBLIC cxx_std_17)
+  target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic)
+  target_include_directories(${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
+    $<INSTALL_INTERFACE:include>)
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_LIBS} PRIVATE ${ARG_PRIVATE_LIBS})
+  set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  file(RELATIVE_PATH folder ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
+  install(TARGETS ${name} EXPORT odomcalTargets
+          ARCHIVE DESTINATION lib LIBRARY DESTINATION lib)
+  install(FILES ${ARG_HEADERS} DESTINATION include/odomcal/${folder})
+endfunction()
+
+# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...])
+# One gtest binary per module; tests are discovered individually by ctest.
+function(odomcal_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_compile_options(${name} PRIVATE -Wall -Wextra)
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  if(NOT ARG_LABELS)
+    set(ARG_LABELS unit)
+  endif()
+  gtest_discover_tests(${name}
+    WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+    PROPERTIES LABELS "${ARG_LABELS}"
+    DISCOVERY_TIMEOUT 60)
+endfunction()

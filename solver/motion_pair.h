@@ -1,0 +1,42 @@
+// A relative motion seen by both the wheel odometer and the camera.
+//
+// Both sides of the hand-eye equation are odom_i_from_cam_j:
+//   odom_i_from_odom_j * odom_from_cam == odom_from_cam * cam_i_from_cam_j(s)
+// where cam_i_from_cam_j(s) has its translation multiplied by the metric scale
+// s of the camera's segment (metres per reconstruction unit).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odomcal/solver/rigid3.h"
+
+namespace odomcal {
+
+// 6x6 covariance of a relative motion, order [rotation(3), translation(3)];
+// rotation as a left perturbation R = Exp(phi) * R_hat in radians, translation
+// additive in the motion's own units (metres for odometry, reconstruction
+// units for the camera).
+using MotionCovariance = Eigen::Matrix<double, 6, 6>;
+
+struct MotionPair {
+  Rigid3d odom_i_from_odom_j;  // metric, from the wheel odometry
+  Rigid3d cam_i_from_cam_j;    // from SfM, translation in reconstruction units
+  int segment = 0;             // index of the SfM segment (its own scale)
+  int64_t stamp_i_ns = 0;
+  int64_t stamp_j_ns = 0;
+  // Optional per-motion covariances; when absent, CalibrationOptions' noise
+  // parameters define them.
+  std::optional<MotionCovariance> odom_covariance;
+  std::optional<MotionCovariance> cam_covariance;
+};
+
+using MotionPairs = std::vector<MotionPair>;
+
+// Number of segments: 1 + the largest segment index (0 for no pairs).
+int NumSegments(const MotionPairs& pairs);
+
+}  // namespace odomcal

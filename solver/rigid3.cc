@@ -1,0 +1,71 @@
+#include "odomcal/solver/rigid3.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace odomcal {
+
+Eigen::Matrix4d Rigid3d::ToMatrix() const {
+  Eigen::Matrix4d matrix = Eigen::Matrix4d::Identity();
+  matrix.topLeftCorner<3, 3>() = rotation.toRotationMatrix();
+  matrix.topRightCorner<3, 1>() = translation;
+  return matrix;
+}
+
+Rigid3d operator*(const Rigid3d& c_from_b, const Rigid3d& b_from_a) {
+  return Rigid3d((c_from_b.rotation * b_from_a.rotation).normalized(),
+                 c_from_b.rotation * b_from_a.translation + c_from_b.translation);
+}
+
+Rigid3d Inverse(const Rigid3d& b_from_a) {
+  const Eigen::Quaterniond a_from_b_rotation = b_from_a.rotation.conjugate();
+  return Rigid3d(a_from_b_rotation, -(a_from_b_rotation * b_from_a.translation));
+}
+
+double RotationAngle(const Eigen::Quaterniond& q) {
+  return LogRotation(q).norm();
+}
+
+Eigen::Vector3d LogRotation(const Eigen::Quaterniond& q) {
+  const Eigen::Quaterniond positive = WithPositiveScalar(q.normalized());
+  const double sin_half = positive.vec().norm();
+  // atan2 keeps full precision for both tiny and near-pi angles.
+  const double angle = 2.0 * std::atan2(sin_half, positive.w());
+  if (sin_half < 1e-12) {
+    return 2.0 * positive.vec();  // first order: q ~ [1, phi / 2]
+  }
+  return positive.vec() * (angle / sin_half);
+}
+
+Eigen::Quaterniond ExpRotation(const Eigen::Vector3d& phi) {
+  const double angle = phi.norm();
+  if (angle < 1e-12) {
+    return Eigen::Quaterniond(1.0, 0.5 * phi.x(), 0.5 * phi.y(), 0.5 * phi.z())
+        .normalized();
+  }
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle));
+}
+
+Eigen::Quaterniond YawRotation(double yaw_rad) {
+  return Eigen::Quaterniond(
+      std::cos(0.5 * yaw_rad), 0.0, 0.0, std::sin(0.5 * yaw_rad));
+}
+
+Eigen::Quaterniond WithPositiveScalar(const Eigen::Quaterniond& q) {
+  return q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q;
+}
+
+Eigen::Vector3d RollPitchYaw(const Eigen::Quaterniond& q) {
+  const Eigen::Matrix3d r = q.normalized().toRotationMatrix();
+  const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  const double roll = std::atan2(r(2, 1), r(2, 2));
+  const double yaw = std::atan2(r(1, 0), r(0, 0));
+  return Eigen::Vector3d(roll, pitch, yaw);
+}
+
+bool IsFinite(const Rigid3d& transform) {
+  return transform.rotation.coeffs().allFinite() &&
+         transform.translation.allFinite();
+}
+
+}  // namespace odomcal
