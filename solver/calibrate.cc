@@ -1,0 +1,454 @@
+// CalibrateOdomCam(): validation, excitation and consistency diagnostics,
+// pair selection, closed form, refinement, covariance and observability,
+// residuals. Each refusal returns early with a status that names the cause.
+
+#include "odomcal/solver/calibrate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+#include "odomcal/solver/hand_eye_linear.h"
+#include "odomcal/solver/hand_eye_ransac.h"
+#include "odomcal/solver/hand_eye_refine.h"
+#include "odomcal/solver/hand_eye_residual.h"
+
+namespace odomcal {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+// Eigenvalues of the diagonally normalised information below this fraction of
+// the largest span its (numerical) null space.
+constexpr double kNullSpaceTolerance = 1e-10;
+// A parameter takes part in a null direction when its component is above this.
+constexpr double kNullComponentTolerance = 0.1;
+
+std::string Join(const std::vector<std::string>& names) {
+  std::string joined;
+  for (const std::string& name : names) {
+    joined += (joined.empty() ? "" : ", ") + name;
+  }
+  return joined;
+}
+
+std::string FormatDouble(double value, int precision = 3) {
+  std::ostringstream stream;
+  stream.precision(precision);
+  stream << value;
+  return stream.str();
+}
+
+void ValidatePairs(const MotionPairs& pairs) {
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const MotionPair& pair = pairs[i];
+    const std::string where = "motion pair " + std::to_string(i);
+    if (!IsFinite(pair.odom_i_from_odom_j) || !IsFinite(pair.cam_i_from_cam_j)) {
+      throw std::invalid_argument(where + " has a non-finite value");
+    }
+    if (std::abs(pair.odom_i_from_odom_j.rotation.norm() - 1.0) > 1e-6 ||
+        std::abs(pair.cam_i_from_cam_j.rotation.norm() - 1.0) > 1e-6) {
+      throw std::invalid_argument(where + " has a non-unit quaternion");
+    }
+    if (pair.segment < 0) {
+      throw std::invalid_argument(where + " has a negative segment index " +
+                                  std::to_string(pair.segment));
+    }
+    for (const auto* covariance : {&pair.odom_covariance, &pair.cam_covariance}) {
+      if (*covariance && !(*covariance)->allFinite()) {
+        throw std::invalid_argument(where + " has a non-finite covariance");
+      }
+    }
+  }
+}
+
+std::string ScaleName(int segment, int num_segments) {
+  return num_segments == 1 ? "metric_scale"
+                           : "metric_scale[" + std::to_string(segment) + "]";
+}
+
+double YawDeg(const MotionPair& pair) {
+  return LogRotation(pair.odom_i_from_odom_j.rotation).z() * kRadToDeg;
+}
+
+void MeasureExcitation(const MotionPairs& pairs,
+                       const CalibrationOptions& options,
+                       CalibrationDiagnostics* diagnostics) {
+  std::vector<double> yaws;
+  for (const MotionPair& pair : pairs) yaws.push_back(YawDeg(pair));
+  if (yaws.empty()) return;
+  diagnostics->yaw_increment_min_deg = *std::min_element(yaws.begin(), yaws.end());
+  diagnostics->yaw_increment_max_deg = *std::max_element(yaws.begin(), yaws.end());
+  const double mean =
+      std::accumulate(yaws.begin(), yaws.end(), 0.0) / yaws.size();
+  double variance = 0.0;
+  for (const double yaw : yaws) variance += (yaw - mean) * (yaw - mean);
+  diagnostics->yaw_increment_stddev_deg = std::sqrt(variance / yaws.size());
+  for (const double yaw : yaws) {
+    diagnostics->num_left_turns += yaw >= options.min_rotation_deg;
+    diagnostics->num_right_turns += yaw <= -options.min_rotation_deg;
+  }
+  diagnostics->num_rotating_pairs =
+      diagnostics->num_left_turns + diagnostics->num_right_turns;
+
+  // The rotation angle is invariant under conjugation by the extrinsic.
+  for (const MotionPair& pair : pairs) {
+    const double mismatch =
+        std::abs(RotationAngle(pair.odom_i_from_odom_j.rotation) -
+                 RotationAngle(pair.cam_i_from_cam_j.rotation)) *
+        kRadToDeg;
+    diagnostics->angle_mismatch_deg.push_back(mismatch);
+    diagnostics->num_angle_mismatches +=
+        mismatch > options.max_angle_mismatch_deg;
+  }
+}
+
+// Numerical Jacobian of roll-pitch-yaw with respect to a left perturbation.
+Eigen::Matrix3d RollPitchYawJacobian(const Eigen::Quaterniond& q) {
+  constexpr double kStep = 1e-7;
+  Eigen::Matrix3d jacobian;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d delta = Eigen::Vector3d::Unit(k) * kStep;
+    Eigen::Vector3d diff = RollPitchYaw(ExpRotation(delta) * q) -
+                           RollPitchYaw(ExpRotation(-delta) * q);
+    for (int j = 0; j < 3; ++j) {  // unwrap angles across +-pi
+      diff(j) = std::remainder(diff(j), 2.0 * kPi);
+    }
+    jacobian.col(k) = diff / (2.0 * kStep);
+  }
+  return jacobian;
+}
+
+// Covariance, standard deviations and the observability verdict from the
+// information matrix in [rx, ry, rz, tx, ty, s_k...] order.
+void AnalyseInformation(const Eigen::MatrixXd& information,
+                        const std::vector<int>& segments,
+                        int num_segments,
+                        const CalibrationOptions& options,
+                        CalibrationResult* result) {
+  std::vector<std::string> names = {
+      "rotation", "rotation", "rotation", "translation_x", "translation_y"};
+  for (const int segment : segments) {
+    names.push_back(ScaleName(segment, num_segments));
+  }
+  auto add_unobservable = [&](const std::string& name) {
+    if (std::find(result->unobservable.begin(), result->unobservable.end(),
+                  name) == result->unobservable.end()) {
+      result->unobservable.push_back(name);
+    }
+  };
+  const int n = static_cast<int>(information.rows());
+  const Eigen::VectorXd diag = information.diagonal();
+  if (n == 0 || !information.allFinite()) {
+    add_unobservable("rotation");
+    return;
+  }
+  Eigen::VectorXd inv_sqrt(n);
+  for (int k = 0; k < n; ++k) {
+    inv_sqrt(k) = diag(k) > 0.0 ? 1.0 / std::sqrt(diag(k)) : 0.0;
+    if (!(diag(k) > 0.0)) add_unobservable(names[k]);
+  }
+  const Eigen::MatrixXd normalized =
+      inv_sqrt.asDiagonal() * information * inv_sqrt.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normalized);
+  const double largest = eig.eigenvalues().maxCoeff();
+  bool singular = false;
+  for (int k = 0; k < n; ++k) {
+    if (eig.eigenvalues()(k) > kNullSpaceTolerance * largest) continue;
+    singular = true;
+    for (int j = 0; j < n; ++j) {
+      if (std::abs(eig.eigenvectors()(j, k)) > kNullComponentTolerance) {
+        add_unobservable(names[j]);
+      }
+    }
+  }
+  if (singular) {
+    return;
+  }
+  const Eigen::MatrixXd covariance =
+      inv_sqrt.asDiagonal() *
+      eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+      eig.eigenvectors().transpose() * inv_sqrt.asDiagonal();
+  result->covariance = covariance;
+  const Eigen::Matrix3d rotation_covariance = covariance.topLeftCorner<3, 3>();
+  result->stddev_rotation_axes_deg =
+      rotation_covariance.diagonal().cwiseSqrt() * kRadToDeg;
+  const Eigen::Matrix3d rpy_jacobian =
+      RollPitchYawJacobian(result->odom_from_cam.rotation);
+  result->stddev_roll_pitch_yaw_deg =
+      (rpy_jacobian * rotation_covariance * rpy_jacobian.transpose())
+          .diagonal()
+          .cwiseSqrt() *
+      kRadToDeg;
+  result->stddev_translation_xy_m =
+      covariance.block<2, 2>(3, 3).diagonal().cwiseSqrt();
+  result->stddev_metric_scales_rel.assign(num_segments, 0.0);
+  for (size_t k = 0; k < segments.size(); ++k) {
+    const double scale = result->metric_scales[segments[k]];
+    result->stddev_metric_scales_rel[segments[k]] =
+        std::sqrt(covariance(5 + k, 5 + k)) / scale;
+  }
+
+  if (result->stddev_rotation_axes_deg.maxCoeff() >
+      options.max_rotation_stddev_deg) {
+    add_unobservable("rotation");
+  }
+  if (result->stddev_translation_xy_m.x() > options.max_translation_stddev_m) {
+    add_unobservable("translation_x");
+  }
+  if (result->stddev_translation_xy_m.y() > options.max_translation_stddev_m) {
+    add_unobservable("translation_y");
+  }
+  for (const int segment : segments) {
+    if (result->stddev_metric_scales_rel[segment] >
+        options.max_scale_stddev_rel) {
+      add_unobservable(ScaleName(segment, num_segments));
+    }
+  }
+}
+
+void ComputeResiduals(const MotionPairs& pairs,
+                      const std::vector<int>& used,
+                      const CalibrationOptions& options,
+                      CalibrationResult* result) {
+  CalibrationDiagnostics& d = result->diagnostics;
+  d.rotation_residual_deg.assign(pairs.size(), 0.0);
+  d.translation_residual_m.assign(pairs.size(), 0.0);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const double scale = result->metric_scales[pairs[i].segment];
+    if (!std::isfinite(scale)) continue;
+    const PairError error = EvaluatePair(pairs[i], result->odom_from_cam, scale);
+    d.rotation_residual_deg[i] = error.rotation_deg;
+    d.translation_residual_m[i] = error.translation_m;
+  }
+  double sum_rot2 = 0.0, sum_t2 = 0.0, sum_step2 = 0.0, chi2 = 0.0;
+  for (const int i : used) {
+    const MotionPair& pair = pairs[i];
+    const double scale = result->metric_scales[pair.segment];
+    sum_rot2 += d.rotation_residual_deg[i] * d.rotation_residual_deg[i];
+    sum_t2 += d.translation_residual_m[i] * d.translation_residual_m[i];
+    sum_step2 += pair.odom_i_from_odom_j.translation.squaredNorm();
+    d.max_rotation_residual_deg =
+        std::max(d.max_rotation_residual_deg, d.rotation_residual_deg[i]);
+    d.max_translation_residual_m =
+        std::max(d.max_translation_residual_m, d.translation_residual_m[i]);
+    chi2 += (HandEyeSqrtInformation(
+                 pair, result->odom_from_cam, scale, options.noise) *
+             HandEyeResidual(pair, result->odom_from_cam, scale))
+                .squaredNorm();
+  }
+  const double count = static_cast<double>(std::max<size_t>(1, used.size()));
+  d.rms_rotation_residual_deg = std::sqrt(sum_rot2 / count);
+  d.rms_translation_residual_m = std::sqrt(sum_t2 / count);
+  d.relative_translation_residual =
+      sum_step2 > 0.0 ? std::sqrt(sum_t2 / sum_step2) : 0.0;
+  const double dof = 6.0 * used.size() - (5.0 + d.num_pairs_per_segment.size());
+  d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
+}
+
+CalibrationResult Refuse(CalibrationResult result,
+                         CalibrationStatus status,
+                         const std::string& message) {
+  result.status = status;
+  result.message = message;
+  return result;
+}
+
+}  // namespace
+
+CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
+                                   const CalibrationOptions& options) {
+  options.Check();
+  ValidatePairs(pairs);
+
+  CalibrationResult result;
+  result.unobservable = {"translation_z"};
+  CalibrationDiagnostics& d = result.diagnostics;
+  const int num_pairs = static_cast<int>(pairs.size());
+  const int num_segments = NumSegments(pairs);
+  d.num_pairs_in = num_pairs;
+  d.inlier_mask.assign(pairs.size(), 0);
+  MeasureExcitation(pairs, options, &d);
+
+  if (num_pairs < options.min_num_pairs) {
+    return Refuse(result, CalibrationStatus::kNotEnoughMotion,
+                  "only " + std::to_string(num_pairs) +
+                      " motion pairs; at least " +
+                      std::to_string(options.min_num_pairs) + " are needed");
+  }
+  if (d.num_rotating_pairs == 0) {
+    result.unobservable = {"rotation", "translation_x", "translation_y",
+                           "translation_z"};
+    return Refuse(
+        result, CalibrationStatus::kUnobservable,
+        "no motion pair rotates by more than " +
+            FormatDouble(options.min_rotation_deg) +
+            " deg (straight driving or no motion): the rotation and the x/y "
+            "translation of the extrinsic cannot be determined; drive turns "
+            "in both directions");
+  }
+  if (d.num_rotating_pairs < options.min_num_rotating_pairs) {
+    return Refuse(result, CalibrationStatus::kNotEnoughMotion,
+                  "only " + std::to_string(d.num_rotating_pairs) +
+                      " motion pairs rotate by more than " +
+                      FormatDouble(options.min_rotation_deg) + " deg; " +
+                      std::to_string(options.min_num_rotating_pairs) +
+                      " are needed");
+  }
+  if (2 * d.num_angle_mismatches > num_pairs) {
+    return Refuse(
+        result, CalibrationStatus::kInconsistentData,
+        std::to_string(d.num_angle_mismatches) + " of " +
+            std::to_string(num_pairs) +
+            " pairs have camera and odometry rotation angles differing by "
+            "more than " +
+            FormatDouble(options.max_angle_mismatch_deg) +
+            " deg, which no extrinsic can explain: check the time "
+            "association (clock offset, time unit) and the pose inputs");
+  }
+
+  // Pair selection.
+  std::vector<int> all(pairs.size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<int> used;
+  if (options.use_ransac) {
+    const RansacResult ransac = RansacOdomFromCam(pairs, all, options);
+    d.ransac_num_iterations = ransac.num_iterations;
+    if (!ransac.success || ransac.num_inliers < options.min_num_pairs) {
+      return Refuse(result, CalibrationStatus::kInconsistentData,
+                    "RANSAC found no consistent set of at least " +
+                        std::to_string(options.min_num_pairs) +
+                        " motion pairs");
+    }
+    for (int i = 0; i < num_pairs; ++i) {
+      if (ransac.inlier_mask[i]) used.push_back(i);
+    }
+  } else {
+    used = all;
+  }
+
+  // Closed form.
+  LinearOptions linear_options;
+  linear_options.method = options.method;
+  linear_options.alsp_projection = options.alsp_projection;
+  linear_options.fixed_translation_z_m = options.fixed_translation_z_m;
+  const LinearEstimate linear =
+      EstimateOdomFromCamLinear(pairs, used, linear_options);
+  d.rotation_step_eigenvalues = linear.rotation_step_eigenvalues;
+  d.rotation_step_ratio = linear.rotation_step_ratio;
+  d.rotation_step_gimbal = linear.rotation_step_gimbal;
+  d.translation_step_condition_number = linear.translation_step_condition_number;
+  if (!linear.success) {
+    result.unobservable = {"rotation", "translation_x", "translation_y",
+                           "translation_z"};
+    return Refuse(result, CalibrationStatus::kUnobservable,
+                  "closed form failed: " + linear.failure);
+  }
+  d.linear_odom_from_cam = linear.odom_from_cam;
+  d.linear_metric_scales = linear.metric_scales;
+  result.odom_from_cam = linear.odom_from_cam;
+  result.metric_scales = linear.metric_scales;
+  result.metric_scales.resize(num_segments, std::nan(""));
+  result.has_estimate = true;
+
+  d.num_pairs_per_segment.assign(num_segments, 0);
+  for (const int i : used) ++d.num_pairs_per_segment[pairs[i].segment];
+  for (int k = 0; k < num_segments; ++k) {
+    if (d.num_pairs_per_segment[k] == 0) {
+      result.unobservable.push_back(ScaleName(k, num_segments));
+    } else if (!(result.metric_scales[k] > 0.0)) {
+      return Refuse(result, CalibrationStatus::kInconsistentData,
+                    "segment " + std::to_string(k) +
+                        " has a non-positive metric scale (" +
+                        FormatDouble(result.metric_scales[k]) +
+                        "): its camera moves against the odometry");
+    }
+  }
+
+  // Refinement.
+  std::vector<int> information_segments;
+  Eigen::MatrixXd information;
+  if (options.refine) {
+    const RefinementResult refined = RefineOdomFromCam(
+        pairs, used, result.odom_from_cam, result.metric_scales, options);
+    d.refinement_report = refined.report;
+    d.refinement_num_iterations = refined.num_iterations;
+    if (!refined.usable) {
+      result.status = CalibrationStatus::kRefinementFailed;
+      result.message = "refinement failed (" + refined.report +
+                       "); the closed-form estimate is reported";
+    } else {
+      d.refined = true;
+      result.odom_from_cam = refined.odom_from_cam;
+      result.metric_scales = refined.metric_scales;
+      information = refined.information;
+      information_segments = refined.information_segments;
+    }
+  }
+  if (information.size() == 0) {
+    information = HandEyeInformation(pairs, used, result.odom_from_cam,
+                                     result.metric_scales, options,
+                                     &information_segments);
+  }
+  for (const int i : used) d.inlier_mask[i] = 1;
+  d.num_pairs_used = static_cast<int>(used.size());
+
+  ComputeResiduals(pairs, used, options, &result);
+  AnalyseInformation(
+      information, information_segments, num_segments, options, &result);
+
+  // Warnings a user should read even when the answer is usable.
+  if (num_pairs - d.num_pairs_used > 0) {
+    result.warnings.push_back(std::to_string(num_pairs - d.num_pairs_used) +
+                              " of " + std::to_string(num_pairs) +
+                              " motion pairs rejected as outliers");
+  }
+  if (d.num_angle_mismatches > 0) {
+    result.warnings.push_back(
+        std::to_string(d.num_angle_mismatches) +
+        " pairs have camera/odometry rotation angles differing by more than " +
+        FormatDouble(options.max_angle_mismatch_deg) + " deg");
+  }
+  if (d.num_left_turns == 0 || d.num_right_turns == 0) {
+    result.warnings.push_back("all turns are in one direction");
+  }
+  if (d.reduced_chi_square > 4.0) {
+    result.warnings.push_back(
+        "residuals are " + FormatDouble(std::sqrt(d.reduced_chi_square), 2) +
+        "x larger than the noise model predicts: the standard deviations are "
+        "optimistic; raise the noise parameters");
+  }
+
+  if (result.status == CalibrationStatus::kRefinementFailed) {
+    return result;
+  }
+  if (d.relative_translation_residual >
+      options.max_relative_translation_residual) {
+    return Refuse(
+        result, CalibrationStatus::kInconsistentData,
+        "post-fit translation residuals are " +
+            FormatDouble(100.0 * d.relative_translation_residual, 3) +
+            " % of the odometry step lengths: the camera poses do not fit "
+            "any extrinsic (are they cam_from_world instead of "
+            "world_from_cam? is the time association right?)");
+  }
+  if (result.unobservable.size() > 1) {
+    std::vector<std::string> others(result.unobservable.begin() + 1,
+                                    result.unobservable.end());
+    return Refuse(result, CalibrationStatus::kUnobservable,
+                  "the motion does not determine: " + Join(others) +
+                      " (standard deviation above the limit or no "
+                      "information; drive turns of different sizes in both "
+                      "directions)");
+  }
+  result.status = CalibrationStatus::kSuccess;
+  result.message = "calibrated from " + std::to_string(d.num_pairs_used) +
+                   " of " + std::to_string(num_pairs) + " motion pairs";
+  return result;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,94 @@
+// Options of the odometer-camera calibration (see calibrate.h).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace odomcal {
+
+// Closed-form method of Guo, Mirzaei & Roumeliotis (ICRA 2012), Section IV.
+enum class LinearMethod {
+  kAlsp,  // step 2 uses the camera translations projected onto the motion plane
+  kAls,   // step 2 uses the camera translations as measured
+};
+
+// How ALSP projects a camera translation onto the plane orthogonal to the
+// third row r3 of R(q_yz) (Section IV-B).
+//
+// The orthogonal projection t - (r3.t) r3 only changes the third component of
+// R(q_yz) t, and step 2 reads the first two: it gives exactly ALS (tested).
+// The length-preserving projection rotates t into the plane instead, keeping
+// its length; monocular SfM measures a step's length better than its
+// direction out of the motion plane, and this is the variant that can differ.
+enum class PlaneProjection {
+  kLengthPreserving,
+  kOrthogonal,  // the paper's literal wording; identical to ALS
+};
+
+enum class RobustLoss { kNone, kHuber, kCauchy };
+
+// Default per-motion noise, used where a MotionPair carries no covariance.
+// Standard deviations per relative motion (one keyframe pair).
+struct NoiseModel {
+  double odom_yaw_sigma_deg = 0.2;         // rotation about the odometry z axis
+  double odom_yaw_sigma_rel = 0.01;        // + this fraction of |yaw|
+  double odom_tilt_sigma_deg = 0.0;        // about x and y (0: planar log)
+  double odom_translation_sigma_m = 0.002; // per axis, constant part
+  double odom_translation_sigma_rel = 0.01;  // + this fraction of the length
+  double cam_rotation_sigma_deg = 0.05;      // per axis
+  double cam_translation_sigma_rel = 0.01;   // per axis, fraction of length
+  void Check() const;  // throws std::invalid_argument naming the field
+};
+
+struct CalibrationOptions {
+  LinearMethod method = LinearMethod::kAlsp;
+  PlaneProjection alsp_projection = PlaneProjection::kLengthPreserving;
+
+  // Ceres batch refinement of eq. (24) after the closed form.
+  bool refine = true;
+  int max_num_iterations = 100;
+  RobustLoss robust_loss = RobustLoss::kNone;
+  double robust_loss_scale = 3.0;  // in standard deviations (whitened units)
+  // Translation along the odometry z axis is unobservable under planar
+  // motion; it is held at this value and reported as such.
+  double fixed_translation_z_m = 0.0;
+  NoiseModel noise;
+
+  // RANSAC over motion pairs around the closed form.
+  bool use_ransac = true;
+  double ransac_max_rotation_error_deg = 1.0;
+  double ransac_max_translation_error_m = 0.02;
+  double ransac_max_translation_error_rel = 0.05;  // + fraction of |t_odom|
+  double ransac_confidence = 0.9999;
+  int ransac_min_iterations = 50;
+  int ransac_max_iterations = 5000;
+  uint64_t ransac_seed = 0;
+
+  // Excitation and refusal thresholds.
+  double min_rotation_deg = 2.0;  // a pair with |yaw| above this excites rotation
+  int min_num_rotating_pairs = 2;
+  int min_num_pairs = 2;
+  // |angle(A_i)| and |angle(B_i)| agree for any extrinsic; a larger
+  // difference means a wrong association or a bad camera motion.
+  double max_angle_mismatch_deg = 2.0;
+  // Largest standard deviations for which a quantity counts as determined.
+  double max_rotation_stddev_deg = 2.0;
+  double max_translation_stddev_m = 0.05;
+  double max_scale_stddev_rel = 0.05;
+  // Post-fit RMS translation residual over RMS odometry step length; above
+  // it the poses contradict the model (e.g. cam_from_world given where
+  // world_from_cam was expected).
+  double max_relative_translation_residual = 0.2;
+
+  void Check() const;  // throws std::invalid_argument naming the field
+};
+
+std::string ToString(LinearMethod method);
+std::string ToString(PlaneProjection projection);
+std::string ToString(RobustLoss loss);
+// Inverse of ToString; throw std::invalid_argument on unknown names.
+LinearMethod LinearMethodFromString(const std::string& name);
+PlaneProjection PlaneProjectionFromString(const std::string& name);
+RobustLoss RobustLossFromString(const std::string& name);
+
+}  // namespace odomcal

@@ -1,0 +1,113 @@
+// Result of the odometer-camera calibration (see calibrate.h).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odomcal/solver/rigid3.h"
+
+namespace odomcal {
+
+enum class CalibrationStatus {
+  kNotRun,             // the solver was not called
+  kSuccess,            // every observable quantity is determined
+  kNotEnoughMotion,    // too few pairs or too little rotation to start
+  kUnobservable,       // some quantity is undetermined: see `unobservable`
+  kInconsistentData,   // the data contradict the model (association, pose
+                       // convention, negative scale, too many outliers)
+  kRefinementFailed,   // Ceres failed; the closed-form estimate is kept
+};
+
+// "success", "not_enough_motion", ... (stable: part of the JSON schema).
+std::string ToString(CalibrationStatus status);
+
+struct CalibrationDiagnostics {
+  int num_pairs_in = 0;
+  int num_pairs_used = 0;
+  std::vector<char> inlier_mask;  // per input pair: used in the final fit
+  std::vector<int> num_pairs_per_segment;  // used pairs
+
+  // Rotation excitation: yaw increments of the odometry motions.
+  double yaw_increment_min_deg = 0.0;
+  double yaw_increment_max_deg = 0.0;
+  double yaw_increment_stddev_deg = 0.0;
+  int num_rotating_pairs = 0;  // |yaw| >= min_rotation_deg
+  int num_left_turns = 0;      // yaw >= min_rotation_deg
+  int num_right_turns = 0;     // yaw <= -min_rotation_deg
+
+  // Per pair | |angle(A_i)| - |angle(B_i)| |, degrees, and how many exceed
+  // max_angle_mismatch_deg (an extrinsic cannot explain them).
+  std::vector<double> angle_mismatch_deg;
+  int num_angle_mismatches = 0;
+
+  // Conditioning of the closed form. Step 1: eigenvalues of M^T M in
+  // ascending order; they come in equal pairs (M^T M commutes with left
+  // multiplication by z rotations), so the null-space quality is
+  // eigenvalue[1] / eigenvalue[2] (0 noise-free, 1 undetermined).
+  Eigen::Vector4d rotation_step_eigenvalues = Eigen::Vector4d::Zero();
+  double rotation_step_ratio = 0.0;
+  bool rotation_step_gimbal = false;  // camera z axis parallel to odometry z
+  // Step 2: condition number of the column-normalised design matrix.
+  double translation_step_condition_number = 0.0;
+
+  // Post-fit residuals over the used pairs: rotation angle of
+  // A_i^-1 X B_i X^-1 and norm of A_i X - X B_i translation.
+  std::vector<double> rotation_residual_deg;  // per input pair
+  std::vector<double> translation_residual_m;  // per input pair
+  double rms_rotation_residual_deg = 0.0;
+  double max_rotation_residual_deg = 0.0;
+  double rms_translation_residual_m = 0.0;
+  double max_translation_residual_m = 0.0;
+  double relative_translation_residual = 0.0;  // RMS residual / RMS step
+  // Weighted cost per degree of freedom (about 1 when the noise model fits).
+  double reduced_chi_square = 0.0;
+
+  // Closed-form estimate before refinement.
+  Rigid3d linear_odom_from_cam;
+  std::vector<double> linear_metric_scales;
+
+  int ransac_num_iterations = 0;
+  bool refined = false;
+  int refinement_num_iterations = 0;
+  std::string refinement_report;  // Ceres BriefReport()
+};
+
+struct CalibrationResult {
+  CalibrationStatus status = CalibrationStatus::kNotRun;
+  std::string message = "CalibrateOdomCam() was not called.";
+
+  // True when odom_from_cam and metric_scales hold an estimate (also for
+  // kUnobservable / kInconsistentData, where it must not be trusted as a
+  // whole: the CLI withholds the quantities named in `unobservable`).
+  bool has_estimate = false;
+  // x_in_odom = odom_from_cam * x_in_cam; translation z is held fixed.
+  Rigid3d odom_from_cam;
+  // Metres per reconstruction unit, one per segment.
+  std::vector<double> metric_scales;
+
+  // Undetermined quantities, e.g. {"translation_z"} always under planar
+  // motion; names: rotation, translation_x, translation_y, translation_z,
+  // metric_scale, metric_scale[k].
+  std::vector<std::string> unobservable;
+  std::vector<std::string> warnings;
+
+  // Covariance, order [rx, ry, rz, tx, ty, s_0 .. s_{K-1}]: rotation as a
+  // left perturbation R = Exp(phi) R_hat in radians about the odometry axes,
+  // translation in metres, scales in metres per reconstruction unit.
+  // Translation z is excluded: it is fixed, not estimated.
+  std::optional<Eigen::MatrixXd> covariance;
+  // Standard deviations derived from it.
+  Eigen::Vector3d stddev_roll_pitch_yaw_deg = Eigen::Vector3d::Zero();
+  Eigen::Vector3d stddev_rotation_axes_deg = Eigen::Vector3d::Zero();
+  Eigen::Vector2d stddev_translation_xy_m = Eigen::Vector2d::Zero();
+  std::vector<double> stddev_metric_scales_rel;  // sigma_s / s
+
+  CalibrationDiagnostics diagnostics;
+
+  bool IsSuccess() const { return status == CalibrationStatus::kSuccess; }
+};
+
+}  // namespace odomcal

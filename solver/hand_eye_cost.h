@@ -1,0 +1,72 @@
+// Ceres cost functor of one motion pair (internal: not installed; Ceres types
+// stay out of the public headers).
+#pragma once
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/motion_pair.h"
+
+namespace odomcal {
+
+// Residual, whitened:  W [ Log(q_A^-1 q q_B q^-1) ; R_A p + t_A - s R t_B - p ]
+// with p = [p_xy, fixed_z] and s = exp(log_scale). Parameters:
+// q (4, Eigen x,y,z,w order, on EigenQuaternionManifold), p_xy (2),
+// log_scale (1). See hand_eye_residual.h for the model and W.
+class HandEyeCost {
+ public:
+  HandEyeCost(const MotionPair& pair,
+              double fixed_translation_z_m,
+              const Matrix6d& sqrt_information)
+      : q_a_inverse_(pair.odom_i_from_odom_j.rotation.conjugate()),
+        r_a_(pair.odom_i_from_odom_j.rotation.toRotationMatrix()),
+        t_a_(pair.odom_i_from_odom_j.translation),
+        q_b_(pair.cam_i_from_cam_j.rotation),
+        t_b_(pair.cam_i_from_cam_j.translation),
+        fixed_z_(fixed_translation_z_m),
+        sqrt_information_(sqrt_information) {}
+
+  static ceres::CostFunction* Create(const MotionPair& pair,
+                                     double fixed_translation_z_m,
+                                     const Matrix6d& sqrt_information) {
+    return new ceres::AutoDiffCostFunction<HandEyeCost, 6, 4, 2, 1>(
+        new HandEyeCost(pair, fixed_translation_z_m, sqrt_information));
+  }
+
+  template <typename T>
+  bool operator()(const T* q_xyzw,
+                  const T* p_xy,
+                  const T* log_scale,
+                  T* residuals) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
+    const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], T(fixed_z_));
+    const T scale = exp(log_scale[0]);
+
+    const Eigen::Quaternion<T> error =
+        q_a_inverse_.cast<T>() * q * q_b_.cast<T>() * q.conjugate();
+    const T error_wxyz[4] = {error.w(), error.x(), error.y(), error.z()};
+    Eigen::Matrix<T, 6, 1> raw;
+    ceres::QuaternionToAngleAxis(error_wxyz, raw.data());
+    raw.template tail<3>() = r_a_.cast<T>() * p + t_a_.cast<T>() -
+                             scale * (q * t_b_.cast<T>()) - p;
+
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
+    out = sqrt_information_.cast<T>() * raw;
+    return true;
+  }
+
+ private:
+  Eigen::Quaterniond q_a_inverse_;
+  Eigen::Matrix3d r_a_;
+  Eigen::Vector3d t_a_;
+  Eigen::Quaterniond q_b_;
+  Eigen::Vector3d t_b_;
+  double fixed_z_;
+  Matrix6d sqrt_information_;
+};
+
+}  // namespace odomcal

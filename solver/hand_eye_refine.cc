@@ -1,0 +1,201 @@
+// Ceres problem: one 6-dimensional residual block per used motion pair over
+// the parameter blocks [q (4, EigenQuaternionManifold), p_xy (2),
+// log s_k (1)]. The whitening W_i is computed once at the starting point,
+// which keeps the cost a fixed weighted least-squares problem. After solving,
+// the Jacobian is evaluated (without the robust loss) to form the Fisher
+// information; it is mapped from Ceres' tangent coordinates to the reported
+// ones: phi = 2 * delta for the quaternion (Plus(q, delta) =
+// [cos|delta|, sin|delta| delta/|delta|] ⊗ q, a left perturbation by a
+// rotation of angle 2|delta|) and ds = s * d(log s) for each scale.
+
+#include "odomcal/solver/hand_eye_refine.h"
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+
+#include <ceres/ceres.h>
+
+#include "odomcal/solver/hand_eye_cost.h"
+#include "odomcal/solver/hand_eye_residual.h"
+
+namespace odomcal {
+namespace {
+
+// Parameter storage and the Ceres problem built over it.
+class HandEyeProblem {
+ public:
+  HandEyeProblem(const MotionPairs& pairs,
+                 const std::vector<int>& indices,
+                 const Rigid3d& initial,
+                 const std::vector<double>& initial_scales,
+                 const CalibrationOptions& options,
+                 bool with_loss) {
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_ = std::make_unique<ceres::Problem>(problem_options);
+    const Eigen::Quaterniond q0 = initial.rotation.normalized();
+    for (int k = 0; k < 4; ++k) quaternion_[k] = q0.coeffs()[k];
+    p_xy_[0] = initial.translation.x();
+    p_xy_[1] = initial.translation.y();
+    for (const int index : indices) {
+      const int segment = pairs[index].segment;
+      log_scales_.emplace(segment, std::log(initial_scales.at(segment)));
+    }
+    for (const int index : indices) {
+      const MotionPair& pair = pairs[index];
+      const double scale = initial_scales.at(pair.segment);
+      const Matrix6d sqrt_information =
+          HandEyeSqrtInformation(pair, initial, scale, options.noise);
+      ceres::LossFunction* loss = nullptr;
+      if (with_loss && options.robust_loss == RobustLoss::kHuber) {
+        loss = new ceres::HuberLoss(options.robust_loss_scale);
+      } else if (with_loss && options.robust_loss == RobustLoss::kCauchy) {
+        loss = new ceres::CauchyLoss(options.robust_loss_scale);
+      }
+      problem_->AddResidualBlock(
+          HandEyeCost::Create(pair, options.fixed_translation_z_m,
+                              sqrt_information),
+          loss,
+          quaternion_,
+          p_xy_,
+          &log_scales_.at(pair.segment));
+    }
+    problem_->SetManifold(quaternion_, &quaternion_manifold_);
+  }
+
+  ceres::Problem& problem() { return *problem_; }
+
+  Rigid3d OdomFromCam(double fixed_z) const {
+    return Rigid3d(Eigen::Quaterniond(quaternion_[3], quaternion_[0],
+                                      quaternion_[1], quaternion_[2])
+                       .normalized(),
+                   Eigen::Vector3d(p_xy_[0], p_xy_[1], fixed_z));
+  }
+
+  std::vector<double> Scales(size_t num_segments) const {
+    std::vector<double> scales(num_segments,
+                               std::numeric_limits<double>::quiet_NaN());
+    for (const auto& [segment, log_scale] : log_scales_) {
+      if (segment >= 0 && static_cast<size_t>(segment) < num_segments) {
+        scales[segment] = std::exp(log_scale);
+      }
+    }
+    return scales;
+  }
+
+  // J^T J in the reported coordinates, see the file comment.
+  Eigen::MatrixXd Information(std::vector<int>* segments) {
+    ceres::Problem::EvaluateOptions evaluate_options;
+    evaluate_options.apply_loss_function = false;
+    evaluate_options.parameter_blocks = {quaternion_, p_xy_};
+    segments->clear();
+    for (auto& [segment, log_scale] : log_scales_) {
+      evaluate_options.parameter_blocks.push_back(&log_scale);
+      segments->push_back(segment);
+    }
+    ceres::CRSMatrix crs;
+    double cost = 0.0;
+    problem_->Evaluate(evaluate_options, &cost, nullptr, nullptr, &crs);
+    const int num_cols = crs.num_cols;
+    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, num_cols);
+    for (int row = 0; row < crs.num_rows; ++row) {
+      for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
+        jacobian(row, crs.cols[k]) = crs.values[k];
+      }
+    }
+    // d(tangent)/d(reported): delta = phi / 2, log s = ... ds / s.
+    Eigen::VectorXd chain = Eigen::VectorXd::Ones(num_cols);
+    chain.head<3>().setConstant(0.5);
+    for (size_t k = 0; k < segments->size(); ++k) {
+      chain(5 + k) = 1.0 / std::exp(log_scales_.at((*segments)[k]));
+    }
+    const Eigen::MatrixXd scaled = jacobian * chain.asDiagonal();
+    return scaled.transpose() * scaled;
+  }
+
+ private:
+  std::unique_ptr<ceres::Problem> problem_;
+  ceres::EigenQuaternionManifold quaternion_manifold_;
+  double quaternion_[4];  // x, y, z, w (Eigen's coeffs order)
+  double p_xy_[2];
+  std::map<int, double> log_scales_;
+};
+
+bool ValidStart(const std::vector<int>& indices,
+                const MotionPairs& pairs,
+                const std::vector<double>& scales) {
+  for (const int index : indices) {
+    const int segment = pairs[index].segment;
+    if (segment < 0 || static_cast<size_t>(segment) >= scales.size() ||
+        !(scales[segment] > 0.0) || !std::isfinite(scales[segment])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
+                                   const std::vector<int>& indices,
+                                   const Rigid3d& initial,
+                                   const std::vector<double>& initial_scales,
+                                   const CalibrationOptions& options) {
+  RefinementResult result;
+  result.odom_from_cam = initial;
+  result.metric_scales = initial_scales;
+  if (indices.empty() || !ValidStart(indices, pairs, initial_scales) ||
+      !IsFinite(initial)) {
+    result.report = "invalid starting point (non-positive or missing scale)";
+    return result;
+  }
+  HandEyeProblem problem(
+      pairs, indices, initial, initial_scales, options, /*with_loss=*/true);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_num_iterations;
+  solver_options.function_tolerance = 1e-15;
+  solver_options.gradient_tolerance = 1e-15;
+  solver_options.parameter_tolerance = 1e-15;
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.minimizer_progress_to_stdout = false;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem.problem(), &summary);
+
+  result.usable = summary.IsSolutionUsable();
+  result.num_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.report = summary.BriefReport();
+  if (!result.usable) {
+    return result;
+  }
+  result.odom_from_cam = problem.OdomFromCam(options.fixed_translation_z_m);
+  result.metric_scales = problem.Scales(initial_scales.size());
+  result.information = problem.Information(&result.information_segments);
+  return result;
+}
+
+Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
+                                   const std::vector<int>& indices,
+                                   const Rigid3d& odom_from_cam,
+                                   const std::vector<double>& metric_scales,
+                                   const CalibrationOptions& options,
+                                   std::vector<int>* information_segments) {
+  if (indices.empty() || !ValidStart(indices, pairs, metric_scales)) {
+    information_segments->clear();
+    return Eigen::MatrixXd();
+  }
+  HandEyeProblem problem(pairs,
+                         indices,
+                         odom_from_cam,
+                         metric_scales,
+                         options,
+                         /*with_loss=*/false);
+  return problem.Information(information_segments);
+}
+
+}  // namespace odomcal

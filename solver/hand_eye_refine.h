@@ -1,0 +1,57 @@
+// Batch refinement of the odometer-camera extrinsic and the metric scales
+// (Guo et al. ICRA 2012, eq. 24) with Ceres, and its covariance.
+//
+// Minimises sum_i rho(|W_i r_i|^2) over the rotation q (on the unit
+// quaternion manifold), p_x, p_y and one log-scale per segment, with p_z held
+// at options.fixed_translation_z_m (unobservable under planar motion).
+// r_i and W_i are defined in hand_eye_residual.h; W_i is evaluated once at the
+// initial estimate. rho is the identity or the robust loss of the options.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/rigid3.h"
+
+namespace odomcal {
+
+struct RefinementResult {
+  bool usable = false;  // Ceres' IsSolutionUsable()
+  Rigid3d odom_from_cam;
+  std::vector<double> metric_scales;  // NaN for segments without pairs
+  int num_iterations = 0;
+  double initial_cost = 0.0;  // Ceres cost, 1/2 sum rho(|W r|^2)
+  double final_cost = 0.0;
+  std::string report;  // Ceres BriefReport()
+
+  // Fisher information J^T J at the solution in the order
+  // [rx, ry, rz, tx, ty, s_k for each segment with pairs]: rotation as a
+  // left perturbation in radians (Ceres' quaternion tangent is half of it),
+  // scales in metres per reconstruction unit.
+  Eigen::MatrixXd information;
+  std::vector<int> information_segments;  // segment of each scale column
+};
+
+// Refines from `initial` / `initial_scales` (indexed by segment) using
+// pairs[indices]. Segments without pairs among `indices` are left out.
+RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
+                                   const std::vector<int>& indices,
+                                   const Rigid3d& initial,
+                                   const std::vector<double>& initial_scales,
+                                   const CalibrationOptions& options);
+
+// Information matrix only, at a fixed estimate (no optimisation); same order
+// and conventions as RefinementResult::information.
+Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
+                                   const std::vector<int>& indices,
+                                   const Rigid3d& odom_from_cam,
+                                   const std::vector<double>& metric_scales,
+                                   const CalibrationOptions& options,
+                                   std::vector<int>* information_segments);
+
+}  // namespace odomcal

@@ -1,0 +1,99 @@
+#include "odomcal/solver/hand_eye_residual.h"
+
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+namespace odomcal {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d s;
+  s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return s;
+}
+
+}  // namespace
+
+Vector6d HandEyeResidual(const MotionPair& pair,
+                         const Rigid3d& odom_from_cam,
+                         double metric_scale) {
+  const Eigen::Quaterniond& q = odom_from_cam.rotation;
+  const Eigen::Vector3d& p = odom_from_cam.translation;
+  const Rigid3d& a = pair.odom_i_from_odom_j;
+  const Rigid3d& b = pair.cam_i_from_cam_j;
+  Vector6d residual;
+  residual.head<3>() =
+      LogRotation(a.rotation.conjugate() * q * b.rotation * q.conjugate());
+  residual.tail<3>() = a.rotation * p + a.translation -
+                       metric_scale * (q * b.translation) - p;
+  return residual;
+}
+
+MotionCovariance OdometryCovariance(const MotionPair& pair,
+                                    const NoiseModel& noise) {
+  if (pair.odom_covariance) {
+    return *pair.odom_covariance;
+  }
+  const double yaw = std::abs(LogRotation(pair.odom_i_from_odom_j.rotation).z());
+  const double yaw_sigma =
+      noise.odom_yaw_sigma_deg * kDegToRad + noise.odom_yaw_sigma_rel * yaw;
+  const double tilt_sigma = noise.odom_tilt_sigma_deg * kDegToRad;
+  const double t_sigma =
+      noise.odom_translation_sigma_m +
+      noise.odom_translation_sigma_rel *
+          pair.odom_i_from_odom_j.translation.norm();
+  MotionCovariance covariance = MotionCovariance::Zero();
+  covariance.diagonal() << tilt_sigma * tilt_sigma, tilt_sigma * tilt_sigma,
+      yaw_sigma * yaw_sigma, t_sigma * t_sigma, t_sigma * t_sigma,
+      t_sigma * t_sigma;
+  return covariance;
+}
+
+MotionCovariance CameraCovariance(const MotionPair& pair,
+                                  const NoiseModel& noise) {
+  if (pair.cam_covariance) {
+    return *pair.cam_covariance;
+  }
+  const double r_sigma = noise.cam_rotation_sigma_deg * kDegToRad;
+  const double t_sigma = noise.cam_translation_sigma_rel *
+                         pair.cam_i_from_cam_j.translation.norm();
+  MotionCovariance covariance = MotionCovariance::Zero();
+  covariance.diagonal() << r_sigma * r_sigma, r_sigma * r_sigma,
+      r_sigma * r_sigma, t_sigma * t_sigma, t_sigma * t_sigma,
+      t_sigma * t_sigma;
+  return covariance;
+}
+
+Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
+                                   const Rigid3d& odom_from_cam,
+                                   double metric_scale,
+                                   const NoiseModel& noise) {
+  const Eigen::Matrix3d r_a = pair.odom_i_from_odom_j.rotation.toRotationMatrix();
+  const Eigen::Matrix3d r = odom_from_cam.rotation.toRotationMatrix();
+  Matrix6d f_a = Matrix6d::Zero();
+  f_a.topLeftCorner<3, 3>() = -r_a.transpose();
+  f_a.bottomLeftCorner<3, 3>() = -Skew(r_a * odom_from_cam.translation);
+  f_a.bottomRightCorner<3, 3>().setIdentity();
+  Matrix6d f_b = Matrix6d::Zero();
+  f_b.topLeftCorner<3, 3>() = r_a.transpose() * r;
+  f_b.bottomRightCorner<3, 3>() = -metric_scale * r;
+  return f_a * OdometryCovariance(pair, noise) * f_a.transpose() +
+         f_b * CameraCovariance(pair, noise) * f_b.transpose();
+}
+
+Matrix6d HandEyeSqrtInformation(const MotionPair& pair,
+                                const Rigid3d& odom_from_cam,
+                                double metric_scale,
+                                const NoiseModel& noise) {
+  Matrix6d covariance =
+      HandEyeResidualCovariance(pair, odom_from_cam, metric_scale, noise);
+  covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
+  // Cov = L L^T  =>  Cov^-1 = L^-T L^-1, W = L^-1 (lower-triangular).
+  const Eigen::LLT<Matrix6d> llt(covariance);
+  return llt.matrixL().solve(Matrix6d::Identity());
+}
+
+}  // namespace odomcal
