@@ -327,6 +327,15 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     for (int i = 0; i < num_pairs; ++i) {
       if (ransac.inlier_mask[i]) used.push_back(i);
     }
+    if (ransac.num_inliers < options.ransac_min_inlier_ratio * num_pairs) {
+      for (const int i : used) d.inlier_mask[i] = 1;
+      return Refuse(result, CalibrationStatus::kInconsistentData,
+                    "only " + std::to_string(ransac.num_inliers) + " of " +
+                        std::to_string(num_pairs) +
+                        " motion pairs agree on one extrinsic (RANSAC); "
+                        "check the pose convention (world_from_cam), the "
+                        "time association and the noise parameters");
+    }
   } else {
     used = all;
   }

@@ -58,6 +58,11 @@ void CalibrationOptions::Check() const {
                 "ransac_max_translation_error_m");
   CheckNonNegative(ransac_max_translation_error_rel,
                    "ransac_max_translation_error_rel");
+  if (!(ransac_min_inlier_ratio >= 0.0 && ransac_min_inlier_ratio <= 1.0)) {
+    throw std::invalid_argument(
+        "ransac_min_inlier_ratio must be in [0, 1], got " +
+        std::to_string(ransac_min_inlier_ratio));
+  }
   if (!(ransac_confidence > 0.0 && ransac_confidence < 1.0)) {
     throw std::invalid_argument("ransac_confidence must be in (0, 1), got " +
                                 std::to_string(ransac_confidence));

@@ -59,6 +59,9 @@ struct CalibrationOptions {
   double ransac_max_rotation_error_deg = 1.0;
   double ransac_max_translation_error_m = 0.02;
   double ransac_max_translation_error_rel = 0.05;  // + fraction of |t_odom|
+  // Below this fraction of inliers the data are refused as inconsistent
+  // (e.g. inverted poses fit a handful of pairs by chance).
+  double ransac_min_inlier_ratio = 0.5;
   double ransac_confidence = 0.9999;
   int ransac_min_iterations = 50;
   int ransac_max_iterations = 5000;

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "odomcal/solver/hand_eye_linear.h"
+#include "odomcal/solver/hand_eye_residual.h"
 
 namespace odomcal {
 namespace {
@@ -57,6 +58,36 @@ void CompleteScales(const MotionPairs& pairs,
   }
 }
 
+// Error of a pair relative to the inlier threshold (< 1: inlier), the larger
+// of its rotation and translation parts. Each part passes when it is within
+// the absolute threshold of the options or within the noise model's 99.9 %
+// chi-square bound, so that the thresholds never reject pairs that are only
+// as noisy as the model says.
+double NormalizedError(const MotionPair& pair,
+                       const Rigid3d& odom_from_cam,
+                       double metric_scale,
+                       const CalibrationOptions& options) {
+  constexpr double kChiSquare3Dof999 = 16.266;
+  const Vector6d residual = HandEyeResidual(pair, odom_from_cam, metric_scale);
+  const Matrix6d covariance = HandEyeResidualCovariance(
+      pair, odom_from_cam, metric_scale, options.noise);
+  const double rotation_deg = residual.head<3>().norm() * kRadToDeg;
+  const double translation_m = residual.tail<3>().norm();
+  const double rotation_mahalanobis2 = residual.head<3>().dot(
+      covariance.topLeftCorner<3, 3>().ldlt().solve(residual.head<3>()));
+  const double translation_mahalanobis2 = residual.tail<3>().dot(
+      covariance.bottomRightCorner<3, 3>().ldlt().solve(residual.tail<3>()));
+  const double rotation =
+      std::min(rotation_deg / options.ransac_max_rotation_error_deg,
+               std::sqrt(rotation_mahalanobis2 / kChiSquare3Dof999));
+  const double translation =
+      std::min(translation_m / (options.ransac_max_translation_error_m +
+                                options.ransac_max_translation_error_rel *
+                                    pair.odom_i_from_odom_j.translation.norm()),
+               std::sqrt(translation_mahalanobis2 / kChiSquare3Dof999));
+  return std::max(rotation, translation);
+}
+
 // MSAC score (lower is better) and inliers of a hypothesis.
 double Score(const MotionPairs& pairs,
              const std::vector<int>& indices,
@@ -72,15 +103,8 @@ double Score(const MotionPairs& pairs,
       score += 1.0;
       continue;
     }
-    const PairError error = EvaluatePair(pair, hypothesis.odom_from_cam, scale);
-    const double rotation =
-        error.rotation_deg / options.ransac_max_rotation_error_deg;
-    const double translation =
-        error.translation_m /
-        (options.ransac_max_translation_error_m +
-         options.ransac_max_translation_error_rel *
-             pair.odom_i_from_odom_j.translation.norm());
-    const double normalized = std::max(rotation, translation);
+    const double normalized =
+        NormalizedError(pair, hypothesis.odom_from_cam, scale, options);
     if (normalized < 1.0) {
       inliers->push_back(index);
       score += normalized * normalized;
@@ -126,13 +150,10 @@ PairError EvaluatePair(const MotionPair& pair,
 }
 
 bool IsInlier(const MotionPair& pair,
-              const PairError& error,
+              const Rigid3d& odom_from_cam,
+              double metric_scale,
               const CalibrationOptions& options) {
-  return error.rotation_deg < options.ransac_max_rotation_error_deg &&
-         error.translation_m <
-             options.ransac_max_translation_error_m +
-                 options.ransac_max_translation_error_rel *
-                     pair.odom_i_from_odom_j.translation.norm();
+  return NormalizedError(pair, odom_from_cam, metric_scale, options) < 1.0;
 }
 
 RansacResult RansacOdomFromCam(const MotionPairs& pairs,

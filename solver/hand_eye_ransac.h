@@ -28,9 +28,10 @@ PairError EvaluatePair(const MotionPair& pair,
                        const Rigid3d& odom_from_cam,
                        double metric_scale);
 
-// Inlier test with the RANSAC thresholds of `options`.
+// Inlier test of RANSAC, see above.
 bool IsInlier(const MotionPair& pair,
-              const PairError& error,
+              const Rigid3d& odom_from_cam,
+              double metric_scale,
               const CalibrationOptions& options);
 
 struct RansacResult {

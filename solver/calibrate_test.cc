@@ -1,0 +1,281 @@
+#include "odomcal/solver/calibrate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
+
+namespace odomcal {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+
+bool Contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+double RotationErrorDeg(const Rigid3d& a, const Rigid3d& b) {
+  return RotationAngle(a.rotation.conjugate() * b.rotation) * kRadToDeg;
+}
+
+CalibrationOptions OptionsFor(const SimulatedMotions& truth) {
+  CalibrationOptions options;
+  options.fixed_translation_z_m = truth.odom_from_cam.translation.z();
+  return options;
+}
+
+TEST(CalibrateOdomCam, ExactWithoutNoiseThroughTheWholePipeline) {
+  const uint64_t seed = TestSeed(30);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  std::mt19937_64 rng(seed);
+  for (int trial = 0; trial < 100; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    MotionSimulatorOptions simulation;
+    simulation.num_pairs = 30;
+    simulation.num_segments = 1 + trial % 3;
+    const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+    CalibrationOptions options = OptionsFor(truth);
+    options.use_ransac = trial % 2 == 0;
+    const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
+    ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
+    EXPECT_LT(RotationErrorDeg(result.odom_from_cam, truth.odom_from_cam), 1e-6);
+    EXPECT_NEAR(result.odom_from_cam.translation.x(),
+                truth.odom_from_cam.translation.x(), 1e-9);
+    EXPECT_NEAR(result.odom_from_cam.translation.y(),
+                truth.odom_from_cam.translation.y(), 1e-9);
+    for (size_t k = 0; k < truth.metric_scales.size(); ++k) {
+      EXPECT_NEAR(result.metric_scales[k] / truth.metric_scales[k], 1.0, 1e-9);
+    }
+    EXPECT_EQ(result.unobservable, std::vector<std::string>{"translation_z"});
+    EXPECT_EQ(result.diagnostics.num_pairs_used, simulation.num_pairs);
+    ASSERT_TRUE(result.covariance.has_value());
+    EXPECT_EQ(result.covariance->rows(), 5 + simulation.num_segments);
+  }
+}
+
+// Accuracy on noisy data, and consistency of the covariance: the normalised
+// estimation error squared (NEES) averages the number of estimated degrees
+// of freedom, 5 + 1 scale, when the noise model is right.
+TEST(CalibrateOdomCam, NoisyMonteCarloIsAccurateAndConsistent) {
+  const uint64_t seed = TestSeed(31);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  std::mt19937_64 rng(seed);
+  constexpr int kTrials = 300;
+  double sum_nees = 0.0;
+  double sum_rotation_error2 = 0.0, sum_translation_error2 = 0.0;
+  double sum_rotation_variance = 0.0, sum_translation_variance = 0.0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    MotionSimulatorOptions simulation;
+    simulation.num_pairs = 60;
+    simulation.add_noise = true;
+    const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+    CalibrationOptions options = OptionsFor(truth);
+    options.use_ransac = false;
+    const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
+    ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
+    Eigen::VectorXd error(6);
+    // Left perturbation: R_true = Exp(phi) R_est.
+    error.head<3>() = LogRotation(truth.odom_from_cam.rotation *
+                                  result.odom_from_cam.rotation.conjugate());
+    error.segment<2>(3) = (truth.odom_from_cam.translation -
+                           result.odom_from_cam.translation).head<2>();
+    error(5) = truth.metric_scales[0] - result.metric_scales[0];
+    sum_nees += error.dot(result.covariance->ldlt().solve(error));
+    sum_rotation_error2 += error.head<3>().squaredNorm();
+    sum_translation_error2 += error.segment<2>(3).squaredNorm();
+    sum_rotation_variance += result.covariance->topLeftCorner<3, 3>().trace();
+    sum_translation_variance += result.covariance->block<2, 2>(3, 3).trace();
+  }
+  const double mean_nees = sum_nees / kTrials;
+  // Standard error of the mean of a chi-square(6) over 300 trials is 0.2.
+  EXPECT_NEAR(mean_nees, 6.0, 0.8);
+  // The errors match the predicted standard deviations (RMS over trials,
+  // within 15 %), and those are small: default noise (0.2 deg + 1 % odometry
+  // yaw, 0.05 deg camera, 1 % steps) over 60 pairs.
+  const double rotation_rmse = std::sqrt(sum_rotation_error2 / kTrials);
+  const double translation_rmse = std::sqrt(sum_translation_error2 / kTrials);
+  EXPECT_NEAR(rotation_rmse / std::sqrt(sum_rotation_variance / kTrials), 1.0,
+              0.15);
+  EXPECT_NEAR(translation_rmse / std::sqrt(sum_translation_variance / kTrials),
+              1.0, 0.15);
+  EXPECT_LT(rotation_rmse * kRadToDeg, 0.3);
+  EXPECT_LT(translation_rmse, 0.01);
+}
+
+TEST(CalibrateOdomCam, RansacRejectsThirtyPercentOutliers) {
+  auto rng = SeededRng(32);
+  for (int trial = 0; trial < 10; ++trial) {
+    MotionSimulatorOptions simulation;
+    simulation.num_pairs = 100;
+    simulation.num_segments = 1 + trial % 2;
+    simulation.add_noise = true;
+    simulation.outlier_fraction = 0.3;
+    const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+    const CalibrationResult result =
+        CalibrateOdomCam(truth.pairs, OptionsFor(truth));
+    ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
+    // Within 4 predicted standard deviations of the truth.
+    ASSERT_TRUE(result.covariance.has_value());
+    const double rotation_sigma_deg =
+        std::sqrt(result.covariance->topLeftCorner<3, 3>().trace()) * kRadToDeg;
+    const double translation_sigma_m =
+        std::sqrt(result.covariance->block<2, 2>(3, 3).trace());
+    EXPECT_LT(RotationErrorDeg(result.odom_from_cam, truth.odom_from_cam),
+              4.0 * rotation_sigma_deg);
+    EXPECT_LT((result.odom_from_cam.translation - truth.odom_from_cam.translation)
+                  .head<2>()
+                  .norm(),
+              4.0 * translation_sigma_m);
+    int missed_outliers = 0, rejected_inliers = 0;
+    for (size_t i = 0; i < truth.pairs.size(); ++i) {
+      missed_outliers += truth.is_outlier[i] && result.diagnostics.inlier_mask[i];
+      rejected_inliers += !truth.is_outlier[i] && !result.diagnostics.inlier_mask[i];
+    }
+    EXPECT_EQ(missed_outliers, 0);
+    // Good pairs beyond the 99.9 % bound: about 0.2 % of 70.
+    EXPECT_LE(rejected_inliers, 2);
+  }
+}
+
+TEST(CalibrateOdomCam, WithoutRansacOutliersAreNotSilentlyAccepted) {
+  auto rng = SeededRng(33);
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 100;
+  simulation.add_noise = true;
+  simulation.outlier_fraction = 0.3;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  CalibrationOptions options = OptionsFor(truth);
+  options.use_ransac = false;
+  const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
+  EXPECT_NE(result.status, CalibrationStatus::kSuccess);
+}
+
+TEST(CalibrateOdomCam, StraightDrivingIsUnobservable) {
+  auto rng = SeededRng(34);
+  MotionSimulatorOptions simulation;
+  simulation.min_yaw_rad = simulation.max_yaw_rad = 0.0;
+  simulation.add_noise = true;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  const CalibrationResult result =
+      CalibrateOdomCam(truth.pairs, OptionsFor(truth));
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable);
+  EXPECT_FALSE(result.has_estimate);
+  EXPECT_TRUE(Contains(result.unobservable, "rotation"));
+  EXPECT_TRUE(Contains(result.unobservable, "translation_x"));
+  EXPECT_TRUE(Contains(result.unobservable, "translation_y"));
+}
+
+TEST(CalibrateOdomCam, NoMotionIsUnobservable) {
+  MotionPairs pairs(10);
+  const CalibrationResult result = CalibrateOdomCam(pairs, {});
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable);
+  EXPECT_TRUE(Contains(result.unobservable, "rotation"));
+}
+
+// Driving a circle at constant speed repeats one motion: the lever arm, the
+// yaw and the scale trade off along a curve and cannot be separated.
+TEST(CalibrateOdomCam, RepeatedIdenticalMotionIsUnobservable) {
+  auto rng = SeededRng(35);
+  const Rigid3d odom_from_cam = RandomOdomFromCam(&rng);
+  const Rigid3d step(YawRotation(0.4), Eigen::Vector3d(0.3, 0.05, 0.0));
+  MotionPairs pairs;
+  for (int i = 0; i < 40; ++i) {
+    MotionPair pair;
+    pair.odom_i_from_odom_j = PerturbMotion(
+        step, Eigen::Vector3d(0, 0, 1e-3), Eigen::Vector3d::Constant(1e-3), &rng);
+    pair.cam_i_from_cam_j = PerturbMotion(
+        CameraMotionFromOdometryMotion(step, odom_from_cam, 0.5),
+        Eigen::Vector3d::Constant(1e-4), Eigen::Vector3d::Constant(1e-3), &rng);
+    pairs.push_back(pair);
+  }
+  CalibrationOptions options;
+  options.use_ransac = false;
+  const CalibrationResult result = CalibrateOdomCam(pairs, options);
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable) << result.message;
+  EXPECT_TRUE(Contains(result.unobservable, "translation_x") ||
+              Contains(result.unobservable, "translation_y"))
+      << result.message;
+}
+
+TEST(CalibrateOdomCam, InvertedCameraPosesAreInconsistent) {
+  auto rng = SeededRng(36);
+  MotionSimulatorOptions simulation;
+  simulation.add_noise = true;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  MotionPairs inverted = truth.pairs;
+  for (MotionPair& pair : inverted) {
+    pair.cam_i_from_cam_j = Inverse(pair.cam_i_from_cam_j);
+  }
+  for (const bool ransac : {true, false}) {
+    CalibrationOptions options = OptionsFor(truth);
+    options.use_ransac = ransac;
+    const CalibrationResult result = CalibrateOdomCam(inverted, options);
+    EXPECT_EQ(result.status, CalibrationStatus::kInconsistentData)
+        << result.message;
+  }
+}
+
+TEST(CalibrateOdomCam, AssociationErrorsAreInconsistent) {
+  auto rng = SeededRng(37);
+  MotionSimulatorOptions simulation;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  // Camera motions shifted by one pair: a typical time-offset mistake.
+  MotionPairs shifted = truth.pairs;
+  for (size_t i = 0; i + 1 < shifted.size(); ++i) {
+    shifted[i].cam_i_from_cam_j = truth.pairs[i + 1].cam_i_from_cam_j;
+  }
+  const CalibrationResult result = CalibrateOdomCam(shifted, OptionsFor(truth));
+  EXPECT_EQ(result.status, CalibrationStatus::kInconsistentData)
+      << result.message;
+  EXPECT_NE(result.message.find("association"), std::string::npos);
+}
+
+TEST(CalibrateOdomCam, TooFewPairs) {
+  auto rng = SeededRng(38);
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 1;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  EXPECT_EQ(CalibrateOdomCam(truth.pairs, {}).status,
+            CalibrationStatus::kNotEnoughMotion);
+}
+
+TEST(CalibrateOdomCam, NonFiniteInputThrows) {
+  auto rng = SeededRng(39);
+  MotionSimulatorOptions simulation;
+  SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  truth.pairs[3].cam_i_from_cam_j.translation.x() = std::nan("");
+  EXPECT_THROW(CalibrateOdomCam(truth.pairs, {}), std::invalid_argument);
+}
+
+TEST(CalibrationOptions, CheckNamesTheBadField) {
+  CalibrationOptions options;
+  options.noise.cam_rotation_sigma_deg = -1.0;
+  try {
+    options.Check();
+    FAIL() << "Check() accepted a negative sigma";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("cam_rotation_sigma_deg"),
+              std::string::npos);
+  }
+}
+
+TEST(CalibrateOdomCam, SegmentWithoutPairsIsUnobservable) {
+  auto rng = SeededRng(40);
+  MotionSimulatorOptions simulation;
+  SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  for (MotionPair& pair : truth.pairs) pair.segment = 0;
+  truth.pairs.back().segment = 2;  // segment 1 has no pairs at all
+  CalibrationOptions options = OptionsFor(truth);
+  options.use_ransac = false;
+  const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable) << result.message;
+  EXPECT_TRUE(Contains(result.unobservable, "metric_scale[1]"));
+}
+
+}  // namespace
+}  // namespace odomcal
