@@ -1,0 +1,116 @@
+// Associating camera poses with wheel odometry, and cutting the result into
+// keyframe-to-keyframe MotionPairs for hand-eye calibration.
+//
+// Time: odometry_time = camera_time + camera_time_offset_ns. Every camera pose
+// is looked up in the odometry log at its odometry time; the pose there,
+// origin_from_odom, is interpolated between the two neighbouring samples.
+// Frames: camera trajectories hold world_from_cam (the reconstruction's world,
+// translation in reconstruction units), the odometry holds origin_from_odom
+// (metres). For consecutive keyframes i, j of one camera segment:
+//   odom_i_from_odom_j = Inverse(origin_from_odom_i) * origin_from_odom_j
+//   cam_i_from_cam_j   = Inverse(world_from_cam_i) * world_from_cam_j
+// which satisfy the hand-eye equation of motion_pair.h.
+#pragma once
+
+#include "odomcal/adapters/trajectory.h"
+#include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace odomcal {
+
+struct AssociationOptions {
+  // A camera time between two odometry samples further apart than this is
+  // refused (the vehicle may have done anything in between). Seconds, > 0.
+  double max_odometry_gap_s = 0.25;
+  // A new keyframe once the odometry has moved by either threshold since the
+  // previous keyframe (rotation angle in degrees, translation norm in metres).
+  // Both >= 0; zero makes every usable camera pose a keyframe.
+  double keyframe_min_rotation_deg = 5.0;
+  double keyframe_min_translation_m = 0.10;
+  // Added to camera times before the odometry lookup:
+  // odometry_time = camera_time + camera_time_offset_ns.
+  int64_t camera_time_offset_ns = 0;
+
+  // Throws std::invalid_argument naming the field when a value is out of
+  // range or not finite.
+  void Check() const;
+};
+
+// Why InterpolateOdometry returned no pose.
+enum class InterpolationFailure {
+  kNone,         // it did return a pose
+  kOutsideSpan,  // before the first or after the last sample (or no samples)
+  kInGap,        // between two samples more than max_gap_s apart
+};
+
+// origin_from_odom at stamp_ns (odometry time base).
+//
+// A stamp equal to a sample's returns that sample unchanged. Otherwise, with
+// a, b the samples around the stamp and tau = (t - t_a) / (t_b - t_a):
+//   - planar trajectories follow the SE(2) geodesic
+//       T(tau) = T_a * Exp(tau * Log(Inverse(T_a) * T_b)),
+//     on (x, y, yaw), with z interpolated linearly. This is exact for a
+//     unicycle moving at constant linear and angular velocity between the
+//     samples, as long as it turns by less than pi between them. Planar poses
+//     are assumed to be rotations about +z only (roll and pitch are dropped).
+//   - other trajectories use slerp for the rotation (shortest arc) and linear
+//     interpolation for the translation. This is not the SE(3) geodesic; the
+//     two agree for pure rotation or pure translation and differ by
+//     O(rotation * translation) along arcs.
+// Returns std::nullopt and sets *why (when why is not null) if the stamp is
+// outside the log or inside a gap. Precondition: strictly increasing stamps.
+// Throws std::invalid_argument when max_gap_s is not positive and finite.
+std::optional<Rigid3d> InterpolateOdometry(const Trajectory& odometry,
+                                           int64_t stamp_ns,
+                                           double max_gap_s,
+                                           InterpolationFailure* why);
+
+struct AssociationResult {
+  // Consecutive keyframe pairs, in input order; pair.segment is the index of
+  // the camera trajectory, stamps are odometry times (camera + offset).
+  MotionPairs pairs;
+  // All camera poses given, over all segments.
+  int num_camera_poses = 0;
+  // Camera poses that got an odometry pose (= num_camera_poses minus the two
+  // refusal counts below).
+  int num_usable_camera_poses = 0;
+  // Camera poses refused because their odometry time is outside the log.
+  int num_outside_odometry_span = 0;
+  // Camera poses refused because their odometry time falls in a gap longer
+  // than max_odometry_gap_s.
+  int num_in_odometry_gaps = 0;
+  // Keyframes, including one at the start of every unbroken run of usable
+  // poses (that one may end up in no pair if the run is too short).
+  int num_keyframes = 0;
+  // Odometry time and segment index of every keyframe, in order.
+  std::vector<int64_t> keyframe_stamps_ns;
+  std::vector<int> keyframe_segments;
+  // Number of pairs per camera segment (size = number of segments).
+  std::vector<int> num_pairs_per_segment;
+};
+
+// Builds MotionPairs from camera trajectories (one per SfM segment, each with
+// its own world frame and scale; MotionPair::segment = index in
+// camera_segments) and one odometry log.
+//
+// Per segment, camera poses are visited in time order. A refused pose (see
+// InterpolateOdometry) is counted and breaks the chain: no pair spans it, and
+// the next usable pose starts a new chain. The first usable pose of a chain is
+// a keyframe; each later usable pose becomes the next keyframe when the
+// odometry motion since the previous keyframe has a rotation angle >=
+// keyframe_min_rotation_deg OR a translation norm >=
+// keyframe_min_translation_m, and each consecutive keyframe pair of a chain
+// gives one MotionPair (see the top of this file). Covariances are left empty.
+//
+// Throws std::invalid_argument from options.Check(), and when a trajectory's
+// stamps are not strictly increasing (naming the trajectory and index).
+AssociationResult AssociateCameraWithOdometry(
+    const std::vector<Trajectory>& camera_segments,
+    const Trajectory& odometry,
+    const AssociationOptions& options);
+
+}  // namespace odomcal

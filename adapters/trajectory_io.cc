@@ -1,0 +1,399 @@
+// TUM and odometry CSV readers and writers. A LineReader yields the data
+// lines of a file (skipping blank lines and '#' comments) with their 1-based
+// numbers; each line is split into fields (on commas when it has any,
+// otherwise on runs of blanks), the timestamp field goes through the exact
+// ParseTimestampNs and the others through std::from_chars, which is
+// locale-independent unlike strtod. Each check throws a FormatError prefixed
+// with "path:line: ". Writers format timestamps from the integer
+// nanoseconds, never through a double, and values with %.17g so that a
+// written file reads back to the same doubles.
+#include "odomcal/adapters/trajectory_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+constexpr double kMaxQuaternionNormDeviation = 1e-2;
+// Largest |z| and |qx|, |qy| accepted as planar by WriteOdometryCsv.
+constexpr double kPlanarTolerance = 1e-9;
+
+constexpr const char* kTumColumns[] = {
+    "timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+constexpr const char* kTumColumnList = "timestamp tx ty tz qx qy qz qw";
+constexpr const char* kCsvColumns[] = {"timestamp", "x", "y", "yaw"};
+constexpr const char* kCsvColumnList = "timestamp,x,y,yaw";
+
+std::string SystemReason() {
+  return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string();
+}
+
+[[noreturn]] void ThrowAt(const std::string& path,
+                          int line_number,
+                          const std::string& what) {
+  throw FormatError(path + ":" + std::to_string(line_number) + ": " + what);
+}
+
+// Data lines of a text file, with their 1-based line numbers.
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path) : path_(path) {
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) {
+      throw FormatError(path + ": cannot open for reading: is a directory");
+    }
+    errno = 0;
+    stream_.open(path);
+    if (!stream_.is_open()) {
+      throw FormatError(path + ": cannot open for reading" + SystemReason());
+    }
+  }
+
+  // Next line that is neither blank nor a '#' comment, without a trailing
+  // '\r'. Returns false at the end of the file.
+  bool Next(std::string* line) {
+    while (std::getline(stream_, *line)) {
+      ++line_number_;
+      if (!line->empty() && line->back() == '\r') line->pop_back();
+      const size_t first = line->find_first_not_of(" \t");
+      if (first == std::string::npos || (*line)[first] == '#') continue;
+      return true;
+    }
+    if (stream_.bad()) {
+      throw FormatError(path_ + ":" + std::to_string(line_number_ + 1) +
+                        ": read error");
+    }
+    return false;
+  }
+
+  int line_number() const { return line_number_; }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    ThrowAt(path_, line_number_, what);
+  }
+
+  [[noreturn]] void FailNoData() const {
+    throw FormatError(path_ + ": no data lines (" +
+                      std::to_string(line_number_) +
+                      " lines, all blank or '#' comments)");
+  }
+
+ private:
+  std::string path_;
+  std::ifstream stream_;
+  int line_number_ = 0;
+};
+
+std::string_view Trim(std::string_view text) {
+  const size_t first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  const size_t last = text.find_last_not_of(" \t");
+  return text.substr(first, last - first + 1);
+}
+
+// Comma-separated when the line has a comma (fields trimmed, empty fields
+// kept so that they are reported), otherwise blank-separated.
+std::vector<std::string_view> SplitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  if (line.find(',') != std::string_view::npos) {
+    size_t begin = 0;
+    while (true) {
+      const size_t comma = line.find(',', begin);
+      fields.push_back(Trim(line.substr(begin, comma - begin)));
+      if (comma == std::string_view::npos) break;
+      begin = comma + 1;
+    }
+    return fields;
+  }
+  size_t pos = 0;
+  while (pos < line.size()) {
+    const size_t begin = line.find_first_not_of(" \t", pos);
+    if (begin == std::string_view::npos) break;
+    size_t end = line.find_first_of(" \t", begin);
+    if (end == std::string_view::npos) end = line.size();
+    fields.push_back(line.substr(begin, end - begin));
+    pos = end;
+  }
+  return fields;
+}
+
+// True when the field starts like a number; used to recognise a header.
+bool LooksNumeric(std::string_view field) {
+  return !field.empty() &&
+         (std::isdigit(static_cast<unsigned char>(field[0])) ||
+          field[0] == '-' || field[0] == '+' || field[0] == '.');
+}
+
+void CheckFieldCount(const LineReader& reader,
+                     const std::vector<std::string_view>& fields,
+                     size_t expected,
+                     const char* column_list) {
+  if (fields.size() != expected) {
+    reader.Fail("expected " + std::to_string(expected) + " fields (" +
+                column_list + "), got " + std::to_string(fields.size()));
+  }
+}
+
+double ParseValue(const LineReader& reader,
+                  std::string_view field,
+                  const char* column) {
+  const std::string name = std::string("column '") + column + "'";
+  if (field.empty()) reader.Fail(name + " is empty");
+  std::string_view digits = field;
+  // from_chars does not accept a leading '+'.
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' &&
+      digits[1] != '+') {
+    digits.remove_prefix(1);
+  }
+  double value = 0.0;
+  const auto [end, ec] =
+      std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec == std::errc::result_out_of_range) {
+    reader.Fail(name + " is out of the double range: '" + std::string(field) +
+                "'");
+  }
+  if (ec != std::errc() || end != digits.data() + digits.size()) {
+    reader.Fail(name + " is not a number: '" + std::string(field) + "'");
+  }
+  if (!std::isfinite(value)) {
+    reader.Fail(name + " is not finite (NaN or Inf): '" + std::string(field) +
+                "'");
+  }
+  return value;
+}
+
+int64_t ParseStamp(const LineReader& reader,
+                   std::string_view field,
+                   TimeUnit unit) {
+  std::string error;
+  const std::optional<int64_t> stamp_ns = ParseTimestampNs(field, unit, &error);
+  if (!stamp_ns) reader.Fail("column 'timestamp': " + error);
+  return *stamp_ns;
+}
+
+// Refuses duplicate and decreasing timestamps, naming both lines.
+class IncreasingStamps {
+ public:
+  void Check(const LineReader& reader,
+             int64_t stamp_ns,
+             std::string_view text) {
+    if (previous_line_ > 0 && stamp_ns <= previous_ns_) {
+      reader.Fail(std::string(stamp_ns == previous_ns_
+                                  ? "duplicate timestamp "
+                                  : "timestamp not increasing: ") +
+                  std::string(text) + " after " + previous_text_ + " on line " +
+                  std::to_string(previous_line_));
+    }
+    previous_ns_ = stamp_ns;
+    previous_text_ = std::string(text);
+    previous_line_ = reader.line_number();
+  }
+
+ private:
+  int64_t previous_ns_ = 0;
+  std::string previous_text_;
+  int previous_line_ = 0;
+};
+
+std::string FormatValue(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
+}
+
+std::ofstream OpenForWriting(const std::string& path) {
+  errno = 0;
+  std::ofstream stream(path);
+  if (!stream.is_open()) {
+    throw FormatError(path + ": cannot open for writing" + SystemReason());
+  }
+  return stream;
+}
+
+void FinishWriting(std::ofstream& stream, const std::string& path) {
+  errno = 0;
+  stream.close();
+  if (stream.fail()) {
+    throw FormatError(path + ": write failed" + SystemReason());
+  }
+}
+
+std::string LowercaseExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(
+      extension.begin(), extension.end(), extension.begin(), [](char c) {
+        return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      });
+  return extension;
+}
+
+// Field count of the first data line after an optional header.
+OdometryFormat SniffOdometryFormat(const std::string& path) {
+  LineReader reader(path);
+  std::string line;
+  bool first = true;
+  while (reader.Next(&line)) {
+    const std::vector<std::string_view> fields = SplitFields(line);
+    if (first && !fields.empty() && !LooksNumeric(fields[0])) {
+      first = false;
+      continue;  // a header
+    }
+    if (fields.size() == 4) return OdometryFormat::kCsv;
+    if (fields.size() == 8) return OdometryFormat::kTum;
+    reader.Fail("cannot tell the odometry format from " +
+                std::to_string(fields.size()) + " fields; expected 4 (" +
+                kCsvColumnList + ") or 8 (TUM: " + kTumColumnList +
+                "); pass the format explicitly");
+  }
+  reader.FailNoData();
+}
+
+}  // namespace
+
+Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit) {
+  Trajectory trajectory;
+  trajectory.source = path;
+  trajectory.planar = false;
+  LineReader reader(path);
+  IncreasingStamps increasing;
+  std::string line;
+  while (reader.Next(&line)) {
+    const std::vector<std::string_view> fields = SplitFields(line);
+    CheckFieldCount(reader, fields, 8, kTumColumnList);
+    StampedPose pose;
+    pose.stamp_ns = ParseStamp(reader, fields[0], unit);
+    double values[8];
+    for (int i = 1; i < 8; ++i) {
+      values[i] = ParseValue(reader, fields[i], kTumColumns[i]);
+    }
+    // File order qx qy qz qw; Eigen's constructor takes w, x, y, z.
+    const Eigen::Quaterniond rotation(
+        values[7], values[4], values[5], values[6]);
+    const double norm = rotation.norm();
+    if (std::abs(norm - 1.0) > kMaxQuaternionNormDeviation) {
+      reader.Fail("quaternion (qx qy qz qw) has norm " + FormatValue(norm) +
+                  ", more than " + FormatValue(kMaxQuaternionNormDeviation) +
+                  " away from 1");
+    }
+    pose.world_from_sensor.rotation = rotation.normalized();
+    pose.world_from_sensor.translation =
+        Eigen::Vector3d(values[1], values[2], values[3]);
+    increasing.Check(reader, pose.stamp_ns, fields[0]);
+    trajectory.poses.push_back(pose);
+  }
+  if (trajectory.poses.empty()) reader.FailNoData();
+  return trajectory;
+}
+
+Trajectory ReadOdometryCsv(const std::string& path, TimeUnit unit) {
+  Trajectory trajectory;
+  trajectory.source = path;
+  trajectory.planar = true;
+  LineReader reader(path);
+  IncreasingStamps increasing;
+  std::string line;
+  bool first = true;
+  while (reader.Next(&line)) {
+    const std::vector<std::string_view> fields = SplitFields(line);
+    const bool is_header = first && !fields.empty() && !LooksNumeric(fields[0]);
+    first = false;
+    if (is_header) {
+      if (fields.size() != 4) {
+        reader.Fail("header has " + std::to_string(fields.size()) +
+                    " fields, expected 4 (" + kCsvColumnList + ")");
+      }
+      continue;
+    }
+    CheckFieldCount(reader, fields, 4, kCsvColumnList);
+    StampedPose pose;
+    pose.stamp_ns = ParseStamp(reader, fields[0], unit);
+    const double x = ParseValue(reader, fields[1], kCsvColumns[1]);
+    const double y = ParseValue(reader, fields[2], kCsvColumns[2]);
+    const double yaw = ParseValue(reader, fields[3], kCsvColumns[3]);
+    pose.world_from_sensor.rotation = YawRotation(yaw);
+    pose.world_from_sensor.translation = Eigen::Vector3d(x, y, 0.0);
+    increasing.Check(reader, pose.stamp_ns, fields[0]);
+    trajectory.poses.push_back(pose);
+  }
+  if (trajectory.poses.empty()) reader.FailNoData();
+  return trajectory;
+}
+
+OdometryFormat ParseOdometryFormat(const std::string& name) {
+  if (name == "auto") return OdometryFormat::kAuto;
+  if (name == "tum") return OdometryFormat::kTum;
+  if (name == "csv") return OdometryFormat::kCsv;
+  throw std::invalid_argument(
+      "odometry format: expected one of auto, tum, csv; got '" + name + "'");
+}
+
+Trajectory ReadOdometry(const std::string& path,
+                        OdometryFormat format,
+                        TimeUnit unit) {
+  if (format == OdometryFormat::kAuto) {
+    const std::string extension = LowercaseExtension(path);
+    if (extension == ".csv") {
+      format = OdometryFormat::kCsv;
+    } else if (extension == ".tum" || extension == ".txt") {
+      format = OdometryFormat::kTum;
+    } else {
+      format = SniffOdometryFormat(path);
+    }
+  }
+  return format == OdometryFormat::kCsv ? ReadOdometryCsv(path, unit)
+                                        : ReadTumTrajectory(path, unit);
+}
+
+void WriteTumTrajectory(const Trajectory& trajectory, const std::string& path) {
+  std::ofstream stream = OpenForWriting(path);
+  stream << "# " << kTumColumnList << "\n";
+  for (const StampedPose& pose : trajectory.poses) {
+    const Eigen::Vector3d& t = pose.world_from_sensor.translation;
+    const Eigen::Quaterniond& q = pose.world_from_sensor.rotation;
+    stream << FormatTimestampSeconds(pose.stamp_ns) << ' ' << FormatValue(t.x())
+           << ' ' << FormatValue(t.y()) << ' ' << FormatValue(t.z()) << ' '
+           << FormatValue(q.x()) << ' ' << FormatValue(q.y()) << ' '
+           << FormatValue(q.z()) << ' ' << FormatValue(q.w()) << '\n';
+  }
+  FinishWriting(stream, path);
+}
+
+void WriteOdometryCsv(const Trajectory& trajectory, const std::string& path) {
+  for (size_t i = 0; i < trajectory.poses.size(); ++i) {
+    const Rigid3d& pose = trajectory.poses[i].world_from_sensor;
+    const Eigen::Quaterniond q = pose.rotation.normalized();
+    if (std::abs(pose.translation.z()) > kPlanarTolerance ||
+        std::abs(q.x()) > kPlanarTolerance ||
+        std::abs(q.y()) > kPlanarTolerance) {
+      throw std::invalid_argument(
+          "trajectory.poses[" + std::to_string(i) +
+          "]: not planar (z or roll/pitch non-zero); cannot write it as "
+          "timestamp,x,y,yaw");
+    }
+  }
+  std::ofstream stream = OpenForWriting(path);
+  stream << kCsvColumnList << "\n";
+  for (const StampedPose& pose : trajectory.poses) {
+    const Eigen::Vector3d& t = pose.world_from_sensor.translation;
+    const Eigen::Quaterniond q =
+        WithPositiveScalar(pose.world_from_sensor.rotation.normalized());
+    const double yaw = 2.0 * std::atan2(q.z(), q.w());
+    stream << FormatTimestampSeconds(pose.stamp_ns) << ',' << FormatValue(t.x())
+           << ',' << FormatValue(t.y()) << ',' << FormatValue(yaw) << '\n';
+  }
+  FinishWriting(stream, path);
+}
+
+}  // namespace odomcal

@@ -1,0 +1,404 @@
+#include "odomcal/adapters/trajectory_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace odomcal {
+namespace {
+
+// Written values go through %.17g and are normalized again on reading.
+constexpr double kRoundTripTolerance = 1e-15;
+
+std::string WriteTextFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "odomcal_adapters_" + name;
+  std::ofstream stream(path);
+  stream << text;
+  EXPECT_TRUE(stream.good()) << path;
+  return path;
+}
+
+// The FormatError message thrown by `read`, or "" (and a failure) if none.
+std::string FormatErrorOf(const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const FormatError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no FormatError thrown";
+  return "";
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Reads `text` as TUM (seconds) and checks the error names path:line and
+// contains `part`.
+void ExpectTumError(const std::string& name,
+                    const std::string& text,
+                    int line,
+                    const std::string& part) {
+  SCOPED_TRACE(name);
+  const std::string path = WriteTextFile(name, text);
+  const std::string error =
+      FormatErrorOf([&] { ReadTumTrajectory(path, TimeUnit::kSeconds); });
+  EXPECT_TRUE(Contains(error, path + ":" + std::to_string(line) + ": "))
+      << error;
+  EXPECT_TRUE(Contains(error, part)) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
+void ExpectCsvError(const std::string& name,
+                    const std::string& text,
+                    int line,
+                    const std::string& part) {
+  SCOPED_TRACE(name);
+  const std::string path = WriteTextFile(name, text);
+  const std::string error =
+      FormatErrorOf([&] { ReadOdometryCsv(path, TimeUnit::kSeconds); });
+  EXPECT_TRUE(Contains(error, path + ":" + std::to_string(line) + ": "))
+      << error;
+  EXPECT_TRUE(Contains(error, part)) << error;
+}
+
+// qx=0.1, qy=0.2, qz=0.3, qw=sqrt(1 - 0.14): every component different, so
+// reading the file as w x y z would give a visibly different rotation.
+constexpr double kQw = 0.92736184954957035;
+
+TEST(ReadTumTrajectory, ReadsQuaternionInXyzwOrder) {
+  const std::string path = WriteTextFile(
+      "asymmetric.tum",
+      "# timestamp tx ty tz qx qy qz qw\n"
+      "1403636579.763555584 1 2 3 0.1 0.2 0.3 0.92736184954957035\n");
+  const Trajectory trajectory = ReadTumTrajectory(path, TimeUnit::kSeconds);
+  ASSERT_EQ(trajectory.poses.size(), 1u);
+  EXPECT_FALSE(trajectory.planar);
+  EXPECT_EQ(trajectory.source, path);
+  const StampedPose& pose = trajectory.poses[0];
+  EXPECT_EQ(pose.stamp_ns, 1403636579763555584);
+  const Eigen::Quaterniond& q = pose.world_from_sensor.rotation;
+  EXPECT_NEAR(q.x(), 0.1, kRoundTripTolerance);
+  EXPECT_NEAR(q.y(), 0.2, kRoundTripTolerance);
+  EXPECT_NEAR(q.z(), 0.3, kRoundTripTolerance);
+  EXPECT_NEAR(q.w(), kQw, kRoundTripTolerance);
+  EXPECT_TRUE(
+      pose.world_from_sensor.translation.isApprox(Eigen::Vector3d(1, 2, 3)));
+  // world_from_sensor maps the sensor x axis onto the first column of R:
+  // [1 - 2(y^2 + z^2), 2(xy + wz), 2(xz - wy)].
+  const Eigen::Vector3d x_in_world =
+      pose.world_from_sensor * Eigen::Vector3d(1, 0, 0) -
+      pose.world_from_sensor.translation;
+  EXPECT_NEAR(x_in_world.x(), 1 - 2 * (0.04 + 0.09), 1e-12);
+  EXPECT_NEAR(x_in_world.y(), 2 * (0.02 + kQw * 0.3), 1e-12);
+  EXPECT_NEAR(x_in_world.z(), 2 * (0.03 - kQw * 0.2), 1e-12);
+}
+
+TEST(ReadTumTrajectory, AcceptsCommasCommentsBlankLinesAndCrlf) {
+  const std::string path = WriteTextFile("mixed.tum",
+                                         "# comment\n"
+                                         "\n"
+                                         "   \n"
+                                         "1.0, 0, 0, 0, 0, 0, 0, 1\r\n"
+                                         "  # indented comment\n"
+                                         "2.0\t1 2 3   0 0 0 1\n");
+  const Trajectory trajectory = ReadTumTrajectory(path, TimeUnit::kSeconds);
+  ASSERT_EQ(trajectory.poses.size(), 2u);
+  EXPECT_EQ(trajectory.poses[0].stamp_ns, 1000000000);
+  EXPECT_EQ(trajectory.poses[1].stamp_ns, 2000000000);
+  EXPECT_EQ(trajectory.poses[1].world_from_sensor.translation,
+            Eigen::Vector3d(1, 2, 3));
+}
+
+TEST(ReadTumTrajectory, NormalizesSlightlyOffQuaternion) {
+  const std::string path =
+      WriteTextFile("near_unit.tum", "5 0 0 0 0 0 0 1.005\n");
+  const Trajectory trajectory = ReadTumTrajectory(path, TimeUnit::kNanoseconds);
+  ASSERT_EQ(trajectory.poses.size(), 1u);
+  EXPECT_EQ(trajectory.poses[0].stamp_ns, 5);
+  EXPECT_NEAR(
+      trajectory.poses[0].world_from_sensor.rotation.norm(), 1.0, 1e-15);
+}
+
+TEST(ReadTumTrajectory, RejectsMissingFile) {
+  const std::string path = ::testing::TempDir() + "odomcal_no_such_file.tum";
+  const std::string error =
+      FormatErrorOf([&] { ReadTumTrajectory(path, TimeUnit::kSeconds); });
+  EXPECT_TRUE(Contains(error, path + ": cannot open for reading")) << error;
+}
+
+TEST(ReadTumTrajectory, RejectsDirectory) {
+  const std::string path = ::testing::TempDir();
+  const std::string error =
+      FormatErrorOf([&] { ReadTumTrajectory(path, TimeUnit::kSeconds); });
+  EXPECT_TRUE(Contains(error, "cannot open for reading")) << error;
+}
+
+TEST(ReadTumTrajectory, RejectsFileWithoutDataLines) {
+  for (const char* text : {"", "# only\n\n# comments\n"}) {
+    const std::string path = WriteTextFile("empty.tum", text);
+    const std::string error =
+        FormatErrorOf([&] { ReadTumTrajectory(path, TimeUnit::kSeconds); });
+    EXPECT_TRUE(Contains(error, path + ": no data lines")) << error;
+  }
+}
+
+TEST(ReadTumTrajectory, RejectsWrongFieldCount) {
+  ExpectTumError("seven.tum",
+                 "# header\n1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n",
+                 3,
+                 "expected 8 fields (timestamp tx ty tz qx qy qz qw), got 7");
+  ExpectTumError("nine.tum", "1 0 0 0 0 0 0 1 9\n", 1, "expected 8 fields");
+  ExpectTumError(
+      "empty_field.tum", "1,0,,0,0,0,0,1\n", 1, "column 'ty' is empty");
+}
+
+TEST(ReadTumTrajectory, RejectsNonNumericField) {
+  ExpectTumError("text.tum",
+                 "1 0 0 0 0 0 0 1\n2 0 zero 0 0 0 0 1\n",
+                 2,
+                 "column 'ty' is not a number: 'zero'");
+  ExpectTumError("trailing.tum", "1 0 0 0 0 0 0 1x\n", 1, "column 'qw'");
+  ExpectTumError("bad_stamp.tum",
+                 "1.2.3 0 0 0 0 0 0 1\n",
+                 1,
+                 "column 'timestamp': '1.2.3' is not a decimal number");
+}
+
+TEST(ReadTumTrajectory, RejectsNanField) {
+  ExpectTumError("nan.tum",
+                 "1 0 0 0 0 0 0 1\n2 0 0 nan 0 0 0 1\n",
+                 2,
+                 "column 'tz' is not finite");
+  ExpectTumError(
+      "inf.tum", "1 -inf 0 0 0 0 0 1\n", 1, "column 'tx' is not finite");
+  ExpectTumError(
+      "nan_stamp.tum", "nan 0 0 0 0 0 0 1\n", 1, "column 'timestamp'");
+}
+
+TEST(ReadTumTrajectory, RejectsNonUnitQuaternion) {
+  ExpectTumError("zero_q.tum", "1 0 0 0 0 0 0 0\n", 1, "quaternion");
+  ExpectTumError("big_q.tum", "1 0 0 0 0 0 0 1.02\n", 1, "norm 1.02");
+}
+
+TEST(ReadTumTrajectory, RejectsDuplicateTimestamp) {
+  ExpectTumError("duplicate.tum",
+                 "1.5 0 0 0 0 0 0 1\n# c\n1.500000000 0 0 0 0 0 0 1\n",
+                 3,
+                 "duplicate timestamp 1.500000000 after 1.5 on line 1");
+}
+
+TEST(ReadTumTrajectory, RejectsDecreasingTimestamp) {
+  ExpectTumError("decreasing.tum",
+                 "1 0 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n",
+                 3,
+                 "timestamp not increasing: 2 after 3 on line 2");
+}
+
+TEST(ReadTumTrajectory, RejectsNanosecondsReadAsSeconds) {
+  ExpectTumError("ns.tum",
+                 "1403636579763555584 0 0 0 0 0 0 1\n",
+                 1,
+                 "looks like nanoseconds or microseconds");
+  const std::string path =
+      WriteTextFile("ns_ok.tum", "1403636579763555584 0 0 0 0 0 0 1\n");
+  EXPECT_EQ(ReadTumTrajectory(path, TimeUnit::kNanoseconds).poses[0].stamp_ns,
+            1403636579763555584);
+}
+
+TEST(WriteTumTrajectory, RoundTripsExactStampsAndPoses) {
+  Trajectory trajectory;
+  for (int i = 0; i < 5; ++i) {
+    StampedPose pose;
+    pose.stamp_ns = 1403636579763555584 + 33333333 * i + (i % 2);
+    pose.world_from_sensor.rotation =
+        Eigen::Quaterniond(kQw, 0.1, 0.2, 0.3) *
+        Eigen::Quaterniond(Eigen::AngleAxisd(
+            0.37 * i, Eigen::Vector3d(1, -2, 0.5).normalized()));
+    pose.world_from_sensor.translation =
+        Eigen::Vector3d(1.0 / 3.0 + i, -2.0e-7 * i, 12345.678901234567);
+    trajectory.poses.push_back(pose);
+  }
+  const std::string path = ::testing::TempDir() + "odomcal_round_trip.tum";
+  WriteTumTrajectory(trajectory, path);
+  const Trajectory read = ReadTumTrajectory(path, TimeUnit::kSeconds);
+  ASSERT_EQ(read.poses.size(), trajectory.poses.size());
+  for (size_t i = 0; i < read.poses.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(read.poses[i].stamp_ns, trajectory.poses[i].stamp_ns);
+    EXPECT_EQ(read.poses[i].world_from_sensor.translation,
+              trajectory.poses[i].world_from_sensor.translation);
+    EXPECT_LT((read.poses[i].world_from_sensor.rotation.coeffs() -
+               trajectory.poses[i].world_from_sensor.rotation.coeffs())
+                  .norm(),
+              kRoundTripTolerance);
+  }
+}
+
+TEST(WriteTumTrajectory, ThrowsFormatErrorWhenFileCannotBeWritten) {
+  const std::string path = ::testing::TempDir() + "odomcal_no_such_dir/out.tum";
+  const std::string error =
+      FormatErrorOf([&] { WriteTumTrajectory(Trajectory(), path); });
+  EXPECT_TRUE(Contains(error, path + ": cannot open for writing")) << error;
+}
+
+TEST(ReadOdometryCsv, ReadsWithHeader) {
+  const std::string path =
+      WriteTextFile("with_header.csv",
+                    "# exported by the vehicle\n"
+                    "timestamp,x,y,yaw\n"
+                    "1403636579.763555584,1.5,-2.0,0.5\n"
+                    "1403636579.863555584, 2.5 , -2.0 , -3.0\n");
+  const Trajectory trajectory = ReadOdometryCsv(path, TimeUnit::kSeconds);
+  EXPECT_TRUE(trajectory.planar);
+  ASSERT_EQ(trajectory.poses.size(), 2u);
+  EXPECT_EQ(trajectory.poses[0].stamp_ns, 1403636579763555584);
+  EXPECT_EQ(trajectory.poses[1].stamp_ns, 1403636579863555584);
+  const Rigid3d& pose = trajectory.poses[0].world_from_sensor;
+  EXPECT_EQ(pose.translation, Eigen::Vector3d(1.5, -2.0, 0.0));
+  EXPECT_TRUE(pose.rotation.isApprox(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())),
+      1e-15));
+  // Yaw is counter-clockwise about +z: the body x axis points to +y at pi/2.
+  EXPECT_TRUE(trajectory.poses[1].world_from_sensor.rotation.isApprox(
+      Eigen::Quaterniond(Eigen::AngleAxisd(-3.0, Eigen::Vector3d::UnitZ())),
+      1e-15));
+}
+
+TEST(ReadOdometryCsv, ReadsWithoutHeader) {
+  const std::string path =
+      WriteTextFile("no_header.csv", "100,0,0,0\n200,1,0,1.5707963267948966\n");
+  const Trajectory trajectory = ReadOdometryCsv(path, TimeUnit::kMilliseconds);
+  ASSERT_EQ(trajectory.poses.size(), 2u);
+  EXPECT_EQ(trajectory.poses[0].stamp_ns, 100000000);
+  EXPECT_EQ(trajectory.poses[1].stamp_ns, 200000000);
+  const Eigen::Vector3d forward =
+      trajectory.poses[1].world_from_sensor.rotation * Eigen::Vector3d::UnitX();
+  EXPECT_TRUE(forward.isApprox(Eigen::Vector3d::UnitY(), 1e-15)) << forward;
+}
+
+TEST(ReadOdometryCsv, RejectsMalformedLines) {
+  ExpectCsvError(
+      "bad_header.csv", "t,x,y\n1,0,0,0\n", 1, "header has 3 fields");
+  ExpectCsvError("five.csv",
+                 "t,x,y,yaw\n1,0,0,0\n2,0,0,0,0\n",
+                 3,
+                 "expected 4 fields (timestamp,x,y,yaw), got 5");
+  ExpectCsvError("second_header.csv",
+                 "1,0,0,0\nt,x,y,yaw\n",
+                 2,
+                 "column 'timestamp': 't' is not a decimal number");
+  ExpectCsvError("yaw.csv", "1,0,0,north\n", 1, "column 'yaw' is not a number");
+  ExpectCsvError("nan.csv", "1,0,NaN,0\n", 1, "column 'y' is not finite");
+  ExpectCsvError("duplicate.csv",
+                 "x,x,x,x\n1,0,0,0\n1,0,0,0\n",
+                 3,
+                 "duplicate timestamp 1 after 1 on line 2");
+  ExpectCsvError("ns_as_s.csv",
+                 "1403636579763555584,0,0,0\n",
+                 1,
+                 "pass the time unit flag");
+}
+
+TEST(ReadOdometryCsv, RejectsHeaderWithoutData) {
+  const std::string path = WriteTextFile("header_only.csv", "t,x,y,yaw\n");
+  const std::string error =
+      FormatErrorOf([&] { ReadOdometryCsv(path, TimeUnit::kSeconds); });
+  EXPECT_TRUE(Contains(error, path + ": no data lines")) << error;
+}
+
+TEST(WriteOdometryCsv, RoundTripsExactStampsAndPoses) {
+  Trajectory trajectory;
+  trajectory.planar = true;
+  const double yaws[] = {0.0, 0.3, -2.5, 3.0, -3.14159};
+  for (int i = 0; i < 5; ++i) {
+    StampedPose pose;
+    pose.stamp_ns = -5 + 100000001 * i;
+    pose.world_from_sensor.rotation = YawRotation(yaws[i]);
+    pose.world_from_sensor.translation =
+        Eigen::Vector3d(0.1 * i - 1.0 / 7.0, 1e6 + i / 3.0, 0.0);
+    trajectory.poses.push_back(pose);
+  }
+  const std::string path = ::testing::TempDir() + "odomcal_round_trip.csv";
+  WriteOdometryCsv(trajectory, path);
+  const Trajectory read = ReadOdometryCsv(path, TimeUnit::kSeconds);
+  EXPECT_TRUE(read.planar);
+  ASSERT_EQ(read.poses.size(), trajectory.poses.size());
+  for (size_t i = 0; i < read.poses.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(read.poses[i].stamp_ns, trajectory.poses[i].stamp_ns);
+    EXPECT_EQ(read.poses[i].world_from_sensor.translation,
+              trajectory.poses[i].world_from_sensor.translation);
+    EXPECT_LT(read.poses[i].world_from_sensor.rotation.angularDistance(
+                  trajectory.poses[i].world_from_sensor.rotation),
+              kRoundTripTolerance);
+  }
+}
+
+TEST(WriteOdometryCsv, RejectsNonPlanarPose) {
+  Trajectory trajectory;
+  trajectory.poses.resize(2);
+  trajectory.poses[1].world_from_sensor.translation.z() = 0.5;
+  const std::string path = ::testing::TempDir() + "odomcal_not_planar.csv";
+  EXPECT_THROW(WriteOdometryCsv(trajectory, path), std::invalid_argument);
+  trajectory.poses[1].world_from_sensor.translation.z() = 0.0;
+  trajectory.poses[1].stamp_ns = 1;
+  trajectory.poses[1].world_from_sensor.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
+  EXPECT_THROW(WriteOdometryCsv(trajectory, path), std::invalid_argument);
+}
+
+TEST(ParseOdometryFormat, AcceptsTheThreeNames) {
+  EXPECT_EQ(ParseOdometryFormat("auto"), OdometryFormat::kAuto);
+  EXPECT_EQ(ParseOdometryFormat("tum"), OdometryFormat::kTum);
+  EXPECT_EQ(ParseOdometryFormat("csv"), OdometryFormat::kCsv);
+  EXPECT_THROW(ParseOdometryFormat("TUM "), std::invalid_argument);
+}
+
+TEST(ReadOdometry, ChoosesFormatByExtension) {
+  const std::string csv = WriteTextFile("by_extension.CSV", "1,2,3,0\n");
+  EXPECT_TRUE(
+      ReadOdometry(csv, OdometryFormat::kAuto, TimeUnit::kSeconds).planar);
+  const std::string txt =
+      WriteTextFile("by_extension.txt", "1 2 3 4 0 0 0 1\n");
+  EXPECT_FALSE(
+      ReadOdometry(txt, OdometryFormat::kAuto, TimeUnit::kSeconds).planar);
+  // An explicit format overrides the extension.
+  const std::string tum_named_csv =
+      WriteTextFile("really_tum.csv", "1 2 3 4 0 0 0 1\n");
+  EXPECT_EQ(
+      ReadOdometry(tum_named_csv, OdometryFormat::kTum, TimeUnit::kSeconds)
+          .poses[0]
+          .world_from_sensor.translation,
+      Eigen::Vector3d(2, 3, 4));
+  // Read as CSV by extension, it fails on the field count.
+  EXPECT_THROW(
+      ReadOdometry(tum_named_csv, OdometryFormat::kAuto, TimeUnit::kSeconds),
+      FormatError);
+}
+
+TEST(ReadOdometry, SniffsFormatWithoutKnownExtension) {
+  const std::string csv =
+      WriteTextFile("sniff_csv.log", "# c\ntime,x,y,yaw\n1,2,3,0.5\n");
+  const Trajectory from_csv =
+      ReadOdometry(csv, OdometryFormat::kAuto, TimeUnit::kSeconds);
+  EXPECT_TRUE(from_csv.planar);
+  EXPECT_EQ(from_csv.poses[0].world_from_sensor.translation,
+            Eigen::Vector3d(2, 3, 0));
+  const std::string tum = WriteTextFile("sniff_tum", "1 2 3 4 0 0 0 1\n");
+  EXPECT_FALSE(
+      ReadOdometry(tum, OdometryFormat::kAuto, TimeUnit::kSeconds).planar);
+  const std::string unknown = WriteTextFile("sniff_bad.log", "\n1,2,3\n");
+  const std::string error = FormatErrorOf([&] {
+    ReadOdometry(unknown, OdometryFormat::kAuto, TimeUnit::kSeconds);
+  });
+  EXPECT_TRUE(Contains(error, unknown + ":2: cannot tell the odometry format"))
+      << error;
+}
+
+}  // namespace
+}  // namespace odomcal
