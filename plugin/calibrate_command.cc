@@ -1,0 +1,135 @@
+#include "odomcal/plugin/calibrate_command.h"
+
+#include <cmath>
+#include <iostream>
+#include <stdexcept>
+
+#include <CLI/CLI.hpp>
+
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/output_file.h"
+#include "odomcal/solver/calibrate.h"
+
+namespace odomcal {
+
+CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
+                                      const std::string& command) {
+  inputs.association.Check();
+  inputs.calibration.Check();
+  std::vector<Trajectory> cameras;
+  for (const std::string& path : inputs.camera_paths) {
+    cameras.push_back(ReadTumTrajectory(path, inputs.camera_time_unit));
+  }
+  const Trajectory odometry = ReadOdometry(
+      inputs.odometry_path, inputs.odometry_format, inputs.odometry_time_unit);
+
+  CalibrationRun run;
+  ReportContext& context = run.context;
+  context.command = command;
+  context.camera_paths = inputs.camera_paths;
+  context.odometry_path = inputs.odometry_path;
+  context.camera_time_unit = TimeUnitName(inputs.camera_time_unit);
+  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  context.association_options = inputs.association;
+  context.calibration_options = inputs.calibration;
+  context.association =
+      AssociateCameraWithOdometry(cameras, odometry, inputs.association);
+  if (context.association.num_usable_camera_poses == 0) {
+    throw FormatError(
+        "no camera timestamp falls inside the odometry (" +
+        std::to_string(context.association.num_outside_odometry_span) +
+        " outside its span, " +
+        std::to_string(context.association.num_in_odometry_gaps) +
+        " in gaps): check the time units and --camera_time_offset_s");
+  }
+  run.result = CalibrateOdomCam(context.association.pairs, inputs.calibration);
+  if (context.association.num_outside_odometry_span > 0 ||
+      context.association.num_in_odometry_gaps > 0) {
+    run.result.warnings.push_back(
+        std::to_string(context.association.num_outside_odometry_span +
+                       context.association.num_in_odometry_gaps) +
+        " camera poses were skipped: outside the odometry span or in gaps "
+        "longer than " +
+        std::to_string(inputs.association.max_odometry_gap_s) + " s");
+  }
+  return run;
+}
+
+void WriteCalibrationOutputs(const CalibrationRun& run,
+                             const std::string& json_path,
+                             bool overwrite) {
+  const std::string yaml_path = ReplaceExtension(json_path, ".yaml");
+  CheckOutputPath(json_path, overwrite);
+  CheckOutputPath(yaml_path, overwrite);
+  WriteFileAtomically(
+      json_path, CalibrationToJson(run.result, run.context).dump(2) + "\n");
+  WriteFileAtomically(yaml_path, CalibrationToYaml(run.result));
+}
+
+int ExitCodeFor(const CalibrationResult& result) {
+  return result.status == CalibrationStatus::kSuccess ? kExitSuccess
+                                                      : kExitNotCalibrated;
+}
+
+int RunCalibrate(int argc, char** argv) {
+  CLI::App app{
+      "Calibrates the camera-to-odometry extrinsic (odom_from_cam) and the "
+      "metric scale from a camera trajectory and wheel odometry.",
+      "odomcal calibrate"};
+  CalibrateInputs inputs;
+  std::string output_path;
+  bool overwrite = false;
+  bool quiet = false;
+  app.add_option("--camera_poses", inputs.camera_paths,
+                 "camera trajectory, TUM 'timestamp tx ty tz qx qy qz qw', "
+                 "world_from_cam; repeat for SfM segments with their own "
+                 "scale")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--odometry", inputs.odometry_path,
+                 "wheel odometry: CSV 'timestamp,x,y,yaw' (m, rad) or TUM "
+                 "origin_from_odom")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--output", output_path,
+                 "result JSON; a YAML file is written beside it")
+      ->required();
+  app.add_flag("--overwrite", overwrite, "replace existing output files");
+  app.add_flag("--quiet", quiet, "print only errors");
+  CalibrationFlags flags;
+  AddCalibrationFlags(&app, &inputs, &flags);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitSuccess;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+  try {
+    FinishCalibrationFlags(flags, &inputs);
+    CheckOutputPath(output_path, overwrite);
+    CheckOutputPath(ReplaceExtension(output_path, ".yaml"), overwrite);
+    const CalibrationRun run =
+        RunCalibrationPipeline(inputs, "odomcal calibrate");
+    WriteCalibrationOutputs(run, output_path, overwrite);
+    if (!quiet) {
+      std::cout << CalibrationSummary(run.result, run.context);
+      std::cout << "  wrote " << output_path << " and "
+                << ReplaceExtension(output_path, ".yaml") << "\n";
+    }
+    return ExitCodeFor(run.result);
+  } catch (const FormatError& error) {
+    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
+  } catch (const OutputError& error) {
+    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
+  }
+  return kExitBadInput;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,54 @@
+// `odomcal calibrate`: extrinsic and metric scale from a camera trajectory
+// (TUM, world_from_cam, one file per SfM segment) and wheel odometry (TUM or
+// CSV timestamp,x,y,yaw).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "odomcal/adapters/association.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/calibration_result.h"
+
+namespace odomcal {
+
+// Exit codes of every odomcal command.
+constexpr int kExitSuccess = 0;
+constexpr int kExitInternalError = 1;
+constexpr int kExitBadInput = 2;        // arguments, files, outputs
+constexpr int kExitNotCalibrated = 3;   // the data do not determine it
+
+struct CalibrateInputs {
+  std::vector<std::string> camera_paths;
+  std::string odometry_path;
+  OdometryFormat odometry_format = OdometryFormat::kAuto;
+  TimeUnit camera_time_unit = TimeUnit::kSeconds;
+  TimeUnit odometry_time_unit = TimeUnit::kSeconds;
+  AssociationOptions association;
+  CalibrationOptions calibration;
+};
+
+struct CalibrationRun {
+  CalibrationResult result;
+  ReportContext context;
+};
+
+// Reads the inputs, associates them and calibrates. Throws FormatError for
+// unreadable/malformed files and std::invalid_argument for bad options.
+CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
+                                      const std::string& command);
+
+// Writes <output>.json and <output>.yaml atomically (both checked first).
+void WriteCalibrationOutputs(const CalibrationRun& run,
+                             const std::string& json_path,
+                             bool overwrite);
+
+// Exit code for a finished calibration.
+int ExitCodeFor(const CalibrationResult& result);
+
+int RunCalibrate(int argc, char** argv);
+
+}  // namespace odomcal

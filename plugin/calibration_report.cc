@@ -1,0 +1,394 @@
+// Quantities named in CalibrationResult::unobservable are written as null
+// (JSON) or left out (YAML), and printed as "undetermined": a number the data
+// do not support is never reported as if it were an estimate.
+
+#include "odomcal/plugin/calibration_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+
+#include "odomcal/solver/rigid3.h"
+
+namespace odomcal {
+namespace {
+
+using nlohmann::json;
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+bool Has(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+bool ScaleDetermined(const CalibrationResult& result, size_t segment) {
+  const std::string name = result.metric_scales.size() == 1
+                               ? "metric_scale"
+                               : "metric_scale[" + std::to_string(segment) + "]";
+  return result.has_estimate && !Has(result.unobservable, name) &&
+         std::isfinite(result.metric_scales[segment]);
+}
+
+json NumberOrNull(double value, bool determined) {
+  return determined && std::isfinite(value) ? json(value) : json(nullptr);
+}
+
+json TransformToJson(const Rigid3d& transform,
+                     bool rotation_determined,
+                     bool x_determined,
+                     bool y_determined,
+                     bool z_determined) {
+  json out;
+  if (!rotation_determined) {
+    out["matrix"] = nullptr;
+    out["quaternion_wxyz"] = nullptr;
+    out["roll_pitch_yaw_deg"] = nullptr;
+  } else {
+    const Eigen::Matrix4d m = transform.ToMatrix();
+    json rows = json::array();
+    for (int r = 0; r < 4; ++r) {
+      rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+    }
+    out["matrix"] = rows;
+    const Eigen::Quaterniond q = WithPositiveScalar(transform.rotation);
+    out["quaternion_wxyz"] = {q.w(), q.x(), q.y(), q.z()};
+    const Eigen::Vector3d rpy = RollPitchYaw(q) * kRadToDeg;
+    out["roll_pitch_yaw_deg"] = {rpy.x(), rpy.y(), rpy.z()};
+  }
+  out["translation_m"] = {NumberOrNull(transform.translation.x(), x_determined),
+                          NumberOrNull(transform.translation.y(), y_determined),
+                          NumberOrNull(transform.translation.z(), z_determined)};
+  return out;
+}
+
+json DiagnosticsToJson(const CalibrationDiagnostics& d) {
+  json out;
+  out["num_pairs_in"] = d.num_pairs_in;
+  out["num_pairs_used"] = d.num_pairs_used;
+  json mask = json::array();
+  for (const char used : d.inlier_mask) mask.push_back(used != 0);
+  out["inlier_mask"] = mask;
+  out["num_pairs_per_segment"] = d.num_pairs_per_segment;
+  out["excitation"] = {
+      {"yaw_increment_min_deg", d.yaw_increment_min_deg},
+      {"yaw_increment_max_deg", d.yaw_increment_max_deg},
+      {"yaw_increment_stddev_deg", d.yaw_increment_stddev_deg},
+      {"num_rotating_pairs", d.num_rotating_pairs},
+      {"num_left_turns", d.num_left_turns},
+      {"num_right_turns", d.num_right_turns},
+  };
+  out["angle_consistency"] = {
+      {"angle_mismatch_deg", d.angle_mismatch_deg},
+      {"num_angle_mismatches", d.num_angle_mismatches},
+  };
+  out["conditioning"] = {
+      {"rotation_step_eigenvalues",
+       {d.rotation_step_eigenvalues(0), d.rotation_step_eigenvalues(1),
+        d.rotation_step_eigenvalues(2), d.rotation_step_eigenvalues(3)}},
+      {"rotation_step_ratio", d.rotation_step_ratio},
+      {"rotation_step_gimbal", d.rotation_step_gimbal},
+      {"translation_step_condition_number",
+       NumberOrNull(d.translation_step_condition_number, true)},
+  };
+  out["residuals"] = {
+      {"rotation_deg", d.rotation_residual_deg},
+      {"translation_m", d.translation_residual_m},
+      {"rms_rotation_deg", d.rms_rotation_residual_deg},
+      {"max_rotation_deg", d.max_rotation_residual_deg},
+      {"rms_translation_m", d.rms_translation_residual_m},
+      {"max_translation_m", d.max_translation_residual_m},
+      {"relative_translation", d.relative_translation_residual},
+      {"reduced_chi_square", d.reduced_chi_square},
+  };
+  out["ransac_num_iterations"] = d.ransac_num_iterations;
+  out["refined"] = d.refined;
+  out["refinement_num_iterations"] = d.refinement_num_iterations;
+  out["refinement_report"] = d.refinement_report;
+  return out;
+}
+
+json OptionsToJson(const CalibrationOptions& o) {
+  return {
+      {"method", ToString(o.method)},
+      {"alsp_projection", ToString(o.alsp_projection)},
+      {"refine", o.refine},
+      {"robust_loss", ToString(o.robust_loss)},
+      {"robust_loss_scale", o.robust_loss_scale},
+      {"fixed_translation_z_m", o.fixed_translation_z_m},
+      {"ransac", o.use_ransac},
+      {"ransac_max_rotation_error_deg", o.ransac_max_rotation_error_deg},
+      {"ransac_max_translation_error_m", o.ransac_max_translation_error_m},
+      {"ransac_max_translation_error_rel", o.ransac_max_translation_error_rel},
+      {"ransac_min_inlier_ratio", o.ransac_min_inlier_ratio},
+      {"ransac_seed", o.ransac_seed},
+      {"min_rotation_deg", o.min_rotation_deg},
+      {"noise",
+       {{"odom_yaw_sigma_deg", o.noise.odom_yaw_sigma_deg},
+        {"odom_yaw_sigma_rel", o.noise.odom_yaw_sigma_rel},
+        {"odom_tilt_sigma_deg", o.noise.odom_tilt_sigma_deg},
+        {"odom_translation_sigma_m", o.noise.odom_translation_sigma_m},
+        {"odom_translation_sigma_rel", o.noise.odom_translation_sigma_rel},
+        {"cam_rotation_sigma_deg", o.noise.cam_rotation_sigma_deg},
+        {"cam_translation_sigma_rel", o.noise.cam_translation_sigma_rel}}},
+  };
+}
+
+std::string Format(const char* format, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), format, value);
+  return buffer;
+}
+
+}  // namespace
+
+json CalibrationToJson(const CalibrationResult& result,
+                       const ReportContext& context) {
+  const auto& unobservable = result.unobservable;
+  const bool estimate = result.has_estimate;
+  const bool rotation = estimate && !Has(unobservable, "rotation");
+  const bool x = estimate && !Has(unobservable, "translation_x");
+  const bool y = estimate && !Has(unobservable, "translation_y");
+  json out;
+  out["schema"] = "odomcal.calibration";
+  out["schema_version"] = kResultSchemaVersion;
+  out["status"] = ToString(result.status);
+  out["message"] = result.message;
+  out["conventions"] = {
+      {"odom_from_cam", "x_in_odom = odom_from_cam * x_in_cam"},
+      {"quaternion", "Hamilton, order w, x, y, z"},
+      {"roll_pitch_yaw", "R = Rz(yaw) * Ry(pitch) * Rx(roll), degrees"},
+      {"metric_scale", "metres per reconstruction unit"},
+  };
+  if (estimate) {
+    out["odom_from_cam"] =
+        TransformToJson(result.odom_from_cam, rotation, x, y, true);
+    // The inverse depends on every component; it is given only when all
+    // observable parts are determined (z is the fixed value).
+    out["cam_from_odom"] =
+        rotation && x && y
+            ? TransformToJson(Inverse(result.odom_from_cam), true, true, true,
+                              true)
+            : json(nullptr);
+  } else {
+    out["odom_from_cam"] = nullptr;
+    out["cam_from_odom"] = nullptr;
+  }
+  json scales = json::array();
+  for (size_t k = 0; k < result.metric_scales.size(); ++k) {
+    scales.push_back(NumberOrNull(result.metric_scales[k], ScaleDetermined(result, k)));
+  }
+  out["metric_scales"] = scales;
+  out["metric_scale"] = scales.size() == 1 ? scales[0] : json(nullptr);
+  out["unobservable"] = unobservable;
+  out["fixed"] = {{"translation_z_m",
+                   context.calibration_options.fixed_translation_z_m}};
+
+  if (result.covariance) {
+    const Eigen::MatrixXd& c = *result.covariance;
+    json stddev_scales = json::array();
+    for (size_t k = 0; k < result.stddev_metric_scales_rel.size(); ++k) {
+      stddev_scales.push_back(
+          NumberOrNull(result.stddev_metric_scales_rel[k], ScaleDetermined(result, k)));
+    }
+    out["stddev"] = {
+        {"roll_deg", NumberOrNull(result.stddev_roll_pitch_yaw_deg.x(), rotation)},
+        {"pitch_deg", NumberOrNull(result.stddev_roll_pitch_yaw_deg.y(), rotation)},
+        {"yaw_deg", NumberOrNull(result.stddev_roll_pitch_yaw_deg.z(), rotation)},
+        {"rotation_axes_deg",
+         {NumberOrNull(result.stddev_rotation_axes_deg.x(), rotation),
+          NumberOrNull(result.stddev_rotation_axes_deg.y(), rotation),
+          NumberOrNull(result.stddev_rotation_axes_deg.z(), rotation)}},
+        {"translation_x_m", NumberOrNull(result.stddev_translation_xy_m.x(), x)},
+        {"translation_y_m", NumberOrNull(result.stddev_translation_xy_m.y(), y)},
+        {"metric_scales_rel", stddev_scales},
+    };
+    json order = {"rx", "ry", "rz", "tx", "ty"};
+    for (size_t k = 0; k + 5 < static_cast<size_t>(c.rows()); ++k) {
+      order.push_back("s_" + std::to_string(k));
+    }
+    json rows = json::array();
+    for (int r = 0; r < c.rows(); ++r) {
+      json row = json::array();
+      for (int col = 0; col < c.cols(); ++col) row.push_back(c(r, col));
+      rows.push_back(row);
+    }
+    out["covariance"] = {
+        {"order", order},
+        {"perturbation",
+         "rotation: left, R = Exp(phi) * R_hat, phi in radians about the "
+         "odometry axes; translation: additive, metres; s_k: metric scale of "
+         "segment k, metres per reconstruction unit; translation z is fixed "
+         "and excluded"},
+        {"matrix", rows},
+    };
+  } else {
+    out["stddev"] = nullptr;
+    out["covariance"] = nullptr;
+  }
+  out["warnings"] = result.warnings;
+  json diagnostics = DiagnosticsToJson(result.diagnostics);
+  const AssociationResult& a = context.association;
+  diagnostics["association"] = {
+      {"num_camera_poses", a.num_camera_poses},
+      {"num_usable_camera_poses", a.num_usable_camera_poses},
+      {"num_outside_odometry_span", a.num_outside_odometry_span},
+      {"num_in_odometry_gaps", a.num_in_odometry_gaps},
+      {"num_keyframes", a.num_keyframes},
+      {"num_pairs_per_segment", a.num_pairs_per_segment},
+  };
+  if (result.has_estimate) {
+    const CalibrationDiagnostics& d = result.diagnostics;
+    json linear_scales = json::array();
+    for (const double s : d.linear_metric_scales) linear_scales.push_back(NumberOrNull(s, true));
+    diagnostics["closed_form"] = {
+        {"odom_from_cam", TransformToJson(d.linear_odom_from_cam, rotation, x, y, true)},
+        {"metric_scales", linear_scales},
+    };
+  }
+  out["diagnostics"] = diagnostics;
+  const AssociationOptions& ao = context.association_options;
+  out["inputs"] = {
+      {"command", context.command},
+      {"camera_poses", context.camera_paths},
+      {"camera_pose_convention", "TUM: timestamp tx ty tz qx qy qz qw, world_from_cam"},
+      {"odometry", context.odometry_path},
+      {"camera_time_unit", context.camera_time_unit},
+      {"odometry_time_unit", context.odometry_time_unit},
+      {"camera_time_offset_s", 1e-9 * static_cast<double>(ao.camera_time_offset_ns)},
+      {"max_odometry_gap_s", ao.max_odometry_gap_s},
+      {"keyframe_min_rotation_deg", ao.keyframe_min_rotation_deg},
+      {"keyframe_min_translation_m", ao.keyframe_min_translation_m},
+  };
+  out["options"] = OptionsToJson(context.calibration_options);
+  return out;
+}
+
+std::string CalibrationToYaml(const CalibrationResult& result) {
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  fs << "status" << ToString(result.status);
+  fs << "message" << result.message;
+  const bool rotation = result.has_estimate && !Has(result.unobservable, "rotation");
+  const bool x = result.has_estimate && !Has(result.unobservable, "translation_x");
+  const bool y = result.has_estimate && !Has(result.unobservable, "translation_y");
+  if (rotation && x && y) {
+    const Eigen::Matrix4d m = result.odom_from_cam.ToMatrix();
+    cv::Mat matrix(4, 4, CV_64F);
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) matrix.at<double>(r, c) = m(r, c);
+    }
+    fs << "odom_from_cam" << matrix;
+    const Eigen::Quaterniond q = WithPositiveScalar(result.odom_from_cam.rotation);
+    fs << "quaternion_wxyz" << std::vector<double>{q.w(), q.x(), q.y(), q.z()};
+    const Eigen::Vector3d& t = result.odom_from_cam.translation;
+    fs << "translation_m" << std::vector<double>{t.x(), t.y(), t.z()};
+  }
+  std::vector<double> scales;
+  for (size_t k = 0; k < result.metric_scales.size(); ++k) {
+    if (!ScaleDetermined(result, k)) {
+      scales.clear();
+      break;
+    }
+    scales.push_back(result.metric_scales[k]);
+  }
+  if (!scales.empty()) fs << "metric_scales" << scales;
+  fs << "unobservable" << "[";
+  for (const std::string& name : result.unobservable) fs << name;
+  fs << "]";
+  if (result.covariance && rotation && x && y) {
+    const Eigen::MatrixXd& c = *result.covariance;
+    cv::Mat covariance(static_cast<int>(c.rows()), static_cast<int>(c.cols()), CV_64F);
+    for (int r = 0; r < c.rows(); ++r) {
+      for (int col = 0; col < c.cols(); ++col) {
+        covariance.at<double>(r, col) = c(r, col);
+      }
+    }
+    fs << "covariance" << covariance;
+    fs << "covariance_order" << "rx ry rz (left perturbation, rad) tx ty (m) s_k";
+  }
+  return fs.releaseAndGetString();
+}
+
+std::string CalibrationSummary(const CalibrationResult& result,
+                               const ReportContext& context) {
+  std::ostringstream out;
+  out << context.command << ": " << ToString(result.status) << " - "
+      << result.message << "\n";
+  const AssociationResult& a = context.association;
+  out << "  input: " << a.num_camera_poses << " camera poses, "
+      << a.num_usable_camera_poses << " inside the odometry, "
+      << a.num_keyframes << " keyframes, " << a.pairs.size()
+      << " motion pairs\n";
+  if (!result.has_estimate) {
+    out << "  no estimate; undetermined:";
+    for (const std::string& name : result.unobservable) out << " " << name;
+    out << "\n";
+  } else {
+    const auto& u = result.unobservable;
+    const bool sigma = result.covariance.has_value();
+    const bool rotation = !Has(u, "rotation");
+    out << "  odom_from_cam (x_in_odom = odom_from_cam * x_in_cam):\n";
+    if (rotation) {
+      const Eigen::Vector3d rpy = RollPitchYaw(result.odom_from_cam.rotation) * kRadToDeg;
+      const char* names[3] = {"roll ", "pitch", "yaw  "};
+      for (int k = 0; k < 3; ++k) {
+        out << "    " << names[k] << " " << Format("%10.4f deg", rpy(k));
+        if (sigma) {
+          out << Format("  +- %.4f deg (3 sigma)",
+                        3.0 * result.stddev_roll_pitch_yaw_deg(k));
+        }
+        out << "\n";
+      }
+      const Eigen::Quaterniond q = WithPositiveScalar(result.odom_from_cam.rotation);
+      out << "    quaternion wxyz [" << Format("%.6f", q.w()) << ", "
+          << Format("%.6f", q.x()) << ", " << Format("%.6f", q.y()) << ", "
+          << Format("%.6f", q.z()) << "]\n";
+    } else {
+      out << "    rotation   undetermined\n";
+    }
+    const char axis[2] = {'x', 'y'};
+    for (int k = 0; k < 2; ++k) {
+      const std::string name = std::string("translation_") + axis[k];
+      out << "    " << axis[k] << "     ";
+      if (Has(u, name)) {
+        out << "undetermined\n";
+        continue;
+      }
+      out << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation(k));
+      if (sigma) {
+        out << Format("   +- %.2f cm (3 sigma)",
+                      300.0 * result.stddev_translation_xy_m(k));
+      }
+      out << "\n";
+    }
+    out << "    z     " << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation.z())
+        << "   fixed (unobservable under planar motion; --fixed_translation_z_m)\n";
+    for (size_t k = 0; k < result.metric_scales.size(); ++k) {
+      out << "  metric scale";
+      if (result.metric_scales.size() > 1) out << " [segment " << k << "]";
+      if (!ScaleDetermined(result, k)) {
+        out << " undetermined\n";
+        continue;
+      }
+      out << Format(" %.6f m/unit", result.metric_scales[k]);
+      if (sigma && k < result.stddev_metric_scales_rel.size()) {
+        out << Format("  +- %.3f %% (3 sigma)",
+                      300.0 * result.stddev_metric_scales_rel[k]);
+      }
+      out << "\n";
+    }
+    const CalibrationDiagnostics& d = result.diagnostics;
+    out << "  pairs used " << d.num_pairs_used << " of " << d.num_pairs_in
+        << "; residuals rms " << Format("%.3f deg", d.rms_rotation_residual_deg)
+        << ", " << Format("%.1f mm", 1000.0 * d.rms_translation_residual_m)
+        << "; yaw increments " << Format("%.1f", d.yaw_increment_min_deg)
+        << " .. " << Format("%.1f deg", d.yaw_increment_max_deg) << "\n";
+  }
+  for (const std::string& warning : result.warnings) {
+    out << "  warning: " << warning << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace odomcal

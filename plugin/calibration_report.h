@@ -1,0 +1,43 @@
+// The calibration's outputs: result JSON (the public schema documented in
+// README.md, "Result JSON"), an OpenCV FileStorage YAML with the same core
+// numbers, and the human summary printed by the CLI.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "odomcal/adapters/association.h"
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/calibration_result.h"
+
+namespace odomcal {
+
+// Everything about a run that the report echoes besides the result.
+struct ReportContext {
+  std::string command;  // e.g. "odomcal calibrate"
+  std::vector<std::string> camera_paths;
+  std::string odometry_path;
+  std::string camera_time_unit;
+  std::string odometry_time_unit;
+  AssociationOptions association_options;
+  AssociationResult association;  // counts; pairs are not echoed
+  CalibrationOptions calibration_options;
+};
+
+constexpr int kResultSchemaVersion = 1;
+
+nlohmann::json CalibrationToJson(const CalibrationResult& result,
+                                 const ReportContext& context);
+
+// OpenCV FileStorage YAML ("%YAML:1.0"), readable with cv::FileStorage.
+std::string CalibrationToYaml(const CalibrationResult& result);
+
+// Multi-line human summary: status, rotation as roll/pitch/yaw and
+// quaternion, translation in cm with 3-sigma bounds, scales, residuals,
+// warnings.
+std::string CalibrationSummary(const CalibrationResult& result,
+                               const ReportContext& context);
+
+}  // namespace odomcal

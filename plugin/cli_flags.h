@@ -1,0 +1,34 @@
+// Calibration flags shared by the commands that calibrate (calibrate, demo).
+// Flag names are public interface: keep them stable (README, "Flags").
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "odomcal/plugin/calibrate_command.h"
+
+namespace odomcal {
+
+// Text flags held until they are converted into CalibrateInputs.
+struct CalibrationFlags {
+  std::string method = "alsp";
+  std::string alsp_projection = "length_preserving";
+  std::string ransac = "on";
+  std::string robust_loss = "none";
+  std::string odometry_format = "auto";
+  std::string camera_time_unit = "s";
+  std::string odometry_time_unit = "s";
+  double camera_time_offset_s = 0.0;
+  bool no_refine = false;
+};
+
+void AddCalibrationFlags(CLI::App* app,
+                         CalibrateInputs* inputs,
+                         CalibrationFlags* flags);
+
+// Converts the text flags; throws std::invalid_argument naming the flag.
+void FinishCalibrationFlags(const CalibrationFlags& flags,
+                            CalibrateInputs* inputs);
+
+}  // namespace odomcal

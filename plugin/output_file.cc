@@ -1,0 +1,73 @@
+#include "odomcal/plugin/output_file.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace odomcal {
+
+void CheckOutputPath(const std::string& path, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (path.empty()) {
+    throw OutputError("output path is empty");
+  }
+  const fs::path target(path);
+  if (fs::exists(target, error) && !overwrite) {
+    throw OutputError(path + ": exists (pass --overwrite to replace it)");
+  }
+  if (fs::is_directory(target, error)) {
+    throw OutputError(path + ": is a directory");
+  }
+  const fs::path parent =
+      target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, error)) {
+    throw OutputError(path + ": folder " + parent.string() + " does not exist");
+  }
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& contents) {
+  std::string temporary = path + ".tmp.XXXXXX";
+  const int fd = mkstemp(temporary.data());
+  if (fd < 0) {
+    throw OutputError(path + ": cannot create a temporary file (" +
+                      std::strerror(errno) + ")");
+  }
+  size_t written = 0;
+  while (written < contents.size()) {
+    const ssize_t n =
+        ::write(fd, contents.data() + written, contents.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const std::string reason = std::strerror(errno);
+      ::close(fd);
+      std::remove(temporary.c_str());
+      throw OutputError(path + ": write failed (" + reason + ")");
+    }
+    written += static_cast<size_t>(n);
+  }
+  // mkstemp creates 0600; outputs are ordinary files.
+  if (::fchmod(fd, 0644) != 0 || ::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw OutputError(path + ": write failed (" + reason + ")");
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw OutputError(path + ": cannot move the finished file into place (" +
+                      reason + ")");
+  }
+}
+
+std::string ReplaceExtension(const std::string& path,
+                             const std::string& extension) {
+  return std::filesystem::path(path).replace_extension(extension).string();
+}
+
+}  // namespace odomcal
