@@ -108,6 +108,15 @@ std::optional<int64_t> ParseTimestampNs(std::string_view text,
     while (pos < text.size() && IsDigit(text[pos])) ++pos;
     fraction_digits = text.substr(fraction_begin, pos - fraction_begin);
   }
+  // Nanosecond logs are integers; a fraction means another unit (usually
+  // seconds) was declared wrongly, which rounding would hide.
+  if (unit == TimeUnit::kNanoseconds &&
+      fraction_digits.find_first_not_of('0') != std::string_view::npos) {
+    Fail(error, "timestamp " + quoted +
+                    " has a fractional part but the time unit is ns; pass "
+                    "the time unit flag");
+    return std::nullopt;
+  }
   if (pos < text.size() && (text[pos] == 'e' || text[pos] == 'E') &&
       !(integer_digits.empty() && fraction_digits.empty())) {
     Fail(error,

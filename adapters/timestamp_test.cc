@@ -88,10 +88,15 @@ TEST(ParseTimestampNs, RoundsExtraFractionDigitsHalfAwayFromZero) {
   EXPECT_EQ(ParseOrFail("0.00000000049999", TimeUnit::kSeconds), 0);
   EXPECT_EQ(ParseOrFail("1.9999999999", TimeUnit::kSeconds), 2000000000);
   EXPECT_EQ(ParseOrFail("-1.9999999994", TimeUnit::kSeconds), -1999999999);
-  EXPECT_EQ(ParseOrFail("2.4", TimeUnit::kNanoseconds), 2);
-  EXPECT_EQ(ParseOrFail("2.5", TimeUnit::kNanoseconds), 3);
-  EXPECT_EQ(ParseOrFail("-2.5", TimeUnit::kNanoseconds), -3);
   EXPECT_EQ(ParseOrFail("1.0005", TimeUnit::kMicroseconds), 1001);
+  EXPECT_EQ(ParseOrFail("-1.0005", TimeUnit::kMicroseconds), -1001);
+}
+
+// Seconds read as nanoseconds would otherwise round to duplicates.
+TEST(ParseTimestampNs, RejectsFractionalNanoseconds) {
+  EXPECT_TRUE(Contains(ErrorOf("1700000000.1", TimeUnit::kNanoseconds),
+                       "time unit"));
+  EXPECT_EQ(ParseOrFail("42.000", TimeUnit::kNanoseconds), 42);
 }
 
 TEST(ParseTimestampNs, RejectsNonDecimalText) {
