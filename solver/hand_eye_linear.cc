@@ -20,8 +20,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 // Grid over alpha for the multi-segment profile; the profile has at most a
-// few minima per turn, so 1/4 degree brackets every one of them.
-constexpr int kAlphaGridSize = 1440;
+// few minima per turn, so half a degree brackets every one of them.
+constexpr int kAlphaGridSize = 720;
 constexpr int kMaxGaussNewtonIterations = 20;
 
 Eigen::Vector4d WFirst(const Eigen::Quaterniond& q) {
@@ -51,20 +51,42 @@ struct Step2Row {
   int segment = 0;  // local (compacted) index
 };
 
+// The parts of a MotionPair the closed form reads, packed densely: a
+// MotionPair carries optional covariances and is ~10x larger, which made
+// large problems memory bound.
+struct CompactMotion {
+  Eigen::Quaterniond q_a;  // unit, non-negative scalar part
+  Eigen::Quaterniond q_b;  // unit, non-negative scalar part
+  Eigen::Vector3d t_a;
+  Eigen::Vector3d t_b;
+  int segment = 0;
+};
+
+std::vector<CompactMotion> Compact(const MotionPairs& pairs,
+                                   const std::vector<int>& indices) {
+  std::vector<CompactMotion> motions;
+  motions.reserve(indices.size());
+  for (const int index : indices) {
+    const MotionPair& pair = pairs[index];
+    CompactMotion motion;
+    motion.q_a = WithPositiveScalar(pair.odom_i_from_odom_j.rotation.normalized());
+    motion.q_b = WithPositiveScalar(pair.cam_i_from_cam_j.rotation.normalized());
+    motion.t_a = pair.odom_i_from_odom_j.translation;
+    motion.t_b = pair.cam_i_from_cam_j.translation;
+    motion.segment = pair.segment;
+    motions.push_back(motion);
+  }
+  return motions;
+}
+
 // Eigen's SelfAdjointEigenSolver sorts eigenvalues in increasing order.
 Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> SolveNormalMatrix(
-    const MotionPairs& pairs,
-    const std::vector<int>& indices,
+    const std::vector<CompactMotion>& motions,
     const std::vector<double>& q_b_signs) {
   Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
-  for (size_t n = 0; n < indices.size(); ++n) {
-    const MotionPair& pair = pairs[indices[n]];
-    const Eigen::Quaterniond q_a =
-        WithPositiveScalar(pair.odom_i_from_odom_j.rotation.normalized());
-    const Eigen::Quaterniond q_b(q_b_signs[n] *
-                                 pair.cam_i_from_cam_j.rotation.normalized()
-                                     .coeffs());
-    const Eigen::Matrix4d block = RotationBlock(q_a, q_b);
+  for (size_t n = 0; n < motions.size(); ++n) {
+    const Eigen::Quaterniond q_b(q_b_signs[n] * motions[n].q_b.coeffs());
+    const Eigen::Matrix4d block = RotationBlock(motions[n].q_a, q_b);
     normal.noalias() += block.transpose() * block;
   }
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(normal);
@@ -150,36 +172,57 @@ class AlphaProfile {
     const int n = 2 + 2 * num_segments;
     normal_ = Eigen::MatrixXd::Zero(n, n);
     gradient_ = Eigen::VectorXd::Zero(n);
+    // Blocks of D^T D and D^T t for the row design D = [J, 0.., W_k, 0..],
+    // W_k = -[v1 -v2; v2 v1] so that W_k [cos; sin] = -Rz(alpha) v.
     for (const Step2Row& row : rows) {
-      Eigen::MatrixXd design = Eigen::MatrixXd::Zero(2, n);
-      design.leftCols<2>() = row.j;
-      // Rz(alpha) v = [v1 -v2; v2 v1] [cos; sin].
-      design.block<2, 2>(0, 2 + 2 * row.segment) << -row.v(0), row.v(1),
-          -row.v(1), -row.v(0);
-      normal_.noalias() += design.transpose() * design;
-      gradient_.noalias() += design.transpose() * row.t;
+      Eigen::Matrix2d w;
+      w << -row.v(0), row.v(1), -row.v(1), -row.v(0);
+      const int k = 2 + 2 * row.segment;
+      normal_.topLeftCorner<2, 2>().noalias() += row.j.transpose() * row.j;
+      normal_.block<2, 2>(0, k).noalias() += row.j.transpose() * w;
+      normal_.block<2, 2>(k, k).noalias() += w.transpose() * w;
+      gradient_.head<2>().noalias() += row.j.transpose() * row.t;
+      gradient_.segment<2>(k).noalias() += w.transpose() * row.t;
       constant_ += row.t.squaredNorm();
+    }
+    for (int segment = 0; segment < num_segments; ++segment) {
+      const int k = 2 + 2 * segment;
+      normal_.block<2, 2>(k, 0) = normal_.block<2, 2>(0, k).transpose();
     }
   }
 
-  // Reduced normal matrix E^T H E for u = (cos alpha, sin alpha).
+  // Reduced normal matrix E^T H E for u = (cos alpha, sin alpha), where
+  // x = E y maps y = [p; s_0 ..] to x = [p; s_0 u; ..].
   Eigen::MatrixXd Reduced(double alpha, Eigen::VectorXd* rhs) const {
-    const int n = 2 + 2 * num_segments_;
-    Eigen::MatrixXd e = Eigen::MatrixXd::Zero(n, 2 + num_segments_);
-    e.topLeftCorner<2, 2>().setIdentity();
-    for (int k = 0; k < num_segments_; ++k) {
-      e(2 + 2 * k, 2 + k) = std::cos(alpha);
-      e(3 + 2 * k, 2 + k) = std::sin(alpha);
+    const Eigen::Vector2d u(std::cos(alpha), std::sin(alpha));
+    const int m = 2 + num_segments_;
+    Eigen::MatrixXd reduced(m, m);
+    rhs->resize(m);
+    reduced.topLeftCorner<2, 2>() = normal_.topLeftCorner<2, 2>();
+    rhs->head<2>() = gradient_.head<2>();
+    for (int a = 0; a < num_segments_; ++a) {
+      const int ka = 2 + 2 * a;
+      reduced.block<2, 1>(0, 2 + a) = normal_.block<2, 2>(0, ka) * u;
+      reduced.block<1, 2>(2 + a, 0) = reduced.block<2, 1>(0, 2 + a).transpose();
+      (*rhs)(2 + a) = gradient_.segment<2>(ka).dot(u);
+      for (int b = 0; b < num_segments_; ++b) {
+        const int kb = 2 + 2 * b;
+        reduced(2 + a, 2 + b) = u.dot(normal_.block<2, 2>(ka, kb) * u);
+      }
     }
-    *rhs = e.transpose() * gradient_;
-    return e.transpose() * normal_ * e;
+    return reduced;
   }
 
   // Minimum over y of the cost at alpha; y = [p_x, p_y, s_0, ...].
   double Cost(double alpha, Eigen::VectorXd* y) const {
     Eigen::VectorXd rhs;
     const Eigen::MatrixXd reduced = Reduced(alpha, &rhs);
-    *y = -reduced.completeOrthogonalDecomposition().solve(rhs);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+      *y = -ldlt.solve(rhs);
+    } else {
+      *y = -reduced.completeOrthogonalDecomposition().solve(rhs);
+    }
     return constant_ + rhs.dot(*y);
   }
 
@@ -245,28 +288,23 @@ Eigen::Matrix4d QuaternionRightMatrix(const Eigen::Quaterniond& q) {
   return r;
 }
 
-std::vector<Eigen::Quaterniond> SolveRotationYZ(const MotionPairs& pairs,
-                                                const std::vector<int>& indices,
-                                                LinearEstimate* estimate) {
+namespace {
+
+std::vector<Eigen::Quaterniond> SolveRotationYZ(
+    const std::vector<CompactMotion>& motions,
+    LinearEstimate* estimate) {
   // Scalar parts of the same sign within a pair: both non-negative first.
-  std::vector<double> q_b_signs(indices.size());
-  for (size_t n = 0; n < indices.size(); ++n) {
-    q_b_signs[n] =
-        pairs[indices[n]].cam_i_from_cam_j.rotation.w() < 0.0 ? -1.0 : 1.0;
-  }
-  auto eig = SolveNormalMatrix(pairs, indices, q_b_signs);
+  std::vector<double> q_b_signs(motions.size(), 1.0);
+  auto eig = SolveNormalMatrix(motions, q_b_signs);
 
   // Near a rotation of pi, w ~ 0 and noise can give q_A and q_B opposite
   // signs; keep for q_B the sign that fits the first estimate of q_yz.
   const Eigen::Quaterniond first_guess =
       FromWFirst(eig.eigenvectors().col(0));
   bool flipped = false;
-  for (size_t n = 0; n < indices.size(); ++n) {
-    const MotionPair& pair = pairs[indices[n]];
-    const Eigen::Quaterniond q_a =
-        WithPositiveScalar(pair.odom_i_from_odom_j.rotation.normalized());
-    const Eigen::Quaterniond q_b(
-        q_b_signs[n] * pair.cam_i_from_cam_j.rotation.normalized().coeffs());
+  for (size_t n = 0; n < motions.size(); ++n) {
+    const Eigen::Quaterniond& q_a = motions[n].q_a;
+    const Eigen::Quaterniond q_b(q_b_signs[n] * motions[n].q_b.coeffs());
     const Eigen::Quaterniond minus_q_b(-q_b.coeffs());
     const double keep =
         (RotationBlock(q_a, q_b) * WFirst(first_guess)).squaredNorm();
@@ -278,7 +316,7 @@ std::vector<Eigen::Quaterniond> SolveRotationYZ(const MotionPairs& pairs,
     }
   }
   if (flipped) {
-    eig = SolveNormalMatrix(pairs, indices, q_b_signs);
+    eig = SolveNormalMatrix(motions, q_b_signs);
   }
 
   estimate->rotation_step_eigenvalues = eig.eigenvalues();
@@ -296,15 +334,14 @@ std::vector<Eigen::Quaterniond> SolveRotationYZ(const MotionPairs& pairs,
   return candidates;
 }
 
-bool SolveYawTranslationScale(const MotionPairs& pairs,
-                              const std::vector<int>& indices,
+bool SolveYawTranslationScale(const std::vector<CompactMotion>& motions,
                               const Eigen::Quaterniond& q_yz,
                               const LinearOptions& options,
                               LinearEstimate* estimate) {
   const Eigen::Matrix3d r_yz = q_yz.toRotationMatrix();
   std::map<int, int> local_of_segment;
-  for (const int index : indices) {
-    local_of_segment.emplace(pairs[index].segment, 0);
+  for (const CompactMotion& motion : motions) {
+    local_of_segment.emplace(motion.segment, 0);
   }
   int num_segments = 0;
   for (auto& [segment, local] : local_of_segment) {
@@ -312,20 +349,17 @@ bool SolveYawTranslationScale(const MotionPairs& pairs,
   }
 
   std::vector<Step2Row> rows;
-  rows.reserve(indices.size());
-  for (const int index : indices) {
-    const MotionPair& pair = pairs[index];
+  rows.reserve(motions.size());
+  for (const CompactMotion& motion : motions) {
     const Eigen::Matrix3d r_a_minus_i =
-        pair.odom_i_from_odom_j.rotation.toRotationMatrix() -
-        Eigen::Matrix3d::Identity();
+        motion.q_a.toRotationMatrix() - Eigen::Matrix3d::Identity();
     Step2Row row;
     row.j = r_a_minus_i.topLeftCorner<2, 2>();
-    row.v = PlanarCameraTranslation(
-        pair.cam_i_from_cam_j.translation, r_yz, options);
+    row.v = PlanarCameraTranslation(motion.t_b, r_yz, options);
     // The fixed z offset enters only through a tilted odometry rotation.
-    row.t = pair.odom_i_from_odom_j.translation.head<2>() +
+    row.t = motion.t_a.head<2>() +
             r_a_minus_i.block<2, 1>(0, 2) * options.fixed_translation_z_m;
-    row.segment = local_of_segment.at(pair.segment);
+    row.segment = local_of_segment.at(motion.segment);
     rows.push_back(row);
   }
 
@@ -401,6 +435,23 @@ bool SolveYawTranslationScale(const MotionPairs& pairs,
   return true;
 }
 
+}  // namespace
+
+std::vector<Eigen::Quaterniond> SolveRotationYZ(const MotionPairs& pairs,
+                                                const std::vector<int>& indices,
+                                                LinearEstimate* estimate) {
+  return SolveRotationYZ(Compact(pairs, indices), estimate);
+}
+
+bool SolveYawTranslationScale(const MotionPairs& pairs,
+                              const std::vector<int>& indices,
+                              const Eigen::Quaterniond& q_yz,
+                              const LinearOptions& options,
+                              LinearEstimate* estimate) {
+  return SolveYawTranslationScale(
+      Compact(pairs, indices), q_yz, options, estimate);
+}
+
 LinearEstimate EstimateOdomFromCamLinear(const MotionPairs& pairs,
                                          const std::vector<int>& indices,
                                          const LinearOptions& options) {
@@ -410,8 +461,9 @@ LinearEstimate EstimateOdomFromCamLinear(const MotionPairs& pairs,
                        std::to_string(indices.size());
     return estimate;
   }
+  const std::vector<CompactMotion> motions = Compact(pairs, indices);
   const std::vector<Eigen::Quaterniond> candidates =
-      SolveRotationYZ(pairs, indices, &estimate);
+      SolveRotationYZ(motions, &estimate);
   // Rotation is observable only if the near-null space is two-dimensional:
   // the third eigenvalue must stand clear of zero.
   const double third = estimate.rotation_step_eigenvalues(2);
@@ -426,7 +478,7 @@ LinearEstimate EstimateOdomFromCamLinear(const MotionPairs& pairs,
   std::string failure;
   for (const Eigen::Quaterniond& q_yz : candidates) {
     LinearEstimate trial = estimate;
-    if (!SolveYawTranslationScale(pairs, indices, q_yz, options, &trial)) {
+    if (!SolveYawTranslationScale(motions, q_yz, options, &trial)) {
       failure = trial.failure;
       continue;
     }

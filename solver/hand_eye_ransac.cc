@@ -29,33 +29,12 @@ LinearOptions ToLinearOptions(const CalibrationOptions& options) {
   return linear;
 }
 
-// Fills in the scale of every segment missing from `hypothesis` as the
-// median of the pairs' own least-squares scales under its extrinsic.
 void CompleteScales(const MotionPairs& pairs,
                     const std::vector<int>& indices,
                     int num_segments,
                     Hypothesis* hypothesis) {
-  hypothesis->metric_scales.resize(num_segments,
-                                   std::numeric_limits<double>::quiet_NaN());
-  std::map<int, std::vector<double>> per_segment;
-  const Rigid3d& x = hypothesis->odom_from_cam;
-  for (const int index : indices) {
-    const MotionPair& pair = pairs[index];
-    if (std::isfinite(hypothesis->metric_scales[pair.segment])) continue;
-    const Eigen::Vector3d odom_side =
-        pair.odom_i_from_odom_j.rotation * x.translation +
-        pair.odom_i_from_odom_j.translation - x.translation;
-    const Eigen::Vector3d cam_side = x.rotation * pair.cam_i_from_cam_j.translation;
-    const double norm2 = cam_side.squaredNorm();
-    if (norm2 > 0.0) {
-      per_segment[pair.segment].push_back(odom_side.dot(cam_side) / norm2);
-    }
-  }
-  for (auto& [segment, scales] : per_segment) {
-    auto middle = scales.begin() + scales.size() / 2;
-    std::nth_element(scales.begin(), middle, scales.end());
-    hypothesis->metric_scales[segment] = *middle;
-  }
+  CompleteMetricScales(pairs, indices, num_segments, hypothesis->odom_from_cam,
+                       &hypothesis->metric_scales);
 }
 
 // Error of a pair relative to the inlier threshold (< 1: inlier), the larger
@@ -69,22 +48,35 @@ double NormalizedError(const MotionPair& pair,
                        const CalibrationOptions& options) {
   constexpr double kChiSquare3Dof999 = 16.266;
   const Vector6d residual = HandEyeResidual(pair, odom_from_cam, metric_scale);
-  const Matrix6d covariance = HandEyeResidualCovariance(
-      pair, odom_from_cam, metric_scale, options.noise);
-  const double rotation_deg = residual.head<3>().norm() * kRadToDeg;
-  const double translation_m = residual.tail<3>().norm();
-  const double rotation_mahalanobis2 = residual.head<3>().dot(
-      covariance.topLeftCorner<3, 3>().ldlt().solve(residual.head<3>()));
-  const double translation_mahalanobis2 = residual.tail<3>().dot(
-      covariance.bottomRightCorner<3, 3>().ldlt().solve(residual.tail<3>()));
-  const double rotation =
-      std::min(rotation_deg / options.ransac_max_rotation_error_deg,
-               std::sqrt(rotation_mahalanobis2 / kChiSquare3Dof999));
-  const double translation =
-      std::min(translation_m / (options.ransac_max_translation_error_m +
-                                options.ransac_max_translation_error_rel *
-                                    pair.odom_i_from_odom_j.translation.norm()),
-               std::sqrt(translation_mahalanobis2 / kChiSquare3Dof999));
+  double rotation = residual.head<3>().norm() * kRadToDeg /
+                    options.ransac_max_rotation_error_deg;
+  double translation =
+      residual.tail<3>().norm() /
+      (options.ransac_max_translation_error_m +
+       options.ransac_max_translation_error_rel *
+           pair.odom_i_from_odom_j.translation.norm());
+  // The covariance is the expensive part: only needed when an absolute
+  // threshold fails (then the pair may still be within the noise model).
+  if (rotation >= 1.0 || translation >= 1.0) {
+    const Matrix6d covariance = HandEyeResidualCovariance(
+        pair, odom_from_cam, metric_scale, options.noise);
+    if (rotation >= 1.0) {
+      rotation = std::min(
+          rotation,
+          std::sqrt(residual.head<3>().dot(covariance.topLeftCorner<3, 3>()
+                                               .ldlt()
+                                               .solve(residual.head<3>())) /
+                    kChiSquare3Dof999));
+    }
+    if (translation >= 1.0) {
+      translation = std::min(
+          translation,
+          std::sqrt(residual.tail<3>().dot(covariance.bottomRightCorner<3, 3>()
+                                               .ldlt()
+                                               .solve(residual.tail<3>())) /
+                    kChiSquare3Dof999));
+    }
+  }
   return std::max(rotation, translation);
 }
 
@@ -131,6 +123,47 @@ bool FitHypothesis(const MotionPairs& pairs,
 }
 
 }  // namespace
+
+void CompleteMetricScales(const MotionPairs& pairs,
+                          const std::vector<int>& indices,
+                          int num_segments,
+                          const Rigid3d& odom_from_cam,
+                          std::vector<double>* metric_scales) {
+  metric_scales->resize(num_segments, std::numeric_limits<double>::quiet_NaN());
+  std::map<int, std::vector<double>> per_segment;
+  const Rigid3d& x = odom_from_cam;
+  for (const int index : indices) {
+    const MotionPair& pair = pairs[index];
+    if (std::isfinite((*metric_scales)[pair.segment])) continue;
+    // The scale that best fits this pair alone: s = <odom side, cam side> /
+    // |cam side|^2 from R_A p + t_A - p = s R t_B.
+    const Eigen::Vector3d odom_side =
+        pair.odom_i_from_odom_j.rotation * x.translation +
+        pair.odom_i_from_odom_j.translation - x.translation;
+    const Eigen::Vector3d cam_side = x.rotation * pair.cam_i_from_cam_j.translation;
+    const double norm2 = cam_side.squaredNorm();
+    if (norm2 > 0.0) {
+      per_segment[pair.segment].push_back(odom_side.dot(cam_side) / norm2);
+    }
+  }
+  for (auto& [segment, scales] : per_segment) {
+    auto middle = scales.begin() + scales.size() / 2;
+    std::nth_element(scales.begin(), middle, scales.end());
+    (*metric_scales)[segment] = *middle;
+  }
+}
+
+double RansacScore(const MotionPairs& pairs,
+                   const std::vector<int>& indices,
+                   const Rigid3d& odom_from_cam,
+                   const std::vector<double>& metric_scales,
+                   const CalibrationOptions& options,
+                   std::vector<int>* inliers) {
+  Hypothesis hypothesis;
+  hypothesis.odom_from_cam = odom_from_cam;
+  hypothesis.metric_scales = metric_scales;
+  return Score(pairs, indices, hypothesis, options, inliers);
+}
 
 PairError EvaluatePair(const MotionPair& pair,
                        const Rigid3d& odom_from_cam,

@@ -34,6 +34,24 @@ bool IsInlier(const MotionPair& pair,
               double metric_scale,
               const CalibrationOptions& options);
 
+// Fills every NaN entry of `metric_scales` (resized to num_segments) whose
+// segment has pairs among `indices` with the median of the pairs' own
+// least-squares scales under `odom_from_cam`.
+void CompleteMetricScales(const MotionPairs& pairs,
+                          const std::vector<int>& indices,
+                          int num_segments,
+                          const Rigid3d& odom_from_cam,
+                          std::vector<double>* metric_scales);
+
+// MSAC score of a model over pairs[indices] (lower is better): each inlier
+// adds its squared normalised error, each outlier 1. Fills `inliers`.
+double RansacScore(const MotionPairs& pairs,
+                   const std::vector<int>& indices,
+                   const Rigid3d& odom_from_cam,
+                   const std::vector<double>& metric_scales,
+                   const CalibrationOptions& options,
+                   std::vector<int>* inliers);
+
 struct RansacResult {
   bool success = false;
   std::vector<char> inlier_mask;  // per pair
