@@ -1,0 +1,77 @@
+// Runs the COLMAP command-line program for odomcal: argv built directly (no
+// shell), every command and its output kept in the workspace, exit codes
+// checked and explained, finished stages reused when rerun with the same
+// arguments.
+//
+// Workspace layout written here:
+//   commands.txt          every command run, one per line, shell-quoted
+//   logs/<stage>.log      stdout + stderr of the stage (glog to stderr)
+//   stages/<stage>.done   the exact argv of a finished stage
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+class ColmapError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ColmapVersion {
+  int major = 0;
+  int minor = 0;
+  int patch = 0;
+  std::string banner;  // first line of `colmap help`
+  bool AtLeast(int major_at_least, int minor_at_least) const;
+};
+
+// "COLMAP 3.8 -- Structure-from-Motion ..." -> 3.8.0; throws ColmapError.
+ColmapVersion ParseColmapVersion(const std::string& banner);
+
+// Option prefixes renamed in COLMAP 3.13: SiftExtraction -> FeatureExtraction,
+// SiftMatching -> FeatureMatching.
+std::string FeatureExtractionPrefix(const ColmapVersion& version);
+std::string FeatureMatchingPrefix(const ColmapVersion& version);
+
+// One argument shell-quoted for display in commands.txt and messages.
+std::string ShellQuote(const std::string& argument);
+
+struct ColmapStageResult {
+  bool reused = false;  // finished earlier with the same argv; not rerun
+  double seconds = 0.0;
+  std::string log_path;
+};
+
+class ColmapRunner {
+ public:
+  struct Options {
+    std::string executable = "colmap";  // looked up on PATH if no '/'
+    std::string workspace;              // must exist
+    bool reuse_finished_stages = true;
+  };
+
+  explicit ColmapRunner(Options options);
+
+  // Runs `colmap help` once and parses its banner. Throws ColmapError when
+  // COLMAP is missing or does not answer.
+  const ColmapVersion& Version();
+
+  // Runs `colmap <arguments...>` as stage `stage` (a file-name-safe word).
+  // A stage is reused when stages/<stage>.done holds the same argv and every
+  // path in `outputs` exists. Throws ColmapError naming the stage, the exit
+  // code (134: COLMAP's CHECK failure / abort) and the log's last line.
+  ColmapStageResult RunStage(const std::string& stage,
+                             const std::vector<std::string>& arguments,
+                             const std::vector<std::string>& outputs);
+
+ private:
+  Options options_;
+  bool version_known_ = false;
+  ColmapVersion version_;
+};
+
+}  // namespace odomcal

@@ -1,0 +1,161 @@
+#include "odomcal/plugin/colmap_runner.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <sys/stat.h>
+
+#include <gtest/gtest.h>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Read(const fs::path& path) {
+  std::ifstream file(path);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+// A stand-in for the colmap program: prints a version banner for `help`,
+// records its arguments one per line, and exits with $FAKE_EXIT.
+class ColmapRunnerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(::testing::TempDir()) / (std::string("runner_") + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "ws");
+    WriteFake("3.8", 0);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void WriteFake(const std::string& version, int exit_code) {
+    fake_ = (dir_ / "fake_colmap").string();
+    std::ofstream script(fake_);
+    script << "#!/bin/sh\n"
+           << "if [ \"$1\" = help ]; then echo 'COLMAP " << version
+           << " -- Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
+           << "for a in \"$@\"; do echo \"$a\" >> " << (dir_ / "args.txt").string()
+           << "; done\n"
+           << "echo \"glog_to_stderr=$GLOG_logtostderr\"\n"
+           << "echo 'Check failed: something' >&2\n"
+           << "exit " << exit_code << "\n";
+    script.close();
+    ::chmod(fake_.c_str(), 0755);
+  }
+
+  ColmapRunner Runner() const {
+    ColmapRunner::Options options;
+    options.executable = fake_;
+    options.workspace = (dir_ / "ws").string();
+    return ColmapRunner(options);
+  }
+
+  fs::path dir_;
+  std::string fake_;
+};
+
+TEST(ParseColmapVersion, ReadsBannersAndMapsRenamedOptions) {
+  const ColmapVersion v38 =
+      ParseColmapVersion("COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo");
+  EXPECT_EQ(v38.major, 3);
+  EXPECT_EQ(v38.minor, 8);
+  EXPECT_EQ(FeatureExtractionPrefix(v38), "SiftExtraction");
+  EXPECT_EQ(FeatureMatchingPrefix(v38), "SiftMatching");
+  const ColmapVersion v313 = ParseColmapVersion("COLMAP 3.13.0 (Commit abc)");
+  EXPECT_EQ(v313.patch, 0);
+  EXPECT_EQ(FeatureExtractionPrefix(v313), "FeatureExtraction");
+  EXPECT_EQ(FeatureMatchingPrefix(v313), "FeatureMatching");
+  EXPECT_THROW(ParseColmapVersion("usage: something else"), ColmapError);
+}
+
+TEST(ShellQuote, QuotesOnlyWhatNeedsIt) {
+  EXPECT_EQ(ShellQuote("--Mapper.num_threads=2"), "--Mapper.num_threads=2");
+  EXPECT_EQ(ShellQuote("my images"), "'my images'");
+  EXPECT_EQ(ShellQuote("it's"), "'it'\\''s'");
+  EXPECT_EQ(ShellQuote(""), "''");
+}
+
+TEST_F(ColmapRunnerTest, DetectsTheVersion) {
+  ColmapRunner runner = Runner();
+  EXPECT_EQ(runner.Version().minor, 8);
+}
+
+TEST_F(ColmapRunnerTest, PassesArgumentsVerbatimAndLogsEverything) {
+  ColmapRunner runner = Runner();
+  const std::string tricky = "images; rm -rf / $(echo x) 'q'";
+  const ColmapStageResult result =
+      runner.RunStage("extract", {"feature_extractor", "--image_path", tricky}, {});
+  EXPECT_FALSE(result.reused);
+  EXPECT_EQ(Read(dir_ / "args.txt"),
+            "feature_extractor\n--image_path\n" + tricky + "\n");
+  EXPECT_NE(Read(result.log_path).find("glog_to_stderr=1"), std::string::npos);
+  const std::string commands = Read(dir_ / "ws" / "commands.txt");
+  EXPECT_NE(commands.find("feature_extractor --image_path 'images; rm -rf"),
+            std::string::npos)
+      << commands;
+}
+
+TEST_F(ColmapRunnerTest, ReusesFinishedStagesOnlyWithTheSameArguments) {
+  ColmapRunner runner = Runner();
+  const std::string output = (dir_ / "ws" / "database.db").string();
+  std::ofstream(output) << "x";
+  EXPECT_FALSE(runner.RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
+  EXPECT_TRUE(runner.RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
+  EXPECT_FALSE(runner.RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+  fs::remove(output);
+  EXPECT_FALSE(runner.RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+}
+
+TEST_F(ColmapRunnerTest, ExplainsAnAbort) {
+  WriteFake("3.8", 134);
+  ColmapRunner runner = Runner();
+  try {
+    runner.RunStage("map", {"mapper"}, {});
+    FAIL() << "no error for exit code 134";
+  } catch (const ColmapError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("134"), std::string::npos) << message;
+    EXPECT_NE(message.find("CHECK"), std::string::npos) << message;
+    EXPECT_NE(message.find("map.log"), std::string::npos) << message;
+    EXPECT_NE(message.find("Check failed: something"), std::string::npos) << message;
+  }
+  // A failed stage is not marked finished.
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "stages" / "map.done"));
+}
+
+TEST_F(ColmapRunnerTest, MissingColmapIsAClearError) {
+  ColmapRunner::Options options;
+  options.executable = "odomcal-no-such-colmap";
+  options.workspace = (dir_ / "ws").string();
+  ColmapRunner runner(options);
+  try {
+    runner.Version();
+    FAIL() << "no error for a missing program";
+  } catch (const ColmapError& error) {
+    EXPECT_NE(std::string(error.what()).find("not found"), std::string::npos);
+  }
+}
+
+// The real program, when installed: Debian 12 ships COLMAP 3.8.
+TEST(ColmapRunnerReal, DetectsInstalledColmap) {
+  const fs::path workspace = fs::path(::testing::TempDir()) / "runner_real";
+  fs::create_directories(workspace);
+  ColmapRunner::Options options;
+  options.workspace = workspace.string();
+  ColmapRunner runner(options);
+  try {
+    const ColmapVersion& version = runner.Version();
+    EXPECT_GE(version.major, 3);
+  } catch (const ColmapError& error) {
+    GTEST_SKIP() << error.what();
+  }
+  fs::remove_all(workspace);
+}
+
+}  // namespace
+}  // namespace odomcal
