@@ -445,14 +445,32 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
             "any extrinsic (are they cam_from_world instead of "
             "world_from_cam? is the time association right?)");
   }
-  if (result.unobservable.size() > 1) {
-    std::vector<std::string> others(result.unobservable.begin() + 1,
-                                    result.unobservable.end());
+  // With several segments, one segment's undetermined scale does not make
+  // the extrinsic or the other scales wrong: it is reported (null in the
+  // outputs, named in `unobservable`) with a warning.
+  std::vector<std::string> essential, segment_scales;
+  for (size_t k = 1; k < result.unobservable.size(); ++k) {
+    const std::string& name = result.unobservable[k];
+    (num_segments > 1 && name.rfind("metric_scale[", 0) == 0 ? segment_scales
+                                                             : essential)
+        .push_back(name);
+  }
+  if (!segment_scales.empty() &&
+      static_cast<int>(segment_scales.size()) == num_segments) {
+    essential.insert(essential.end(), segment_scales.begin(),
+                     segment_scales.end());
+    segment_scales.clear();
+  }
+  if (!essential.empty()) {
     return Refuse(result, CalibrationStatus::kUnobservable,
-                  "the motion does not determine: " + Join(others) +
+                  "the motion does not determine: " + Join(essential) +
                       " (standard deviation above the limit or no "
                       "information; drive turns of different sizes in both "
                       "directions)");
+  }
+  if (!segment_scales.empty()) {
+    result.warnings.push_back("undetermined scale of " + Join(segment_scales) +
+                              " (too few or too weak motions in that segment)");
   }
   result.status = CalibrationStatus::kSuccess;
   result.message = "calibrated from " + std::to_string(d.num_pairs_used) +

@@ -264,7 +264,9 @@ TEST(CalibrationOptions, CheckNamesTheBadField) {
   }
 }
 
-TEST(CalibrateOdomCam, SegmentWithoutPairsIsUnobservable) {
+// One segment's undetermined scale is named, but does not void the
+// extrinsic and the other scales.
+TEST(CalibrateOdomCam, SegmentWithoutPairsHasAnUndeterminedScale) {
   auto rng = SeededRng(40);
   MotionSimulatorOptions simulation;
   SimulatedMotions truth = SimulateMotions(simulation, &rng);
@@ -273,8 +275,26 @@ TEST(CalibrateOdomCam, SegmentWithoutPairsIsUnobservable) {
   CalibrationOptions options = OptionsFor(truth);
   options.use_ransac = false;
   const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
-  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable) << result.message;
+  EXPECT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
   EXPECT_TRUE(Contains(result.unobservable, "metric_scale[1]"));
+  EXPECT_FALSE(Contains(result.unobservable, "metric_scale[0]"));
+  ASSERT_FALSE(result.warnings.empty());
+  EXPECT_NE(result.warnings.back().find("metric_scale[1]"), std::string::npos);
+}
+
+TEST(CalibrateOdomCam, AllSegmentScalesUndeterminedIsUnobservable) {
+  auto rng = SeededRng(41);
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 6;
+  SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  // Every pair its own segment: no scale is constrained by more than one
+  // motion, so none is determined to 5 %.
+  for (size_t i = 0; i < truth.pairs.size(); ++i) truth.pairs[i].segment = i;
+  CalibrationOptions options = OptionsFor(truth);
+  options.use_ransac = false;
+  options.noise.odom_translation_sigma_m = 0.05;
+  const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable) << result.message;
 }
 
 }  // namespace

@@ -1,0 +1,190 @@
+#include "odomcal/solver/stretch_consistency.h"
+
+#include <algorithm>
+#include <limits>
+#include <map>
+
+#include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/hand_eye_ransac.h"
+
+namespace odomcal {
+namespace {
+
+// Runs of consecutive outliers (by time) within each input segment.
+std::vector<InconsistentStretch> FindOutlierRuns(const MotionPairs& pairs,
+                                                 const std::vector<char>& inliers,
+                                                 int min_run_pairs) {
+  std::map<int, std::vector<int>> by_segment;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    by_segment[pairs[i].segment].push_back(static_cast<int>(i));
+  }
+  std::vector<InconsistentStretch> runs;
+  for (auto& [segment, members] : by_segment) {
+    std::stable_sort(members.begin(), members.end(), [&](int a, int b) {
+      return pairs[a].stamp_i_ns < pairs[b].stamp_i_ns;
+    });
+    size_t k = 0;
+    while (k < members.size()) {
+      if (inliers[members[k]]) {
+        ++k;
+        continue;
+      }
+      size_t end = k;
+      while (end < members.size() && !inliers[members[end]]) ++end;
+      if (static_cast<int>(end - k) >= min_run_pairs) {
+        InconsistentStretch run;
+        run.input_segment = segment;
+        run.first_pair = members[k];
+        run.last_pair = members[end - 1];
+        run.first_stamp_ns = pairs[members[k]].stamp_i_ns;
+        run.last_stamp_ns = pairs[members[end - 1]].stamp_j_ns;
+        runs.push_back(run);
+      }
+      k = end;
+    }
+  }
+  return runs;
+}
+
+// True when the run's pairs fit `odom_from_cam` with a scale of their own.
+bool RunIsSelfConsistent(const MotionPairs& pairs,
+                         const InconsistentStretch& run,
+                         const Rigid3d& odom_from_cam,
+                         const CalibrationOptions& options,
+                         double min_inlier_ratio) {
+  MotionPairs members;
+  for (const MotionPair& pair : pairs) {
+    if (pair.segment == run.input_segment &&
+        pair.stamp_i_ns >= run.first_stamp_ns &&
+        pair.stamp_j_ns <= run.last_stamp_ns) {
+      members.push_back(pair);
+      members.back().segment = 0;
+    }
+  }
+  std::vector<int> all(members.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  std::vector<double> scales;
+  CompleteMetricScales(members, all, 1, odom_from_cam, &scales);
+  if (!(scales[0] > 0.0)) return false;
+  std::vector<int> inliers;
+  RansacScore(members, all, odom_from_cam, scales, options, &inliers);
+  return inliers.size() >= min_inlier_ratio * members.size();
+}
+
+// Output segments with fewer than `min_pairs` pairs (e.g. a short tail after
+// a cut) cannot determine their own scale: their pairs are dropped and the
+// remaining segments renumbered densely.
+void DropShortSegments(int min_pairs, StretchCheckResult* check) {
+  std::map<int, int> count;
+  for (const MotionPair& pair : check->pairs) ++count[pair.segment];
+  std::map<int, int> renumbered;
+  std::vector<int> input_segment_of_output;
+  for (const auto& [segment, num_pairs] : count) {
+    if (num_pairs >= min_pairs) {
+      renumbered[segment] = static_cast<int>(renumbered.size());
+      input_segment_of_output.push_back(
+          check->input_segment_of_output_segment[segment]);
+    }
+  }
+  MotionPairs kept;
+  std::vector<int> kept_input;
+  for (size_t i = 0; i < check->pairs.size(); ++i) {
+    const auto it = renumbered.find(check->pairs[i].segment);
+    if (it == renumbered.end()) continue;
+    kept.push_back(check->pairs[i]);
+    kept.back().segment = it->second;
+    kept_input.push_back(check->input_pair_of_output[i]);
+  }
+  for (InconsistentStretch& run : check->stretches) {
+    if (!run.kept_as_segment) continue;
+    const auto it = renumbered.find(run.output_segment);
+    if (it == renumbered.end()) {
+      run.kept_as_segment = false;
+      run.output_segment = -1;
+    } else {
+      run.output_segment = it->second;
+    }
+  }
+  check->pairs = std::move(kept);
+  check->input_pair_of_output = std::move(kept_input);
+  check->input_segment_of_output_segment = std::move(input_segment_of_output);
+}
+
+}  // namespace
+
+StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
+                                             const CalibrationOptions& options,
+                                             const StretchOptions& stretch_options) {
+  StretchCheckResult check;
+  check.pairs = pairs;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    check.input_pair_of_output.push_back(static_cast<int>(i));
+  }
+  for (int k = 0; k < NumSegments(pairs); ++k) {
+    check.input_segment_of_output_segment.push_back(k);
+  }
+  check.result = CalibrateOdomCam(pairs, options);
+  if (!check.result.has_estimate || !options.use_ransac) {
+    return check;
+  }
+  check.stretches = FindOutlierRuns(pairs, check.result.diagnostics.inlier_mask,
+                                    stretch_options.min_run_pairs);
+  if (check.stretches.empty()) {
+    return check;
+  }
+
+  // Relabel: within an input segment a new output segment starts at each
+  // run and after it; dropped runs lose their pairs.
+  std::vector<int> run_of_pair(pairs.size(), -1);
+  for (size_t r = 0; r < check.stretches.size(); ++r) {
+    InconsistentStretch& run = check.stretches[r];
+    run.kept_as_segment =
+        RunIsSelfConsistent(pairs, run, check.result.odom_from_cam, options,
+                            stretch_options.min_inlier_ratio);
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (pairs[i].segment == run.input_segment &&
+          pairs[i].stamp_i_ns >= run.first_stamp_ns &&
+          pairs[i].stamp_j_ns <= run.last_stamp_ns) {
+        run_of_pair[i] = static_cast<int>(r);
+      }
+    }
+  }
+  std::vector<int> order(pairs.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    if (pairs[a].segment != pairs[b].segment) {
+      return pairs[a].segment < pairs[b].segment;
+    }
+    return pairs[a].stamp_i_ns < pairs[b].stamp_i_ns;
+  });
+  check.pairs.clear();
+  check.input_pair_of_output.clear();
+  check.input_segment_of_output_segment.clear();
+  int current_input_segment = -1;
+  int current_run = std::numeric_limits<int>::min();
+  int output_segment = -1;
+  for (const int i : order) {
+    const int run = run_of_pair[i];
+    if (pairs[i].segment != current_input_segment || run != current_run) {
+      current_input_segment = pairs[i].segment;
+      current_run = run;
+      const bool dropped = run >= 0 && !check.stretches[run].kept_as_segment;
+      if (!dropped) {
+        ++output_segment;
+        check.input_segment_of_output_segment.push_back(pairs[i].segment);
+        if (run >= 0) check.stretches[run].output_segment = output_segment;
+      }
+    }
+    if (run >= 0 && !check.stretches[run].kept_as_segment) continue;
+    MotionPair relabelled = pairs[i];
+    relabelled.segment = output_segment;
+    check.pairs.push_back(relabelled);
+    check.input_pair_of_output.push_back(i);
+  }
+  DropShortSegments(stretch_options.min_run_pairs, &check);
+  check.split = true;
+  check.result = CalibrateOdomCam(check.pairs, options);
+  return check;
+}
+
+}  // namespace odomcal

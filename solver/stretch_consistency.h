@@ -1,0 +1,53 @@
+// Odometry as the independent witness of an SfM reconstruction.
+//
+// SfM can return a model that looks fine (every image registered, sub-pixel
+// reprojection error) yet has a folded stretch or parts at different scales.
+// Such a stretch shows up as a run of consecutive motion pairs that no
+// extrinsic explains. This step calibrates once, finds runs of at least
+// `min_run_pairs` consecutive RANSAC outliers inside a segment, and cuts the
+// segment there: the run is tested on its own (with its own scale) and kept as
+// a separate segment when it is self-consistent (a part at another scale),
+// otherwise dropped (a folded part); the pairs after a run continue as a new
+// segment, since the scale may have changed across it. The calibration is
+// then repeated on the relabelled pairs.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/calibration_result.h"
+#include "odomcal/solver/motion_pair.h"
+
+namespace odomcal {
+
+struct StretchOptions {
+  int min_run_pairs = 3;      // shorter outlier runs are ordinary outliers
+  double min_inlier_ratio = 0.7;  // a run kept as its own segment fits this well
+};
+
+struct InconsistentStretch {
+  int input_segment = 0;
+  int first_pair = 0;  // indices into the input pairs, inclusive
+  int last_pair = 0;
+  int64_t first_stamp_ns = 0;  // stamp_i of the first pair
+  int64_t last_stamp_ns = 0;   // stamp_j of the last pair
+  bool kept_as_segment = false;
+  int output_segment = -1;  // when kept
+};
+
+struct StretchCheckResult {
+  CalibrationResult result;    // final calibration
+  MotionPairs pairs;           // the pairs it used, relabelled segments
+  std::vector<int> input_pair_of_output;  // index of each output pair
+  std::vector<int> input_segment_of_output_segment;
+  std::vector<InconsistentStretch> stretches;
+  bool split = false;          // whether segments were cut
+};
+
+// Pairs of one segment must be in time order (as association produces them).
+StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
+                                             const CalibrationOptions& options,
+                                             const StretchOptions& stretch_options);
+
+}  // namespace odomcal
