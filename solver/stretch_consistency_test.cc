@@ -10,7 +10,6 @@
 namespace odomcal {
 namespace {
 
-
 // One SfM segment of 90 pairs with a folded stretch (pairs 30-39: wrong
 // camera motions) and a last part (pairs 60-89) at another scale, as COLMAP
 // produces when it silently breaks a model.
