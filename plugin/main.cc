@@ -8,7 +8,10 @@
 #include <string>
 
 #include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/colmap_command.h"
 #include "odomcal/plugin/demo_command.h"
+#include "odomcal/plugin/render_command.h"
+#include "odomcal/plugin/simulate_command.h"
 
 namespace {
 
@@ -22,9 +25,18 @@ const Command kCommands[] = {
     {"calibrate",
      "extrinsic + metric scale from a camera trajectory and wheel odometry",
      &odomcal::RunCalibrate},
+    {"colmap",
+     "calibrate an existing COLMAP project against wheel odometry",
+     &odomcal::RunColmap},
     {"demo",
      "simulated drive -> files -> calibration, compared with ground truth",
      &odomcal::RunDemo},
+    {"render",
+     "write a rendered synthetic dataset (images, odometry, ground truth)",
+     &odomcal::RunRender},
+    {"simulate",
+     "Monte Carlo evaluation of the paper (Fig. 2 sweeps, Table I)",
+     &odomcal::RunSimulate},
 };
 
 void PrintUsage(std::ostream& out) {

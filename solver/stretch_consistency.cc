@@ -38,6 +38,7 @@ std::vector<InconsistentStretch> FindOutlierRuns(const MotionPairs& pairs,
         run.last_pair = members[end - 1];
         run.first_stamp_ns = pairs[members[k]].stamp_i_ns;
         run.last_stamp_ns = pairs[members[end - 1]].stamp_j_ns;
+        run.num_pairs = static_cast<int>(end - k);
         runs.push_back(run);
       }
       k = end;

@@ -32,6 +32,7 @@ struct InconsistentStretch {
   int last_pair = 0;
   int64_t first_stamp_ns = 0;  // stamp_i of the first pair
   int64_t last_stamp_ns = 0;   // stamp_j of the last pair
+  int num_pairs = 0;
   bool kept_as_segment = false;
   int output_segment = -1;  // when kept
 };

@@ -1,0 +1,232 @@
+// See the header for the steps. Sub-models are exported with the scale of
+// the output segment that holds most of their pairs: a sub-model cut by the
+// stretch check into parts at different scales has no single correct
+// similarity, which the report says.
+
+#include "odomcal/plugin/colmap_calibration.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "odomcal/adapters/colmap_database.h"
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/output_file.h"
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool InDroppedStretch(const StretchCheckResult& check,
+                      int input_segment,
+                      int64_t stamp_ns) {
+  for (const InconsistentStretch& run : check.stretches) {
+    if (!run.kept_as_segment && run.input_segment == input_segment &&
+        stamp_ns > run.first_stamp_ns && stamp_ns < run.last_stamp_ns) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// The output segment holding most pairs of input segment `input`, or -1.
+int MainOutputSegment(const StretchCheckResult& check, int input) {
+  std::map<int, int> count;
+  for (const MotionPair& pair : check.pairs) {
+    if (check.input_segment_of_output_segment[pair.segment] == input) {
+      ++count[pair.segment];
+    }
+  }
+  int best = -1, best_count = 0;
+  for (const auto& [segment, n] : count) {
+    if (n > best_count) {
+      best = segment;
+      best_count = n;
+    }
+  }
+  return best;
+}
+
+ColmapModel TransformModel(const ColmapModel& model, const Sim3d& origin_from_sfm) {
+  ColmapModel metric = model;
+  for (auto& [id, image] : metric.images) {
+    image.cam_from_world = CamFromOrigin(image.cam_from_world, origin_from_sfm);
+  }
+  for (auto& [id, point] : metric.points3D) {
+    point.xyz = origin_from_sfm * point.xyz;
+  }
+  return metric;
+}
+
+bool HasUsableExtrinsic(const CalibrationResult& result) {
+  if (!result.has_estimate) return false;
+  for (const char* name : {"rotation", "translation_x", "translation_y"}) {
+    if (std::find(result.unobservable.begin(), result.unobservable.end(), name) !=
+        result.unobservable.end()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
+                                            const std::string& command) {
+  inputs.association.Check();
+  inputs.calibration.Check();
+  const ImageTimestamps timestamps =
+      inputs.image_timestamps_path.empty()
+          ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
+          : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
+                                     inputs.image_time_unit);
+  ColmapCalibrationRun run;
+  run.segments = ReadColmapSegments(inputs.model_path, timestamps);
+  if (run.segments.empty()) {
+    throw FormatError(inputs.model_path + ": no COLMAP model found");
+  }
+  if (!inputs.database_path.empty()) {
+    run.num_database_images =
+        static_cast<int>(ReadColmapDatabaseImages(inputs.database_path).size());
+  }
+  run.odometry = ReadOdometry(inputs.odometry_path, inputs.odometry_format,
+                              inputs.odometry_time_unit);
+
+  std::vector<Trajectory> cameras;
+  for (const ColmapSegment& segment : run.segments) {
+    cameras.push_back(segment.trajectory);
+  }
+  ReportContext& context = run.context;
+  context.command = command;
+  for (const ColmapSegment& segment : run.segments) {
+    context.camera_paths.push_back(segment.model_path);
+  }
+  context.odometry_path = inputs.odometry_path;
+  context.camera_time_unit = inputs.image_timestamps_path.empty()
+                                 ? "from image file names"
+                                 : TimeUnitName(inputs.image_time_unit);
+  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  context.association_options = inputs.association;
+  context.calibration_options = inputs.calibration;
+  context.association =
+      AssociateCameraWithOdometry(cameras, run.odometry, inputs.association);
+  if (context.association.num_usable_camera_poses == 0) {
+    throw FormatError(
+        inputs.model_path + ": no registered image time falls inside the "
+        "odometry " + inputs.odometry_path + " (" +
+        std::to_string(context.association.num_outside_odometry_span) +
+        " outside its span, " +
+        std::to_string(context.association.num_in_odometry_gaps) +
+        " in gaps): check the image timestamps, their unit and "
+        "--camera_time_offset_s");
+  }
+
+  run.check = CalibrateWithStretchCheck(context.association.pairs,
+                                        inputs.calibration, inputs.stretch);
+  CalibrationResult& result = run.check.result;
+  for (const InconsistentStretch& stretch : run.check.stretches) {
+    result.warnings.push_back(
+        "sub-model " + run.segments[stretch.input_segment].sub_model +
+        ": a stretch of " + std::to_string(stretch.num_pairs) +
+        " motion pairs (" + FormatTimestampSeconds(stretch.first_stamp_ns) +
+        " .. " + FormatTimestampSeconds(stretch.last_stamp_ns) +
+        " s) contradicts the odometry: " +
+        (stretch.kept_as_segment ? "kept as a separate segment with its own scale"
+                                 : "left out (COLMAP likely folded it)"));
+  }
+  if (context.association.num_outside_odometry_span +
+          context.association.num_in_odometry_gaps > 0) {
+    result.warnings.push_back(
+        std::to_string(context.association.num_outside_odometry_span +
+                       context.association.num_in_odometry_gaps) +
+        " registered images lie outside the odometry span or in its gaps");
+  }
+  if (!HasUsableExtrinsic(result)) {
+    return run;
+  }
+
+  // Metric models in the odometry origin frame.
+  for (size_t k = 0; k < run.segments.size(); ++k) {
+    const ColmapSegment& segment = run.segments[k];
+    const int output = MainOutputSegment(run.check, static_cast<int>(k));
+    if (output < 0 || !(result.metric_scales[output] > 0.0)) continue;
+    std::vector<Rigid3d> origin_from_cam, sfm_from_cam;
+    for (const StampedPose& pose : segment.trajectory.poses) {
+      const int64_t stamp = pose.stamp_ns + inputs.association.camera_time_offset_ns;
+      if (InDroppedStretch(run.check, static_cast<int>(k), stamp)) continue;
+      InterpolationFailure why;
+      const auto origin_from_odom = InterpolateOdometry(
+          run.odometry, stamp, inputs.association.max_odometry_gap_s, &why);
+      if (!origin_from_odom) continue;
+      origin_from_cam.push_back(*origin_from_odom * result.odom_from_cam);
+      sfm_from_cam.push_back(pose.world_from_sensor);
+    }
+    if (origin_from_cam.empty()) continue;
+    MetricSubModel metric;
+    metric.name = segment.sub_model.empty() ? std::to_string(k) : segment.sub_model;
+    metric.output_segment = output;
+    metric.origin_from_sfm =
+        AlignSfmToOrigin(origin_from_cam, sfm_from_cam, result.metric_scales[output]);
+    metric.model = TransformModel(ReadColmapModel(segment.model_path),
+                                  metric.origin_from_sfm);
+    run.metric_models.push_back(std::move(metric));
+  }
+  return run;
+}
+
+void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
+                                   const std::string& output_dir) {
+  const fs::path root(output_dir);
+  WriteFileAtomically((root / "calibration.json").string(),
+                      ColmapCalibrationToJson(run).dump(2) + "\n");
+  WriteFileAtomically((root / "calibration.yaml").string(),
+                      CalibrationToYaml(run.check.result));
+
+  // sparse_metric/<name>: written to a temporary folder, then renamed.
+  const fs::path metric_root = root / "sparse_metric";
+  fs::create_directories(metric_root);
+  for (const MetricSubModel& metric : run.metric_models) {
+    const fs::path target = metric_root / metric.name;
+    const fs::path temporary = metric_root / (metric.name + ".tmp");
+    fs::remove_all(temporary);
+    fs::create_directories(temporary);
+    WriteColmapModel(metric.model, temporary.string(), ColmapFormat::kBinary);
+    fs::remove_all(target);
+    fs::rename(temporary, target);
+  }
+
+  // camera_in_odom.tum: origin_from_cam of every registered image with a
+  // time, in metres, each image once.
+  Trajectory cameras;
+  cameras.source = "camera_in_odom";
+  std::set<std::string> written;
+  std::map<std::string, int64_t> stamp_of;
+  for (const ColmapSegment& segment : run.segments) {
+    for (size_t i = 0; i < segment.image_names.size(); ++i) {
+      stamp_of.emplace(segment.image_names[i],
+                       segment.trajectory.poses[i].stamp_ns);
+    }
+  }
+  for (const MetricSubModel& metric : run.metric_models) {
+    for (const auto& [id, image] : metric.model.images) {
+      const auto stamp = stamp_of.find(image.name);
+      if (stamp == stamp_of.end() || !written.insert(image.name).second) continue;
+      cameras.poses.push_back({stamp->second, Inverse(image.cam_from_world)});
+    }
+  }
+  std::sort(cameras.poses.begin(), cameras.poses.end(),
+            [](const StampedPose& a, const StampedPose& b) {
+              return a.stamp_ns < b.stamp_ns;
+            });
+  const std::string tum_path = (root / "camera_in_odom.tum").string();
+  const std::string tum_temporary = tum_path + ".tmp";
+  WriteTumTrajectory(cameras, tum_temporary);
+  fs::rename(tum_temporary, tum_path);
+
+  WriteFileAtomically((root / "report.html").string(), ColmapReportHtml(run));
+}
+
+}  // namespace odomcal

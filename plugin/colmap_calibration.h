@@ -1,0 +1,70 @@
+// Calibration of an existing COLMAP project against wheel odometry, and its
+// outputs: the shared core of `odomcal colmap` and `odomcal run`.
+//
+// Steps: read every sub-model as a segment (adapters/colmap_segments.h),
+// associate with the odometry, calibrate with the stretch check
+// (solver/stretch_consistency.h: odometry as the witness of COLMAP), align
+// each sub-model into the odometry origin frame in metres
+// (solver/similarity_alignment.h).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odomcal/adapters/association.h"
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/colmap_segments.h"
+#include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/similarity_alignment.h"
+#include "odomcal/solver/stretch_consistency.h"
+
+namespace odomcal {
+
+struct ColmapCalibrationInputs {
+  std::string model_path;      // a model folder or the mapper's sparse root
+  std::string database_path;   // optional: counts unregistered images
+  std::string odometry_path;
+  OdometryFormat odometry_format = OdometryFormat::kAuto;
+  TimeUnit odometry_time_unit = TimeUnit::kSeconds;
+  std::string image_timestamps_path;  // CSV image_name,timestamp; else names
+  TimeUnit image_time_unit = TimeUnit::kSeconds;  // of the CSV
+  std::optional<TimeUnit> file_name_time_unit;    // of numeric file names
+  AssociationOptions association;
+  CalibrationOptions calibration;
+  StretchOptions stretch;
+};
+
+// One sub-model in metres in the odometry's origin frame.
+struct MetricSubModel {
+  std::string name;  // sub-model folder name ("0", "1", ...)
+  int output_segment = -1;  // segment whose scale was used
+  Sim3d origin_from_sfm;
+  ColmapModel model;  // transformed copy
+};
+
+struct ColmapCalibrationRun {
+  std::vector<ColmapSegment> segments;  // one per sub-model
+  Trajectory odometry;
+  int num_database_images = -1;  // -1: no database given
+  StretchCheckResult check;      // result, pairs used, stretches
+  ReportContext context;
+  std::vector<MetricSubModel> metric_models;
+};
+
+// Throws FormatError (unreadable inputs) or std::invalid_argument (options).
+ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
+                                            const std::string& command);
+
+// Writes into `output_dir` (which must exist): calibration.json/.yaml,
+// sparse_metric/<sub-model>/ (COLMAP binary), camera_in_odom.tum and
+// report.html. Every file is written atomically.
+void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
+                                   const std::string& output_dir);
+
+}  // namespace odomcal

@@ -1,0 +1,79 @@
+#include "odomcal/plugin/colmap_command.h"
+
+#include <iostream>
+#include <stdexcept>
+
+#include <CLI/CLI.hpp>
+
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/project_flags.h"
+
+namespace odomcal {
+
+int RunColmap(int argc, char** argv) {
+  CLI::App app{
+      "Calibrates the camera-to-odometry extrinsic and the metric scale of an "
+      "existing COLMAP project, and exports the model in metres in the "
+      "odometry frame.",
+      "odomcal colmap"};
+  ColmapCalibrationInputs inputs;
+  ProjectFlags flags;
+  std::string output_path;
+  bool overwrite = false;
+  bool quiet = false;
+  app.add_option("--model_path", inputs.model_path,
+                 "COLMAP sparse model folder, or the mapper's output folder "
+                 "with sub-models 0, 1, ...")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--database_path", inputs.database_path,
+                 "the project's database.db (read-only; counts unregistered "
+                 "images)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--output_path", output_path,
+                 "output folder (created; must not be inside the project)")
+      ->required();
+  app.add_flag("--overwrite", overwrite, "replace odomcal's files in --output_path");
+  app.add_flag("--quiet", quiet, "print only errors");
+  AddProjectFlags(&app, &inputs, &flags);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitSuccess;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+  try {
+    FinishProjectFlags(flags, &inputs);
+    PrepareOutputFolder(output_path, overwrite,
+                        {inputs.model_path,
+                         inputs.database_path.empty()
+                             ? std::string()
+                             : std::filesystem::path(inputs.database_path)
+                                   .parent_path()
+                                   .string()});
+    const ColmapCalibrationRun run = CalibrateColmapProject(inputs, "odomcal colmap");
+    WriteColmapCalibrationOutputs(run, output_path);
+    if (!quiet) {
+      std::cout << CalibrationSummary(run.check.result, run.context);
+      std::cout << "  wrote " << output_path
+                << "/{calibration.json, calibration.yaml, sparse_metric/, "
+                   "camera_in_odom.tum, report.html}\n";
+    }
+    return ExitCodeFor(run.check.result);
+  } catch (const FormatError& error) {
+    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
+  } catch (const OutputError& error) {
+    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
+  }
+  return kExitBadInput;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,22 @@
+// Reports of a COLMAP-project calibration: the result JSON (the schema of
+// calibration_report.h plus a "colmap" section) and a self-contained HTML
+// report with inline SVG plots.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "odomcal/plugin/colmap_calibration.h"
+
+namespace odomcal {
+
+nlohmann::json ColmapCalibrationToJson(const ColmapCalibrationRun& run);
+
+// report.html: the estimate with 3-sigma bounds, warnings, and plots: top
+// view of the odometry and the calibrated camera trajectory, per-pair
+// residuals, yaw excitation, and the COLMAP-vs-odometry consistency with
+// rejected stretches marked.
+std::string ColmapReportHtml(const ColmapCalibrationRun& run);
+
+}  // namespace odomcal
