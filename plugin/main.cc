@@ -10,6 +10,7 @@
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_command.h"
 #include "odomcal/plugin/demo_command.h"
+#include "odomcal/plugin/run_command.h"
 #include "odomcal/plugin/render_command.h"
 #include "odomcal/plugin/simulate_command.h"
 
@@ -28,6 +29,9 @@ const Command kCommands[] = {
     {"colmap",
      "calibrate an existing COLMAP project against wheel odometry",
      &odomcal::RunColmap},
+    {"run",
+     "image folder + odometry -> COLMAP -> calibration and metric model",
+     &odomcal::RunRun},
     {"demo",
      "simulated drive -> files -> calibration, compared with ground truth",
      &odomcal::RunDemo},

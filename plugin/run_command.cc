@@ -1,0 +1,338 @@
+// Stages, each timed and printed: [1] frame selection (odometry), [2]
+// feature extraction, [3] position priors + matching, [4] mapping, [5]
+// calibration and outputs. COLMAP runs headless on the CPU; intrinsics are
+// kept fixed in the mapper when given, because self-calibration on robot
+// video drifts.
+
+#include "odomcal/plugin/run_command.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include "odomcal/adapters/colmap_database_priors.h"
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/frame_selection.h"
+#include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/project_flags.h"
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunFlags {
+  std::string image_path;
+  std::string workspace_path;
+  std::string camera_model = "PINHOLE";
+  std::string camera_params;
+  std::string matcher = "spatial";
+  std::string colmap_path = "colmap";
+  int max_num_features = 4096;
+  int num_threads = 2;
+  int spatial_neighbors = 20;
+  int sequential_overlap = 10;
+  FrameSelectionOptions frames;
+};
+
+bool IsImageFile(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return extension == ".png" || extension == ".jpg" || extension == ".jpeg" ||
+         extension == ".bmp" || extension == ".tif" || extension == ".tiff";
+}
+
+// Image names relative to the folder, '/'-separated, as COLMAP stores them.
+std::vector<std::string> ListImages(const std::string& image_path) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::recursive_directory_iterator(image_path)) {
+    if (entry.is_regular_file() && IsImageFile(entry.path())) {
+      names.push_back(fs::relative(entry.path(), image_path).generic_string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+class StageClock {
+ public:
+  StageClock(int index, int count, const std::string& title) {
+    std::cout << "[" << index << "/" << count << "] " << title << std::flush;
+    start_ = std::chrono::steady_clock::now();
+  }
+  double Seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
+        .count();
+  }
+  void Done(const std::string& note) const {
+    char seconds[32];
+    std::snprintf(seconds, sizeof(seconds), "%.1f s", Seconds());
+    std::cout << " ... " << note << " (" << seconds << ")\n" << std::flush;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+std::string Note(const ColmapStageResult& stage) {
+  return stage.reused ? "reused from an earlier run" : "done, log " + stage.log_path;
+}
+
+}  // namespace
+
+int RunRun(int argc, char** argv) {
+  CLI::App app{
+      "Reconstructs an image folder with COLMAP (odometry-guided) and "
+      "calibrates the camera-to-odometry extrinsic and metric scale.",
+      "odomcal run"};
+  RunFlags run;
+  ColmapCalibrationInputs inputs;
+  ProjectFlags flags;
+  app.add_option("--image_path", run.image_path, "folder of images (sub-folders too)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--workspace_path", run.workspace_path,
+                 "COLMAP workspace and outputs (created; reused on reruns)")
+      ->required();
+  app.add_option("--camera_model", run.camera_model, "COLMAP camera model")
+      ->check(CLI::IsMember({"SIMPLE_PINHOLE", "PINHOLE", "SIMPLE_RADIAL", "RADIAL",
+                             "OPENCV", "OPENCV_FISHEYE", "FULL_OPENCV"}))
+      ->capture_default_str();
+  app.add_option("--camera_params", run.camera_params,
+                 "intrinsics in COLMAP's order, e.g. fx,fy,cx,cy; kept fixed "
+                 "in the mapper (strongly recommended)");
+  app.add_option("--matcher", run.matcher,
+                 "spatial: pairs by odometry position (COLMAP 3.8 priors); "
+                 "sequential: by image name order")
+      ->check(CLI::IsMember({"spatial", "sequential"}))
+      ->capture_default_str();
+  app.add_option("--spatial_neighbors", run.spatial_neighbors,
+                 "spatial matcher: neighbours per image")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--sequential_overlap", run.sequential_overlap,
+                 "sequential matcher: overlap")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--max_num_features", run.max_num_features,
+                 "SIFT features per image (matching cost grows with its square)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--num_threads", run.num_threads, "COLMAP threads")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--frame_min_translation_m", run.frames.min_translation_m,
+                 "frame selection: keep an image once the robot moved this far...")
+      ->capture_default_str();
+  app.add_option("--frame_min_rotation_deg", run.frames.min_rotation_deg,
+                 "...or turned this much since the last kept image")
+      ->capture_default_str();
+  app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
+      ->capture_default_str();
+  AddProjectFlags(&app, &inputs, &flags);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitSuccess;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "odomcal run: error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+
+  try {
+    FinishProjectFlags(flags, &inputs);
+    const fs::path workspace(run.workspace_path);
+    PrepareOutputFolder(run.workspace_path, /*overwrite=*/true, {run.image_path});
+    ColmapRunner::Options runner_options;
+    runner_options.executable = run.colmap_path;
+    runner_options.workspace = run.workspace_path;
+    ColmapRunner colmap(runner_options);
+    const ColmapVersion& version = colmap.Version();
+    constexpr int kStages = 5;
+
+    // [1] Frame selection.
+    const Trajectory odometry = ReadOdometry(
+        inputs.odometry_path, inputs.odometry_format, inputs.odometry_time_unit);
+    std::vector<TimedImage> images;
+    {
+      StageClock clock(1, kStages, "selecting frames with the odometry");
+      const ImageTimestamps timestamps =
+          inputs.image_timestamps_path.empty()
+              ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
+              : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
+                                         inputs.image_time_unit);
+      const std::vector<std::string> names = ListImages(run.image_path);
+      if (names.empty()) {
+        throw FormatError(run.image_path + ": no images (.png, .jpg, .jpeg, "
+                                           ".bmp, .tif)");
+      }
+      std::vector<TimedImage> all;
+      for (const std::string& name : names) {
+        std::string why;
+        const auto stamp = timestamps.Lookup(name, &why);
+        if (!stamp) throw FormatError(run.image_path + "/" + name + ": " + why);
+        all.push_back({name, *stamp});
+      }
+      run.frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
+      run.frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
+      const FrameSelection selection = SelectFrames(all, odometry, run.frames);
+      if (selection.kept.size() < 3) {
+        throw FormatError(run.image_path + ": only " +
+                          std::to_string(selection.kept.size()) + " of " +
+                          std::to_string(names.size()) +
+                          " images are inside the odometry and apart enough (" +
+                          std::to_string(selection.num_outside_odometry) +
+                          " outside its span or gaps)");
+      }
+      if (run.matcher == "sequential") {
+        for (size_t i = 1; i < selection.kept.size(); ++i) {
+          if (selection.kept[i].name < selection.kept[i - 1].name) {
+            throw FormatError(
+                "image names do not sort in time order (" +
+                selection.kept[i - 1].name + " after " + selection.kept[i].name +
+                "); the sequential matcher needs that: use --matcher spatial");
+          }
+        }
+      }
+      std::ostringstream list;
+      for (const TimedImage& image : selection.kept) list << image.name << "\n";
+      WriteFileAtomically((workspace / "image_list.txt").string(), list.str());
+      images = selection.kept;
+      clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
+                 std::to_string(selection.num_images) + " images (" +
+                 std::to_string(selection.num_dropped_still_or_close) +
+                 " standing still or too close, " +
+                 std::to_string(selection.num_outside_odometry) +
+                 " outside the odometry)");
+    }
+
+    // [2] Features.
+    const std::string database = (workspace / "database.db").string();
+    const std::string extraction = FeatureExtractionPrefix(version);
+    const std::string matching = FeatureMatchingPrefix(version);
+    {
+      StageClock clock(2, kStages, "COLMAP feature extraction");
+      std::vector<std::string> arguments = {
+          "feature_extractor", "--database_path", database, "--image_path",
+          run.image_path, "--image_list_path",
+          (workspace / "image_list.txt").string(),
+          "--ImageReader.single_camera", "1", "--ImageReader.camera_model",
+          run.camera_model, "--" + extraction + ".use_gpu", "0",
+          "--" + extraction + ".max_num_features",
+          std::to_string(run.max_num_features), "--" + extraction + ".num_threads",
+          std::to_string(run.num_threads)};
+      if (!run.camera_params.empty()) {
+        arguments.insert(arguments.end(),
+                         {"--ImageReader.camera_params", run.camera_params});
+      }
+      clock.Done(Note(colmap.RunStage("feature_extractor", arguments, {database})));
+    }
+
+    // [3] Matching, guided by odometry positions.
+    std::string matcher = run.matcher;
+    {
+      StageClock clock(3, kStages, "COLMAP " + matcher + " matching");
+      std::vector<std::string> arguments;
+      if (matcher == "spatial" && version.AtLeast(3, 10)) {
+        std::cout << " (COLMAP >= 3.10 keeps priors elsewhere: sequential)";
+        matcher = "sequential";
+      }
+      if (matcher == "spatial") {
+        std::map<std::string, Eigen::Vector3d> positions;
+        InterpolationFailure why;
+        for (const TimedImage& image : images) {
+          const auto pose = InterpolateOdometry(
+              odometry, image.stamp_ns + inputs.association.camera_time_offset_ns,
+              inputs.association.max_odometry_gap_s, &why);
+          if (pose) positions[image.name] = pose->translation;
+        }
+        WriteColmapDatabasePositionPriors(database, positions);
+        arguments = {"spatial_matcher", "--database_path", database,
+                     "--" + matching + ".use_gpu", "0",
+                     "--" + matching + ".num_threads", std::to_string(run.num_threads),
+                     "--SpatialMatching.is_gps", "0", "--SpatialMatching.ignore_z", "1",
+                     "--SpatialMatching.max_num_neighbors",
+                     std::to_string(run.spatial_neighbors),
+                     "--SpatialMatching.max_distance", "5"};
+      } else {
+        arguments = {"sequential_matcher", "--database_path", database,
+                     "--" + matching + ".use_gpu", "0",
+                     "--" + matching + ".num_threads", std::to_string(run.num_threads),
+                     "--SequentialMatching.overlap",
+                     std::to_string(run.sequential_overlap)};
+      }
+      clock.Done(Note(colmap.RunStage(matcher + "_matcher", arguments, {database})));
+    }
+
+    // [4] Mapping.
+    const fs::path sparse = workspace / "sparse";
+    {
+      StageClock clock(4, kStages, "COLMAP mapping");
+      const bool fixed_intrinsics = !run.camera_params.empty();
+      std::vector<std::string> arguments = {
+          "mapper", "--database_path", database, "--image_path", run.image_path,
+          "--output_path", sparse.string(), "--image_list_path",
+          (workspace / "image_list.txt").string(), "--Mapper.num_threads",
+          std::to_string(run.num_threads), "--Mapper.ba_refine_focal_length",
+          fixed_intrinsics ? "0" : "1", "--Mapper.ba_refine_principal_point", "0",
+          "--Mapper.ba_refine_extra_params", fixed_intrinsics ? "0" : "1"};
+      const fs::path first_model = sparse / "0";
+      std::error_code error;
+      // A rerun must not mix new sub-models with stale ones.
+      const fs::path marker = workspace / "stages" / "mapper.done";
+      if (!fs::exists(marker)) fs::remove_all(sparse, error);
+      fs::create_directories(sparse, error);
+      const ColmapStageResult stage =
+          colmap.RunStage("mapper", arguments, {first_model.string()});
+      if (!fs::exists(first_model)) {
+        throw ColmapError("COLMAP mapper produced no model (see " + stage.log_path +
+                          "): too little texture or overlap, or wrong intrinsics");
+      }
+      clock.Done(Note(stage));
+    }
+
+    // [5] Calibration.
+    {
+      StageClock clock(5, kStages, "calibrating against the odometry");
+      inputs.model_path = sparse.string();
+      inputs.database_path = database;
+      const ColmapCalibrationRun calibration =
+          CalibrateColmapProject(inputs, "odomcal run");
+      WriteColmapCalibrationOutputs(calibration, run.workspace_path);
+      clock.Done("wrote calibration.json, sparse_metric/, camera_in_odom.tum, "
+                 "report.html");
+      std::cout << CalibrationSummary(calibration.check.result, calibration.context);
+      std::cout << "  report: " << (workspace / "report.html").string() << "\n";
+      return ExitCodeFor(calibration.check.result);
+    }
+  } catch (const FormatError& error) {
+    std::cout << std::endl;
+    std::cerr << "odomcal run: error: " << error.what() << "\n";
+  } catch (const OutputError& error) {
+    std::cout << std::endl;
+    std::cerr << "odomcal run: error: " << error.what() << "\n";
+  } catch (const ColmapError& error) {
+    std::cout << std::endl;
+    std::cerr << "odomcal run: error: " << error.what() << "\n";
+  } catch (const std::invalid_argument& error) {
+    std::cout << std::endl;
+    std::cerr << "odomcal run: error: " << error.what() << "\n";
+  }
+  return kExitBadInput;
+}
+
+}  // namespace odomcal
