@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/svg_plot.h"
 
 namespace odomcal {
 namespace {
@@ -80,12 +81,170 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
 }
 
 std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
+  const CalibrationResult& result = run.check.result;
+  const MotionPairs& input_pairs = run.context.association.pairs;
+  const size_t num_input = input_pairs.size();
+  const double nan = std::nan("");
+
+  // Per input pair: used or not, final residuals, consistency measures.
+  std::vector<char> used(num_input, 0);
+  std::vector<double> rotation_residual(num_input, nan), translation_residual(num_input, nan);
+  const CalibrationDiagnostics& d = result.diagnostics;
+  for (size_t k = 0; k < run.check.input_pair_of_output.size(); ++k) {
+    const int input = run.check.input_pair_of_output[k];
+    if (k < d.inlier_mask.size()) used[input] = d.inlier_mask[k];
+    if (k < d.rotation_residual_deg.size()) {
+      rotation_residual[input] = d.rotation_residual_deg[k];
+      translation_residual[input] = 1000.0 * d.translation_residual_m[k];
+    }
+  }
+  std::vector<char> in_rejected_stretch(num_input, 0);
+  for (const InconsistentStretch& stretch : run.check.stretches) {
+    if (stretch.kept_as_segment) continue;
+    for (size_t i = 0; i < num_input; ++i) {
+      const MotionPair& pair = input_pairs[i];
+      if (pair.segment == stretch.input_segment &&
+          pair.stamp_i_ns >= stretch.first_stamp_ns &&
+          pair.stamp_j_ns <= stretch.last_stamp_ns) {
+        in_rejected_stretch[i] = 1;
+      }
+    }
+  }
+
+  auto scatter = [&](const std::string& label, const std::vector<double>& values,
+                     const std::vector<char>& mask, bool want, const std::string& color) {
+    PlotSeries series;
+    series.label = label;
+    series.color = color;
+    for (size_t i = 0; i < values.size(); ++i) {
+      if ((mask[i] != 0) != want) continue;
+      series.x.push_back(static_cast<double>(i));
+      series.y.push_back(values[i]);
+      series.x.push_back(static_cast<double>(i));  // NaN breaks the line:
+      series.y.push_back(nan);                       // markers only
+    }
+    return series;
+  };
+
+  PlotFigure top;
+  top.title = "Top view in the odometry frame (metres)";
+  top.num_columns = 1;
+  top.panel_width_px = 700;
+  top.panel_height_px = 520;
+  {
+    PlotPanel& panel = top.panels.emplace_back();
+    panel.x_label = "x [m]";
+    panel.y_label = "y [m]";
+    PlotSeries odometry{"odometry (robot)", {}, {}, "#1f77b4", false, false};
+    for (const StampedPose& pose : run.odometry.poses) {
+      odometry.x.push_back(pose.world_from_sensor.translation.x());
+      odometry.y.push_back(pose.world_from_sensor.translation.y());
+    }
+    panel.series.push_back(odometry);
+    for (const MetricSubModel& metric : run.metric_models) {
+      PlotSeries cameras{"camera, sub-model " + metric.name + " (calibrated)", {}, {}, "", false, true};
+      for (const auto& [id, image] : metric.model.images) {
+        const Eigen::Vector3d position = Inverse(image.cam_from_world).translation;
+        cameras.x.push_back(position.x());
+        cameras.y.push_back(position.y());
+        cameras.x.push_back(position.x());
+        cameras.y.push_back(nan);
+      }
+      panel.series.push_back(cameras);
+    }
+  }
+
+  std::vector<double> yaw(num_input), mismatch(num_input), ratio(num_input, nan);
+  for (size_t i = 0; i < num_input; ++i) {
+    const MotionPair& pair = input_pairs[i];
+    yaw[i] = LogRotation(pair.odom_i_from_odom_j.rotation).z() * 180.0 / 3.14159265358979323846;
+    mismatch[i] = std::abs(RotationAngle(pair.odom_i_from_odom_j.rotation) -
+                           RotationAngle(pair.cam_i_from_cam_j.rotation)) *
+                  180.0 / 3.14159265358979323846;
+  }
+  // Step-length ratio: the camera displacement the odometry and the
+  // extrinsic predict, |R_A p + t_A - p|, over the one COLMAP measured,
+  // s |t_B| (s of the pair's final segment); 1 when both agree, also for
+  // turns in place.
+  for (size_t k = 0; k < run.check.input_pair_of_output.size(); ++k) {
+    const int input = run.check.input_pair_of_output[k];
+    const int segment = k < run.check.pairs.size() ? run.check.pairs[k].segment : -1;
+    if (!result.has_estimate || segment < 0 ||
+        segment >= static_cast<int>(result.metric_scales.size())) {
+      continue;
+    }
+    const Rigid3d& a = input_pairs[input].odom_i_from_odom_j;
+    const Eigen::Vector3d& p = result.odom_from_cam.translation;
+    const double predicted = (a.rotation * p + a.translation - p).norm();
+    const double measured = result.metric_scales[segment] *
+                            input_pairs[input].cam_i_from_cam_j.translation.norm();
+    if (measured > 0.0 && std::isfinite(measured)) ratio[input] = predicted / measured;
+  }
+
+  PlotFigure pairs;
+  pairs.title = "Motion pairs (x: pair index in time order)";
+  pairs.num_columns = 2;
+  {
+    PlotPanel& rotation = pairs.panels.emplace_back();
+    rotation.title = "rotation residual";
+    rotation.x_label = "pair";
+    rotation.y_label = "deg";
+    rotation.series.push_back(scatter("used", rotation_residual, used, true, "#2ca02c"));
+    rotation.series.push_back(scatter("not used", rotation_residual, used, false, "#d62728"));
+    PlotPanel& translation = pairs.panels.emplace_back();
+    translation.title = "translation residual";
+    translation.x_label = "pair";
+    translation.y_label = "mm";
+    translation.series.push_back(scatter("used", translation_residual, used, true, "#2ca02c"));
+    translation.series.push_back(scatter("not used", translation_residual, used, false, "#d62728"));
+    PlotPanel& excitation = pairs.panels.emplace_back();
+    excitation.title = "yaw excitation: odometry yaw per pair";
+    excitation.x_label = "pair";
+    excitation.y_label = "deg";
+    excitation.series.push_back(scatter("used", yaw, used, true, "#2ca02c"));
+    excitation.series.push_back(scatter("not used", yaw, used, false, "#d62728"));
+    PlotPanel& consistency = pairs.panels.emplace_back();
+    consistency.title = "COLMAP vs odometry: | |angle A| - |angle B| |";
+    consistency.x_label = "pair";
+    consistency.y_label = "deg";
+    consistency.series.push_back(scatter("consistent", mismatch, in_rejected_stretch, false, "#2ca02c"));
+    consistency.series.push_back(scatter("rejected stretch", mismatch, in_rejected_stretch, true, "#d62728"));
+    PlotPanel& steps = pairs.panels.emplace_back();
+    steps.title = "COLMAP vs odometry: step length, predicted / measured";
+    steps.x_label = "pair";
+    steps.y_label = "ratio";
+    steps.series.push_back(scatter("consistent", ratio, in_rejected_stretch, false, "#2ca02c"));
+    steps.series.push_back(scatter("rejected stretch", ratio, in_rejected_stretch, true, "#d62728"));
+  }
+
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">"
-       << "<title>odomcal calibration report</title></head><body>\n"
-       << "<h1>odomcal calibration report</h1>\n<pre>"
-       << Escape(CalibrationSummary(run.check.result, run.context))
-       << "</pre>\n</body></html>\n";
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+       << "<title>odomcal calibration report</title><style>"
+       << "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+       << "pre{background:#f6f6f6;padding:1em;overflow-x:auto}"
+       << ".status{font-size:1.3em;font-weight:bold}"
+       << ".success{color:#2a7a2a}.failure{color:#b02020}"
+       << "li.warning{color:#a05a00}</style></head><body>\n"
+       << "<h1>odomcal calibration report</h1>\n"
+       << "<p class=\"status " << (result.IsSuccess() ? "success" : "failure") << "\">"
+       << Escape(ToString(result.status)) << ": " << Escape(result.message) << "</p>\n"
+       << "<h2>Estimate (3-sigma bounds)</h2>\n<pre>"
+       << Escape(CalibrationSummary(result, run.context)) << "</pre>\n";
+  html << "<h2>Warnings</h2>\n<ul>";
+  if (result.warnings.empty()) html << "<li>none</li>";
+  for (const std::string& warning : result.warnings) {
+    html << "<li class=\"warning\">" << Escape(warning) << "</li>";
+  }
+  html << "</ul>\n<h2>Trajectories</h2>\n" << RenderSvg(top)
+       << "\n<h2>Motion pairs</h2>\n" << RenderSvg(pairs) << "\n";
+  html << "<h2>COLMAP sub-models</h2>\n<ul>";
+  for (const ColmapSegment& segment : run.segments) {
+    html << "<li>" << Escape(segment.model_path) << ": "
+         << segment.num_registered_images << " registered images</li>";
+  }
+  html << "</ul>\n<p>Conventions: x_in_odom = odom_from_cam * x_in_cam; Hamilton "
+          "quaternions, order w, x, y, z; metres; metric scale in metres per "
+          "reconstruction unit.</p>\n</body></html>\n";
   return html.str();
 }
 
