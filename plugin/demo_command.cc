@@ -3,13 +3,20 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <map>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/datasets/dataset_presets.h"
 #include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/run_command.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/output_file.h"
@@ -19,7 +26,7 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-nlohmann::json GroundTruthJson(const SimulatedDrive& drive,
+nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
                                const DriveSimulatorOptions& options) {
   const Eigen::Quaterniond& q = drive.odom_from_cam.rotation;
   const Eigen::Vector3d& t = drive.odom_from_cam.translation;
@@ -41,18 +48,193 @@ nlohmann::json GroundTruthJson(const SimulatedDrive& drive,
   };
 }
 
+// The trajectory-only demo: simulated drive -> TUM/CSV files -> calibrate.
+int RunSimulatedDemo(const std::string& workspace,
+                     const DriveSimulatorOptions& simulation,
+                     CalibrateInputs inputs) {
+  std::error_code error;
+  std::filesystem::create_directories(workspace, error);
+  if (error || !std::filesystem::is_directory(workspace)) {
+    throw OutputError(workspace + ": cannot create the workspace folder");
+  }
+  const std::filesystem::path root(workspace);
+  std::cout << "[1/3] simulating a " << simulation.duration_s
+            << " s drive (seed " << simulation.seed << ")\n";
+  const SimulatedDrive drive = SimulateDrive(simulation);
+  const std::string camera_path = (root / "camera.tum").string();
+  const std::string odometry_path = (root / "odometry.csv").string();
+  const std::string truth_path = (root / "ground_truth.json").string();
+  WriteTumTrajectory(drive.camera, camera_path);
+  WriteOdometryCsv(drive.odometry, odometry_path);
+  WriteFileAtomically(truth_path,
+                      SimulatedGroundTruthJson(drive, simulation).dump(2) + "\n");
+  std::cout << "      wrote " << camera_path << " (" << drive.camera.poses.size()
+            << " poses), " << odometry_path << " ("
+            << drive.odometry.poses.size() << " samples), " << truth_path
+            << "\n";
+
+  std::cout << "[2/3] calibrating from the written files\n";
+  inputs.camera_paths = {camera_path};
+  inputs.odometry_path = odometry_path;
+  inputs.calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  const CalibrationRun run = RunCalibrationPipeline(inputs, "odomcal demo");
+  const std::string result_path = (root / "calibration.json").string();
+  WriteCalibrationOutputs(run, result_path, /*overwrite=*/true);
+  std::cout << CalibrationSummary(run.result, run.context);
+  std::cout << "      wrote " << result_path << " and "
+            << ReplaceExtension(result_path, ".yaml") << "\n";
+
+  std::cout << "[3/3] comparison with the ground truth\n";
+  const CalibrationResult& result = run.result;
+  if (!result.has_estimate) {
+    std::cout << "      no estimate to compare\n";
+    return ExitCodeFor(result);
+  }
+  const double rotation_error_deg =
+      RotationAngle(result.odom_from_cam.rotation.conjugate() *
+                    drive.odom_from_cam.rotation) *
+      kRadToDeg;
+  const Eigen::Vector3d translation_error =
+      result.odom_from_cam.translation - drive.odom_from_cam.translation;
+  const double scale_error =
+      result.metric_scales[0] / drive.metric_scale - 1.0;
+  std::printf("      rotation error     %8.4f deg\n", rotation_error_deg);
+  std::printf("      translation error  x %+7.2f mm, y %+7.2f mm (z fixed)\n",
+              1000.0 * translation_error.x(), 1000.0 * translation_error.y());
+  std::printf("      scale error        %+8.4f %%\n", 100.0 * scale_error);
+  return ExitCodeFor(result);
+}
+
+std::string ReadTextFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+// Pairwise-distance scale of `estimated` relative to `truth` (same images):
+// 1 when the metric model has the true size.
+double RelativeModelScale(const std::vector<Eigen::Vector3d>& estimated,
+                          const std::vector<Eigen::Vector3d>& truth) {
+  double numerator = 0.0, denominator = 0.0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    for (size_t j = i + 1; j < truth.size(); ++j) {
+      const double d_true = (truth[i] - truth[j]).norm();
+      numerator += (estimated[i] - estimated[j]).norm() * d_true;
+      denominator += d_true * d_true;
+    }
+  }
+  return denominator > 0.0 ? numerator / denominator : std::nan("");
+}
+
+// The main job: rendered scene -> COLMAP -> calibration -> ground truth.
+int RunRenderedDemo(const std::string& workspace,
+                    const std::string& preset,
+                    uint64_t seed,
+                    const CalibrateInputs& calibrate) {
+  namespace fs = std::filesystem;
+  const fs::path root(workspace);
+  const fs::path dataset_dir = root / "dataset";
+  std::cout << "[demo] rendering preset '" << preset << "' (seed " << seed
+            << ") into " << dataset_dir.string() << std::endl;
+  const RenderedDataset dataset =
+      SimulateRenderedDataset(MakeDatasetPreset(preset, seed));
+  const std::string truth_json = GroundTruthJson(dataset);
+  std::error_code error;
+  if (ReadTextFile((dataset_dir / "ground_truth.json").string()) == truth_json) {
+    std::cout << "       already rendered; reusing it" << std::endl;
+  } else {
+    fs::remove_all(dataset_dir, error);
+    fs::create_directories(root, error);
+    WriteRenderedDataset(dataset, dataset_dir.string(), [](size_t done, size_t total) {
+      if (done == total || done % 10 == 0) {
+        std::cout << "       rendered " << done << "/" << total << " images" << std::endl;
+      }
+    });
+  }
+
+  RunSettings settings;
+  settings.image_path = (dataset_dir / "images").string();
+  settings.workspace_path = (root / "run").string();
+  settings.camera_model = dataset.options.camera.ColmapModelName();
+  for (const double value : dataset.options.camera.ColmapParams()) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.17g", value);
+    settings.camera_params +=
+        (settings.camera_params.empty() ? "" : ",") + std::string(text);
+  }
+  ColmapCalibrationInputs inputs;
+  inputs.odometry_path = (dataset_dir / "odometry.csv").string();
+  inputs.image_timestamps_path = (dataset_dir / "image_timestamps.csv").string();
+  inputs.association = calibrate.association;
+  inputs.calibration = calibrate.calibration;
+  // z is unobservable from planar motion: the demo holds it at the true
+  // mount height, as a user would at a measured one.
+  inputs.calibration.fixed_translation_z_m =
+      dataset.options.odom_from_cam.translation.z();
+  std::cout << "[demo] odomcal run --image_path " << settings.image_path
+            << " --odometry " << inputs.odometry_path << " --image_timestamps "
+            << inputs.image_timestamps_path << " --camera_model "
+            << settings.camera_model << " --camera_params " << settings.camera_params
+            << " --workspace_path " << settings.workspace_path << std::endl;
+  const ColmapCalibrationRun run =
+      RunReconstructionPipeline(settings, inputs, "odomcal demo");
+  const CalibrationResult& result = run.check.result;
+  std::cout << CalibrationSummary(result, run.context);
+
+  std::cout << "[demo] comparison with the ground truth\n";
+  if (!result.has_estimate) {
+    std::cout << "       no estimate to compare\n";
+    return ExitCodeFor(result);
+  }
+  const Rigid3d& truth = dataset.options.odom_from_cam;
+  const double rotation_error_deg =
+      RotationAngle(result.odom_from_cam.rotation.conjugate() * truth.rotation) *
+      kRadToDeg;
+  const Eigen::Vector3d translation_error =
+      result.odom_from_cam.translation - truth.translation;
+  std::printf("       rotation error     %8.4f deg\n", rotation_error_deg);
+  std::printf(
+      "       translation error  x %+7.2f mm, y %+7.2f mm (z held at the true "
+      "%.3f m)\n",
+      1000.0 * translation_error.x(), 1000.0 * translation_error.y(),
+      truth.translation.z());
+  // The metric model against the true camera positions.
+  std::map<std::string, Eigen::Vector3d> true_position;
+  for (const RenderedFrame& frame : dataset.frames) {
+    true_position[frame.image_name] = frame.origin_from_cam.translation;
+  }
+  std::vector<Eigen::Vector3d> estimated, expected;
+  for (const MetricSubModel& metric : run.metric_models) {
+    for (const auto& [id, image] : metric.model.images) {
+      const auto it = true_position.find(image.name);
+      if (it == true_position.end()) continue;
+      estimated.push_back(Inverse(image.cam_from_world).translation);
+      expected.push_back(it->second);
+    }
+  }
+  std::printf("       metric model scale %+8.4f %% (over %zu registered images)\n",
+              100.0 * (RelativeModelScale(estimated, expected) - 1.0),
+              estimated.size());
+  std::cout << "       report: "
+            << (fs::path(settings.workspace_path) / "report.html").string() << "\n";
+  return ExitCodeFor(result);
+}
+
 }  // namespace
 
 int RunDemo(int argc, char** argv) {
   CLI::App app{
-      "Simulates a robot drive with a known camera mount, calibrates it from "
-      "the written files and compares with the ground truth.",
+      "Renders a synthetic scene with a known camera mount, reconstructs it "
+      "with COLMAP, calibrates and compares with the ground truth.",
       "odomcal demo"};
   std::string workspace = "odomcal_demo";
+  std::string preset = "default";
+  uint64_t seed = 1;
+  bool simulated = false;
   DriveSimulatorOptions simulation;
-  simulation.seed = 1;
   simulation.duration_s = 120.0;
-  // Realistic wheel odometry and SfM errors.
+  // Realistic wheel odometry and SfM errors for --simulated.
   simulation.wheel_scale_error_left = 0.003;
   simulation.wheel_scale_error_right = -0.002;
   simulation.yaw_rate_bias_radps = 0.002;
@@ -60,11 +242,15 @@ int RunDemo(int argc, char** argv) {
   simulation.camera_position_noise = 0.002;
   app.add_option("--workspace_path", workspace,
                  "folder for the demo's inputs and outputs (its files are "
-                 "replaced on every run)")
+                 "replaced on every run; finished COLMAP stages are reused)")
       ->capture_default_str();
-  app.add_option("--seed", simulation.seed, "simulation seed")
+  app.add_option("--preset", preset, "rendered scene preset (see odomcal render --help)")
       ->capture_default_str();
-  app.add_option("--duration_s", simulation.duration_s, "drive duration")
+  app.add_option("--seed", seed, "scene / simulation seed")->capture_default_str();
+  app.add_flag("--simulated", simulated,
+               "calibrate a simulated trajectory pair instead (no images, no "
+               "COLMAP; about a second)");
+  app.add_option("--duration_s", simulation.duration_s, "--simulated: drive duration")
       ->check(CLI::Range(5.0, 3600.0))
       ->capture_default_str();
   CalibrateInputs inputs;
@@ -79,65 +265,23 @@ int RunDemo(int argc, char** argv) {
     std::cerr << "odomcal demo: error: " << error.what() << "\n";
     return kExitBadInput;
   }
-
   try {
     FinishCalibrationFlags(flags, &inputs);
-    std::error_code error;
-    std::filesystem::create_directories(workspace, error);
-    if (error || !std::filesystem::is_directory(workspace)) {
-      throw OutputError(workspace + ": cannot create the workspace folder");
+    if (simulated) {
+      simulation.seed = seed;
+      return RunSimulatedDemo(workspace, simulation, inputs);
     }
-    const std::filesystem::path root(workspace);
-    std::cout << "[1/3] simulating a " << simulation.duration_s
-              << " s drive (seed " << simulation.seed << ")\n";
-    const SimulatedDrive drive = SimulateDrive(simulation);
-    const std::string camera_path = (root / "camera.tum").string();
-    const std::string odometry_path = (root / "odometry.csv").string();
-    const std::string truth_path = (root / "ground_truth.json").string();
-    WriteTumTrajectory(drive.camera, camera_path);
-    WriteOdometryCsv(drive.odometry, odometry_path);
-    WriteFileAtomically(truth_path,
-                        GroundTruthJson(drive, simulation).dump(2) + "\n");
-    std::cout << "      wrote " << camera_path << " (" << drive.camera.poses.size()
-              << " poses), " << odometry_path << " ("
-              << drive.odometry.poses.size() << " samples), " << truth_path
-              << "\n";
-
-    std::cout << "[2/3] calibrating from the written files\n";
-    inputs.camera_paths = {camera_path};
-    inputs.odometry_path = odometry_path;
-    inputs.calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
-    const CalibrationRun run = RunCalibrationPipeline(inputs, "odomcal demo");
-    const std::string result_path = (root / "calibration.json").string();
-    WriteCalibrationOutputs(run, result_path, /*overwrite=*/true);
-    std::cout << CalibrationSummary(run.result, run.context);
-    std::cout << "      wrote " << result_path << " and "
-              << ReplaceExtension(result_path, ".yaml") << "\n";
-
-    std::cout << "[3/3] comparison with the ground truth\n";
-    const CalibrationResult& result = run.result;
-    if (!result.has_estimate) {
-      std::cout << "      no estimate to compare\n";
-      return ExitCodeFor(result);
-    }
-    const double rotation_error_deg =
-        RotationAngle(result.odom_from_cam.rotation.conjugate() *
-                      drive.odom_from_cam.rotation) *
-        kRadToDeg;
-    const Eigen::Vector3d translation_error =
-        result.odom_from_cam.translation - drive.odom_from_cam.translation;
-    const double scale_error =
-        result.metric_scales[0] / drive.metric_scale - 1.0;
-    std::printf("      rotation error     %8.4f deg\n", rotation_error_deg);
-    std::printf("      translation error  x %+7.2f mm, y %+7.2f mm (z fixed)\n",
-                1000.0 * translation_error.x(), 1000.0 * translation_error.y());
-    std::printf("      scale error        %+8.4f %%\n", 100.0 * scale_error);
-    return ExitCodeFor(result);
+    return RunRenderedDemo(workspace, preset, seed, inputs);
   } catch (const FormatError& error) {
     std::cerr << "odomcal demo: error: " << error.what() << "\n";
   } catch (const OutputError& error) {
     std::cerr << "odomcal demo: error: " << error.what() << "\n";
+  } catch (const ColmapError& error) {
+    std::cout << std::endl;
+    std::cerr << "odomcal demo: error: " << error.what() << "\n";
   } catch (const std::invalid_argument& error) {
+    std::cerr << "odomcal demo: error: " << error.what() << "\n";
+  } catch (const std::runtime_error& error) {  // rendering I/O
     std::cerr << "odomcal demo: error: " << error.what() << "\n";
   }
   return kExitBadInput;

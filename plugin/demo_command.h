@@ -1,7 +1,8 @@
-// `odomcal demo`: the embedded default job. Simulates a robot drive with a
-// known extrinsic and scale, writes it as ordinary input files, calibrates
-// from those files and compares the result with the ground truth.
-// (The rendered-scene demo through COLMAP replaces the simulation later.)
+// `odomcal demo`: the embedded default job. Renders a synthetic scene with a
+// known camera mount (datasets/), runs `odomcal run` on it (COLMAP, then the
+// calibration) and prints the result next to the ground truth.
+// `--simulated` instead calibrates a simulated trajectory pair in a second,
+// without images or COLMAP.
 #pragma once
 
 namespace odomcal {

@@ -33,20 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunFlags {
-  std::string image_path;
-  std::string workspace_path;
-  std::string camera_model = "PINHOLE";
-  std::string camera_params;
-  std::string matcher = "spatial";
-  std::string colmap_path = "colmap";
-  int max_num_features = 4096;
-  int num_threads = 2;
-  int spatial_neighbors = 20;
-  int sequential_overlap = 10;
-  FrameSelectionOptions frames;
-};
-
 bool IsImageFile(const fs::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
@@ -93,12 +79,180 @@ std::string Note(const ColmapStageResult& stage) {
 
 }  // namespace
 
+ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
+                                             ColmapCalibrationInputs inputs,
+                                             const std::string& command) {
+  RunSettings run = settings;
+  const fs::path workspace(run.workspace_path);
+  PrepareOutputFolder(run.workspace_path, /*overwrite=*/true, {run.image_path});
+  ColmapRunner::Options runner_options;
+  runner_options.executable = run.colmap_path;
+  runner_options.workspace = run.workspace_path;
+  ColmapRunner colmap(runner_options);
+  const ColmapVersion& version = colmap.Version();
+  constexpr int kStages = 5;
+
+  // [1] Frame selection.
+  const Trajectory odometry = ReadOdometry(
+      inputs.odometry_path, inputs.odometry_format, inputs.odometry_time_unit);
+  std::vector<TimedImage> images;
+  {
+    StageClock clock(1, kStages, "selecting frames with the odometry");
+    const ImageTimestamps timestamps =
+        inputs.image_timestamps_path.empty()
+            ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
+            : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
+                                       inputs.image_time_unit);
+    const std::vector<std::string> names = ListImages(run.image_path);
+    if (names.empty()) {
+      throw FormatError(run.image_path + ": no images (.png, .jpg, .jpeg, "
+                                         ".bmp, .tif)");
+    }
+    std::vector<TimedImage> all;
+    for (const std::string& name : names) {
+      std::string why;
+      const auto stamp = timestamps.Lookup(name, &why);
+      if (!stamp) throw FormatError(run.image_path + "/" + name + ": " + why);
+      all.push_back({name, *stamp});
+    }
+    run.frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
+    run.frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
+    const FrameSelection selection = SelectFrames(all, odometry, run.frames);
+    if (selection.kept.size() < 3) {
+      throw FormatError(run.image_path + ": only " +
+                        std::to_string(selection.kept.size()) + " of " +
+                        std::to_string(names.size()) +
+                        " images are inside the odometry and apart enough (" +
+                        std::to_string(selection.num_outside_odometry) +
+                        " outside its span or gaps)");
+    }
+    if (run.matcher == "sequential") {
+      for (size_t i = 1; i < selection.kept.size(); ++i) {
+        if (selection.kept[i].name < selection.kept[i - 1].name) {
+          throw FormatError(
+              "image names do not sort in time order (" +
+              selection.kept[i - 1].name + " after " + selection.kept[i].name +
+              "); the sequential matcher needs that: use --matcher spatial");
+        }
+      }
+    }
+    std::ostringstream list;
+    for (const TimedImage& image : selection.kept) list << image.name << "\n";
+    WriteFileAtomically((workspace / "image_list.txt").string(), list.str());
+    images = selection.kept;
+    clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
+               std::to_string(selection.num_images) + " images (" +
+               std::to_string(selection.num_dropped_still_or_close) +
+               " standing still or too close, " +
+               std::to_string(selection.num_outside_odometry) +
+               " outside the odometry)");
+  }
+
+  // [2] Features.
+  const std::string database = (workspace / "database.db").string();
+  const std::string extraction = FeatureExtractionPrefix(version);
+  const std::string matching = FeatureMatchingPrefix(version);
+  {
+    StageClock clock(2, kStages, "COLMAP feature extraction");
+    std::vector<std::string> arguments = {
+        "feature_extractor", "--database_path", database, "--image_path",
+        run.image_path, "--image_list_path",
+        (workspace / "image_list.txt").string(),
+        "--ImageReader.single_camera", "1", "--ImageReader.camera_model",
+        run.camera_model, "--" + extraction + ".use_gpu", "0",
+        "--" + extraction + ".max_num_features",
+        std::to_string(run.max_num_features), "--" + extraction + ".num_threads",
+        std::to_string(run.num_threads)};
+    if (!run.camera_params.empty()) {
+      arguments.insert(arguments.end(),
+                       {"--ImageReader.camera_params", run.camera_params});
+    }
+    clock.Done(Note(colmap.RunStage("feature_extractor", arguments, {database})));
+  }
+
+  // [3] Matching, guided by odometry positions.
+  std::string matcher = run.matcher;
+  {
+    StageClock clock(3, kStages, "COLMAP " + matcher + " matching");
+    std::vector<std::string> arguments;
+    if (matcher == "spatial" && version.AtLeast(3, 10)) {
+      std::cout << " (COLMAP >= 3.10 keeps priors elsewhere: sequential)";
+      matcher = "sequential";
+    }
+    if (matcher == "spatial") {
+      std::map<std::string, Eigen::Vector3d> positions;
+      InterpolationFailure why;
+      for (const TimedImage& image : images) {
+        const auto pose = InterpolateOdometry(
+            odometry, image.stamp_ns + inputs.association.camera_time_offset_ns,
+            inputs.association.max_odometry_gap_s, &why);
+        if (pose) positions[image.name] = pose->translation;
+      }
+      WriteColmapDatabasePositionPriors(database, positions);
+      arguments = {"spatial_matcher", "--database_path", database,
+                   "--" + matching + ".use_gpu", "0",
+                   "--" + matching + ".num_threads", std::to_string(run.num_threads),
+                   "--SpatialMatching.is_gps", "0", "--SpatialMatching.ignore_z", "1",
+                   "--SpatialMatching.max_num_neighbors",
+                   std::to_string(run.spatial_neighbors),
+                   "--SpatialMatching.max_distance", "5"};
+    } else {
+      arguments = {"sequential_matcher", "--database_path", database,
+                   "--" + matching + ".use_gpu", "0",
+                   "--" + matching + ".num_threads", std::to_string(run.num_threads),
+                   "--SequentialMatching.overlap",
+                   std::to_string(run.sequential_overlap)};
+    }
+    clock.Done(Note(colmap.RunStage(matcher + "_matcher", arguments, {database})));
+  }
+
+  // [4] Mapping.
+  const fs::path sparse = workspace / "sparse";
+  {
+    StageClock clock(4, kStages, "COLMAP mapping");
+    const bool fixed_intrinsics = !run.camera_params.empty();
+    std::vector<std::string> arguments = {
+        "mapper", "--database_path", database, "--image_path", run.image_path,
+        "--output_path", sparse.string(), "--image_list_path",
+        (workspace / "image_list.txt").string(), "--Mapper.num_threads",
+        std::to_string(run.num_threads), "--Mapper.ba_refine_focal_length",
+        fixed_intrinsics ? "0" : "1", "--Mapper.ba_refine_principal_point", "0",
+        "--Mapper.ba_refine_extra_params", fixed_intrinsics ? "0" : "1"};
+    const fs::path first_model = sparse / "0";
+    std::error_code error;
+    // A rerun must not mix new sub-models with stale ones.
+    const fs::path marker = workspace / "stages" / "mapper.done";
+    if (!fs::exists(marker)) fs::remove_all(sparse, error);
+    fs::create_directories(sparse, error);
+    const ColmapStageResult stage =
+        colmap.RunStage("mapper", arguments, {first_model.string()});
+    if (!fs::exists(first_model)) {
+      throw ColmapError("COLMAP mapper produced no model (see " + stage.log_path +
+                        "): too little texture or overlap, or wrong intrinsics");
+    }
+    clock.Done(Note(stage));
+  }
+
+  // [5] Calibration.
+  {
+    StageClock clock(5, kStages, "calibrating against the odometry");
+    inputs.model_path = sparse.string();
+    inputs.database_path = database;
+    const ColmapCalibrationRun calibration =
+        CalibrateColmapProject(inputs, command);
+    WriteColmapCalibrationOutputs(calibration, run.workspace_path);
+    clock.Done("wrote calibration.json, sparse_metric/, camera_in_odom.tum, "
+               "report.html");
+    return calibration;
+  }
+}
+
 int RunRun(int argc, char** argv) {
   CLI::App app{
       "Reconstructs an image folder with COLMAP (odometry-guided) and "
       "calibrates the camera-to-odometry extrinsic and metric scale.",
       "odomcal run"};
-  RunFlags run;
+  RunSettings run;
   ColmapCalibrationInputs inputs;
   ProjectFlags flags;
   app.add_option("--image_path", run.image_path, "folder of images (sub-folders too)")
@@ -155,170 +309,12 @@ int RunRun(int argc, char** argv) {
 
   try {
     FinishProjectFlags(flags, &inputs);
-    const fs::path workspace(run.workspace_path);
-    PrepareOutputFolder(run.workspace_path, /*overwrite=*/true, {run.image_path});
-    ColmapRunner::Options runner_options;
-    runner_options.executable = run.colmap_path;
-    runner_options.workspace = run.workspace_path;
-    ColmapRunner colmap(runner_options);
-    const ColmapVersion& version = colmap.Version();
-    constexpr int kStages = 5;
-
-    // [1] Frame selection.
-    const Trajectory odometry = ReadOdometry(
-        inputs.odometry_path, inputs.odometry_format, inputs.odometry_time_unit);
-    std::vector<TimedImage> images;
-    {
-      StageClock clock(1, kStages, "selecting frames with the odometry");
-      const ImageTimestamps timestamps =
-          inputs.image_timestamps_path.empty()
-              ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
-              : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
-                                         inputs.image_time_unit);
-      const std::vector<std::string> names = ListImages(run.image_path);
-      if (names.empty()) {
-        throw FormatError(run.image_path + ": no images (.png, .jpg, .jpeg, "
-                                           ".bmp, .tif)");
-      }
-      std::vector<TimedImage> all;
-      for (const std::string& name : names) {
-        std::string why;
-        const auto stamp = timestamps.Lookup(name, &why);
-        if (!stamp) throw FormatError(run.image_path + "/" + name + ": " + why);
-        all.push_back({name, *stamp});
-      }
-      run.frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
-      run.frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
-      const FrameSelection selection = SelectFrames(all, odometry, run.frames);
-      if (selection.kept.size() < 3) {
-        throw FormatError(run.image_path + ": only " +
-                          std::to_string(selection.kept.size()) + " of " +
-                          std::to_string(names.size()) +
-                          " images are inside the odometry and apart enough (" +
-                          std::to_string(selection.num_outside_odometry) +
-                          " outside its span or gaps)");
-      }
-      if (run.matcher == "sequential") {
-        for (size_t i = 1; i < selection.kept.size(); ++i) {
-          if (selection.kept[i].name < selection.kept[i - 1].name) {
-            throw FormatError(
-                "image names do not sort in time order (" +
-                selection.kept[i - 1].name + " after " + selection.kept[i].name +
-                "); the sequential matcher needs that: use --matcher spatial");
-          }
-        }
-      }
-      std::ostringstream list;
-      for (const TimedImage& image : selection.kept) list << image.name << "\n";
-      WriteFileAtomically((workspace / "image_list.txt").string(), list.str());
-      images = selection.kept;
-      clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
-                 std::to_string(selection.num_images) + " images (" +
-                 std::to_string(selection.num_dropped_still_or_close) +
-                 " standing still or too close, " +
-                 std::to_string(selection.num_outside_odometry) +
-                 " outside the odometry)");
-    }
-
-    // [2] Features.
-    const std::string database = (workspace / "database.db").string();
-    const std::string extraction = FeatureExtractionPrefix(version);
-    const std::string matching = FeatureMatchingPrefix(version);
-    {
-      StageClock clock(2, kStages, "COLMAP feature extraction");
-      std::vector<std::string> arguments = {
-          "feature_extractor", "--database_path", database, "--image_path",
-          run.image_path, "--image_list_path",
-          (workspace / "image_list.txt").string(),
-          "--ImageReader.single_camera", "1", "--ImageReader.camera_model",
-          run.camera_model, "--" + extraction + ".use_gpu", "0",
-          "--" + extraction + ".max_num_features",
-          std::to_string(run.max_num_features), "--" + extraction + ".num_threads",
-          std::to_string(run.num_threads)};
-      if (!run.camera_params.empty()) {
-        arguments.insert(arguments.end(),
-                         {"--ImageReader.camera_params", run.camera_params});
-      }
-      clock.Done(Note(colmap.RunStage("feature_extractor", arguments, {database})));
-    }
-
-    // [3] Matching, guided by odometry positions.
-    std::string matcher = run.matcher;
-    {
-      StageClock clock(3, kStages, "COLMAP " + matcher + " matching");
-      std::vector<std::string> arguments;
-      if (matcher == "spatial" && version.AtLeast(3, 10)) {
-        std::cout << " (COLMAP >= 3.10 keeps priors elsewhere: sequential)";
-        matcher = "sequential";
-      }
-      if (matcher == "spatial") {
-        std::map<std::string, Eigen::Vector3d> positions;
-        InterpolationFailure why;
-        for (const TimedImage& image : images) {
-          const auto pose = InterpolateOdometry(
-              odometry, image.stamp_ns + inputs.association.camera_time_offset_ns,
-              inputs.association.max_odometry_gap_s, &why);
-          if (pose) positions[image.name] = pose->translation;
-        }
-        WriteColmapDatabasePositionPriors(database, positions);
-        arguments = {"spatial_matcher", "--database_path", database,
-                     "--" + matching + ".use_gpu", "0",
-                     "--" + matching + ".num_threads", std::to_string(run.num_threads),
-                     "--SpatialMatching.is_gps", "0", "--SpatialMatching.ignore_z", "1",
-                     "--SpatialMatching.max_num_neighbors",
-                     std::to_string(run.spatial_neighbors),
-                     "--SpatialMatching.max_distance", "5"};
-      } else {
-        arguments = {"sequential_matcher", "--database_path", database,
-                     "--" + matching + ".use_gpu", "0",
-                     "--" + matching + ".num_threads", std::to_string(run.num_threads),
-                     "--SequentialMatching.overlap",
-                     std::to_string(run.sequential_overlap)};
-      }
-      clock.Done(Note(colmap.RunStage(matcher + "_matcher", arguments, {database})));
-    }
-
-    // [4] Mapping.
-    const fs::path sparse = workspace / "sparse";
-    {
-      StageClock clock(4, kStages, "COLMAP mapping");
-      const bool fixed_intrinsics = !run.camera_params.empty();
-      std::vector<std::string> arguments = {
-          "mapper", "--database_path", database, "--image_path", run.image_path,
-          "--output_path", sparse.string(), "--image_list_path",
-          (workspace / "image_list.txt").string(), "--Mapper.num_threads",
-          std::to_string(run.num_threads), "--Mapper.ba_refine_focal_length",
-          fixed_intrinsics ? "0" : "1", "--Mapper.ba_refine_principal_point", "0",
-          "--Mapper.ba_refine_extra_params", fixed_intrinsics ? "0" : "1"};
-      const fs::path first_model = sparse / "0";
-      std::error_code error;
-      // A rerun must not mix new sub-models with stale ones.
-      const fs::path marker = workspace / "stages" / "mapper.done";
-      if (!fs::exists(marker)) fs::remove_all(sparse, error);
-      fs::create_directories(sparse, error);
-      const ColmapStageResult stage =
-          colmap.RunStage("mapper", arguments, {first_model.string()});
-      if (!fs::exists(first_model)) {
-        throw ColmapError("COLMAP mapper produced no model (see " + stage.log_path +
-                          "): too little texture or overlap, or wrong intrinsics");
-      }
-      clock.Done(Note(stage));
-    }
-
-    // [5] Calibration.
-    {
-      StageClock clock(5, kStages, "calibrating against the odometry");
-      inputs.model_path = sparse.string();
-      inputs.database_path = database;
-      const ColmapCalibrationRun calibration =
-          CalibrateColmapProject(inputs, "odomcal run");
-      WriteColmapCalibrationOutputs(calibration, run.workspace_path);
-      clock.Done("wrote calibration.json, sparse_metric/, camera_in_odom.tum, "
-                 "report.html");
-      std::cout << CalibrationSummary(calibration.check.result, calibration.context);
-      std::cout << "  report: " << (workspace / "report.html").string() << "\n";
-      return ExitCodeFor(calibration.check.result);
-    }
+    const ColmapCalibrationRun calibration =
+        RunReconstructionPipeline(run, inputs, "odomcal run");
+    std::cout << CalibrationSummary(calibration.check.result, calibration.context);
+    std::cout << "  report: "
+              << (fs::path(run.workspace_path) / "report.html").string() << "\n";
+    return ExitCodeFor(calibration.check.result);
   } catch (const FormatError& error) {
     std::cout << std::endl;
     std::cerr << "odomcal run: error: " << error.what() << "\n";

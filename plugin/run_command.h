@@ -5,7 +5,35 @@
 // COLMAP stages are reused when rerun on the same workspace.
 #pragma once
 
+#include <string>
+
+#include "odomcal/adapters/frame_selection.h"
+#include "odomcal/plugin/colmap_calibration.h"
+
 namespace odomcal {
+
+struct RunSettings {
+  std::string image_path;
+  std::string workspace_path;
+  std::string camera_model = "PINHOLE";
+  std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
+  std::string matcher = "spatial";  // or "sequential"
+  std::string colmap_path = "colmap";
+  int max_num_features = 4096;
+  int num_threads = 2;
+  int spatial_neighbors = 12;
+  int sequential_overlap = 10;
+  FrameSelectionOptions frames;
+};
+
+// The five stages with progress on stdout; the workspace receives COLMAP's
+// files and the outputs of `odomcal colmap`. `inputs` supplies the odometry,
+// image times and calibration options (model and database paths are set
+// here). Throws FormatError, OutputError, ColmapError or
+// std::invalid_argument with a one-line message.
+ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
+                                               ColmapCalibrationInputs inputs,
+                                               const std::string& command);
 
 int RunRun(int argc, char** argv);
 

@@ -265,7 +265,7 @@ TEST_F(OdomcalCli, NeverOverwritesWithoutFlagAndNeverTouchesInputs) {
 }
 
 TEST_F(OdomcalCli, DemoRunsAndMatchesGroundTruth) {
-  const CommandResult run = Run("demo --workspace_path " + Path("demo"));
+  const CommandResult run = Run("demo --simulated --workspace_path " + Path("demo"));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("demo/calibration.json")));
   const json truth = json::parse(ReadFile(Path("demo/ground_truth.json")));

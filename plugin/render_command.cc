@@ -1,0 +1,138 @@
+#include "odomcal/plugin/render_command.h"
+
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/datasets/dataset_presets.h"
+#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/output_file.h"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <regex>
+#include <string>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Refuses a non-empty output folder unless overwriting; then removes the
+// images an earlier render left (only names this command writes).
+void PrepareOutputFolder(const fs::path& dir, bool overwrite) {
+  std::error_code error;
+  if (fs::exists(dir, error) && !fs::is_directory(dir, error)) {
+    throw OutputError(dir.string() + ": exists and is not a folder");
+  }
+  if (fs::is_directory(dir, error) && !fs::is_empty(dir, error)) {
+    if (!overwrite) {
+      throw OutputError(
+          dir.string() +
+          ": exists and is not empty (pass --overwrite to replace "
+          "the dataset in it)");
+    }
+    const fs::path images = dir / "images";
+    if (fs::is_directory(images, error)) {
+      static const std::regex kImageName("[0-9]{6}\\.png");
+      for (const fs::directory_entry& entry : fs::directory_iterator(images)) {
+        if (std::regex_match(entry.path().filename().string(), kImageName)) {
+          fs::remove(entry.path(), error);
+        }
+      }
+    }
+  }
+  fs::create_directories(dir, error);
+  if (!fs::is_directory(dir, error)) {
+    throw OutputError(dir.string() + ": cannot create the folder");
+  }
+}
+
+std::string PresetHelp() {
+  std::string text = "dataset preset:";
+  for (const DatasetPresetInfo& info : DatasetPresets()) {
+    text += "\n  " + info.name + ": " + info.summary;
+  }
+  return text;
+}
+
+}  // namespace
+
+int RunRender(int argc, char** argv) {
+  CLI::App app{
+      "Renders a synthetic calibration dataset: a camera on a wheeled robot "
+      "driving through a textured room, with wheel odometry and ground truth.",
+      "odomcal render"};
+  std::string preset;
+  std::string output_path;
+  uint64_t seed = 1;
+  bool overwrite = false;
+  std::vector<std::string> names;
+  for (const DatasetPresetInfo& info : DatasetPresets())
+    names.push_back(info.name);
+  app.add_option("--preset", preset, PresetHelp())
+      ->required()
+      ->check(CLI::IsMember(names));
+  app.add_option("--output_path",
+                 output_path,
+                 "dataset folder: images/, odometry.csv, image_timestamps.csv, "
+                 "ground_truth.json, odometry_ground_truth.csv")
+      ->required();
+  app.add_option("--seed", seed, "random seed (scene textures, path, noise)")
+      ->capture_default_str();
+  app.add_flag(
+      "--overwrite", overwrite, "replace a dataset already in output_path");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitSuccess;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "odomcal render: error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+
+  try {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    const auto elapsed = [&] {
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    };
+    PrepareOutputFolder(output_path, overwrite);
+    const RenderedDatasetOptions options = MakeDatasetPreset(preset, seed);
+    std::cout << "odomcal render: preset " << preset << ", seed " << seed
+              << ", " << options.num_images << " images "
+              << options.camera.width << "x" << options.camera.height << " -> "
+              << output_path << "\n";
+    const RenderedDataset dataset = SimulateRenderedDataset(options);
+    std::printf("  scene: %zu surfaces, path %.1f s (%.1f s)\n",
+                dataset.scene.surfaces.size(),
+                1e-9 * dataset.path.duration_ns(),
+                elapsed());
+    std::fflush(stdout);
+    WriteRenderedDataset(dataset, output_path, [&](size_t done, size_t total) {
+      // One line per 10 %, so logs stay short.
+      if (done == total || done % std::max<size_t>(1, total / 10) == 0) {
+        std::printf(
+            "  rendered %zu/%zu images (%.1f s)\n", done, total, elapsed());
+        std::fflush(stdout);
+      }
+    });
+    std::printf(
+        "odomcal render: wrote %s in %.1f s\n", output_path.c_str(), elapsed());
+    return kExitSuccess;
+  } catch (const OutputError& error) {
+    std::cerr << "odomcal render: error: " << error.what() << "\n";
+  } catch (const FormatError& error) {
+    std::cerr << "odomcal render: error: " << error.what() << "\n";
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "odomcal render: error: " << error.what() << "\n";
+  } catch (const std::runtime_error& error) {
+    std::cerr << "odomcal render: error: " << error.what() << "\n";
+  }
+  return kExitBadInput;
+}
+
+}  // namespace odomcal

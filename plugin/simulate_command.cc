@@ -1,0 +1,346 @@
+// Parses the flags, checks every output path before any work, then for each
+// selected sweep runs its points one after the other (each point's trials on
+// --threads threads, see RunSweepPoint), collects the summaries, writes the
+// sweep's CSV and SVG atomically and prints its table; the divergence table
+// pools the B methods' counts over all points run. The random stream of a
+// trial depends only on (--seed, sweep, point, trial), so a sweep run alone
+// reproduces the same numbers as within --sweep all.
+
+#include "odomcal/plugin/simulate_command.h"
+
+#include "odomcal/datasets/paper_evaluation.h"
+#include "odomcal/datasets/paper_simulation.h"
+#include "odomcal/datasets/paper_sweeps.h"
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/svg_plot.h"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+// Methods in the plots: ALSP-orth is ALS exactly (see paper_evaluation.h),
+// so it is left out of the figures (it stays in the CSV).
+const EvaluationMethod kPlottedMethods[] = {EvaluationMethod::kAls,
+                                            EvaluationMethod::kAlsp,
+                                            EvaluationMethod::kCm,
+                                            EvaluationMethod::kAlsB,
+                                            EvaluationMethod::kAlspB,
+                                            EvaluationMethod::kCmB,
+                                            EvaluationMethod::kGtB};
+
+std::string CsvNumber(double value) {
+  if (!std::isfinite(value)) return "";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.9g", value);
+  return buffer;
+}
+
+std::string SweepCsv(const std::vector<SweepPointResult>& points) {
+  std::ostringstream csv;
+  csv << "value,method,rmse_rotation_deg,rmse_translation_m,rmse_scale_rel,"
+         "divergence_rate,failures,trials\n";
+  for (const SweepPointResult& point : points) {
+    for (const EvaluationMethod method : AllEvaluationMethods()) {
+      const MethodSummary& s = point[method];
+      csv << CsvNumber(point.value) << "," << ToString(method) << ","
+          << CsvNumber(s.rmse_rotation_deg) << ","
+          << CsvNumber(s.rmse_translation_m) << ","
+          << CsvNumber(s.rmse_scale_rel) << "," << CsvNumber(s.divergence_rate)
+          << "," << s.num_failures << "," << s.num_trials << "\n";
+    }
+  }
+  return csv.str();
+}
+
+std::string SweepSvg(const PaperSweep& sweep,
+                     const std::vector<SweepPointResult>& points,
+                     int num_trials,
+                     CameraNoiseMode mode) {
+  PlotFigure figure;
+  figure.title = "odomcal simulate: " + sweep.name + " (" +
+                 std::to_string(num_trials) + " trials per point, " +
+                 ToString(mode) + " camera noise)";
+  struct PanelSpec {
+    const char* title;
+    const char* y_label;
+    bool log_y;
+    double (*get)(const MethodSummary&);
+    bool batch_only;
+  };
+  const PanelSpec specs[] = {
+      {"(a) rotation",
+       "RMSE [deg]",
+       true,
+       [](const MethodSummary& s) { return s.rmse_rotation_deg; },
+       false},
+      {"(b) x/y translation",
+       "RMSE [m]",
+       true,
+       [](const MethodSummary& s) { return s.rmse_translation_m; },
+       false},
+      {"(c) metric scale",
+       "relative RMSE",
+       true,
+       [](const MethodSummary& s) { return s.rmse_scale_rel; },
+       false},
+      {"(d) divergence (truth outside 3 sigma)",
+       "rate [%]",
+       false,
+       [](const MethodSummary& s) { return 100.0 * s.divergence_rate; },
+       true},
+  };
+  for (const PanelSpec& spec : specs) {
+    PlotPanel& panel = figure.panels.emplace_back();
+    panel.title = spec.title;
+    panel.x_label = sweep.x_label;
+    panel.y_label = spec.y_label;
+    panel.log_y = spec.log_y;
+    int color = 0;
+    for (const EvaluationMethod method : kPlottedMethods) {
+      PlotSeries series;
+      series.label = ToString(method);
+      series.color = DefaultSeriesColor(color++);
+      series.dashed = IsBatchMethod(method);
+      if (!spec.batch_only || IsBatchMethod(method)) {
+        for (const SweepPointResult& point : points) {
+          series.x.push_back(point.value);
+          series.y.push_back(spec.get(point[method]));
+        }
+      }
+      panel.series.push_back(series);
+    }
+  }
+  return RenderSvg(figure);
+}
+
+void PrintSweepTable(const PaperSweep& sweep,
+                     const std::vector<SweepPointResult>& points,
+                     int num_trials) {
+  std::printf("%s: %s, %d trials per point\n",
+              sweep.name.c_str(),
+              sweep.x_label.c_str(),
+              num_trials);
+  std::printf("  %8s  %-9s %10s %10s %9s %7s %5s\n",
+              "value",
+              "method",
+              "rot[deg]",
+              "xy[mm]",
+              "scale[%]",
+              "div[%]",
+              "fail");
+  for (const SweepPointResult& point : points) {
+    for (const EvaluationMethod method : AllEvaluationMethods()) {
+      const MethodSummary& s = point[method];
+      char divergence[16] = "-";
+      if (std::isfinite(s.divergence_rate)) {
+        std::snprintf(
+            divergence, sizeof(divergence), "%.2f", 100.0 * s.divergence_rate);
+      }
+      std::printf("  %8g  %-9s %10.4f %10.3f %9.4f %7s %5d\n",
+                  point.value,
+                  ToString(method).c_str(),
+                  s.rmse_rotation_deg,
+                  1000.0 * s.rmse_translation_m,
+                  100.0 * s.rmse_scale_rel,
+                  divergence,
+                  s.num_failures);
+    }
+  }
+  std::fflush(stdout);
+}
+
+struct DivergenceTotals {
+  int divergences = 0;
+  int with_covariance = 0;
+  int failures = 0;
+  int trials = 0;
+};
+
+}  // namespace
+
+int RunSimulate(int argc, char** argv) {
+  CLI::App app{
+      "Monte Carlo evaluation of Guo et al. (ICRA 2012), Section V: RMSE of "
+      "ALS, ALSP, CM and their batch refinements (and GT-B) over parameter "
+      "sweeps (Fig. 2), and the divergence rates (Table I).",
+      "odomcal simulate"};
+  std::string output_path;
+  int num_trials = 1000;
+  uint64_t seed = 1;
+  std::string sweep_name = "all";
+  int num_threads = 2;
+  std::string camera_noise = "landmarks";
+  bool overwrite = false;
+  EvaluationOptions evaluation;
+  app.add_option("--output_path",
+                 output_path,
+                 "folder for <sweep>.csv, <sweep>.svg and divergence.csv "
+                 "(created if missing)")
+      ->required();
+  app.add_option("--trials", num_trials, "Monte Carlo trials per sweep point")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  app.add_option("--seed", seed, "base seed of every trial")
+      ->capture_default_str();
+  app.add_option("--sweep", sweep_name, "the sweep to run")
+      ->check(CLI::IsMember({"rotation_noise",
+                             "translation_noise",
+                             "pixel_noise",
+                             "num_motions",
+                             "all"}))
+      ->capture_default_str();
+  app.add_option("--threads", num_threads, "worker threads")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  app.add_option("--camera_noise",
+                 camera_noise,
+                 "landmarks: 12 points, pixel noise, 8-point + bundle "
+                 "adjustment (the paper's); parametric: Gaussian rotation and "
+                 "direction noise (fast)")
+      ->check(CLI::IsMember({"landmarks", "parametric"}))
+      ->capture_default_str();
+  app.add_option("--cm_iterations",
+                 evaluation.cm_ransac_iterations,
+                 "RANSAC samples of the CM baseline (fixed budget)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  app.add_flag("--overwrite", overwrite, "replace existing output files");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kExitSuccess;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "odomcal simulate: error: " << error.what() << "\n";
+    return kExitBadInput;
+  }
+
+  try {
+    const CameraNoiseMode mode = CameraNoiseModeFromString(camera_noise);
+    std::vector<PaperSweep> sweeps;
+    if (sweep_name == "all") {
+      sweeps = PaperSweeps();
+    } else {
+      sweeps.push_back(FindPaperSweep(sweep_name));
+    }
+    std::error_code error;
+    std::filesystem::create_directories(output_path, error);
+    if (error || !std::filesystem::is_directory(output_path)) {
+      throw OutputError(output_path + ": cannot create the output folder");
+    }
+    const std::filesystem::path root(output_path);
+    const std::string divergence_path = (root / "divergence.csv").string();
+    for (const PaperSweep& sweep : sweeps) {
+      CheckOutputPath((root / (sweep.name + ".csv")).string(), overwrite);
+      CheckOutputPath((root / (sweep.name + ".svg")).string(), overwrite);
+    }
+    CheckOutputPath(divergence_path, overwrite);
+
+    const bool show_progress = isatty(STDERR_FILENO) != 0;
+    const PaperSimulationOptions nominal = NominalPaperSimulation(mode);
+    std::vector<DivergenceTotals> totals(kNumEvaluationMethods);
+    const auto start = std::chrono::steady_clock::now();
+    int total_trials = 0;
+    for (const PaperSweep& sweep : sweeps) {
+      std::vector<SweepPointResult> points;
+      for (size_t p = 0; p < sweep.values.size(); ++p) {
+        const double value = sweep.values[p];
+        const PaperSimulationOptions simulation =
+            ApplySweepValue(nominal, sweep.name, value);
+        ProgressCallback progress;
+        if (show_progress) {
+          progress = [&sweep, p, value](int done, int total) {
+            if (done != total && done % 10 != 0) return;
+            std::fprintf(stderr,
+                         "\r%s point %zu/%zu (%g): %d/%d trials   ",
+                         sweep.name.c_str(),
+                         p + 1,
+                         sweep.values.size(),
+                         value,
+                         done,
+                         total);
+            std::fflush(stderr);
+          };
+        }
+        points.push_back(RunSweepPoint(simulation,
+                                       evaluation,
+                                       sweep.name,
+                                       static_cast<int>(p),
+                                       value,
+                                       num_trials,
+                                       num_threads,
+                                       seed,
+                                       progress));
+        total_trials += num_trials;
+        for (const EvaluationMethod method : AllEvaluationMethods()) {
+          const MethodSummary& s = points.back()[method];
+          DivergenceTotals& t = totals[static_cast<int>(method)];
+          t.divergences += s.num_divergences;
+          t.with_covariance += s.num_with_covariance;
+          t.failures += s.num_failures;
+          t.trials += s.num_trials;
+        }
+      }
+      if (show_progress) std::fprintf(stderr, "\r%78s\r", "");
+      WriteFileAtomically((root / (sweep.name + ".csv")).string(),
+                          SweepCsv(points));
+      WriteFileAtomically((root / (sweep.name + ".svg")).string(),
+                          SweepSvg(sweep, points, num_trials, mode));
+      PrintSweepTable(sweep, points, num_trials);
+    }
+
+    std::ostringstream csv;
+    csv << "method,divergences,trials_with_covariance,divergence_rate,"
+           "failures,trials\n";
+    std::printf("divergence (Table I), pooled over %d trials per method\n",
+                total_trials);
+    for (const EvaluationMethod method : AllEvaluationMethods()) {
+      if (!IsBatchMethod(method)) continue;
+      const DivergenceTotals& t = totals[static_cast<int>(method)];
+      const double rate =
+          t.with_covariance > 0
+              ? static_cast<double>(t.divergences) / t.with_covariance
+              : std::nan("");
+      csv << ToString(method) << "," << t.divergences << ","
+          << t.with_covariance << "," << CsvNumber(rate) << "," << t.failures
+          << "," << t.trials << "\n";
+      std::printf("  %-7s %6.2f %%  (%d of %d; %d failures)\n",
+                  ToString(method).c_str(),
+                  100.0 * rate,
+                  t.divergences,
+                  t.with_covariance,
+                  t.failures);
+    }
+    WriteFileAtomically(divergence_path, csv.str());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    std::printf("%d trials in %.1f s (%.1f trials/s on %d threads); wrote %s\n",
+                total_trials,
+                seconds,
+                total_trials / seconds,
+                num_threads,
+                output_path.c_str());
+    return kExitSuccess;
+  } catch (const OutputError& error) {
+    std::cerr << "odomcal simulate: error: " << error.what() << "\n";
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "odomcal simulate: error: " << error.what() << "\n";
+  }
+  return kExitBadInput;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,64 @@
+// A small, dependency-free SVG line-plot writer: a figure is a grid of
+// panels, each with axes (ticks, labels, optional log-y) and line series; one
+// legend lists every series label of the figure. The output is a
+// self-contained SVG document (also embeddable inline in HTML). No I/O: the
+// caller writes the string.
+//
+//   PlotFigure figure;
+//   figure.title = "RMSE vs odometry rotation noise";
+//   PlotPanel& panel = figure.panels.emplace_back();
+//   panel.title = "(a) rotation";
+//   panel.x_label = "noise SD [rad]";
+//   panel.y_label = "RMSE [deg]";
+//   panel.series.push_back({"ALSP", {0, 0.1}, {0.2, 0.5}});
+//   const std::string svg = RenderSvg(figure);
+//
+// Non-finite y values (and, with log_y, non-positive ones) break the line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct PlotSeries {
+  std::string label;
+  std::vector<double> x;
+  std::vector<double> y;
+  std::string color;    // CSS colour; empty: DefaultSeriesColor(index)
+  bool dashed = false;  // e.g. batch-refined variants
+  bool markers = true;  // a dot per point
+};
+
+struct PlotPanel {
+  std::string title;
+  std::string x_label;
+  std::string y_label;
+  bool log_y = false;
+  std::vector<PlotSeries> series;
+};
+
+struct PlotFigure {
+  std::string title;
+  std::vector<PlotPanel> panels;
+  int num_columns = 2;
+  double panel_width_px = 440.0;
+  double panel_height_px = 300.0;
+  bool legend = true;
+};
+
+// The SVG document.
+std::string RenderSvg(const PlotFigure& figure);
+
+// A qualitative palette, repeating after 10 colours.
+std::string DefaultSeriesColor(int index);
+
+// "Nice" tick positions covering [min, max] (about target_count of them, at
+// 1, 2 or 5 times a power of ten); with log_scale, powers of ten (plus 2 and
+// 5 times them when the range spans less than two decades).
+std::vector<double> AxisTicks(double min,
+                              double max,
+                              int target_count,
+                              bool log_scale);
+
+}  // namespace odomcal
