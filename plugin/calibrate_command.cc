@@ -100,16 +100,10 @@ int RunCalibrate(int argc, char** argv) {
   CalibrationFlags flags;
   AddCalibrationFlags(&app, &inputs, &flags);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitSuccess;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
-    return kExitBadInput;
+  if (const auto exit_code = ParseFlags(&app, argc, argv)) {
+    return *exit_code;
   }
-  try {
+  return RunReportingErrors("odomcal calibrate", [&]() -> int {
     FinishCalibrationFlags(flags, &inputs);
     CheckOutputPath(output_path, overwrite);
     CheckOutputPath(ReplaceExtension(output_path, ".yaml"), overwrite);
@@ -122,14 +116,7 @@ int RunCalibrate(int argc, char** argv) {
                 << ReplaceExtension(output_path, ".yaml") << "\n";
     }
     return ExitCodeFor(run.result);
-  } catch (const FormatError& error) {
-    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
-  } catch (const OutputError& error) {
-    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
-  } catch (const std::invalid_argument& error) {
-    std::cerr << "odomcal calibrate: error: " << error.what() << "\n";
-  }
-  return kExitBadInput;
+  });
 }
 
 }  // namespace odomcal

@@ -10,16 +10,11 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/command_line.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 
 namespace odomcal {
-
-// Exit codes of every odomcal command.
-constexpr int kExitSuccess = 0;
-constexpr int kExitInternalError = 1;
-constexpr int kExitBadInput = 2;        // arguments, files, outputs
-constexpr int kExitNotCalibrated = 3;   // the data do not determine it
 
 struct CalibrateInputs {
   std::vector<std::string> camera_paths;

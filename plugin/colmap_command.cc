@@ -39,16 +39,10 @@ int RunColmap(int argc, char** argv) {
   app.add_flag("--overwrite", overwrite, "replace odomcal's files in --output_path");
   app.add_flag("--quiet", quiet, "print only errors");
   AddProjectFlags(&app, &inputs, &flags);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitSuccess;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
-    return kExitBadInput;
+  if (const auto exit_code = ParseFlags(&app, argc, argv)) {
+    return *exit_code;
   }
-  try {
+  return RunReportingErrors("odomcal colmap", [&]() -> int {
     FinishProjectFlags(flags, &inputs);
     PrepareOutputFolder(output_path, overwrite,
                         {inputs.model_path,
@@ -66,14 +60,7 @@ int RunColmap(int argc, char** argv) {
                    "camera_in_odom.tum, report.html}\n";
     }
     return ExitCodeFor(run.check.result);
-  } catch (const FormatError& error) {
-    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
-  } catch (const OutputError& error) {
-    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
-  } catch (const std::invalid_argument& error) {
-    std::cerr << "odomcal colmap: error: " << error.what() << "\n";
-  }
-  return kExitBadInput;
+  });
 }
 
 }  // namespace odomcal

@@ -256,35 +256,17 @@ int RunDemo(int argc, char** argv) {
   CalibrateInputs inputs;
   CalibrationFlags flags;
   AddCalibrationFlags(&app, &inputs, &flags);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitSuccess;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "odomcal demo: error: " << error.what() << "\n";
-    return kExitBadInput;
+  if (const auto exit_code = ParseFlags(&app, argc, argv)) {
+    return *exit_code;
   }
-  try {
+  return RunReportingErrors("odomcal demo", [&]() -> int {
     FinishCalibrationFlags(flags, &inputs);
     if (simulated) {
       simulation.seed = seed;
       return RunSimulatedDemo(workspace, simulation, inputs);
     }
     return RunRenderedDemo(workspace, preset, seed, inputs);
-  } catch (const FormatError& error) {
-    std::cerr << "odomcal demo: error: " << error.what() << "\n";
-  } catch (const OutputError& error) {
-    std::cerr << "odomcal demo: error: " << error.what() << "\n";
-  } catch (const ColmapError& error) {
-    std::cout << std::endl;
-    std::cerr << "odomcal demo: error: " << error.what() << "\n";
-  } catch (const std::invalid_argument& error) {
-    std::cerr << "odomcal demo: error: " << error.what() << "\n";
-  } catch (const std::runtime_error& error) {  // rendering I/O
-    std::cerr << "odomcal demo: error: " << error.what() << "\n";
-  }
-  return kExitBadInput;
+  });
 }
 
 }  // namespace odomcal

@@ -63,7 +63,12 @@ class StageClock {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
         .count();
   }
-  void Done(const std::string& note) const {
+  // An exception between the title and Done() still ends the line.
+  ~StageClock() {
+    if (!done_) std::cout << std::endl;
+  }
+  void Done(const std::string& note) {
+    done_ = true;
     char seconds[32];
     std::snprintf(seconds, sizeof(seconds), "%.1f s", Seconds());
     std::cout << " ... " << note << " (" << seconds << ")\n" << std::flush;
@@ -71,6 +76,7 @@ class StageClock {
 
  private:
   std::chrono::steady_clock::time_point start_;
+  bool done_ = false;
 };
 
 std::string Note(const ColmapStageResult& stage) {
@@ -297,17 +303,11 @@ int RunRun(int argc, char** argv) {
   app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
       ->capture_default_str();
   AddProjectFlags(&app, &inputs, &flags);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitSuccess;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "odomcal run: error: " << error.what() << "\n";
-    return kExitBadInput;
+  if (const auto exit_code = ParseFlags(&app, argc, argv)) {
+    return *exit_code;
   }
 
-  try {
+  return RunReportingErrors("odomcal run", [&]() -> int {
     FinishProjectFlags(flags, &inputs);
     const ColmapCalibrationRun calibration =
         RunReconstructionPipeline(run, inputs, "odomcal run");
@@ -315,20 +315,7 @@ int RunRun(int argc, char** argv) {
     std::cout << "  report: "
               << (fs::path(run.workspace_path) / "report.html").string() << "\n";
     return ExitCodeFor(calibration.check.result);
-  } catch (const FormatError& error) {
-    std::cout << std::endl;
-    std::cerr << "odomcal run: error: " << error.what() << "\n";
-  } catch (const OutputError& error) {
-    std::cout << std::endl;
-    std::cerr << "odomcal run: error: " << error.what() << "\n";
-  } catch (const ColmapError& error) {
-    std::cout << std::endl;
-    std::cerr << "odomcal run: error: " << error.what() << "\n";
-  } catch (const std::invalid_argument& error) {
-    std::cout << std::endl;
-    std::cerr << "odomcal run: error: " << error.what() << "\n";
-  }
-  return kExitBadInput;
+  });
 }
 
 }  // namespace odomcal
