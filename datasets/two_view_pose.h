@@ -1,0 +1,76 @@
+// Relative pose of two calibrated views from point correspondences, as in
+// the simulations of Guo, Mirzaei & Roumeliotis (ICRA 2012), Section V: the
+// 8-point algorithm followed by a two-view bundle adjustment, with the pose
+// covariance of that bundle adjustment.
+//
+// Input: the same landmarks observed in views i and j, in normalised image
+// coordinates u = (x/z, y/z) of each camera (pinhole, no distortion).
+// Output: cam_i_from_cam_j = (R, t) with |t| = 1 (two views fix the
+// translation only up to scale), i.e. a point p_in_cam_j maps to
+// p_in_cam_i = R p_in_cam_j + t.
+//
+// Steps: (1) cv::findFundamentalMat(FM_8POINT) on the normalised
+// coordinates, which makes F the essential matrix E; cv::recoverPose picks the
+// one of its four decompositions that puts the points in front of both
+// cameras. (2) Linear triangulation of every point. (3) Ceres bundle
+// adjustment of the reprojection errors in pixels (f * (u_hat - u)) in both
+// views over R (EigenQuaternionManifold), the unit t (SphereManifold<3>) and
+// the points p_in_cam_i; no robust loss.
+//
+// Covariance: with H = J^T J of the bundle adjustment (J in pixels per
+// tangent unit), the points are marginalised by the Schur complement
+//   H_pose = H_pp - H_pl H_ll^-1 H_lp        (5x5: 3 rotation + 2 sphere)
+// and Cov_tangent = sigma_px^2 H_pose^-1. It is reported in MotionPair's
+// convention, order [rotation(3), translation(3)]: the rotation as a left
+// perturbation R = Exp(phi) R_hat in radians (phi = 2 delta: Ceres' quaternion
+// tangent delta is half the rotation vector), the translation in 3D through
+// the sphere manifold's plus-Jacobian (3x2; rank 2: the unit length carries no
+// uncertainty). Multiply the translation rows and columns by |t| when the
+// translation is rescaled to a known length.
+#pragma once
+
+#include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct TwoViewOptions {
+  double focal_length_px = 400.0;  // residuals are f * normalised error
+  double pixel_sigma = 1.0;        // image noise, scales the covariance
+  bool refine = true;              // false: 8-point + recoverPose only
+  int max_num_iterations = 50;     // of the bundle adjustment
+  // When set, the bundle adjustment starts here (unit translation) instead
+  // of at the 8-point solution (tests, multi-start).
+  std::optional<Rigid3d> initial_cam_i_from_cam_j;
+  void Check() const;  // throws std::invalid_argument naming the field
+};
+
+struct TwoViewEstimate {
+  bool success = false;
+  std::string failure;       // why not, when !success
+  Rigid3d cam_i_from_cam_j;  // unit translation
+  // See the file comment. Zero when !refine (no covariance without the
+  // bundle adjustment) or when pixel_sigma is 0.
+  MotionCovariance covariance = MotionCovariance::Zero();
+  std::vector<Eigen::Vector3d> points_in_cam_i;  // triangulated / refined
+  double initial_rms_px = 0.0;  // reprojection RMS after the 8-point step
+  double final_rms_px = 0.0;    // after the bundle adjustment
+  double final_cost = 0.0;      // Ceres cost, 1/2 sum of squared px
+  int num_iterations = 0;
+};
+
+// Needs at least 8 correspondences (same order in both lists). Throws
+// std::invalid_argument for mismatched sizes or invalid options; a
+// degenerate configuration returns !success with the reason.
+TwoViewEstimate EstimateTwoViewPose(
+    const std::vector<Eigen::Vector2d>& normalized_in_cam_i,
+    const std::vector<Eigen::Vector2d>& normalized_in_cam_j,
+    const TwoViewOptions& options);
+
+}  // namespace odomcal
