@@ -41,7 +41,7 @@ void AddCalibrationFlags(CLI::App* app,
       ->capture_default_str();
   app->add_option("--alsp_projection", flags->alsp_projection,
                   "ALSP projection of camera translations onto the plane")
-      ->check(CLI::IsMember({"length_preserving", "orthogonal"}))
+      ->check(CLI::IsMember({"orthogonal", "length_preserving"}))
       ->capture_default_str();
   app->add_flag("--no_refine", flags->no_refine,
                 "report the closed form without Ceres refinement");

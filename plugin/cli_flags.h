@@ -13,7 +13,7 @@ namespace odomcal {
 // Text flags held until they are converted into CalibrateInputs.
 struct CalibrationFlags {
   std::string method = "alsp";
-  std::string alsp_projection = "length_preserving";
+  std::string alsp_projection = "orthogonal";
   std::string ransac = "on";
   std::string robust_loss = "none";
   std::string odometry_format = "auto";

@@ -44,7 +44,7 @@ namespace odomcal {
 
 struct LinearOptions {
   LinearMethod method = LinearMethod::kAlsp;
-  PlaneProjection alsp_projection = PlaneProjection::kLengthPreserving;
+  PlaneProjection alsp_projection = PlaneProjection::kOrthogonal;
   double fixed_translation_z_m = 0.0;
 };
 

@@ -187,6 +187,7 @@ TEST(EstimateOdomFromCamLinear, OrthogonalProjectionEqualsAls) {
   LinearOptions als, orthogonal, length_preserving;
   als.method = LinearMethod::kAls;
   orthogonal.alsp_projection = PlaneProjection::kOrthogonal;
+  length_preserving.alsp_projection = PlaneProjection::kLengthPreserving;
   const LinearEstimate a = EstimateOdomFromCamLinear(truth.pairs, als);
   const LinearEstimate b = EstimateOdomFromCamLinear(truth.pairs, orthogonal);
   const LinearEstimate c =
