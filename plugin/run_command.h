@@ -19,9 +19,9 @@ struct RunSettings {
   std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
   std::string matcher = "spatial";  // or "sequential"
   std::string colmap_path = "colmap";
-  int max_num_features = 4096;
+  int max_num_features = 2048;
   int num_threads = 2;
-  int spatial_neighbors = 12;
+  int spatial_neighbors = 8;
   int sequential_overlap = 10;
   FrameSelectionOptions frames;
 };
