@@ -170,7 +170,26 @@ class RenderedEndToEnd : public ::testing::Test {
 };
 
 TEST_F(RenderedEndToEnd, SmallPreset) {
-  ExpectAccurate(RunPreset("small", 1), 0.1, 0.005, 0.003);
+  const PresetRun run = RunPreset("small", 1);
+  ExpectAccurate(run, 0.1, 0.005, 0.003);
+  // `odomcal colmap` on the project `odomcal run` made gives the same answer.
+  std::string log;
+  const fs::path data = dir_ / "data";
+  ASSERT_EQ(Run("colmap --model_path " + (run.workspace / "sparse").string() +
+                    " --database_path " + (run.workspace / "database.db").string() +
+                    " --odometry " + (data / "odometry.csv").string() +
+                    " --image_timestamps " + (data / "image_timestamps.csv").string() +
+                    " --fixed_translation_z_m 0.4 --output_path " +
+                    (dir_ / "colmap_out").string(),
+                &log),
+            0)
+      << log;
+  const json again = json::parse(ReadFile(dir_ / "colmap_out" / "calibration.json"));
+  EXPECT_EQ(again["odom_from_cam"]["quaternion_wxyz"],
+            run.result["odom_from_cam"]["quaternion_wxyz"]);
+  EXPECT_EQ(again["odom_from_cam"]["translation_m"],
+            run.result["odom_from_cam"]["translation_m"]);
+  EXPECT_EQ(again["metric_scales"], run.result["metric_scales"]);
 }
 
 TEST_F(RenderedEndToEnd, TiltedRolledCamera) {
