@@ -184,38 +184,26 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
   PlotFigure pairs;
   pairs.title = "Motion pairs (x: pair index in time order)";
   pairs.num_columns = 2;
-  {
-    PlotPanel& rotation = pairs.panels.emplace_back();
-    rotation.title = "rotation residual";
-    rotation.x_label = "pair";
-    rotation.y_label = "deg";
-    rotation.series.push_back(scatter("used", rotation_residual, used, true, "#2ca02c"));
-    rotation.series.push_back(scatter("not used", rotation_residual, used, false, "#d62728"));
-    PlotPanel& translation = pairs.panels.emplace_back();
-    translation.title = "translation residual";
-    translation.x_label = "pair";
-    translation.y_label = "mm";
-    translation.series.push_back(scatter("used", translation_residual, used, true, "#2ca02c"));
-    translation.series.push_back(scatter("not used", translation_residual, used, false, "#d62728"));
-    PlotPanel& excitation = pairs.panels.emplace_back();
-    excitation.title = "yaw excitation: odometry yaw per pair";
-    excitation.x_label = "pair";
-    excitation.y_label = "deg";
-    excitation.series.push_back(scatter("used", yaw, used, true, "#2ca02c"));
-    excitation.series.push_back(scatter("not used", yaw, used, false, "#d62728"));
-    PlotPanel& consistency = pairs.panels.emplace_back();
-    consistency.title = "COLMAP vs odometry: | |angle A| - |angle B| |";
-    consistency.x_label = "pair";
-    consistency.y_label = "deg";
-    consistency.series.push_back(scatter("consistent", mismatch, in_rejected_stretch, false, "#2ca02c"));
-    consistency.series.push_back(scatter("rejected stretch", mismatch, in_rejected_stretch, true, "#d62728"));
-    PlotPanel& steps = pairs.panels.emplace_back();
-    steps.title = "COLMAP vs odometry: step length, predicted / measured";
-    steps.x_label = "pair";
-    steps.y_label = "ratio";
-    steps.series.push_back(scatter("consistent", ratio, in_rejected_stretch, false, "#2ca02c"));
-    steps.series.push_back(scatter("rejected stretch", ratio, in_rejected_stretch, true, "#d62728"));
-  }
+  // One panel per quantity: green where `mask` is true ("good"), red else.
+  auto add_panel = [&](const std::string& title, const std::string& y_label,
+                       const std::vector<double>& values, const std::vector<char>& good,
+                       const std::string& good_label, const std::string& bad_label) {
+    PlotPanel& panel = pairs.panels.emplace_back();
+    panel.title = title;
+    panel.x_label = "pair";
+    panel.y_label = y_label;
+    panel.series.push_back(scatter(good_label, values, good, true, "#2ca02c"));
+    panel.series.push_back(scatter(bad_label, values, good, false, "#d62728"));
+  };
+  std::vector<char> consistent(num_input);
+  for (size_t i = 0; i < num_input; ++i) consistent[i] = !in_rejected_stretch[i];
+  add_panel("rotation residual", "deg", rotation_residual, used, "used", "not used");
+  add_panel("translation residual", "mm", translation_residual, used, "used", "not used");
+  add_panel("yaw excitation: odometry yaw per pair", "deg", yaw, used, "used", "not used");
+  add_panel("COLMAP vs odometry: | |angle A| - |angle B| |", "deg", mismatch, consistent,
+            "consistent", "rejected stretch");
+  add_panel("COLMAP vs odometry: step length, predicted / measured", "ratio", ratio,
+            consistent, "consistent", "rejected stretch");
 
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
