@@ -1,4 +1,5 @@
 #include "odomcal/adapters/colmap_database.h"
+#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/format_error.h"
 
@@ -42,20 +43,6 @@ std::string FreshDir(const std::string& name) {
 std::string ReadBytes(const std::string& path) {
   std::ifstream stream(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(stream), {});
-}
-
-std::string FormatErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const FormatError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no FormatError thrown";
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 // Little-endian float64 blob, as COLMAP stores camera params.

@@ -1,4 +1,5 @@
 #include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/format_error.h"
 
@@ -45,20 +46,6 @@ void WriteFile(const std::string& path, const std::string& bytes) {
 std::string ReadBytes(const std::string& path) {
   std::ifstream stream(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(stream), {});
-}
-
-std::string FormatErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const FormatError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no FormatError thrown";
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 Rigid3d Pose(double qw,

@@ -1,4 +1,5 @@
 #include "odomcal/adapters/colmap_segments.h"
+#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/format_error.h"
@@ -27,20 +28,6 @@ std::string FreshDir(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
-}
-
-std::string FormatErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const FormatError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no FormatError thrown";
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 Rigid3d PoseNumber(int k) {

@@ -1,4 +1,5 @@
 #include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/format_error.h"
 
@@ -20,20 +21,6 @@ std::string WriteTextFile(const std::string& name, const std::string& text) {
   stream << text;
   EXPECT_TRUE(stream.good()) << path;
   return path;
-}
-
-std::string FormatErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const FormatError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no FormatError thrown";
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 TEST(ReadImageTimestampsCsv, HeaderSubFoldersAndExactSeconds) {

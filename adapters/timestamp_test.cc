@@ -1,4 +1,5 @@
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -23,10 +24,6 @@ std::string ErrorOf(const std::string& text, TimeUnit unit) {
   EXPECT_FALSE(stamp_ns.has_value()) << text << " parsed as " << *stamp_ns;
   EXPECT_FALSE(error.empty()) << text;
   return error;
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 TEST(ParseTimeUnit, AcceptsTheFourNames) {

@@ -1,4 +1,5 @@
 #include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/adapters/test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -20,21 +21,6 @@ std::string WriteTextFile(const std::string& name, const std::string& text) {
   stream << text;
   EXPECT_TRUE(stream.good()) << path;
   return path;
-}
-
-// The FormatError message thrown by `read`, or "" (and a failure) if none.
-std::string FormatErrorOf(const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const FormatError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no FormatError thrown";
-  return "";
-}
-
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
 }
 
 // Reads `text` as TUM (seconds) and checks the error names path:line and
