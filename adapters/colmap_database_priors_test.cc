@@ -21,8 +21,12 @@ constexpr const char* kImages38 =
     "INSERT INTO images (image_id, name, camera_id) VALUES (5, 'a/1.png', 1), "
     "(2, 'a/2.png', 1);";
 
+// One file per test: ctest runs the tests of this binary in parallel.
 std::string MakeDatabase(const std::string& schema) {
-  const fs::path path = fs::path(::testing::TempDir()) / "priors_test.db";
+  const fs::path path =
+      fs::path(::testing::TempDir()) /
+      (std::string("priors_") +
+       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db");
   fs::remove(path);
   sqlite3* db = nullptr;
   EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
