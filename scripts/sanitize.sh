@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# CI job: clang build with AddressSanitizer + UndefinedBehaviorSanitizer and
+# the libFuzzer targets, in ${ODOMCAL_SANITIZE_BUILD_DIR:-build-sanitize}.
+#   1. `ctest -L unit`: every unit test and every fuzz corpus replay under
+#      ASan/UBSan; any report fails the job (UBSan does not recover).
+#   2. Each fuzzer for ${ODOMCAL_FUZZ_SECONDS:-20} seconds on a COPY of its
+#      checked-in corpus (tests/fuzz/corpus is never written here); a crash
+#      fails the job and its input is kept under <build dir>/fuzz/<target>/.
+# Benchmarks and the e2e tests are not built: only what the two steps run.
+# Long fuzzing runs: scripts/fuzz.sh (see docs/fuzzing.md), which calls
+# `sanitize.sh --configure-only` to get the same build directory.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir="${ODOMCAL_SANITIZE_BUILD_DIR:-build-sanitize}"
+jobs="${ODOMCAL_JOBS:-$(nproc)}"
+fuzz_seconds="${ODOMCAL_FUZZ_SECONDS:-20}"
+start=$(date +%s)
+./scripts/install_deps.sh
+
+# halt_on_error for UBSan too: a report must fail the test that caused it.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
+# In-memory scratch files for the fuzzers (tests/fuzz/scratch_dir.h).
+if [ -z "${TMPDIR:-}" ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
+
+# -O1 with line tables: the usual sanitizer trade-off of speed and readable
+# stack traces; asserts stay on (no NDEBUG).
+cmake -S . -B "$build_dir" \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
+  -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=all" \
+  -DODOMCAL_ENABLE_SANITIZERS=ON \
+  -DODOMCAL_BUILD_FUZZERS=ON \
+  -DODOMCAL_BUILD_TESTS=ON \
+  -DODOMCAL_BUILD_BENCHMARKS=OFF >/dev/null
+if [ "${1:-}" = "--configure-only" ]; then exit 0; fi
+
+# Only the unit test binaries and the fuzz targets: the e2e tests (tests/)
+# run COLMAP for minutes, which the main job already covers.
+# Keep unit_tests in step with the odomcal_add_test() calls labelled unit.
+fuzz_targets=()
+for source in tests/fuzz/*_fuzzer.cc; do
+  name=$(basename "$source" .cc)
+  fuzz_targets+=("${name%_fuzzer}")
+done
+unit_tests=(solver_test adapters_test datasets_test paper_evaluation_test plugin_test)
+build_targets=("${unit_tests[@]}")
+for target in "${fuzz_targets[@]}"; do
+  build_targets+=("${target}_replay" "${target}_fuzzer")
+done
+cmake --build "$build_dir" -j "$jobs" --target "${build_targets[@]}"
+build_end=$(date +%s)
+
+(cd "$build_dir" && ctest -L unit --output-on-failure -j "$jobs")
+test_end=$(date +%s)
+
+fuzz_root="$build_dir/fuzz"
+for target in "${fuzz_targets[@]}"; do
+  work="$fuzz_root/$target"
+  rm -rf "$work"
+  mkdir -p "$work/corpus" "$work/artifacts"
+  cp tests/fuzz/corpus/"$target"/* "$work/corpus/"
+  echo "sanitize: fuzzing $target for ${fuzz_seconds}s"
+  if ! "$build_dir/tests/fuzz/${target}_fuzzer" \
+      -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 \
+      -dict=tests/fuzz/"$target".dict -artifact_prefix="$work/artifacts/" \
+      -print_final_stats=1 "$work/corpus" >"$work/log.txt" 2>&1; then
+    tail -n 60 "$work/log.txt" >&2
+    echo "sanitize: $target found a crash; inputs in $work/artifacts" >&2
+    exit 1
+  fi
+  grep -E "^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)" "$work/log.txt" | sed "s/^/  /"
+done
+end=$(date +%s)
+echo "sanitize: build $((build_end - start))s, unit tests $((test_end - build_end))s," \
+     "fuzzing $((end - test_end))s, total $((end - start))s"
