@@ -30,8 +30,13 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 if [ -z "${TMPDIR:-}" ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 
-ODOMCAL_SANITIZE_BUILD_DIR="$build_dir" ./scripts/sanitize.sh --configure-only
-nice -n 10 cmake --build "$build_dir" -j "${ODOMCAL_JOBS:-2}" --target "${target}_fuzzer" >/dev/null
+# ODOMCAL_FUZZ_SKIP_BUILD=1 fuzzes the binary as built, e.g. while the
+# source tree is being edited.
+if [ "${ODOMCAL_FUZZ_SKIP_BUILD:-0}" != 1 ]; then
+  ODOMCAL_SANITIZE_BUILD_DIR="$build_dir" ./scripts/sanitize.sh --configure-only
+  nice -n 10 cmake --build "$build_dir" -j "${ODOMCAL_JOBS:-2}" \
+    --target "${target}_fuzzer" >/dev/null
+fi
 
 mkdir -p "$work/corpus" "$work/artifacts"
 cp -n tests/fuzz/corpus/"$target"/* "$work/corpus/"
