@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
@@ -46,12 +47,14 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
   run.result = CalibrateOdomCam(context.association.pairs, inputs.calibration);
   if (context.association.num_outside_odometry_span > 0 ||
       context.association.num_in_odometry_gaps > 0) {
+    std::ostringstream max_gap_s;  // "0.25", not std::to_string's "0.250000"
+    max_gap_s << inputs.association.max_odometry_gap_s;
     run.result.warnings.push_back(
         std::to_string(context.association.num_outside_odometry_span +
                        context.association.num_in_odometry_gaps) +
         " camera poses were skipped: outside the odometry span or in gaps "
         "longer than " +
-        std::to_string(inputs.association.max_odometry_gap_s) + " s");
+        max_gap_s.str() + " s");
   }
   return run;
 }

@@ -42,11 +42,19 @@ std::string ReadWholeFile(const fs::path& path) {
   return buffer.str();
 }
 
+// The last line that says something: glog's stack trace after a failed
+// CHECK ("*** Check failure stack trace: ***", "    @ 0x...") is skipped so
+// that the "Check failed: ..." line is the one quoted.
 std::string LastNonEmptyLine(const fs::path& path) {
   std::ifstream file(path);
   std::string line, last;
   while (std::getline(file, line)) {
-    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+    const size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line.compare(first, 2, "@ ") == 0 ||
+        line.compare(first, 4, "*** ") == 0) {
+      continue;
+    }
+    last = line;
   }
   return last;
 }

@@ -26,6 +26,9 @@ void CheckOutputPath(const std::string& path, bool overwrite) {
   }
   const fs::path parent =
       target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (fs::exists(parent, error) && !fs::is_directory(parent, error)) {
+    throw OutputError(path + ": " + parent.string() + " is not a folder");
+  }
   if (!fs::is_directory(parent, error)) {
     throw OutputError(path + ": folder " + parent.string() + " does not exist");
   }

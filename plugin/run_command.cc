@@ -18,10 +18,12 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_database_priors.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/colmap_runner.h"
@@ -81,6 +83,41 @@ class StageClock {
 
 std::string Note(const ColmapStageResult& stage) {
   return stage.reused ? "reused from an earlier run" : "done, log " + stage.log_path;
+}
+
+// The first line of `log_path` that holds `word`, or "".
+std::string FirstLineWith(const std::string& log_path, const std::string& word) {
+  std::ifstream log(log_path);
+  std::string line;
+  while (std::getline(log, line)) {
+    if (line.find(word) != std::string::npos) {
+      return std::string(TrimBlanks(line));
+    }
+  }
+  return "";
+}
+
+// COLMAP 3.8's feature_extractor skips files it cannot decode and still
+// exits 0; the matchers then abort on an empty database with a stack trace.
+// On failure the stage's marker is removed, so that a rerun extracts again.
+void CheckImagesWereRead(const std::string& database,
+                         size_t num_images,
+                         const std::string& image_path,
+                         const std::string& log_path,
+                         const fs::path& stage_marker) {
+  std::error_code ignored;
+  if (!fs::exists(database)) {
+    fs::remove(stage_marker, ignored);
+    throw ColmapError("COLMAP feature_extractor wrote no database " + database +
+                      " (see " + log_path + ")");
+  }
+  if (ReadColmapDatabaseImages(database).empty()) {
+    fs::remove(stage_marker, ignored);
+    const std::string error = FirstLineWith(log_path, "ERROR");
+    throw ColmapError("COLMAP could read none of the " + std::to_string(num_images) +
+                      " images in " + image_path + " (see " + log_path +
+                      (error.empty() ? "" : ": " + error) + ")");
+  }
 }
 
 }  // namespace
@@ -173,7 +210,11 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
       arguments.insert(arguments.end(),
                        {"--ImageReader.camera_params", run.camera_params});
     }
-    clock.Done(Note(colmap.RunStage("feature_extractor", arguments, {database})));
+    const ColmapStageResult stage =
+        colmap.RunStage("feature_extractor", arguments, {database});
+    CheckImagesWereRead(database, images.size(), run.image_path, stage.log_path,
+                        workspace / "stages" / "feature_extractor.done");
+    clock.Done(Note(stage));
   }
 
   // [3] Matching, guided by odometry positions.

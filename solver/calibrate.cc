@@ -27,6 +27,10 @@ constexpr double kRadToDeg = 180.0 / kPi;
 constexpr double kNullSpaceTolerance = 1e-10;
 // A parameter takes part in a null direction when its component is above this.
 constexpr double kNullComponentTolerance = 0.1;
+// Odometry steps all shorter than this are rotation in place: a robot turning
+// on the spot reports (close to) zero translation, a forward step is
+// centimetres long.
+constexpr double kMinOdometryStepM = 1e-3;
 
 std::string Join(const std::vector<std::string>& names) {
   std::string joined;
@@ -49,6 +53,13 @@ void ValidatePairs(const MotionPairs& pairs) {
     const std::string where = "motion pair " + std::to_string(i);
     if (!IsFinite(pair.odom_i_from_odom_j) || !IsFinite(pair.cam_i_from_cam_j)) {
       throw std::invalid_argument(where + " has a non-finite value");
+    }
+    // Least squares squares the translations; beyond ~1e154 that overflows.
+    if (!std::isfinite(pair.odom_i_from_odom_j.translation.squaredNorm()) ||
+        !std::isfinite(pair.cam_i_from_cam_j.translation.squaredNorm())) {
+      throw std::invalid_argument(where +
+                                  " has a translation too large to square in "
+                                  "double precision (check the units)");
     }
     if (std::abs(pair.odom_i_from_odom_j.rotation.norm() - 1.0) > 1e-6 ||
         std::abs(pair.cam_i_from_cam_j.rotation.norm() - 1.0) > 1e-6) {
@@ -311,6 +322,26 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
             "association (clock offset, time unit) and the pose inputs");
   }
 
+  // Turning on the spot: the camera's circle gives the lever arm only in
+  // reconstruction units, so the lever arm and the scale trade off (and
+  // RANSAC's minimal samples all fail, which would read as inconsistency).
+  double max_step_m = 0.0;
+  for (const MotionPair& pair : pairs) {
+    max_step_m = std::max(max_step_m, pair.odom_i_from_odom_j.translation.norm());
+  }
+  if (max_step_m < kMinOdometryStepM) {
+    result.unobservable = {"translation_x", "translation_y", "translation_z"};
+    for (int k = 0; k < num_segments; ++k) {
+      result.unobservable.push_back(ScaleName(k, num_segments));
+    }
+    return Refuse(result, CalibrationStatus::kUnobservable,
+                  "the odometry never translates (largest step " +
+                      FormatDouble(max_step_m) +
+                      " m: rotation in place only): the metric scale and the "
+                      "x/y translation cannot be determined; drive forward "
+                      "while turning");
+  }
+
   // Pair selection.
   std::vector<int> all(pairs.size());
   std::iota(all.begin(), all.end(), 0);
@@ -357,6 +388,25 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     return Refuse(result, CalibrationStatus::kUnobservable,
                   "closed form failed: " + linear.failure);
   }
+  // Finite inputs can still overflow inside the least squares: a closed form
+  // that is not finite is no estimate, whatever the solver reported.
+  bool linear_finite = IsFinite(linear.odom_from_cam);
+  for (const int i : used) {
+    const size_t segment = static_cast<size_t>(pairs[i].segment);
+    linear_finite &= segment < linear.metric_scales.size() &&
+                     std::isfinite(linear.metric_scales[segment]);
+  }
+  if (!linear_finite) {
+    result.unobservable = {"rotation", "translation_x", "translation_y",
+                           "translation_z"};
+    for (int k = 0; k < num_segments; ++k) {
+      result.unobservable.push_back(ScaleName(k, num_segments));
+    }
+    return Refuse(result, CalibrationStatus::kUnobservable,
+                  "the closed form is not finite (numerical overflow): the "
+                  "rotation, translation and metric scale cannot be "
+                  "determined; check the units of the translations");
+  }
   d.linear_odom_from_cam = linear.odom_from_cam;
   d.linear_metric_scales = linear.metric_scales;
   result.odom_from_cam = linear.odom_from_cam;
@@ -386,7 +436,11 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
         pairs, used, result.odom_from_cam, result.metric_scales, options);
     d.refinement_report = refined.report;
     d.refinement_num_iterations = refined.num_iterations;
-    if (!refined.usable) {
+    bool refined_finite = IsFinite(refined.odom_from_cam);
+    for (const int i : used) {
+      refined_finite &= std::isfinite(refined.metric_scales[pairs[i].segment]);
+    }
+    if (!refined.usable || !refined_finite) {
       result.status = CalibrationStatus::kRefinementFailed;
       result.message = "refinement failed (" + refined.report +
                        "); the closed-form estimate is reported";

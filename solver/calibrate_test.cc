@@ -252,6 +252,110 @@ TEST(CalibrateOdomCam, NonFiniteInputThrows) {
   EXPECT_THROW(CalibrateOdomCam(truth.pairs, {}), std::invalid_argument);
 }
 
+// Turning on the spot: every odometry translation is zero, so the camera's
+// circle about the odometry origin fixes the lever arm only in sfm units:
+// the lever arm and the scale trade off, and the scale is named.
+TEST(CalibrateOdomCam, PureRotationInPlaceLeavesTheScaleUnobservable) {
+  auto rng = SeededRng(42);
+  const Rigid3d odom_from_cam = RandomOdomFromCam(&rng);
+  MotionPairs pairs;
+  for (int i = 0; i < 30; ++i) {
+    const double yaw = (i % 2 == 0 ? 1.0 : -1.0) * (0.2 + 0.05 * (i % 7));
+    MotionPair pair;
+    pair.odom_i_from_odom_j = Rigid3d(YawRotation(yaw), Eigen::Vector3d::Zero());
+    pair.cam_i_from_cam_j =
+        CameraMotionFromOdometryMotion(pair.odom_i_from_odom_j, odom_from_cam, 0.5);
+    pairs.push_back(pair);
+  }
+  const CalibrationResult result = CalibrateOdomCam(pairs, {});
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable) << result.message;
+  EXPECT_TRUE(Contains(result.unobservable, "metric_scale")) << result.message;
+}
+
+// Every motion turns by the same yaw but the lengths differ: the differences
+// between motions still fix the scale and yaw, and the common part the lever
+// arm. Observable, with a warning that all turns go one way.
+TEST(CalibrateOdomCam, SameYawInEveryMotionWithDifferentLengths) {
+  auto rng = SeededRng(43);
+  const Rigid3d odom_from_cam = RandomOdomFromCam(&rng);
+  MotionPairs pairs;
+  const double yaw = 0.3;
+  for (int i = 0; i < 30; ++i) {
+    // A unicycle arc of length 0.2 .. 1.6 m turning by `yaw`.
+    const double length = 0.2 + 0.05 * i;
+    const double radius = length / yaw;
+    const Rigid3d step(YawRotation(yaw),
+                       Eigen::Vector3d(radius * std::sin(yaw),
+                                       radius * (1.0 - std::cos(yaw)), 0.0));
+    MotionPair pair;
+    pair.odom_i_from_odom_j = PerturbMotion(
+        step, Eigen::Vector3d(1e-4, 1e-4, 1e-3), Eigen::Vector3d::Constant(1e-3), &rng);
+    pair.cam_i_from_cam_j = PerturbMotion(
+        CameraMotionFromOdometryMotion(step, odom_from_cam, 0.5),
+        Eigen::Vector3d::Constant(1e-4), Eigen::Vector3d::Constant(1e-3), &rng);
+    pairs.push_back(pair);
+  }
+  CalibrationOptions options;
+  options.fixed_translation_z_m = odom_from_cam.translation.z();
+  const CalibrationResult result = CalibrateOdomCam(pairs, options);
+  ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
+  EXPECT_LT(RotationErrorDeg(result.odom_from_cam, odom_from_cam), 0.5);
+  EXPECT_TRUE(std::find(result.warnings.begin(), result.warnings.end(),
+                        "all turns are in one direction") != result.warnings.end());
+}
+
+// Finite inputs at the edge of double precision: either refused naming the
+// pair, or a status whose estimate is finite whenever it is reported as one.
+TEST(CalibrateOdomCam, HugeTranslationsNeverGiveNonFiniteEstimates) {
+  auto rng = SeededRng(44);
+  MotionSimulatorOptions simulation;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  for (const double magnitude : {1e100, 1e140, 1e150, 1e160, 1e300}) {
+    for (const bool ransac : {true, false}) {
+      SCOPED_TRACE(std::to_string(magnitude) + (ransac ? " ransac" : ""));
+      MotionPairs pairs = truth.pairs;
+      for (MotionPair& pair : pairs) {
+        pair.odom_i_from_odom_j.translation *= magnitude;
+        pair.cam_i_from_cam_j.translation *= magnitude;
+      }
+      CalibrationOptions options = OptionsFor(truth);
+      options.use_ransac = ransac;
+      CalibrationResult result;
+      try {
+        result = CalibrateOdomCam(pairs, options);
+      } catch (const std::invalid_argument& error) {
+        EXPECT_GT(magnitude, 1e154);
+        EXPECT_NE(std::string(error.what()).find("too large"), std::string::npos);
+        continue;
+      }
+      if (result.has_estimate) {
+        EXPECT_TRUE(IsFinite(result.odom_from_cam)) << result.message;
+      }
+      if (result.status == CalibrationStatus::kSuccess) {
+        for (const double scale : result.metric_scales) EXPECT_TRUE(std::isfinite(scale));
+        ASSERT_TRUE(result.covariance.has_value());
+        EXPECT_TRUE(result.covariance->allFinite());
+      }
+    }
+  }
+}
+
+// A translation whose square overflows is refused like a NaN.
+TEST(CalibrateOdomCam, TranslationTooLargeToSquareThrows) {
+  auto rng = SeededRng(45);
+  MotionSimulatorOptions simulation;
+  SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  truth.pairs[3].cam_i_from_cam_j.translation.x() = 1e300;
+  try {
+    CalibrateOdomCam(truth.pairs, {});
+    FAIL() << "accepted a translation of 1e300";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "motion pair 3 has a translation too large to square in double "
+              "precision (check the units)");
+  }
+}
+
 TEST(CalibrationOptions, CheckNamesTheBadField) {
   CalibrationOptions options;
   options.noise.cam_rotation_sigma_deg = -1.0;

@@ -1,0 +1,845 @@
+// Bad inputs to the odomcal executable, one test per row of
+// docs/robustness.md: each asserts the exact error line (or the result
+// status) and the exit code. Rows already checked elsewhere are listed in
+// that document with their own tests.
+//
+// The executable is started with fork/exec (no shell) so that a test can
+// change its PATH or limit the size of the files it may write.
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <poll.h>
+#include <sqlite3.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr char kCalibrateError[] = "odomcal calibrate: error: ";
+constexpr char kColmapError[] = "odomcal colmap: error: ";
+constexpr char kRunError[] = "odomcal run: error: ";
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+struct RunLimits {
+  std::vector<std::string> environment;  // "NAME=value", set in the child
+  rlim_t max_file_size_bytes = RLIM_INFINITY;
+};
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+void WriteFile(const fs::path& path, const std::string& bytes) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file << bytes;
+  ASSERT_TRUE(file.good()) << path;
+}
+
+// Runs the odomcal executable with `arguments`. Output goes through pipes,
+// which RLIMIT_FSIZE does not limit, so only the files odomcal writes itself
+// are subject to `limits.max_file_size_bytes`.
+CommandResult RunOdomcal(const std::vector<std::string>& arguments,
+                         const RunLimits& limits = {}) {
+  int out_pipe[2], err_pipe[2];
+  if (::pipe(out_pipe) != 0 || ::pipe(err_pipe) != 0) {
+    ADD_FAILURE() << "pipe failed";
+    return {};
+  }
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(out_pipe[1], STDOUT_FILENO);
+    ::dup2(err_pipe[1], STDERR_FILENO);
+    for (const int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1]}) {
+      ::close(fd);
+    }
+    for (const std::string& entry : limits.environment) {
+      const size_t equals = entry.find('=');
+      ::setenv(entry.substr(0, equals).c_str(), entry.substr(equals + 1).c_str(), 1);
+    }
+    if (limits.max_file_size_bytes != RLIM_INFINITY) {
+      // A full disk, honestly: write() fails with EFBIG past the limit
+      // instead of the default SIGXFSZ, which would kill odomcal.
+      const rlimit limit = {limits.max_file_size_bytes, limits.max_file_size_bytes};
+      ::setrlimit(RLIMIT_FSIZE, &limit);
+      std::signal(SIGXFSZ, SIG_IGN);
+    }
+    std::vector<std::string> argv = {ODOMCAL_EXECUTABLE};
+    argv.insert(argv.end(), arguments.begin(), arguments.end());
+    std::vector<char*> pointers;
+    for (std::string& argument : argv) pointers.push_back(argument.data());
+    pointers.push_back(nullptr);
+    ::execv(pointers[0], pointers.data());
+    ::_exit(127);
+  }
+  ::close(out_pipe[1]);
+  ::close(err_pipe[1]);
+  CommandResult result;
+  pollfd fds[2] = {{out_pipe[0], POLLIN, 0}, {err_pipe[0], POLLIN, 0}};
+  std::string* sinks[2] = {&result.out, &result.err};
+  int open_pipes = 2;
+  while (open_pipes > 0) {
+    if (::poll(fds, 2, -1) < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    for (int k = 0; k < 2; ++k) {
+      if (fds[k].fd < 0 || fds[k].revents == 0) continue;
+      char buffer[4096];
+      const ssize_t n = ::read(fds[k].fd, buffer, sizeof(buffer));
+      if (n > 0) {
+        sinks[k]->append(buffer, static_cast<size_t>(n));
+      } else if (n == 0 || errno != EINTR) {
+        ::close(fds[k].fd);
+        fds[k].fd = -1;
+        --open_pipes;
+      }
+    }
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return result;
+}
+
+// Exit code 2 and exactly `line` on stderr.
+void ExpectBadInput(const CommandResult& run, const std::string& line) {
+  EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+  EXPECT_EQ(run.err, line + "\n");
+}
+
+// Exit code 2 and one line on stderr that starts with `prefix` and contains
+// every one of `parts` (for messages that quote COLMAP's or the system's
+// wording).
+void ExpectBadInputContaining(const CommandResult& run,
+                              const std::string& prefix,
+                              const std::vector<std::string>& parts) {
+  EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  EXPECT_EQ(run.err.rfind(prefix, 0), 0u) << run.err;
+  for (const std::string& part : parts) {
+    EXPECT_NE(run.err.find(part), std::string::npos) << part << "\n" << run.err;
+  }
+}
+
+// No NaN or Inf written as a number (OpenCV's YAML spells them .nan, .inf).
+void ExpectNoNonFiniteText(const std::string& text) {
+  std::string lower = text;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  for (const char* word : {"nan", "inf"}) {
+    size_t pos = 0;
+    while ((pos = lower.find(word, pos)) != std::string::npos) {
+      // "inf" inside a word ("information") is text, not a number.
+      const bool alone = (pos == 0 || !std::isalpha(static_cast<unsigned char>(lower[pos - 1]))) &&
+                         (pos + 3 >= lower.size() ||
+                          !std::isalpha(static_cast<unsigned char>(lower[pos + 3])));
+      EXPECT_FALSE(alone) << "non-finite number at byte " << pos << ":\n" << text;
+      pos += 3;
+    }
+  }
+}
+
+bool ContainsName(const json& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// Replaces line `line_number` (1-based) of the text file at `path`.
+void ReplaceLine(const fs::path& path, int line_number, const std::string& text) {
+  std::istringstream in(ReadFile(path));
+  std::string line, result;
+  for (int k = 1; std::getline(in, line); ++k) {
+    result += (k == line_number ? text : line) + "\n";
+  }
+  WriteFile(path, result);
+}
+
+std::string Line(const fs::path& path, int line_number) {
+  std::istringstream in(ReadFile(path));
+  std::string line;
+  for (int k = 1; k <= line_number; ++k) std::getline(in, line);
+  return line;
+}
+
+// A robot path integrated from its speed (m/s) and yaw rate (rad/s) at time
+// t: odometry at 50 Hz, and the camera of the simulator's default mount at
+// 10 Hz in an SfM frame of kMetricScale metres per unit. No noise: the two
+// files agree exactly, so what a test sees comes from the motion alone.
+constexpr double kMetricScale = 0.37;
+struct PathFiles {
+  Trajectory odometry;
+  Trajectory camera;
+};
+PathFiles IntegratePath(const std::function<Eigen::Vector2d(double)>& speed_and_yaw_rate,
+                        double duration_s) {
+  const Rigid3d odom_from_cam = DriveSimulatorOptions().odom_from_cam;
+  constexpr double kStep = 0.02;
+  constexpr int64_t kStart = 1700000000000000000;
+  PathFiles files;
+  files.odometry.planar = true;
+  double x = 0.0, y = 0.0, yaw = 0.0;
+  const int num_steps = static_cast<int>(std::lround(duration_s / kStep));
+  for (int k = 0; k <= num_steps; ++k) {
+    StampedPose odometry;
+    odometry.stamp_ns = kStart + static_cast<int64_t>(k) * 20000000;
+    odometry.world_from_sensor =
+        Rigid3d(YawRotation(yaw), Eigen::Vector3d(x, y, 0.0));
+    files.odometry.poses.push_back(odometry);
+    if (k % 5 == 0) {
+      StampedPose camera = odometry;
+      camera.world_from_sensor = odometry.world_from_sensor * odom_from_cam;
+      camera.world_from_sensor.translation /= kMetricScale;
+      files.camera.poses.push_back(camera);
+    }
+    const Eigen::Vector2d v_w = speed_and_yaw_rate(k * kStep);
+    const double mid_yaw = yaw + 0.5 * v_w(1) * kStep;
+    x += v_w(0) * kStep * std::cos(mid_yaw);
+    y += v_w(0) * kStep * std::sin(mid_yaw);
+    yaw += v_w(1) * kStep;
+  }
+  return files;
+}
+
+class Robustness : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(::testing::TempDir()) / (std::string("odomcal_robust_") + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
+  }
+
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // camera.tum and odometry.csv of a 60 s simulated drive with turns.
+  SimulatedDrive WriteDrive(uint64_t seed = 1) const {
+    DriveSimulatorOptions options;
+    options.seed = seed;
+    options.camera_rotation_noise_deg = 0.01;
+    options.camera_position_noise = 0.0005;
+    const SimulatedDrive drive = SimulateDrive(options);
+    WriteTumTrajectory(drive.camera, Path("camera.tum"));
+    WriteOdometryCsv(drive.odometry, Path("odometry.csv"));
+    return drive;
+  }
+
+  void WritePath(const PathFiles& files) const {
+    WriteTumTrajectory(files.camera, Path("camera.tum"));
+    WriteOdometryCsv(files.odometry, Path("odometry.csv"));
+  }
+
+  std::vector<std::string> Calibrate(const std::string& output = "result.json") const {
+    return {"calibrate", "--camera_poses", Path("camera.tum"), "--odometry",
+            Path("odometry.csv"), "--output", Path(output)};
+  }
+
+  // project/sparse/0 (one binary sub-model of every second camera pose of a
+  // simulated drive), project/image_timestamps.csv and odometry.csv.
+  void WriteColmapProject(ColmapFormat format = ColmapFormat::kBinary) const {
+    const SimulatedDrive drive = WriteDrive(2);
+    ColmapModel model;
+    ColmapCamera camera;
+    camera.camera_id = 1;
+    camera.model = ColmapCameraModel::kPinhole;
+    camera.width = 320;
+    camera.height = 240;
+    camera.params = {260, 260, 160, 120};
+    model.cameras[1] = camera;
+    fs::create_directories(dir_ / "project" / "sparse" / "0");
+    std::ofstream stamps(dir_ / "project" / "image_timestamps.csv");
+    stamps << "image_name,timestamp\n";
+    for (size_t i = 0; i < drive.camera.poses.size(); i += 2) {
+      ColmapImage image;
+      image.image_id = static_cast<uint32_t>(i + 1);
+      image.camera_id = 1;
+      char name[32];
+      std::snprintf(name, sizeof(name), "%06zu.png", i);
+      image.name = name;
+      image.cam_from_world = Inverse(drive.camera.poses[i].world_from_sensor);
+      model.images[image.image_id] = image;
+      stamps << name << "," << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns)
+             << "\n";
+    }
+    WriteColmapModel(model, (dir_ / "project" / "sparse" / "0").string(), format);
+  }
+
+  std::string Model(const std::string& file) const {
+    return (dir_ / "project" / "sparse" / "0" / file).string();
+  }
+
+  std::vector<std::string> Colmap(const std::string& output = "out") const {
+    return {"colmap", "--model_path", (dir_ / "project" / "sparse").string(),
+            "--odometry", Path("odometry.csv"), "--image_timestamps",
+            (dir_ / "project" / "image_timestamps.csv").string(), "--output_path",
+            Path(output)};
+  }
+
+  // images/ with `count` files of the drive's camera times every 1 s,
+  // image_timestamps.csv and odometry.csv, for `odomcal run`. The files hold
+  // `contents` (not necessarily an image).
+  void WriteImageFolder(int count, const std::string& contents) const {
+    const SimulatedDrive drive = WriteDrive(3);
+    fs::create_directories(dir_ / "images");
+    std::ofstream stamps(Path("image_timestamps.csv"));
+    for (int i = 0; i < count; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "%06d.png", i);
+      WriteFile(dir_ / "images" / name, contents);
+      stamps << name << ","
+             << FormatTimestampSeconds(drive.camera.poses[10 * i + 10].stamp_ns) << "\n";
+    }
+  }
+
+  std::vector<std::string> RunCommand(const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> arguments = {
+        "run", "--image_path", Path("images"), "--odometry", Path("odometry.csv"),
+        "--image_timestamps", Path("image_timestamps.csv"), "--camera_model",
+        "PINHOLE", "--camera_params", "260,260,160,120", "--workspace_path",
+        Path("ws"), "--num_threads", "1"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return arguments;
+  }
+
+  // bin/colmap: prints COLMAP 3.8's banner for `help`; for a subcommand,
+  // runs `body` (sh) with the subcommand in $1.
+  std::string WriteFakeColmap(const std::string& body) const {
+    fs::create_directories(dir_ / "bin");
+    const fs::path script = dir_ / "bin" / "colmap";
+    WriteFile(script,
+              "#!/bin/sh\n"
+              "if [ \"$1\" = help ]; then\n"
+              "  echo 'COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo'\n"
+              "  exit 0\n"
+              "fi\n" +
+                  body);
+    ::chmod(script.c_str(), 0755);
+    return (dir_ / "bin").string();
+  }
+
+  // prepared.db: a database with the images table of COLMAP 3.8 holding
+  // every image of images/, as feature_extractor would leave it.
+  std::string WritePreparedDatabase() const {
+    const std::string path = Path("prepared.db");
+    sqlite3* db = nullptr;
+    EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    std::string sql =
+        "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
+        "name TEXT NOT NULL UNIQUE, camera_id INTEGER NOT NULL, prior_qw REAL, "
+        "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty REAL, "
+        "prior_tz REAL);";
+    int id = 1;
+    for (const auto& entry : fs::directory_iterator(dir_ / "images")) {
+      sql += "INSERT INTO images (image_id, name, camera_id) VALUES (" +
+             std::to_string(id++) + ", '" + entry.path().filename().string() + "', 1);";
+    }
+    EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK)
+        << sqlite3_errmsg(db);
+    sqlite3_close(db);
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+// ---------------------------------------------------------------------------
+// Input files that cannot be read.
+
+TEST_F(Robustness, MissingInputFile) {
+  WriteDrive();
+  std::vector<std::string> arguments = Calibrate();
+  arguments[2] = Path("missing.tum");
+  ExpectBadInput(RunOdomcal(arguments),
+                 std::string(kCalibrateError) +
+                     "--camera_poses: File does not exist: " + Path("missing.tum"));
+  EXPECT_FALSE(fs::exists(Path("result.json")));
+}
+
+// As root every file is readable, so a folder given as a file and a file
+// whose read() fails (/proc/self/mem at offset 0: EIO) stand in for a file
+// without read permission; that case runs only when not root.
+TEST_F(Robustness, UnreadableInputFile) {
+  WriteDrive();
+  fs::create_directories(Path("folder.csv"));
+  std::vector<std::string> arguments = Calibrate();
+  arguments[4] = Path("folder.csv");
+  ExpectBadInput(RunOdomcal(arguments),
+                 std::string(kCalibrateError) +
+                     "--odometry: File is actually a directory: " + Path("folder.csv"));
+
+  arguments[4] = "/proc/self/mem";
+  ExpectBadInput(RunOdomcal(arguments),
+                 std::string(kCalibrateError) +
+                     "/proc/self/mem:1: read error");
+
+  if (::geteuid() != 0) {
+    ::chmod(Path("odometry.csv").c_str(), 0);
+    arguments[4] = Path("odometry.csv");
+    ExpectBadInput(RunOdomcal(arguments),
+                   std::string(kCalibrateError) + Path("odometry.csv") +
+                       ": cannot open for reading (Permission denied)");
+  }
+  EXPECT_FALSE(fs::exists(Path("result.json")));
+}
+
+// ---------------------------------------------------------------------------
+// COLMAP models.
+
+TEST_F(Robustness, TruncatedColmapBinary) {
+  WriteColmapProject();
+  const std::string bytes = ReadFile(Model("images.bin"));
+  // Cut early: the image count no longer fits in what is left.
+  WriteFile(Model("images.bin"), bytes.substr(0, 100));
+  ExpectBadInput(RunOdomcal(Colmap()),
+                 std::string(kColmapError) + Model("images.bin") +
+                     ": byte 0: number of images is 301, but the 92 remaining bytes "
+                     "hold at most 1 (garbled or truncated file)");
+  // Cut inside the last record.
+  WriteFile(Model("images.bin"), bytes.substr(0, bytes.size() - 3));
+  ExpectBadInputContaining(RunOdomcal(Colmap()),
+                           std::string(kColmapError) + Model("images.bin") + ": byte ",
+                           {": image 301 of 301 (image_id 601, '000600.png'): truncated: "
+                            "number of points2D needs 8 bytes, 5 remain"});
+  EXPECT_FALSE(fs::exists(Path("out/calibration.json")));
+}
+
+TEST_F(Robustness, ColmapBinaryCountLargerThanTheFile) {
+  WriteColmapProject();
+  std::string bytes = ReadFile(Model("images.bin"));
+  const uint64_t huge = uint64_t{1} << 60;
+  bytes.replace(0, 8, reinterpret_cast<const char*>(&huge), 8);  // little-endian host
+  WriteFile(Model("images.bin"), bytes);
+  ExpectBadInputContaining(
+      RunOdomcal(Colmap()), std::string(kColmapError) + Model("images.bin") + ": byte 0: ",
+      {"number of images is 1152921504606846976", "remaining bytes hold at most"});
+}
+
+TEST_F(Robustness, UnknownColmapCameraModelId) {
+  WriteColmapProject();
+  std::string bytes = ReadFile(Model("cameras.bin"));
+  const uint32_t model_id = 99;
+  bytes.replace(12, 4, reinterpret_cast<const char*>(&model_id), 4);
+  WriteFile(Model("cameras.bin"), bytes);
+  ExpectBadInput(RunOdomcal(Colmap()),
+                 std::string(kColmapError) + Model("cameras.bin") +
+                     ": byte 12: camera 1 of 1 (camera_id 1): unknown camera model id 99 "
+                     "(COLMAP 3.8 models are 0 to 10)");
+}
+
+TEST_F(Robustness, ColmapTextWrongColumnCount) {
+  WriteColmapProject(ColmapFormat::kText);
+  // images.txt: 4 comment lines, then the first image's pose line.
+  std::string pose = Line(Model("images.txt"), 5);
+  ReplaceLine(Model("images.txt"), 5, pose.substr(0, pose.rfind(' ')));
+  ExpectBadInput(RunOdomcal(Colmap()),
+                 std::string(kColmapError) + Model("images.txt") +
+                     ":5: expected 10 fields (IMAGE_ID QW QX QY QZ TX TY TZ "
+                     "CAMERA_ID NAME; names cannot contain blanks), got 9");
+  WriteColmapProject(ColmapFormat::kText);
+  ReplaceLine(Model("cameras.txt"), 4, "1 PINHOLE 320");
+  ExpectBadInput(RunOdomcal(Colmap("out2")),
+                 std::string(kColmapError) + Model("cameras.txt") +
+                     ":4: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[], got 3 fields");
+}
+
+// ---------------------------------------------------------------------------
+// TUM and CSV trajectories. odometry.csv has a header on line 1; camera.tum
+// has one comment line.
+
+TEST_F(Robustness, NanOrInfInTrajectory) {
+  WriteDrive();
+  ReplaceLine(Path("odometry.csv"), 10, "1700000000.180000000,nan,0,0");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("odometry.csv") +
+                     ":10: column 'x' is not finite (NaN or Inf): 'nan'");
+  WriteDrive();
+  ReplaceLine(Path("camera.tum"), 3, "1700000000.100000000 0 0 0 0 0 0 inf");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("camera.tum") +
+                     ":3: column 'qw' is not finite (NaN or Inf): 'inf'");
+  EXPECT_FALSE(fs::exists(Path("result.json")));
+}
+
+TEST_F(Robustness, NonNumericField) {
+  WriteDrive();
+  ReplaceLine(Path("odometry.csv"), 10, "1700000000.180000000,0,0,north");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("odometry.csv") +
+                     ":10: column 'yaw' is not a number: 'north'");
+  WriteDrive();
+  ReplaceLine(Path("camera.tum"), 3, "yesterday 0 0 0 0 0 0 1");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("camera.tum") +
+                     ":3: column 'timestamp': 'yesterday' is not a decimal number");
+}
+
+TEST_F(Robustness, FewerColumns) {
+  WriteDrive();
+  ReplaceLine(Path("odometry.csv"), 10, "1700000000.180000000,0,0");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("odometry.csv") +
+                     ":10: expected 4 fields (timestamp,x,y,yaw), got 3");
+  WriteDrive();
+  ReplaceLine(Path("camera.tum"), 3, "1700000000.100000000 0 0 0 0 0 1");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("camera.tum") +
+                     ":3: expected 8 fields (timestamp tx ty tz qx qy qz qw), got 7");
+}
+
+TEST_F(Robustness, UnsortedTimestamps) {
+  WriteDrive();
+  const std::string line_10 = Line(Path("odometry.csv"), 10);
+  ReplaceLine(Path("odometry.csv"), 10, Line(Path("odometry.csv"), 11));
+  ReplaceLine(Path("odometry.csv"), 11, line_10);
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("odometry.csv") +
+                     ":11: timestamp not increasing: 1700000000.160000000 after "
+                     "1700000000.180000000 on line 10");
+}
+
+TEST_F(Robustness, DuplicateTimestamps) {
+  WriteDrive();
+  const std::string line_3 = Line(Path("camera.tum"), 3);
+  ReplaceLine(Path("camera.tum"), 4, line_3);
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("camera.tum") +
+                     ":4: duplicate timestamp 1700000000.100000000 after "
+                     "1700000000.100000000 on line 3");
+}
+
+// Nanosecond stamps in a file declared as seconds (the default).
+TEST_F(Robustness, TimestampsInAnotherUnit) {
+  WriteDrive();
+  ReplaceLine(Path("odometry.csv"), 2, "1700000000000000000,0,0,0");
+  ExpectBadInputContaining(
+      RunOdomcal(Calibrate()),
+      std::string(kCalibrateError) + Path("odometry.csv") + ":2: ",
+      {"looks like nanoseconds or microseconds", "pass the time unit flag"});
+  // Seconds declared as nanoseconds.
+  WriteDrive();
+  std::vector<std::string> arguments = Calibrate();
+  arguments.insert(arguments.end(), {"--camera_time_unit", "ns"});
+  ExpectBadInput(RunOdomcal(arguments),
+                 std::string(kCalibrateError) + Path("camera.tum") +
+                     ":3: column 'timestamp': timestamp '1700000000.100000000' has a "
+                     "fractional part but the time unit is ns; pass the time unit flag");
+}
+
+// ---------------------------------------------------------------------------
+// Time coverage.
+
+TEST_F(Robustness, OdometryCoversOnlyPartOfTheImages) {
+  const SimulatedDrive drive = WriteDrive();
+  Trajectory first_half = drive.odometry;
+  first_half.poses.resize(first_half.poses.size() / 2);
+  WriteOdometryCsv(first_half, Path("odometry.csv"));
+  const CommandResult run = RunOdomcal(Calibrate());
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["status"], "success");
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "301 camera poses were skipped: outside the odometry span "
+                           "or in gaps longer than 0.25 s"))
+      << result["warnings"];
+}
+
+TEST_F(Robustness, NoTimeOverlap) {
+  WriteDrive();
+  std::vector<std::string> arguments = Calibrate();
+  arguments.insert(arguments.end(), {"--camera_time_offset_s", "3600"});
+  ExpectBadInput(RunOdomcal(arguments),
+                 std::string(kCalibrateError) +
+                     "no camera timestamp falls inside the odometry (601 outside "
+                     "its span, 0 in gaps): check the time units and "
+                     "--camera_time_offset_s");
+  EXPECT_FALSE(fs::exists(Path("result.json")));
+}
+
+// ---------------------------------------------------------------------------
+// Motions that do not determine the calibration.
+
+TEST_F(Robustness, SingleMotion) {
+  const SimulatedDrive drive = WriteDrive();
+  Trajectory two = drive.camera;
+  two.poses = {drive.camera.poses[100], drive.camera.poses[140]};
+  WriteTumTrajectory(two, Path("camera.tum"));
+  const CommandResult run = RunOdomcal(Calibrate());
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["status"], "not_enough_motion");
+  EXPECT_EQ(result["message"], "only 1 motion pairs; at least 2 are needed");
+  EXPECT_TRUE(result["odom_from_cam"].is_null());
+  ExpectNoNonFiniteText(ReadFile(Path("result.yaml")));
+}
+
+// Turning on the spot at 0.4 rad/s for a minute.
+TEST_F(Robustness, PureRotationInPlace) {
+  WritePath(IntegratePath([](double) { return Eigen::Vector2d(0.0, 0.4); }, 60.0));
+  const CommandResult run = RunOdomcal(Calibrate());
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["status"], "unobservable");
+  EXPECT_EQ(result["message"],
+            "the odometry never translates (largest step 0 m: rotation in place "
+            "only): the metric scale and the x/y translation cannot be "
+            "determined; drive forward while turning");
+  EXPECT_EQ(result["unobservable"],
+            json::array({"translation_x", "translation_y", "translation_z",
+                         "metric_scale"}));
+  EXPECT_TRUE(result["metric_scale"].is_null());
+  ExpectNoNonFiniteText(ReadFile(Path("result.yaml")));
+}
+
+// A circle at constant speed: every keyframe pair is the same motion, with
+// the same yaw.
+TEST_F(Robustness, AllMotionsWithTheSameYaw) {
+  WritePath(IntegratePath([](double) { return Eigen::Vector2d(0.3, 0.3); }, 60.0));
+  const CommandResult run = RunOdomcal(Calibrate());
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["status"], "unobservable") << result["message"];
+  EXPECT_TRUE(ContainsName(result["unobservable"], "translation_x") ||
+              ContainsName(result["unobservable"], "translation_y"))
+      << result["unobservable"];
+  ExpectNoNonFiniteText(ReadFile(Path("result.json")));
+  ExpectNoNonFiniteText(ReadFile(Path("result.yaml")));
+}
+
+// Every third motion pair's camera motion replaced by a wrong one: two
+// consecutive camera poses out of every ten are moved, which spoils the
+// three pairs that touch them.
+TEST_F(Robustness, ThirtyPercentOutlierCameraMotions) {
+  const SimulatedDrive drive = WriteDrive();
+  Trajectory camera = drive.camera;
+  for (size_t i = 0; i < camera.poses.size(); ++i) {
+    if (i % 10 == 4 || i % 10 == 5) {
+      Rigid3d& pose = camera.poses[i].world_from_sensor;
+      pose.rotation = pose.rotation * ExpRotation(Eigen::Vector3d(0.2, -0.3, 0.1) *
+                                                  (i % 10 == 4 ? 1.0 : -1.0));
+      pose.translation += Eigen::Vector3d(0.5, 0.3, -0.2) * (i % 10 == 4 ? 1.0 : -1.0);
+    }
+  }
+  WriteTumTrajectory(camera, Path("camera.tum"));
+  std::vector<std::string> arguments = Calibrate();
+  // Every camera pose a keyframe, so that the outliers are 30 % of the pairs.
+  arguments.insert(arguments.end(), {"--keyframe_min_rotation_deg", "0",
+                                     "--keyframe_min_translation_m", "0"});
+  const CommandResult run = RunOdomcal(arguments);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["status"], "success");
+  const int num_in = result["diagnostics"]["num_pairs_in"];
+  const int num_used = result["diagnostics"]["num_pairs_used"];
+  EXPECT_NEAR(static_cast<double>(num_in - num_used) / num_in, 0.3, 0.05);
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           std::to_string(num_in - num_used) + " of " +
+                               std::to_string(num_in) +
+                               " motion pairs rejected as outliers"));
+  const auto& q = result["odom_from_cam"]["quaternion_wxyz"];
+  const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
+  // The inliers carry 0.01 deg camera noise.
+  EXPECT_LT(RotationAngle(rotation.conjugate() * drive.odom_from_cam.rotation) * 180.0 / kPi,
+            0.1);
+}
+
+// Positions near the largest double: each file value is finite, but the
+// differences between poses overflow. The solver's guard names it.
+TEST_F(Robustness, FiniteInputsWhoseMotionsOverflow) {
+  const SimulatedDrive drive = WriteDrive();
+  Trajectory camera = drive.camera;
+  for (size_t i = 0; i < camera.poses.size(); ++i) {
+    camera.poses[i].world_from_sensor.translation.x() = (i % 2 == 0 ? 1.7e308 : -1.7e308);
+  }
+  WriteTumTrajectory(camera, Path("camera.tum"));
+  const CommandResult run = RunOdomcal(Calibrate());
+  ExpectBadInput(run, std::string(kCalibrateError) + "motion pair 0 has a non-finite value");
+  // Finite steps whose squares overflow.
+  for (size_t i = 0; i < camera.poses.size(); ++i) {
+    camera.poses[i].world_from_sensor.translation.x() = (i % 2 == 0 ? 1e200 : -1e200);
+  }
+  WriteTumTrajectory(camera, Path("camera.tum"));
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) +
+                     "motion pair 0 has a translation too large to square in double "
+                     "precision (check the units)");
+  EXPECT_FALSE(fs::exists(Path("result.json")));
+}
+
+// ---------------------------------------------------------------------------
+// odomcal run and COLMAP.
+
+TEST_F(Robustness, ColmapMissingFromPath) {
+  WriteImageFolder(5, "x");
+  ExpectBadInput(
+      RunOdomcal(RunCommand(), {{"PATH=" + Path("empty_bin")}}),
+      std::string(kRunError) +
+          "COLMAP not found: 'colmap' is not an executable on PATH (install "
+          "Debian's colmap package or pass --colmap_path)");
+}
+
+// Extraction and matching succeed, the mapper aborts on a failed CHECK
+// (exit 134) and prints glog's stack trace after it.
+TEST_F(Robustness, ColmapAbortsMidRun) {
+  WriteImageFolder(5, "x");
+  const std::string bin = WriteFakeColmap(
+      "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
+      " \"$3\"; fi\n"
+      "if [ \"$1\" = mapper ]; then\n"
+      "  echo 'F0101 mapper.cc:1] Check failed: reconstruction' >&2\n"
+      "  echo '*** Check failure stack trace: ***' >&2\n"
+      "  echo '    @     0x55aebb39816f  colmap::IncrementalMapper::Run()' >&2\n"
+      "  exit 134\n"
+      "fi\n"
+      "exit 0\n");
+  const CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
+                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ExpectBadInput(run, std::string(kRunError) +
+                          "COLMAP mapper failed with exit code 134 (COLMAP aborted on a "
+                          "failed CHECK); see " +
+                          Path("ws/logs/mapper.log") +
+                          " (last line: F0101 mapper.cc:1] Check failed: reconstruction)");
+}
+
+// COLMAP exits 0 but writes nothing: caught after the first stage; and a
+// mapper that exits 0 without a model.
+TEST_F(Robustness, ColmapProducesNoModel) {
+  WriteImageFolder(5, "x");
+  std::string bin = WriteFakeColmap("exit 0\n");
+  CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
+                                 {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ExpectBadInput(run, std::string(kRunError) + "COLMAP feature_extractor wrote no database " +
+                          Path("ws/database.db") + " (see " +
+                          Path("ws/logs/feature_extractor.log") + ")");
+
+  bin = WriteFakeColmap("if [ \"$1\" = feature_extractor ]; then cp " +
+                        WritePreparedDatabase() + " \"$3\"; fi\nexit 0\n");
+  run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
+                   {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ExpectBadInput(run, std::string(kRunError) + "COLMAP mapper produced no model (see " +
+                          Path("ws/logs/mapper.log") +
+                          "): too little texture or overlap, or wrong intrinsics");
+}
+
+// Real COLMAP on files that are not images: feature_extractor skips every
+// one and exits 0. Skipped without colmap on PATH.
+TEST_F(Robustness, UnreadableImagesWithRealColmap) {
+  if (std::system("colmap help > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "colmap is not installed";
+  }
+  WriteImageFolder(5, "this is not a PNG file\n");
+  const CommandResult run = RunOdomcal(RunCommand());
+  ExpectBadInput(run, std::string(kRunError) + "COLMAP could read none of the 5 images in " +
+                          Path("images") + " (see " +
+                          Path("ws/logs/feature_extractor.log") +
+                          ": ERROR: Failed to read image file format.)");
+}
+
+// ---------------------------------------------------------------------------
+// Outputs.
+
+TEST_F(Robustness, OutputExists) {
+  WriteDrive();
+  WriteFile(Path("result.json"), "precious");
+  ExpectBadInput(RunOdomcal(Calibrate()),
+                 std::string(kCalibrateError) + Path("result.json") +
+                     ": exists (pass --overwrite to replace it)");
+  EXPECT_EQ(ReadFile(Path("result.json")), "precious");
+
+  WriteColmapProject();
+  fs::create_directories(Path("out"));
+  WriteFile(Path("out/keep.txt"), "precious");
+  ExpectBadInput(RunOdomcal(Colmap()),
+                 std::string(kColmapError) + Path("out") +
+                     ": is not empty (pass --overwrite to replace odomcal's files in it)");
+  EXPECT_EQ(ReadFile(Path("out/keep.txt")), "precious");
+}
+
+// Permissions do not stop root, so the unwritable places are ones no user
+// can write: a path below a regular file, and /proc.
+TEST_F(Robustness, OutputNotWritable) {
+  WriteDrive();
+  WriteFile(Path("a_file"), "");
+  ExpectBadInput(RunOdomcal(Calibrate("a_file/result.json")),
+                 std::string(kCalibrateError) + Path("a_file/result.json") +
+                     ": " + Path("a_file") + " is not a folder");
+  std::vector<std::string> arguments = Calibrate();
+  arguments.back() = "/proc/odomcal_result.json";
+  ExpectBadInputContaining(RunOdomcal(arguments),
+                           std::string(kCalibrateError) +
+                               "/proc/odomcal_result.json: cannot create a temporary file (",
+                           {});
+
+  WriteColmapProject();
+  ExpectBadInput(RunOdomcal(Colmap("a_file/out")),
+                 std::string(kColmapError) + Path("a_file/out") +
+                     ": cannot create (Not a directory)");
+}
+
+TEST_F(Robustness, OutputInsideTheInputProject) {
+  WriteColmapProject();
+  const std::string inside = (dir_ / "project" / "sparse" / "0" / "out").string();
+  ExpectBadInput(RunOdomcal(Colmap("project/sparse/0/out")),
+                 std::string(kColmapError) + inside + ": is inside the input " +
+                     (dir_ / "project" / "sparse").string() +
+                     "; odomcal never writes into an input project");
+  EXPECT_FALSE(fs::exists(inside));
+}
+
+// A full disk, simulated by limiting the size of files odomcal may write to
+// 1 KiB: the result JSON is larger, write() fails with EFBIG.
+TEST_F(Robustness, DiskFullDuringWrite) {
+  WriteDrive();
+  RunLimits limits;
+  limits.max_file_size_bytes = 1024;
+  ExpectBadInput(RunOdomcal(Calibrate(), limits),
+                 std::string(kCalibrateError) + Path("result.json") +
+                     ": write failed (File too large)");
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find("result"), std::string::npos)
+        << "left behind: " << entry.path();
+  }
+
+  WriteColmapProject();
+  ExpectBadInputContaining(RunOdomcal(Colmap(), limits), kColmapError,
+                           {"File too large"});
+  EXPECT_FALSE(fs::exists(Path("out/calibration.json")) &&
+               fs::file_size(Path("out/calibration.json")) == 0);
+}
+
+}  // namespace
+}  // namespace odomcal
