@@ -111,6 +111,122 @@ void DropShortSegments(int min_pairs, StretchCheckResult* check) {
   check->input_segment_of_output_segment = std::move(input_segment_of_output);
 }
 
+// Relabels the pairs: within an input segment a new output segment starts at
+// each run of `check->stretches` and after it; dropped runs lose their pairs.
+// Then calibrates again.
+void CutOutlierRuns(const MotionPairs& pairs,
+                    const CalibrationOptions& options,
+                    const StretchOptions& stretch_options,
+                    StretchCheckResult* check) {
+  std::vector<int> run_of_pair(pairs.size(), -1);
+  for (size_t r = 0; r < check->stretches.size(); ++r) {
+    InconsistentStretch& run = check->stretches[r];
+    run.kept_as_segment =
+        RunIsSelfConsistent(pairs, run, check->result.odom_from_cam, options,
+                            stretch_options.min_inlier_ratio);
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (pairs[i].segment == run.input_segment &&
+          pairs[i].stamp_i_ns >= run.first_stamp_ns &&
+          pairs[i].stamp_j_ns <= run.last_stamp_ns) {
+        run_of_pair[i] = static_cast<int>(r);
+      }
+    }
+  }
+  std::vector<int> order(pairs.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    if (pairs[a].segment != pairs[b].segment) {
+      return pairs[a].segment < pairs[b].segment;
+    }
+    return pairs[a].stamp_i_ns < pairs[b].stamp_i_ns;
+  });
+  check->pairs.clear();
+  check->input_pair_of_output.clear();
+  check->input_segment_of_output_segment.clear();
+  int current_input_segment = -1;
+  int current_run = std::numeric_limits<int>::min();
+  int output_segment = -1;
+  for (const int i : order) {
+    const int run = run_of_pair[i];
+    if (pairs[i].segment != current_input_segment || run != current_run) {
+      current_input_segment = pairs[i].segment;
+      current_run = run;
+      const bool dropped = run >= 0 && !check->stretches[run].kept_as_segment;
+      if (!dropped) {
+        ++output_segment;
+        check->input_segment_of_output_segment.push_back(pairs[i].segment);
+        if (run >= 0) check->stretches[run].output_segment = output_segment;
+      }
+    }
+    if (run >= 0 && !check->stretches[run].kept_as_segment) continue;
+    MotionPair relabelled = pairs[i];
+    relabelled.segment = output_segment;
+    check->pairs.push_back(relabelled);
+    check->input_pair_of_output.push_back(i);
+  }
+  DropShortSegments(stretch_options.min_run_pairs, check);
+  check->split = true;
+  check->result = CalibrateOdomCam(check->pairs, options);
+}
+
+// Cuts output segments where the step-length check finds a change of scale
+// (among the inliers of the current fit) and calibrates again.
+void CutScaleChanges(const CalibrationOptions& options,
+                     const ScaleChangeOptions& scale_options,
+                     StretchCheckResult* check) {
+  const CalibrationResult& fit = check->result;
+  MotionPairs inliers;
+  for (size_t i = 0; i < check->pairs.size(); ++i) {
+    if (fit.diagnostics.inlier_mask.at(i)) inliers.push_back(check->pairs[i]);
+  }
+  const std::vector<ScaleChange> changes = FindScaleChanges(
+      inliers,
+      PerPairMetricScales(inliers, fit.odom_from_cam, fit.metric_scales, options.noise),
+      scale_options);
+  if (changes.empty()) return;
+
+  // Output segment k becomes parts (k, 0), (k, 1), ... numbered densely.
+  std::map<std::pair<int, int>, int> part_segment;
+  std::vector<std::pair<int, int>> part_of_pair(check->pairs.size());
+  for (size_t i = 0; i < check->pairs.size(); ++i) {
+    const MotionPair& pair = check->pairs[i];
+    int part = 0;
+    for (const ScaleChange& change : changes) {
+      if (change.segment == pair.segment && pair.stamp_i_ns >= change.stamp_ns) ++part;
+    }
+    part_of_pair[i] = {pair.segment, part};
+    part_segment[part_of_pair[i]] = 0;
+  }
+  std::vector<int> input_segment_of_output;
+  for (auto& [part, segment] : part_segment) {
+    segment = static_cast<int>(input_segment_of_output.size());
+    input_segment_of_output.push_back(check->input_segment_of_output_segment.at(part.first));
+  }
+  for (const ScaleChange& change : changes) {
+    ScaleChangeCut cut;
+    cut.input_segment = check->input_segment_of_output_segment.at(change.segment);
+    cut.stamp_ns = change.stamp_ns;
+    cut.scale_before = change.scale_before;
+    cut.scale_after = change.scale_after;
+    cut.f_statistic = change.f_statistic;
+    check->scale_changes.push_back(cut);
+  }
+  for (InconsistentStretch& run : check->stretches) {
+    if (!run.kept_as_segment) continue;
+    int part = 0;
+    for (const ScaleChange& change : changes) {
+      if (change.segment == run.output_segment && run.first_stamp_ns >= change.stamp_ns) ++part;
+    }
+    run.output_segment = part_segment.at({run.output_segment, part});
+  }
+  for (size_t i = 0; i < check->pairs.size(); ++i) {
+    check->pairs[i].segment = part_segment.at(part_of_pair[i]);
+  }
+  check->input_segment_of_output_segment = std::move(input_segment_of_output);
+  check->split = true;
+  check->result = CalibrateOdomCam(check->pairs, options);
+}
+
 }  // namespace
 
 StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
@@ -130,61 +246,10 @@ StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
   }
   check.stretches = FindOutlierRuns(pairs, check.result.diagnostics.inlier_mask,
                                     stretch_options.min_run_pairs);
-  if (check.stretches.empty()) {
-    return check;
+  if (!check.stretches.empty()) CutOutlierRuns(pairs, options, stretch_options, &check);
+  if (stretch_options.check_scale_changes && check.result.IsSuccess()) {
+    CutScaleChanges(options, stretch_options.scale_change, &check);
   }
-
-  // Relabel: within an input segment a new output segment starts at each
-  // run and after it; dropped runs lose their pairs.
-  std::vector<int> run_of_pair(pairs.size(), -1);
-  for (size_t r = 0; r < check.stretches.size(); ++r) {
-    InconsistentStretch& run = check.stretches[r];
-    run.kept_as_segment =
-        RunIsSelfConsistent(pairs, run, check.result.odom_from_cam, options,
-                            stretch_options.min_inlier_ratio);
-    for (size_t i = 0; i < pairs.size(); ++i) {
-      if (pairs[i].segment == run.input_segment &&
-          pairs[i].stamp_i_ns >= run.first_stamp_ns &&
-          pairs[i].stamp_j_ns <= run.last_stamp_ns) {
-        run_of_pair[i] = static_cast<int>(r);
-      }
-    }
-  }
-  std::vector<int> order(pairs.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    if (pairs[a].segment != pairs[b].segment) {
-      return pairs[a].segment < pairs[b].segment;
-    }
-    return pairs[a].stamp_i_ns < pairs[b].stamp_i_ns;
-  });
-  check.pairs.clear();
-  check.input_pair_of_output.clear();
-  check.input_segment_of_output_segment.clear();
-  int current_input_segment = -1;
-  int current_run = std::numeric_limits<int>::min();
-  int output_segment = -1;
-  for (const int i : order) {
-    const int run = run_of_pair[i];
-    if (pairs[i].segment != current_input_segment || run != current_run) {
-      current_input_segment = pairs[i].segment;
-      current_run = run;
-      const bool dropped = run >= 0 && !check.stretches[run].kept_as_segment;
-      if (!dropped) {
-        ++output_segment;
-        check.input_segment_of_output_segment.push_back(pairs[i].segment);
-        if (run >= 0) check.stretches[run].output_segment = output_segment;
-      }
-    }
-    if (run >= 0 && !check.stretches[run].kept_as_segment) continue;
-    MotionPair relabelled = pairs[i];
-    relabelled.segment = output_segment;
-    check.pairs.push_back(relabelled);
-    check.input_pair_of_output.push_back(i);
-  }
-  DropShortSegments(stretch_options.min_run_pairs, &check);
-  check.split = true;
-  check.result = CalibrateOdomCam(check.pairs, options);
   return check;
 }
 

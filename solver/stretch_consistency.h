@@ -9,7 +9,9 @@
 // a separate segment when it is self-consistent (a part at another scale),
 // otherwise dropped (a folded part); the pairs after a run continue as a new
 // segment, since the scale may have changed across it. The calibration is
-// then repeated on the relabelled pairs.
+// then repeated on the relabelled pairs. Last, the step-length check of
+// scale_consistency.h cuts segments whose scale changes along the path (SfM
+// scale drift) into parts with scales of their own, and calibrates again.
 #pragma once
 
 #include <cstdint>
@@ -18,12 +20,24 @@
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 #include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/scale_consistency.h"
 
 namespace odomcal {
 
 struct StretchOptions {
   int min_run_pairs = 3;      // shorter outlier runs are ordinary outliers
   double min_inlier_ratio = 0.7;  // a run kept as its own segment fits this well
+  bool check_scale_changes = true;
+  ScaleChangeOptions scale_change;
+};
+
+// A segment cut where its metric scale changes (scale_consistency.h).
+struct ScaleChangeCut {
+  int input_segment = 0;
+  int64_t stamp_ns = 0;       // the first pair after the cut starts here
+  double scale_before = 0.0;  // metres per reconstruction unit
+  double scale_after = 0.0;
+  double f_statistic = 0.0;
 };
 
 struct InconsistentStretch {
@@ -43,6 +57,7 @@ struct StretchCheckResult {
   std::vector<int> input_pair_of_output;  // index of each output pair
   std::vector<int> input_segment_of_output_segment;
   std::vector<InconsistentStretch> stretches;
+  std::vector<ScaleChangeCut> scale_changes;
   bool split = false;          // whether segments were cut
 };
 
