@@ -1,16 +1,19 @@
-// See the header for the steps. Sub-models are exported with the scale of
-// the output segment that holds most of their pairs: a sub-model cut by the
-// stretch check into parts at different scales has no single correct
-// similarity, which the report says.
+// See the header for the steps. Metric models are exported per output
+// segment: a sub-model cut by the stretch or scale checks into parts at
+// different scales has no single correct similarity, so each part gets its
+// own, and a folded stretch is not exported at all.
 
 #include "odomcal/plugin/colmap_calibration.h"
 
 #include <algorithm>
 #include <filesystem>
+#include <cstdio>
+#include <limits>
 #include <map>
 #include <set>
 
 #include "odomcal/adapters/colmap_database.h"
+#include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/output_file.h"
@@ -20,9 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool InDroppedStretch(const StretchCheckResult& check,
-                      int input_segment,
-                      int64_t stamp_ns) {
+std::string SignedPercent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%+.1f %%", 100.0 * fraction);
+  return text;
+}
+
+bool InDroppedStretch(const StretchCheckResult& check, int input_segment, int64_t stamp_ns) {
   for (const InconsistentStretch& run : check.stretches) {
     if (!run.kept_as_segment && run.input_segment == input_segment &&
         stamp_ns > run.first_stamp_ns && stamp_ns < run.last_stamp_ns) {
@@ -32,22 +39,44 @@ bool InDroppedStretch(const StretchCheckResult& check,
   return false;
 }
 
-// The output segment holding most pairs of input segment `input`, or -1.
-int MainOutputSegment(const StretchCheckResult& check, int input) {
-  std::map<int, int> count;
+// The output segments an image of input segment `input` at `stamp_ns`
+// (odometry clock) belongs to: those whose motion pairs span it, else the
+// nearest in time (images before the first or after the last keyframe);
+// none inside a dropped stretch.
+std::vector<int> OutputSegmentsOfImage(const StretchCheckResult& check,
+                                       const std::vector<std::pair<int64_t, int64_t>>& spans,
+                                       int input,
+                                       int64_t stamp_ns) {
+  if (InDroppedStretch(check, input, stamp_ns)) return {};
+  std::vector<int> inside;
+  int nearest = -1;
+  int64_t nearest_distance = std::numeric_limits<int64_t>::max();
+  for (size_t output = 0; output < spans.size(); ++output) {
+    if (check.input_segment_of_output_segment[output] != input) continue;
+    const auto [first, last] = spans[output];
+    if (first > last) continue;  // no pairs
+    if (stamp_ns >= first && stamp_ns <= last) inside.push_back(static_cast<int>(output));
+    const int64_t distance = stamp_ns < first ? first - stamp_ns : stamp_ns - last;
+    if (distance < nearest_distance) {
+      nearest_distance = distance;
+      nearest = static_cast<int>(output);
+    }
+  }
+  if (inside.empty() && nearest >= 0) inside.push_back(nearest);
+  return inside;
+}
+
+// Time span (odometry clock) of each output segment's motion pairs.
+std::vector<std::pair<int64_t, int64_t>> SegmentSpans(const StretchCheckResult& check) {
+  std::vector<std::pair<int64_t, int64_t>> spans(
+      check.input_segment_of_output_segment.size(),
+      {std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min()});
   for (const MotionPair& pair : check.pairs) {
-    if (check.input_segment_of_output_segment[pair.segment] == input) {
-      ++count[pair.segment];
-    }
+    auto& [first, last] = spans.at(pair.segment);
+    first = std::min(first, pair.stamp_i_ns);
+    last = std::max(last, pair.stamp_j_ns);
   }
-  int best = -1, best_count = 0;
-  for (const auto& [segment, n] : count) {
-    if (n > best_count) {
-      best = segment;
-      best_count = n;
-    }
-  }
-  return best;
+  return spans;
 }
 
 ColmapModel TransformModel(const ColmapModel& model, const Sim3d& origin_from_sfm) {
@@ -137,6 +166,15 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
         (stretch.kept_as_segment ? "kept as a separate segment with its own scale"
                                  : "left out (COLMAP likely folded it)"));
   }
+  for (const ScaleChangeCut& cut : run.check.scale_changes) {
+    result.warnings.push_back(
+        "sub-model " + run.segments[cut.input_segment].sub_model +
+        ": its metric scale changes by " +
+        SignedPercent(cut.scale_after / cut.scale_before - 1.0) + " at " +
+        FormatTimestampSeconds(cut.stamp_ns) +
+        " s (COLMAP scale drift, seen in the step lengths): the parts are "
+        "calibrated as segments with scales of their own");
+  }
   if (context.association.num_outside_odometry_span +
           context.association.num_in_odometry_gaps > 0) {
     result.warnings.push_back(
@@ -148,30 +186,48 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
     return run;
   }
 
-  // Metric models in the odometry origin frame.
-  for (size_t k = 0; k < run.segments.size(); ++k) {
-    const ColmapSegment& segment = run.segments[k];
-    const int output = MainOutputSegment(run.check, static_cast<int>(k));
-    if (output < 0 || !(result.metric_scales[output] > 0.0)) continue;
+  // Metric models in the odometry origin frame, one per output segment: the
+  // images of its sub-model within its time span (a folded stretch left out
+  // and a part at another scale are not carried along).
+  const std::vector<std::pair<int64_t, int64_t>> spans = SegmentSpans(run.check);
+  std::map<int, int> num_parts;
+  for (const int input : run.check.input_segment_of_output_segment) ++num_parts[input];
+  std::map<int, int> next_part;
+  for (size_t output = 0; output < spans.size(); ++output) {
+    const int k = run.check.input_segment_of_output_segment[output];
+    const int part = next_part[k]++;
+    const ColmapSegment& segment = run.segments.at(k);
+    if (!(result.metric_scales.at(output) > 0.0)) continue;
     std::vector<Rigid3d> origin_from_cam, sfm_from_cam;
-    for (const StampedPose& pose : segment.trajectory.poses) {
+    std::set<std::string> names;
+    for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
+      const StampedPose& pose = segment.trajectory.poses[i];
       const int64_t stamp = pose.stamp_ns + inputs.association.camera_time_offset_ns;
-      if (InDroppedStretch(run.check, static_cast<int>(k), stamp)) continue;
+      const std::vector<int> owners = OutputSegmentsOfImage(run.check, spans, k, stamp);
+      if (std::find(owners.begin(), owners.end(), static_cast<int>(output)) == owners.end()) {
+        continue;
+      }
       InterpolationFailure why;
       const auto origin_from_odom = InterpolateOdometry(
           run.odometry, stamp, inputs.association.max_odometry_gap_s, &why);
       if (!origin_from_odom) continue;
       origin_from_cam.push_back(*origin_from_odom * result.odom_from_cam);
       sfm_from_cam.push_back(pose.world_from_sensor);
+      names.insert(segment.image_names.at(i));
     }
     if (origin_from_cam.empty()) continue;
+    const ColmapModel model = ReadColmapModel(segment.model_path);
+    std::set<uint32_t> image_ids;
+    for (const auto& [id, image] : model.images) {
+      if (names.count(image.name) != 0) image_ids.insert(id);
+    }
     MetricSubModel metric;
     metric.name = segment.sub_model.empty() ? std::to_string(k) : segment.sub_model;
-    metric.output_segment = output;
+    if (num_parts[k] > 1) metric.name += "_" + std::to_string(part);
+    metric.output_segment = static_cast<int>(output);
     metric.origin_from_sfm =
         AlignSfmToOrigin(origin_from_cam, sfm_from_cam, result.metric_scales[output]);
-    metric.model = TransformModel(ReadColmapModel(segment.model_path),
-                                  metric.origin_from_sfm);
+    metric.model = TransformModel(ColmapModelSubset(model, image_ids), metric.origin_from_sfm);
     run.metric_models.push_back(std::move(metric));
   }
   return run;

@@ -42,7 +42,9 @@ struct ColmapCalibrationInputs {
 
 // One sub-model in metres in the odometry's origin frame.
 struct MetricSubModel {
-  std::string name;  // sub-model folder name ("0", "1", ...)
+  // Folder name: the sub-model's ("0", "1", ...), or "<sub-model>_<part>"
+  // when the checks cut the sub-model into parts with scales of their own.
+  std::string name;
   int output_segment = -1;  // segment whose scale was used
   Sim3d origin_from_sfm;
   ColmapModel model;  // transformed copy

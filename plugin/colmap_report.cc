@@ -58,6 +58,14 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
          {"segment", stretch.kept_as_segment ? json(stretch.output_segment)
                                              : json(nullptr)}});
   }
+  json scale_changes = json::array();
+  for (const ScaleChangeCut& cut : run.check.scale_changes) {
+    scale_changes.push_back({{"sub_model", run.segments[cut.input_segment].sub_model},
+                             {"time_s", FormatTimestampSeconds(cut.stamp_ns)},
+                             {"metric_scale_before", cut.scale_before},
+                             {"metric_scale_after", cut.scale_after},
+                             {"f_statistic", cut.f_statistic}});
+  }
   json segment_sources = json::array();
   for (const int input : run.check.input_segment_of_output_segment) {
     segment_sources.push_back(run.segments[input].sub_model);
@@ -75,6 +83,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
        run.num_database_images >= 0 ? json(run.num_database_images) : json(nullptr)},
       {"segment_sub_models", segment_sources},
       {"inconsistent_stretches", stretches},
+      {"scale_changes", scale_changes},
       {"metric_models", metric_models},
   };
   return out;
