@@ -75,7 +75,7 @@ std::vector<DatasetPresetInfo> DatasetPresets() {
        "CI: 40 images 320x240 at 2.5 Hz, forward camera, 8 x 6 m room"},
       {"default", "the demo: 64 images 320x240 at 2.5 Hz, forward camera"},
       {"tilted",
-       "40 images 320x240, camera pitched 20 deg down, rolled 90 deg"},
+       "40 images 320x240, camera pitched 10 deg down, rolled 90 deg"},
       {"hard",
        "two rooms + featureless corridor (model splits), noisy odometry, "
        "time offset and jitter; 130 images 320x240 at 2.5 Hz"},
@@ -94,8 +94,15 @@ RenderedDatasetOptions MakeDatasetPreset(const std::string& name,
     o.num_images = 64;
     o.odometry_noise = MildNoise();
   } else if (name == "tilted") {
+    // Pitched 20 deg down from 0.7 m, half of every image was floor (a
+    // dominant plane): COLMAP folded, drifted or failed for each of seeds 1-4
+    // (0.2-1 deg, 6-26 % scale, or refused). 10 deg from 0.5 m keeps the
+    // walls in view.
     o.odom_from_cam =
-        MakeCameraMount(0.0, 20.0, 90.0, Eigen::Vector3d(0.10, -0.15, 0.70));
+        MakeCameraMount(0.0, 10.0, 90.0, Eigen::Vector3d(0.10, -0.15, 0.50));
+    // Rolled 90 deg, the horizontal field of view is 49 deg, not 63: turn
+    // slower so that consecutive images overlap as much as small's.
+    o.path.max_yaw_rate_radps = 0.45;
   } else if (name == "hard") {
     o.layout = MakeTwoRoomsWithCorridor(2.5, /*ceiling=*/true);
     PathLeg room_a;
