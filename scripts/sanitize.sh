@@ -66,7 +66,11 @@ done
 cmake --build "$build_dir" -j "$jobs" --target "${build_targets[@]}"
 build_end=$(date +%s)
 
-# Tests of binaries not built above are *_NOT_BUILT, without a label.
+# Tests of binaries not built above are *_NOT_BUILT, without a label; in a
+# reused build folder, forget the tests of any such binary built earlier.
+for target in "${not_sanitized[@]}"; do
+  find "$build_dir" -name "${target}\[*\]_tests.cmake" -delete
+done
 (cd "$build_dir" && ctest -L unit --output-on-failure -j "$jobs")
 test_end=$(date +%s)
 
