@@ -6,8 +6,8 @@
 #include "odomcal/plugin/colmap_calibration.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <set>
@@ -193,6 +193,7 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
   std::map<int, int> num_parts;
   for (const int input : run.check.input_segment_of_output_segment) ++num_parts[input];
   std::map<int, int> next_part;
+  std::map<int, ColmapModel> models;  // read once per sub-model
   for (size_t output = 0; output < spans.size(); ++output) {
     const int k = run.check.input_segment_of_output_segment[output];
     const int part = next_part[k]++;
@@ -216,7 +217,8 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
       names.insert(segment.image_names.at(i));
     }
     if (origin_from_cam.empty()) continue;
-    const ColmapModel model = ReadColmapModel(segment.model_path);
+    if (models.count(k) == 0) models.emplace(k, ReadColmapModel(segment.model_path));
+    const ColmapModel& model = models.at(k);
     std::set<uint32_t> image_ids;
     for (const auto& [id, image] : model.images) {
       if (names.count(image.name) != 0) image_ids.insert(id);
