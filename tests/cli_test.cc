@@ -15,6 +15,7 @@
 
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -29,13 +30,6 @@ struct CommandResult {
   std::string out;
   std::string err;
 };
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
 
 class OdomcalCli : public ::testing::Test {
  protected:

@@ -17,6 +17,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -25,22 +26,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
-
-// Every file under `root` with its bytes.
-std::map<std::string, std::string> Snapshot(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  for (const auto& entry : fs::recursive_directory_iterator(root)) {
-    if (entry.is_regular_file()) files[entry.path().string()] = ReadFile(entry.path());
-  }
-  return files;
-}
 
 struct Project {
   SimulatedDrive drive;

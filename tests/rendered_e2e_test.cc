@@ -21,6 +21,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/solver/rigid3.h"
 #include "odomcal/tests/test_seed.h"
+#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -29,28 +30,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
-
-// FNV-1a of every file under `root`, by path: inputs must be byte-identical
-// after odomcal has read them.
-std::map<std::string, uint64_t> HashFiles(const fs::path& root) {
-  std::map<std::string, uint64_t> hashes;
-  for (const auto& entry : fs::recursive_directory_iterator(root)) {
-    if (!entry.is_regular_file()) continue;
-    uint64_t hash = 1469598103934665603ull;
-    for (const char c : ReadFile(entry.path())) {
-      hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-    }
-    hashes[entry.path().string()] = hash;
-  }
-  return hashes;
-}
 
 bool ColmapInstalled() {
   return std::system("colmap help > /dev/null 2>&1") == 0;
@@ -112,7 +91,7 @@ class RenderedEndToEnd : public ::testing::Test {
     std::ostringstream z;
     z.precision(17);
     z << run.truth["odom_from_cam"]["translation_m"][2].get<double>();
-    const auto inputs_before = HashFiles(data);
+    const auto inputs_before = Snapshot(data);
     run.exit_code = Run(
         "run --image_path " + (data / "images").string() + " --odometry " +
             (data / "odometry.csv").string() + " --image_timestamps " +
@@ -121,7 +100,7 @@ class RenderedEndToEnd : public ::testing::Test {
             params + " --fixed_translation_z_m " + z.str() + " --workspace_path " +
             run.workspace.string() + " " + extra_run_flags,
         &run.log);
-    run.inputs_unchanged = HashFiles(data) == inputs_before;
+    run.inputs_unchanged = Snapshot(data) == inputs_before;
     if (fs::exists(run.workspace / "calibration.json")) {
       run.result = json::parse(ReadFile(run.workspace / "calibration.json"));
     }
@@ -204,7 +183,7 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
   // `odomcal colmap` on the project `odomcal run` made gives the same answer.
   std::string log;
   const fs::path data = dir_ / "data";
-  const auto project_before = HashFiles(run.workspace);
+  const auto project_before = Snapshot(run.workspace);
   ASSERT_EQ(Run("colmap --model_path " + (run.workspace / "sparse").string() +
                     " --database_path " + (run.workspace / "database.db").string() +
                     " --odometry " + (data / "odometry.csv").string() +
@@ -214,7 +193,7 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
                 &log),
             0)
       << log;
-  EXPECT_EQ(HashFiles(run.workspace), project_before) << "odomcal colmap modified its input";
+  EXPECT_TRUE(Snapshot(run.workspace) == project_before) << "odomcal colmap modified its input";
   const json again = json::parse(ReadFile(dir_ / "colmap_out" / "calibration.json"));
   EXPECT_EQ(again["odom_from_cam"]["quaternion_wxyz"],
             run.result["odom_from_cam"]["quaternion_wxyz"]);

@@ -33,6 +33,7 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -55,13 +56,6 @@ struct RunLimits {
   std::vector<std::string> environment;  // "NAME=value", set in the child
   rlim_t max_file_size_bytes = RLIM_INFINITY;
 };
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
 
 void WriteFile(const fs::path& path, const std::string& bytes) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
