@@ -4,6 +4,7 @@
 #include "odomcal/datasets/dataset_presets.h"
 #include "odomcal/datasets/rendered_dataset.h"
 #include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"
 
 #include <CLI/CLI.hpp>
@@ -84,14 +85,8 @@ int RunRender(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag(
       "--overwrite", overwrite, "replace a dataset already in output_path");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitSuccess;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "odomcal render: error: " << error.what() << "\n";
-    return kExitBadInput;
+  if (const auto exit_code = ParseFlags(&app, argc, argv)) {
+    return *exit_code;
   }
 
   try {

@@ -12,6 +12,7 @@
 #include "odomcal/datasets/paper_simulation.h"
 #include "odomcal/datasets/paper_sweeps.h"
 #include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/svg_plot.h"
 
@@ -218,14 +219,8 @@ int RunSimulate(int argc, char** argv) {
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   app.add_flag("--overwrite", overwrite, "replace existing output files");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return kExitSuccess;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "odomcal simulate: error: " << error.what() << "\n";
-    return kExitBadInput;
+  if (const auto exit_code = ParseFlags(&app, argc, argv)) {
+    return *exit_code;
   }
 
   try {
