@@ -47,7 +47,9 @@ done
 # must be listed in one of the two arrays, so that a new unit test binary is
 # not left unbuilt (ctest would skip it without a word).
 unit_tests=(solver_test adapters_test datasets_test plugin_test robustness_test)
-# e2e (COLMAP for minutes, run by scripts/test.sh), and paper_evaluation_test:
+# e2e-labelled (COLMAP for minutes, or CLI runs, all in scripts/test.sh; the
+# CLI tests cli_test and colmap_cli_test were clean under the sanitizers when
+# run by hand), and paper_evaluation_test:
 # Monte Carlo reproductions of the paper's tables that take 10 minutes under
 # ASan (its solver and dataset code is covered by solver_test and
 # datasets_test) and whose 2 % batch tolerance does not hold with clang -O1.
