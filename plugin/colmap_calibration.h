@@ -20,6 +20,7 @@
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
@@ -57,6 +58,9 @@ struct ColmapCalibrationRun {
   StretchCheckResult check;      // result, pairs used, stretches
   ReportContext context;
   std::vector<MetricSubModel> metric_models;
+  // `odomcal run` only: every mapper run and the one calibrated here.
+  std::vector<MapperAttempt> mapper_attempts;
+  int chosen_mapper_attempt = -1;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).

@@ -77,6 +77,21 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
                              {"segment", metric.output_segment},
                              {"origin_from_sfm", Sim3ToJson(metric.origin_from_sfm)}});
   }
+  json mapper_attempts = json::array();
+  for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
+    const MapperAttempt& attempt = run.mapper_attempts[i];
+    mapper_attempts.push_back(
+        {{"random_seed", attempt.random_seed},
+         {"path", attempt.model_path},
+         {"produced_model", attempt.produced_model},
+         {"num_sub_models", attempt.num_sub_models},
+         {"num_registered_images", attempt.num_registered_images},
+         {"status", attempt.produced_model ? json(ToString(attempt.status)) : json(nullptr)},
+         {"num_motion_pairs", attempt.num_pairs},
+         {"num_pairs_used", attempt.num_pairs_used},
+         {"num_contradicting_pairs", attempt.num_contradicting_pairs},
+         {"chosen", static_cast<int>(i) == run.chosen_mapper_attempt}});
+  }
   out["colmap"] = {
       {"sub_models", sub_models},
       {"num_database_images",
@@ -85,6 +100,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
       {"inconsistent_stretches", stretches},
       {"scale_changes", scale_changes},
       {"metric_models", metric_models},
+      {"mapper_attempts", mapper_attempts},
   };
   return out;
 }
@@ -239,7 +255,27 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
     html << "<li>" << Escape(segment.model_path) << ": "
          << segment.num_registered_images << " registered images</li>";
   }
-  html << "</ul>\n<p>Conventions: x_in_odom = odom_from_cam * x_in_cam; Hamilton "
+  html << "</ul>\n";
+  if (!run.mapper_attempts.empty()) {
+    html << "<h2>COLMAP mapper runs</h2>\n<p>The mapper runs again with another "
+            "random seed while motion pairs of its model contradict the odometry; "
+            "the model contradicted least is calibrated.</p>\n<table>"
+            "<tr><th>--random_seed</th><th>sub-models</th><th>registered images</th>"
+            "<th>status</th><th>pairs used</th><th>contradicting pairs</th>"
+            "<th></th></tr>";
+    for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
+      const MapperAttempt& attempt = run.mapper_attempts[i];
+      html << "<tr><td>" << attempt.random_seed << "</td><td>" << attempt.num_sub_models
+           << "</td><td>" << attempt.num_registered_images << "</td><td>"
+           << (attempt.produced_model ? Escape(ToString(attempt.status)) : "no model")
+           << "</td><td>" << attempt.num_pairs_used << " of " << attempt.num_pairs
+           << "</td><td>" << attempt.num_contradicting_pairs << "</td><td>"
+           << (static_cast<int>(i) == run.chosen_mapper_attempt ? "chosen" : "")
+           << "</td></tr>";
+    }
+    html << "</table>\n";
+  }
+  html << "<p>Conventions: x_in_odom = odom_from_cam * x_in_cam; Hamilton "
           "quaternions, order w, x, y, z; metres; metric scale in metres per "
           "reconstruction unit.</p>\n</body></html>\n";
   return html.str();

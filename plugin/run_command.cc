@@ -1,8 +1,9 @@
 // Stages, each timed and printed: [1] frame selection (odometry), [2]
-// feature extraction, [3] position priors + matching, [4] mapping, [5]
-// calibration and outputs. COLMAP runs headless on the CPU; intrinsics are
-// kept fixed in the mapper when given, because self-calibration on robot
-// video drifts.
+// feature extraction, [3] position priors + matching, [4] mapping, repeated
+// with other random seeds while the odometry contradicts the model (see
+// mapper_attempts.h), [5] calibration and outputs. COLMAP runs headless on
+// the CPU; intrinsics are kept fixed in the mapper when given, because
+// self-calibration on robot video drifts.
 
 #include "odomcal/plugin/run_command.h"
 
@@ -27,6 +28,7 @@
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/project_flags.h"
 
@@ -118,6 +120,34 @@ void CheckImagesWereRead(const std::string& database,
                       " images in " + image_path + " (see " + log_path +
                       (error.empty() ? "" : ": " + error) + ")");
   }
+}
+
+// "the odometry agrees with all 34 motion pairs", "2 of 34 motion pairs
+// contradict the odometry", or the calibration status when it gave no answer.
+std::string OdometryVerdict(const MapperAttempt& attempt) {
+  std::string verdict;
+  if (attempt.num_contradicting_pairs == 0) {
+    verdict = "the odometry agrees with all " + std::to_string(attempt.num_pairs) +
+              " motion pairs";
+  } else {
+    verdict = std::to_string(attempt.num_contradicting_pairs) + " of " +
+              std::to_string(attempt.num_pairs) + " motion pairs contradict the odometry";
+  }
+  if (attempt.status != CalibrationStatus::kSuccess) {
+    verdict += " (calibration: " + ToString(attempt.status) + ")";
+  }
+  return verdict;
+}
+
+// `target` becomes a copy of folder `source`; a failure leaves no half copy
+// under `target`'s name.
+void ReplaceWithCopy(const fs::path& source, const fs::path& target) {
+  fs::path temporary = target;
+  temporary += ".tmp";
+  fs::remove_all(temporary);
+  fs::copy(source, temporary, fs::copy_options::recursive);
+  fs::remove_all(target);
+  fs::rename(temporary, target);
 }
 
 }  // namespace
@@ -253,42 +283,77 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     clock.Done(Note(colmap.RunStage(matcher + "_matcher", arguments, {database})));
   }
 
-  // [4] Mapping.
-  const fs::path sparse = workspace / "sparse";
-  {
-    StageClock clock(4, kStages, "COLMAP mapping");
+  // [4] Mapping, each model checked against the odometry; [5] calibration
+  // of the model the odometry contradicts least, copied to sparse/.
+  inputs.database_path = database;
+  const fs::path attempts_root = workspace / "mapper_attempts";
+  std::vector<MapperAttempt> attempts;
+  for (int seed = 0; seed < run.mapper_attempts; ++seed) {
+    StageClock clock(4, kStages, "COLMAP mapping, --random_seed " + std::to_string(seed));
+    const std::string stage_name = "mapper_seed_" + std::to_string(seed);
+    const fs::path output = attempts_root / ("seed_" + std::to_string(seed));
     const bool fixed_intrinsics = !run.camera_params.empty();
-    std::vector<std::string> arguments = {
+    const std::vector<std::string> arguments = {
         "mapper", "--database_path", database, "--image_path", run.image_path,
-        "--output_path", sparse.string(), "--image_list_path",
-        (workspace / "image_list.txt").string(), "--Mapper.num_threads",
-        std::to_string(run.num_threads), "--Mapper.ba_refine_focal_length",
-        fixed_intrinsics ? "0" : "1", "--Mapper.ba_refine_principal_point", "0",
-        "--Mapper.ba_refine_extra_params", fixed_intrinsics ? "0" : "1"};
-    const fs::path first_model = sparse / "0";
-    std::error_code error;
+        "--output_path", output.string(), "--image_list_path",
+        (workspace / "image_list.txt").string(), "--random_seed", std::to_string(seed),
+        "--Mapper.num_threads", std::to_string(run.num_threads),
+        "--Mapper.ba_refine_focal_length", fixed_intrinsics ? "0" : "1",
+        "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params",
+        fixed_intrinsics ? "0" : "1"};
     // A rerun must not mix new sub-models with stale ones.
-    const fs::path marker = workspace / "stages" / "mapper.done";
-    if (!fs::exists(marker)) fs::remove_all(sparse, error);
-    fs::create_directories(sparse, error);
-    const ColmapStageResult stage =
-        colmap.RunStage("mapper", arguments, {first_model.string()});
-    if (!fs::exists(first_model)) {
-      throw ColmapError("COLMAP mapper produced no model (see " + stage.log_path +
-                        "): too little texture or overlap, or wrong intrinsics");
+    std::error_code error;
+    if (!fs::exists(workspace / "stages" / (stage_name + ".done"))) {
+      fs::remove_all(output, error);
     }
-    clock.Done(Note(stage));
+    fs::create_directories(output, error);
+    const ColmapStageResult stage =
+        colmap.RunStage(stage_name, arguments, {(output / "0").string()});
+    if (!fs::exists(output / "0")) {
+      MapperAttempt attempt;
+      attempt.random_seed = seed;
+      attempt.model_path = output.string();
+      attempts.push_back(attempt);
+      clock.Done("no model, log " + stage.log_path);
+      continue;
+    }
+    inputs.model_path = output.string();
+    const ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
+    attempts.push_back(SummarizeMapperAttempt(seed, output.string(), calibration.segments,
+                                              calibration.check));
+    const bool accepted = OdometryAcceptsModel(attempts.back());
+    clock.Done(Note(stage) + "; " + OdometryVerdict(attempts.back()) +
+               (accepted || seed + 1 == run.mapper_attempts ? "" : ": mapping again"));
+    if (accepted) break;
+  }
+  const int chosen = BestMapperAttempt(attempts);
+  if (chosen < 0) {
+    throw ColmapError("COLMAP mapper produced no model in " +
+                      std::to_string(attempts.size()) +
+                      (attempts.size() == 1 ? " run" : " runs") + " (see " +
+                      (workspace / "logs" / "mapper_seed_0.log").string() +
+                      "): too little texture or overlap, or wrong intrinsics");
   }
 
-  // [5] Calibration.
   {
-    StageClock clock(5, kStages, "calibrating against the odometry");
+    StageClock clock(5, kStages,
+                     "calibrating against the odometry (model of --random_seed " +
+                         std::to_string(attempts[chosen].random_seed) + ")");
+    const fs::path sparse = workspace / "sparse";
+    ReplaceWithCopy(attempts[chosen].model_path, sparse);
     inputs.model_path = sparse.string();
-    inputs.database_path = database;
-    const ColmapCalibrationRun calibration =
-        CalibrateColmapProject(inputs, command);
+    ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
+    calibration.mapper_attempts = attempts;
+    calibration.chosen_mapper_attempt = chosen;
+    if (!OdometryAcceptsModel(attempts[chosen]) && attempts.size() > 1) {
+      calibration.check.result.warnings.push_back(
+          "every one of " + std::to_string(attempts.size()) +
+          " COLMAP mapper runs gave motion pairs that contradict the odometry; "
+          "the model of --random_seed " + std::to_string(attempts[chosen].random_seed) +
+          " contradicts it least");
+    }
     WriteColmapCalibrationOutputs(calibration, run.workspace_path);
-    clock.Done("wrote calibration.json, sparse_metric/, camera_in_odom.tum, "
+    clock.Done("wrote calibration.json, sparse/, sparse_metric/, camera_in_odom.tum, "
                "report.html");
     return calibration;
   }
@@ -340,6 +405,12 @@ int RunRun(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--frame_min_rotation_deg", run.frames.min_rotation_deg,
                  "...or turned this much since the last kept image")
+      ->capture_default_str();
+  app.add_option("--mapper_attempts", run.mapper_attempts,
+                 "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
+                 "contradicts motion pairs of the model; the model it contradicts "
+                 "least is kept")
+      ->check(CLI::Range(1, 20))
       ->capture_default_str();
   app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
       ->capture_default_str();

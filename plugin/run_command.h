@@ -1,6 +1,7 @@
 // `odomcal run`: from an image folder and an odometry log to a calibration.
 // Selects frames with the odometry, runs COLMAP (feature_extractor,
-// odometry-guided spatial or sequential matching, mapper) in a workspace,
+// odometry-guided spatial or sequential matching, mapper, run again with
+// another random seed while the odometry contradicts its model) in a workspace,
 // then calibrates the reconstruction as `odomcal colmap` does. Finished
 // COLMAP stages are reused when rerun on the same workspace.
 #pragma once
@@ -23,6 +24,7 @@ struct RunSettings {
   int num_threads = 2;
   int spatial_neighbors = 8;
   int sequential_overlap = 10;
+  int mapper_attempts = 3;  // at most; see mapper_attempts.h
   FrameSelectionOptions frames;
 };
 

@@ -307,7 +307,7 @@ class Robustness : public ::testing::Test {
   // images/ with `count` files of the drive's camera times every 1 s,
   // image_timestamps.csv and odometry.csv, for `odomcal run`. The files hold
   // `contents` (not necessarily an image).
-  void WriteImageFolder(int count, const std::string& contents) const {
+  SimulatedDrive WriteImageFolder(int count, const std::string& contents) const {
     const SimulatedDrive drive = WriteDrive(3);
     fs::create_directories(dir_ / "images");
     std::ofstream stamps(Path("image_timestamps.csv"));
@@ -318,6 +318,56 @@ class Robustness : public ::testing::Test {
       stamps << name << ","
              << FormatTimestampSeconds(drive.camera.poses[10 * i + 10].stamp_ns) << "\n";
     }
+    return drive;
+  }
+
+  // models/<name>/: the model COLMAP's mapper would make of WriteImageFolder's
+  // `count` images (the drive's camera poses, no points), with images 7 and
+  // 19 registered `misregistration_deg` off about their own x axis.
+  void WriteMapperModel(const SimulatedDrive& drive, int count, const std::string& name,
+                        double misregistration_deg) const {
+    ColmapModel model;
+    ColmapCamera camera;
+    camera.camera_id = 1;
+    camera.model = ColmapCameraModel::kPinhole;
+    camera.width = 320;
+    camera.height = 240;
+    camera.params = {260, 260, 160, 120};
+    model.cameras[1] = camera;
+    for (int i = 0; i < count; ++i) {
+      ColmapImage image;
+      image.image_id = static_cast<uint32_t>(i + 1);
+      image.camera_id = 1;
+      char file_name[32];
+      std::snprintf(file_name, sizeof(file_name), "%06d.png", i);
+      image.name = file_name;
+      image.cam_from_world = Inverse(drive.camera.poses[10 * i + 10].world_from_sensor);
+      if (i == 7 || i == 19) {
+        image.cam_from_world.rotation =
+            Eigen::AngleAxisd(misregistration_deg * kPi / 180.0, Eigen::Vector3d::UnitX()) *
+            image.cam_from_world.rotation;
+      }
+      model.images[image.image_id] = image;
+    }
+    fs::create_directories(dir_ / "models" / name);
+    WriteColmapModel(model, (dir_ / "models" / name).string(), ColmapFormat::kBinary);
+  }
+
+  // bin/colmap whose mapper copies models/seed_<--random_seed>/ to
+  // <--output_path>/0, or writes nothing when there is no such model.
+  std::string WriteFakeColmapWithMapperModels() const {
+    return WriteFakeColmap(
+        "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
+        " \"$3\"; fi\n"
+        "if [ \"$1\" = mapper ]; then\n"
+        "  while [ $# -gt 0 ]; do\n"
+        "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) seed=\"$2\";; esac\n"
+        "    shift\n"
+        "  done\n"
+        "  model=" + Path("models") + "/seed_$seed\n"
+        "  if [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* \"$out/0/\"; fi\n"
+        "fi\n"
+        "exit 0\n");
   }
 
   std::vector<std::string> RunCommand(const std::vector<std::string>& extra = {}) const {
@@ -727,7 +777,7 @@ TEST_F(Robustness, ColmapAbortsMidRun) {
   ExpectBadInput(run, std::string(kRunError) +
                           "COLMAP mapper failed with exit code 134 (COLMAP aborted on a "
                           "failed CHECK); see " +
-                          Path("ws/logs/mapper.log") +
+                          Path("ws/logs/mapper_seed_0.log") +
                           " (last line: F0101 mapper.cc:1] Check failed: reconstruction)");
 }
 
@@ -746,9 +796,78 @@ TEST_F(Robustness, ColmapProducesNoModel) {
                         WritePreparedDatabase() + " \"$3\"; fi\nexit 0\n");
   run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
                    {{"PATH=" + bin + ":/usr/bin:/bin"}});
-  ExpectBadInput(run, std::string(kRunError) + "COLMAP mapper produced no model (see " +
-                          Path("ws/logs/mapper.log") +
+  ExpectBadInput(run, std::string(kRunError) + "COLMAP mapper produced no model in 3 runs (see " +
+                          Path("ws/logs/mapper_seed_0.log") +
                           "): too little texture or overlap, or wrong intrinsics");
+}
+
+// COLMAP's mapper returns, for one random seed, no model, for another a model
+// with two images registered 3 deg off (the odometry contradicts the motion
+// pairs around them), for a third a clean one: odomcal maps with seeds 0, 1,
+// 2 and calibrates the clean model, copied to sparse/.
+TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_1", 3.0);
+  WriteMapperModel(drive, kImages, "seed_2", 0.0);
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  const CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
+                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("--random_seed 1 ... done"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("contradict the odometry: mapping again"), std::string::npos)
+      << run.out;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  const json& attempts = result["colmap"]["mapper_attempts"];
+  ASSERT_EQ(attempts.size(), 3u) << attempts.dump(2);
+  EXPECT_FALSE(attempts[0]["produced_model"]);
+  EXPECT_TRUE(attempts[1]["produced_model"]);
+  EXPECT_GT(attempts[1]["num_contradicting_pairs"], 0) << attempts.dump(2);
+  EXPECT_EQ(attempts[2]["num_contradicting_pairs"], 0) << attempts.dump(2);
+  EXPECT_EQ(attempts[2]["num_pairs_used"], attempts[2]["num_motion_pairs"]);
+  EXPECT_FALSE(attempts[0]["chosen"]);
+  EXPECT_FALSE(attempts[1]["chosen"]);
+  EXPECT_TRUE(attempts[2]["chosen"]);
+  EXPECT_EQ(ReadFile(dir_ / "ws" / "sparse" / "0" / "images.bin"),
+            ReadFile(dir_ / "models" / "seed_2" / "images.bin"));
+  EXPECT_EQ(result["colmap"]["sub_models"][0]["path"], Path("ws/sparse/0"));
+  EXPECT_LT(RotationAngle(Eigen::Quaterniond(result["odom_from_cam"]["quaternion_wxyz"][0],
+                                             result["odom_from_cam"]["quaternion_wxyz"][1],
+                                             result["odom_from_cam"]["quaternion_wxyz"][2],
+                                             result["odom_from_cam"]["quaternion_wxyz"][3])
+                              .conjugate() *
+                          drive.odom_from_cam.rotation),
+            0.1 * kPi / 180.0);
+}
+
+// Every run contradicted: the earliest of the least contradicted models is
+// calibrated, with a warning; --mapper_attempts 1 maps once.
+TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  for (const char* seed : {"seed_0", "seed_1", "seed_2"}) {
+    WriteMapperModel(drive, kImages, seed, 3.0);
+  }
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
+                                 {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  ASSERT_EQ(result["colmap"]["mapper_attempts"].size(), 3u);
+  EXPECT_TRUE(result["colmap"]["mapper_attempts"][0]["chosen"]);
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "every one of 3 COLMAP mapper runs gave motion pairs that "
+                           "contradict the odometry; the model of --random_seed 0 "
+                           "contradicts it least"))
+      << result["warnings"].dump(2);
+
+  fs::remove_all(dir_ / "ws");
+  run = RunOdomcal(RunCommand({"--matcher", "sequential", "--mapper_attempts", "1"}),
+                   {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 1u);
 }
 
 // Real COLMAP on files that are not images: feature_extractor skips every

@@ -1,0 +1,75 @@
+#include "odomcal/plugin/mapper_attempts.h"
+
+#include <tuple>
+
+namespace odomcal {
+namespace {
+
+// Lower is better: how much of an answer the calibration gave.
+int StatusRank(CalibrationStatus status) {
+  switch (status) {
+    case CalibrationStatus::kSuccess: return 0;
+    case CalibrationStatus::kUnobservable: return 1;
+    case CalibrationStatus::kRefinementFailed: return 2;
+    case CalibrationStatus::kInconsistentData: return 3;
+    case CalibrationStatus::kNotEnoughMotion: return 4;
+    case CalibrationStatus::kNotRun: return 5;
+  }
+  return 5;
+}
+
+}  // namespace
+
+MapperAttempt SummarizeMapperAttempt(int random_seed,
+                                     const std::string& model_path,
+                                     const std::vector<ColmapSegment>& segments,
+                                     const StretchCheckResult& check) {
+  MapperAttempt attempt;
+  attempt.random_seed = random_seed;
+  attempt.model_path = model_path;
+  attempt.produced_model = !segments.empty();
+  attempt.num_sub_models = static_cast<int>(segments.size());
+  for (const ColmapSegment& segment : segments) {
+    attempt.num_registered_images += segment.num_registered_images;
+  }
+  attempt.status = check.result.status;
+  int num_left_out = 0;
+  for (const InconsistentStretch& stretch : check.stretches) {
+    if (!stretch.kept_as_segment) num_left_out += stretch.num_pairs;
+  }
+  const int num_calibrated = static_cast<int>(check.pairs.size());
+  attempt.num_pairs = num_calibrated + num_left_out;
+  attempt.num_pairs_used =
+      check.result.has_estimate ? check.result.diagnostics.num_pairs_used : 0;
+  attempt.num_contradicting_pairs =
+      num_calibrated - attempt.num_pairs_used + num_left_out;
+  return attempt;
+}
+
+bool OdometryAcceptsModel(const MapperAttempt& attempt) {
+  return attempt.produced_model && StatusRank(attempt.status) <= 1 &&
+         attempt.num_contradicting_pairs == 0;
+}
+
+bool IsBetterMapperAttempt(const MapperAttempt& a, const MapperAttempt& b) {
+  // Tuples compare lexicographically; negated counts: more is better.
+  const auto key = [](const MapperAttempt& attempt) {
+    return std::make_tuple(!attempt.produced_model, StatusRank(attempt.status),
+                           attempt.num_contradicting_pairs, -attempt.num_pairs_used,
+                           -attempt.num_registered_images);
+  };
+  return key(a) < key(b);
+}
+
+int BestMapperAttempt(const std::vector<MapperAttempt>& attempts) {
+  int best = -1;
+  for (size_t i = 0; i < attempts.size(); ++i) {
+    if (!attempts[i].produced_model) continue;
+    if (best < 0 || IsBetterMapperAttempt(attempts[i], attempts[best])) {
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,147 @@
+#include "odomcal/plugin/mapper_attempts.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
+
+namespace odomcal {
+namespace {
+
+std::vector<ColmapSegment> OneSubModel(int num_registered_images) {
+  ColmapSegment segment;
+  segment.sub_model = "0";
+  segment.num_registered_images = num_registered_images;
+  return {segment};
+}
+
+// Noisy motions of a clean model, and the same motions with the camera
+// rotation of two pairs turned 2 deg further, as COLMAP's mapper produced
+// for one seed of the tilted preset.
+class MapperAttemptsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto rng = SeededRng(90);
+    MotionSimulatorOptions simulation;
+    simulation.num_pairs = 40;
+    simulation.add_noise = true;
+    truth_ = SimulateMotions(simulation, &rng);
+    options_.fixed_translation_z_m = truth_.odom_from_cam.translation.z();
+  }
+
+  StretchCheckResult Calibrate(const MotionPairs& pairs) const {
+    return CalibrateWithStretchCheck(pairs, options_, StretchOptions());
+  }
+
+  MotionPairs WithTwoMisregisteredImages() const {
+    MotionPairs pairs = truth_.pairs;
+    const double two_deg = 2.0 * M_PI / 180.0;
+    for (const int i : {11, 27}) {
+      const Eigen::Vector3d axis = pairs[i].cam_i_from_cam_j.rotation *
+                                   Eigen::Vector3d::UnitX();  // any axis
+      pairs[i].cam_i_from_cam_j.rotation =
+          Eigen::Quaterniond(Eigen::AngleAxisd(two_deg, axis)) *
+          pairs[i].cam_i_from_cam_j.rotation;
+    }
+    return pairs;
+  }
+
+  SimulatedMotions truth_;
+  CalibrationOptions options_;
+};
+
+TEST_F(MapperAttemptsTest, AcceptsAModelTheOdometryAgreesWith) {
+  const StretchCheckResult check = Calibrate(truth_.pairs);
+  ASSERT_TRUE(check.result.IsSuccess()) << check.result.message;
+  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  EXPECT_TRUE(attempt.produced_model);
+  EXPECT_EQ(attempt.num_sub_models, 1);
+  EXPECT_EQ(attempt.num_registered_images, 41);
+  EXPECT_EQ(attempt.num_pairs, 40);
+  EXPECT_EQ(attempt.num_pairs_used, 40);
+  EXPECT_EQ(attempt.num_contradicting_pairs, 0);
+  EXPECT_TRUE(OdometryAcceptsModel(attempt));
+}
+
+TEST_F(MapperAttemptsTest, CountsPairsTheOdometryContradicts) {
+  const StretchCheckResult check = Calibrate(WithTwoMisregisteredImages());
+  ASSERT_TRUE(check.result.IsSuccess()) << check.result.message;
+  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  EXPECT_EQ(attempt.num_pairs, 40);
+  EXPECT_EQ(attempt.num_pairs_used, 38);
+  EXPECT_EQ(attempt.num_contradicting_pairs, 2);
+  EXPECT_FALSE(OdometryAcceptsModel(attempt));
+}
+
+TEST_F(MapperAttemptsTest, PrefersTheCleanModelWhicheverSeedMadeIt) {
+  const MapperAttempt broken =
+      SummarizeMapperAttempt(0, "a/0", OneSubModel(41), Calibrate(WithTwoMisregisteredImages()));
+  const MapperAttempt clean =
+      SummarizeMapperAttempt(1, "a/1", OneSubModel(41), Calibrate(truth_.pairs));
+  EXPECT_TRUE(IsBetterMapperAttempt(clean, broken));
+  EXPECT_FALSE(IsBetterMapperAttempt(broken, clean));
+  EXPECT_EQ(BestMapperAttempt({broken, clean}), 1);
+  EXPECT_EQ(BestMapperAttempt({clean, broken}), 0);
+}
+
+TEST_F(MapperAttemptsTest, CountsAStretchLeftOutAsContradicting) {
+  StretchCheckResult check = Calibrate(truth_.pairs);
+  InconsistentStretch folded;
+  folded.num_pairs = 5;
+  check.stretches.push_back(folded);
+  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(46), check);
+  EXPECT_EQ(attempt.num_pairs, 45);
+  EXPECT_EQ(attempt.num_contradicting_pairs, 5);
+  EXPECT_FALSE(OdometryAcceptsModel(attempt));
+  // A stretch kept with a scale of its own is explained, not contradicting.
+  check.stretches.back().kept_as_segment = true;
+  EXPECT_TRUE(OdometryAcceptsModel(
+      SummarizeMapperAttempt(0, "sparse", OneSubModel(46), check)));
+}
+
+TEST(MapperAttempts, RanksStatusBeforeContradictionsBeforeSize) {
+  MapperAttempt success;
+  success.produced_model = true;
+  success.status = CalibrationStatus::kSuccess;
+  success.num_contradicting_pairs = 3;
+  success.num_pairs_used = 20;
+  MapperAttempt inconsistent = success;
+  inconsistent.status = CalibrationStatus::kInconsistentData;
+  inconsistent.num_contradicting_pairs = 0;
+  EXPECT_TRUE(IsBetterMapperAttempt(success, inconsistent));
+
+  MapperAttempt fewer_contradictions = success;
+  fewer_contradictions.num_contradicting_pairs = 1;
+  fewer_contradictions.num_pairs_used = 10;
+  EXPECT_TRUE(IsBetterMapperAttempt(fewer_contradictions, success));
+
+  MapperAttempt more_pairs = success;
+  more_pairs.num_pairs_used = 21;
+  EXPECT_TRUE(IsBetterMapperAttempt(more_pairs, success));
+
+  // A straight path is unobservable whatever the model: accepted when clean.
+  MapperAttempt straight = success;
+  straight.status = CalibrationStatus::kUnobservable;
+  straight.num_contradicting_pairs = 0;
+  EXPECT_TRUE(OdometryAcceptsModel(straight));
+  straight.status = CalibrationStatus::kNotEnoughMotion;
+  EXPECT_FALSE(OdometryAcceptsModel(straight));
+}
+
+TEST(MapperAttempts, NoModelIsNeverChosen) {
+  MapperAttempt none;
+  none.produced_model = false;
+  EXPECT_EQ(BestMapperAttempt({}), -1);
+  EXPECT_EQ(BestMapperAttempt({none, none}), -1);
+  EXPECT_FALSE(OdometryAcceptsModel(none));
+  MapperAttempt some;
+  some.produced_model = true;
+  some.status = CalibrationStatus::kInconsistentData;
+  EXPECT_EQ(BestMapperAttempt({none, some}), 1);
+  EXPECT_TRUE(IsBetterMapperAttempt(some, none));
+}
+
+}  // namespace
+}  // namespace odomcal
