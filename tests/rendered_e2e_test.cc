@@ -166,6 +166,10 @@ class RenderedEndToEnd : public ::testing::Test {
     for (const double error : MetricModelScaleErrors(run)) {
       std::cout << " " << 100.0 * error << " %";
     }
+    std::cout << "; contradicting pairs per mapper run:";
+    for (const auto& attempt : run.result["colmap"]["mapper_attempts"]) {
+      std::cout << " " << attempt["num_contradicting_pairs"] << (attempt["chosen"] ? "*" : "");
+    }
     std::cout << std::endl;
     EXPECT_LT(std::abs(t.x()), translation_m) << run.log;
     EXPECT_LT(std::abs(t.y()), translation_m) << run.log;
