@@ -64,20 +64,10 @@ Rigid3d Pose(double qw,
 // without points2D.
 ColmapModel MakeModel() {
   ColmapModel model;
-  ColmapCamera pinhole;
-  pinhole.camera_id = 1;
-  pinhole.model = ColmapCameraModel::kPinhole;
-  pinhole.width = 640;
-  pinhole.height = 480;
-  pinhole.params = {500.25, 501.5, 320.1, 239.9};
-  model.cameras[1] = pinhole;
-  ColmapCamera opencv;
-  opencv.camera_id = 7;
-  opencv.model = ColmapCameraModel::kOpenCV;
-  opencv.width = 1280;
-  opencv.height = 720;
-  opencv.params = {900.0, 901.0, 640.5, 360.5, -0.1, 0.01, 1e-4, -2e-5};
-  model.cameras[7] = opencv;
+  model.cameras[1] = MakeColmapCamera(1, ColmapCameraModel::kPinhole, 640, 480,
+                                      {500.25, 501.5, 320.1, 239.9});
+  model.cameras[7] = MakeColmapCamera(7, ColmapCameraModel::kOpenCV, 1280, 720,
+                                      {900.0, 901.0, 640.5, 360.5, -0.1, 0.01, 1e-4, -2e-5});
 
   ColmapImage a;
   a.image_id = 3;

@@ -39,13 +39,7 @@ Rigid3d PoseNumber(int k) {
 ColmapModel MakeModel(
     const std::vector<std::tuple<uint32_t, std::string, Rigid3d>>& images) {
   ColmapModel model;
-  ColmapCamera camera;
-  camera.camera_id = 1;
-  camera.model = ColmapCameraModel::kSimplePinhole;
-  camera.width = 64;
-  camera.height = 48;
-  camera.params = {50, 32, 24};
-  model.cameras[1] = camera;
+  model.cameras[1] = MakeColmapCamera(1, ColmapCameraModel::kSimplePinhole, 64, 48, {50, 32, 24});
   for (const auto& [id, name, pose] : images) {
     ColmapImage image;
     image.image_id = id;

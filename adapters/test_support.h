@@ -1,11 +1,15 @@
-// Helpers shared by the adapters' unit tests (not installed).
+// Helpers shared by the adapters' unit tests and tests/ (not installed).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/format_error.h"
 
 namespace odomcal {
@@ -20,6 +24,20 @@ inline std::string FormatErrorOf(const std::function<void()>& action) {
   }
   ADD_FAILURE() << "no FormatError thrown";
   return "";
+}
+
+inline ColmapCamera MakeColmapCamera(uint32_t camera_id,
+                                     ColmapCameraModel model,
+                                     int width,
+                                     int height,
+                                     std::vector<double> params) {
+  ColmapCamera camera;
+  camera.camera_id = camera_id;
+  camera.model = model;
+  camera.width = width;
+  camera.height = height;
+  camera.params = std::move(params);
+  return camera;
 }
 
 inline bool Contains(const std::string& text, const std::string& part) {

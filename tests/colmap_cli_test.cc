@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/drive_simulator.h"
 #include "odomcal/tests/test_files.h"
@@ -80,13 +81,8 @@ class ColmapCli : public ::testing::Test {
     stamps << "image_name,timestamp\n";
     for (int part = 0; part < 2; ++part) {
       ColmapModel model;
-      ColmapCamera camera;
-      camera.camera_id = 1;
-      camera.model = ColmapCameraModel::kPinhole;
-      camera.width = 320;
-      camera.height = 240;
-      camera.params = {250, 250, 160, 120};
-      model.cameras[1] = camera;
+      model.cameras[1] =
+          MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120});
       // Sub-model 1 lives in another frame and scale than the simulator's.
       const Rigid3d frame = part == 0 ? Rigid3d()
                                       : Rigid3d(Eigen::Quaterniond(0.8, 0.0, 0.6, 0.0),

@@ -30,6 +30,7 @@
 #include <unistd.h>
 
 #include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/drive_simulator.h"
@@ -268,13 +269,8 @@ class Robustness : public ::testing::Test {
   void WriteColmapProject(ColmapFormat format = ColmapFormat::kBinary) const {
     const SimulatedDrive drive = WriteDrive(2);
     ColmapModel model;
-    ColmapCamera camera;
-    camera.camera_id = 1;
-    camera.model = ColmapCameraModel::kPinhole;
-    camera.width = 320;
-    camera.height = 240;
-    camera.params = {260, 260, 160, 120};
-    model.cameras[1] = camera;
+    model.cameras[1] =
+        MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
     fs::create_directories(dir_ / "project" / "sparse" / "0");
     std::ofstream stamps(dir_ / "project" / "image_timestamps.csv");
     stamps << "image_name,timestamp\n";
@@ -327,13 +323,8 @@ class Robustness : public ::testing::Test {
   void WriteMapperModel(const SimulatedDrive& drive, int count, const std::string& name,
                         double misregistration_deg) const {
     ColmapModel model;
-    ColmapCamera camera;
-    camera.camera_id = 1;
-    camera.model = ColmapCameraModel::kPinhole;
-    camera.width = 320;
-    camera.height = 240;
-    camera.params = {260, 260, 160, 120};
-    model.cameras[1] = camera;
+    model.cameras[1] =
+        MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
     for (int i = 0; i < count; ++i) {
       ColmapImage image;
       image.image_id = static_cast<uint32_t>(i + 1);
