@@ -1,5 +1,6 @@
 #include "odomcal/plugin/mapper_attempts.h"
 
+#include <algorithm>
 #include <tuple>
 
 namespace odomcal {
@@ -35,8 +36,17 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   attempt.status = check.result.status;
   int num_left_out = 0;
   for (const InconsistentStretch& stretch : check.stretches) {
-    if (!stretch.kept_as_segment) num_left_out += stretch.num_pairs;
+    if (stretch.kept_as_segment) continue;
+    num_left_out += stretch.num_pairs;
+    attempt.contradicted_spans.emplace_back(stretch.first_stamp_ns, stretch.last_stamp_ns);
   }
+  const std::vector<char>& used = check.result.diagnostics.inlier_mask;
+  for (size_t k = 0; k < check.pairs.size(); ++k) {
+    if (check.result.has_estimate && k < used.size() && used[k] != 0) continue;
+    attempt.contradicted_spans.emplace_back(check.pairs[k].stamp_i_ns,
+                                            check.pairs[k].stamp_j_ns);
+  }
+  std::sort(attempt.contradicted_spans.begin(), attempt.contradicted_spans.end());
   const int num_calibrated = static_cast<int>(check.pairs.size());
   attempt.num_pairs = num_calibrated + num_left_out;
   attempt.num_pairs_used =
@@ -49,6 +59,12 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
 bool OdometryAcceptsModel(const MapperAttempt& attempt) {
   return attempt.produced_model && StatusRank(attempt.status) <= 1 &&
          attempt.num_contradicting_pairs == 0;
+}
+
+bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier) {
+  return later.produced_model && earlier.produced_model &&
+         !later.contradicted_spans.empty() &&
+         later.contradicted_spans == earlier.contradicted_spans;
 }
 
 bool IsBetterMapperAttempt(const MapperAttempt& a, const MapperAttempt& b) {

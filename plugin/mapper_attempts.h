@@ -10,7 +10,9 @@
 // another seed while it does, and keeps the model it contradicts least.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "odomcal/adapters/colmap_segments.h"
@@ -31,6 +33,8 @@ struct MapperAttempt {
   // Pairs the odometry contradicts: rejected as outliers, or inside a
   // stretch left out as folded.
   int num_contradicting_pairs = 0;
+  // Where: [first, last] stamp of each such pair or left-out stretch.
+  std::vector<std::pair<int64_t, int64_t>> contradicted_spans;
 };
 
 // What the calibration on one attempt's model found.
@@ -43,6 +47,11 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
 // answer (or found a quantity unobservable, which the motion decides, not
 // the model) and no motion pair contradicts the odometry.
 bool OdometryAcceptsModel(const MapperAttempt& attempt);
+
+// True when `later` is contradicted exactly where `earlier` was: another
+// seed changed nothing there, so the odometry or the images disagree, not
+// the mapper's randomness, and a further run would not help.
+bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier);
 
 // "a is a better model than b": a model at all; then a status closer to
 // success; then fewer contradicting pairs (their errors leak into the

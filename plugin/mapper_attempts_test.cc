@@ -35,10 +35,10 @@ class MapperAttemptsTest : public ::testing::Test {
     return CalibrateWithStretchCheck(pairs, options_, StretchOptions());
   }
 
-  MotionPairs WithTwoMisregisteredImages() const {
+  MotionPairs WithMisregisteredImages(const std::vector<int>& broken_pairs = {11, 27}) const {
     MotionPairs pairs = truth_.pairs;
     const double two_deg = 2.0 * M_PI / 180.0;
-    for (const int i : {11, 27}) {
+    for (const int i : broken_pairs) {
       const Eigen::Vector3d axis = pairs[i].cam_i_from_cam_j.rotation *
                                    Eigen::Vector3d::UnitX();  // any axis
       pairs[i].cam_i_from_cam_j.rotation =
@@ -66,7 +66,7 @@ TEST_F(MapperAttemptsTest, AcceptsAModelTheOdometryAgreesWith) {
 }
 
 TEST_F(MapperAttemptsTest, CountsPairsTheOdometryContradicts) {
-  const StretchCheckResult check = Calibrate(WithTwoMisregisteredImages());
+  const StretchCheckResult check = Calibrate(WithMisregisteredImages());
   ASSERT_TRUE(check.result.IsSuccess()) << check.result.message;
   const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
   EXPECT_EQ(attempt.num_pairs, 40);
@@ -77,7 +77,7 @@ TEST_F(MapperAttemptsTest, CountsPairsTheOdometryContradicts) {
 
 TEST_F(MapperAttemptsTest, PrefersTheCleanModelWhicheverSeedMadeIt) {
   const MapperAttempt broken =
-      SummarizeMapperAttempt(0, "a/0", OneSubModel(41), Calibrate(WithTwoMisregisteredImages()));
+      SummarizeMapperAttempt(0, "a/0", OneSubModel(41), Calibrate(WithMisregisteredImages()));
   const MapperAttempt clean =
       SummarizeMapperAttempt(1, "a/1", OneSubModel(41), Calibrate(truth_.pairs));
   EXPECT_TRUE(IsBetterMapperAttempt(clean, broken));
@@ -99,6 +99,21 @@ TEST_F(MapperAttemptsTest, CountsAStretchLeftOutAsContradicting) {
   check.stretches.back().kept_as_segment = true;
   EXPECT_TRUE(OdometryAcceptsModel(
       SummarizeMapperAttempt(0, "sparse", OneSubModel(46), check)));
+}
+
+TEST_F(MapperAttemptsTest, SeesTheSameContradictionsAgain) {
+  const auto attempt = [&](int seed, const MotionPairs& pairs) {
+    return SummarizeMapperAttempt(seed, "a", OneSubModel(41), Calibrate(pairs));
+  };
+  const MapperAttempt first = attempt(0, WithMisregisteredImages({11, 27}));
+  ASSERT_EQ(first.contradicted_spans.size(), 2u);
+  EXPECT_EQ(first.contradicted_spans[0],
+            std::make_pair(truth_.pairs[11].stamp_i_ns, truth_.pairs[11].stamp_j_ns));
+  EXPECT_TRUE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11, 27})), first));
+  EXPECT_FALSE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11, 30})), first));
+  EXPECT_FALSE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11})), first));
+  const MapperAttempt clean = attempt(1, truth_.pairs);
+  EXPECT_FALSE(RepeatsContradictions(clean, clean));
 }
 
 TEST(MapperAttempts, RanksStatusBeforeContradictionsBeforeSize) {

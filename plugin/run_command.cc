@@ -288,6 +288,7 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   inputs.database_path = database;
   const fs::path attempts_root = workspace / "mapper_attempts";
   std::vector<MapperAttempt> attempts;
+  int repeated_seed = -1;  // an earlier seed contradicted where the last was
   for (int seed = 0; seed < run.mapper_attempts; ++seed) {
     StageClock clock(4, kStages, "COLMAP mapping, --random_seed " + std::to_string(seed));
     const std::string stage_name = "mapper_seed_" + std::to_string(seed);
@@ -322,9 +323,19 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     attempts.push_back(SummarizeMapperAttempt(seed, output.string(), calibration.segments,
                                               calibration.check));
     const bool accepted = OdometryAcceptsModel(attempts.back());
-    clock.Done(Note(stage) + "; " + OdometryVerdict(attempts.back()) +
-               (accepted || seed + 1 == run.mapper_attempts ? "" : ": mapping again"));
-    if (accepted) break;
+    for (size_t i = 0; i + 1 < attempts.size() && !accepted; ++i) {
+      if (RepeatsContradictions(attempts.back(), attempts[i])) {
+        repeated_seed = attempts[i].random_seed;
+      }
+    }
+    std::string note = Note(stage) + "; " + OdometryVerdict(attempts.back());
+    if (repeated_seed >= 0) {
+      note += ", the same as with --random_seed " + std::to_string(repeated_seed);
+    } else if (!accepted && seed + 1 < run.mapper_attempts) {
+      note += ": mapping again";
+    }
+    clock.Done(note);
+    if (accepted || repeated_seed >= 0) break;
   }
   const int chosen = BestMapperAttempt(attempts);
   if (chosen < 0) {
@@ -345,7 +356,14 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
     calibration.mapper_attempts = attempts;
     calibration.chosen_mapper_attempt = chosen;
-    if (!OdometryAcceptsModel(attempts[chosen]) && attempts.size() > 1) {
+    if (repeated_seed >= 0) {
+      calibration.check.result.warnings.push_back(
+          "COLMAP mapper runs with --random_seed " + std::to_string(repeated_seed) +
+          " and " + std::to_string(attempts.back().random_seed) + " gave the same " +
+          std::to_string(attempts.back().num_contradicting_pairs) +
+          " motion pairs that contradict the odometry: the odometry or the images "
+          "disagree there, not the mapper's randomness");
+    } else if (!OdometryAcceptsModel(attempts[chosen]) && attempts.size() > 1) {
       calibration.check.result.warnings.push_back(
           "every one of " + std::to_string(attempts.size()) +
           " COLMAP mapper runs gave motion pairs that contradict the odometry; "
