@@ -122,12 +122,6 @@ void CheckImagesWereRead(const std::string& database,
   }
 }
 
-std::string Pixels(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.2f", value);
-  return text;
-}
-
 // "the odometry agrees with all 34 motion pairs", "2 of 34 motion pairs
 // contradict the odometry", or the calibration status when it gave no answer.
 std::string OdometryVerdict(const MapperAttempt& attempt) {
@@ -252,13 +246,6 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                         workspace / "stages" / "feature_extractor.done");
     clock.Done(Note(stage));
   }
-  uint64_t image_max_side_px = 0;
-  for (const ColmapDatabaseCamera& camera : ReadColmapDatabaseCameras(database)) {
-    image_max_side_px =
-        std::max({image_max_side_px, camera.camera.width, camera.camera.height});
-  }
-  const ColmapPixelThresholds pixels = ScaledPixelThresholds(
-      static_cast<int>(std::min<uint64_t>(image_max_side_px, 1u << 20)));
 
   // [3] Matching, guided by odometry positions.
   std::string matcher = run.matcher;
@@ -286,16 +273,12 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                    "--SpatialMatching.max_num_neighbors",
                    std::to_string(run.spatial_neighbors),
                    "--SpatialMatching.max_distance", "5"};
-      arguments.insert(arguments.end(), {"--" + TwoViewMaxErrorOption(version),
-                                         Pixels(pixels.two_view_max_error_px)});
     } else {
       arguments = {"sequential_matcher", "--database_path", database,
                    "--" + matching + ".use_gpu", "0",
                    "--" + matching + ".num_threads", std::to_string(run.num_threads),
                    "--SequentialMatching.overlap",
-                   std::to_string(run.sequential_overlap),
-                   "--" + TwoViewMaxErrorOption(version),
-                   Pixels(pixels.two_view_max_error_px)};
+                   std::to_string(run.sequential_overlap)};
     }
     clock.Done(Note(colmap.RunStage(matcher + "_matcher", arguments, {database})));
   }
@@ -318,10 +301,7 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
         "--Mapper.num_threads", std::to_string(run.num_threads),
         "--Mapper.ba_refine_focal_length", fixed_intrinsics ? "0" : "1",
         "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params",
-        fixed_intrinsics ? "0" : "1", "--Mapper.init_max_error",
-        Pixels(pixels.init_max_error_px), "--Mapper.abs_pose_max_error",
-        Pixels(pixels.abs_pose_max_error_px), "--Mapper.filter_max_reproj_error",
-        Pixels(pixels.filter_max_reproj_error_px)};
+        fixed_intrinsics ? "0" : "1"};
     // A rerun must not mix new sub-models with stale ones.
     std::error_code error;
     if (!fs::exists(workspace / "stages" / (stage_name + ".done"))) {

@@ -387,9 +387,8 @@ class Robustness : public ::testing::Test {
     return (dir_ / "bin").string();
   }
 
-  // prepared.db: a database with the cameras and images tables of COLMAP
-  // 3.8 (one PINHOLE camera, 320x240, and every image of images/), as
-  // feature_extractor would leave it.
+  // prepared.db: a database with the images table of COLMAP 3.8 holding
+  // every image of images/, as feature_extractor would leave it.
   std::string WritePreparedDatabase() const {
     const std::string path = Path("prepared.db");
     sqlite3* db = nullptr;
@@ -398,12 +397,7 @@ class Robustness : public ::testing::Test {
         "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
         "name TEXT NOT NULL UNIQUE, camera_id INTEGER NOT NULL, prior_qw REAL, "
         "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty REAL, "
-        "prior_tz REAL);"
-        "CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
-        "model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL, "
-        "params BLOB, prior_focal_length INTEGER NOT NULL);"
-        "INSERT INTO cameras VALUES (1, 1, 320, 240, X'"
-        "0000000000407040000000000040704000000000000064400000000000005E40', 1);";
+        "prior_tz REAL);";
     int id = 1;
     for (const auto& entry : fs::directory_iterator(dir_ / "images")) {
       sql += "INSERT INTO images (image_id, name, camera_id) VALUES (" +
