@@ -168,6 +168,23 @@ void ExpectNoNonFiniteText(const std::string& text) {
   }
 }
 
+// "000042.png": the name of test image `index`.
+std::string ImageName(size_t index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06zu.png", index);
+  return name;
+}
+
+// Image ImageName(index) of camera 1 at `world_from_cam`.
+ColmapImage MakeColmapImage(uint32_t image_id, size_t index, const Rigid3d& world_from_cam) {
+  ColmapImage image;
+  image.image_id = image_id;
+  image.camera_id = 1;
+  image.name = ImageName(index);
+  image.cam_from_world = Inverse(world_from_cam);
+  return image;
+}
+
 bool ContainsName(const json& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
@@ -275,15 +292,9 @@ class Robustness : public ::testing::Test {
     std::ofstream stamps(dir_ / "project" / "image_timestamps.csv");
     stamps << "image_name,timestamp\n";
     for (size_t i = 0; i < drive.camera.poses.size(); i += 2) {
-      ColmapImage image;
-      image.image_id = static_cast<uint32_t>(i + 1);
-      image.camera_id = 1;
-      char name[32];
-      std::snprintf(name, sizeof(name), "%06zu.png", i);
-      image.name = name;
-      image.cam_from_world = Inverse(drive.camera.poses[i].world_from_sensor);
-      model.images[image.image_id] = image;
-      stamps << name << "," << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns)
+      const uint32_t id = static_cast<uint32_t>(i + 1);
+      model.images[id] = MakeColmapImage(id, i, drive.camera.poses[i].world_from_sensor);
+      stamps << ImageName(i) << "," << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns)
              << "\n";
     }
     WriteColmapModel(model, (dir_ / "project" / "sparse" / "0").string(), format);
@@ -308,8 +319,7 @@ class Robustness : public ::testing::Test {
     fs::create_directories(dir_ / "images");
     std::ofstream stamps(Path("image_timestamps.csv"));
     for (int i = 0; i < count; ++i) {
-      char name[32];
-      std::snprintf(name, sizeof(name), "%06d.png", i);
+      const std::string name = ImageName(static_cast<size_t>(i));
       WriteFile(dir_ / "images" / name, contents);
       stamps << name << ","
              << FormatTimestampSeconds(drive.camera.poses[10 * i + 10].stamp_ns) << "\n";
@@ -326,19 +336,15 @@ class Robustness : public ::testing::Test {
     model.cameras[1] =
         MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
     for (int i = 0; i < count; ++i) {
-      ColmapImage image;
-      image.image_id = static_cast<uint32_t>(i + 1);
-      image.camera_id = 1;
-      char file_name[32];
-      std::snprintf(file_name, sizeof(file_name), "%06d.png", i);
-      image.name = file_name;
-      image.cam_from_world = Inverse(drive.camera.poses[10 * i + 10].world_from_sensor);
+      const uint32_t id = static_cast<uint32_t>(i + 1);
+      ColmapImage image = MakeColmapImage(id, static_cast<size_t>(i),
+                                          drive.camera.poses[10 * i + 10].world_from_sensor);
       if (std::find(misregistered.begin(), misregistered.end(), i) != misregistered.end()) {
         image.cam_from_world.rotation =
             Eigen::AngleAxisd(3.0 * kPi / 180.0, Eigen::Vector3d::UnitX()) *
             image.cam_from_world.rotation;
       }
-      model.images[image.image_id] = image;
+      model.images[id] = image;
     }
     fs::create_directories(dir_ / "models" / name);
     WriteColmapModel(model, (dir_ / "models" / name).string(), ColmapFormat::kBinary);
