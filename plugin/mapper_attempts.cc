@@ -40,19 +40,20 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
     num_left_out += stretch.num_pairs;
     attempt.contradicted_spans.emplace_back(stretch.first_stamp_ns, stretch.last_stamp_ns);
   }
+  // Without an estimate no pair is explained.
   const std::vector<char>& used = check.result.diagnostics.inlier_mask;
+  int num_unused = 0;
   for (size_t k = 0; k < check.pairs.size(); ++k) {
     if (check.result.has_estimate && k < used.size() && used[k] != 0) continue;
+    ++num_unused;
     attempt.contradicted_spans.emplace_back(check.pairs[k].stamp_i_ns,
                                             check.pairs[k].stamp_j_ns);
   }
   std::sort(attempt.contradicted_spans.begin(), attempt.contradicted_spans.end());
   const int num_calibrated = static_cast<int>(check.pairs.size());
   attempt.num_pairs = num_calibrated + num_left_out;
-  attempt.num_pairs_used =
-      check.result.has_estimate ? check.result.diagnostics.num_pairs_used : 0;
-  attempt.num_contradicting_pairs =
-      num_calibrated - attempt.num_pairs_used + num_left_out;
+  attempt.num_pairs_used = num_calibrated - num_unused;
+  attempt.num_contradicting_pairs = num_unused + num_left_out;
   return attempt;
 }
 

@@ -352,6 +352,8 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                          std::to_string(attempts[chosen].random_seed) + ")");
     const fs::path sparse = workspace / "sparse";
     ReplaceWithCopy(attempts[chosen].model_path, sparse);
+    // Calibrated again (a fraction of a second) so that every path in the
+    // outputs names sparse/, the model a later `odomcal colmap` would read.
     inputs.model_path = sparse.string();
     ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
     calibration.mapper_attempts = attempts;
