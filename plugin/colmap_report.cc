@@ -81,7 +81,8 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
   for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
     const MapperAttempt& attempt = run.mapper_attempts[i];
     mapper_attempts.push_back(
-        {{"random_seed", attempt.random_seed},
+        {{"matching_round", attempt.matching_round},
+         {"random_seed", attempt.random_seed},
          {"path", attempt.model_path},
          {"produced_model", attempt.produced_model},
          {"num_sub_models", attempt.num_sub_models},
@@ -90,6 +91,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
          {"num_motion_pairs", attempt.num_pairs},
          {"num_pairs_used", attempt.num_pairs_used},
          {"num_contradicting_pairs", attempt.num_contradicting_pairs},
+         {"num_pairs_left_out", attempt.num_pairs_left_out},
          {"chosen", static_cast<int>(i) == run.chosen_mapper_attempt}});
   }
   out["colmap"] = {
@@ -259,13 +261,16 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
   if (!run.mapper_attempts.empty()) {
     html << "<h2>COLMAP mapper runs</h2>\n<p>The mapper runs again with another "
             "random seed while motion pairs of its model contradict the odometry; "
-            "the model contradicted least is calibrated.</p>\n<table>"
-            "<tr><th>--random_seed</th><th>sub-models</th><th>registered images</th>"
+            "the model contradicted least is calibrated. When the seeds do not help, "
+            "the images are matched again with stricter pixel thresholds (matching "
+            "round 1) and mapped again.</p>\n<table>"
+            "<tr><th>matching round</th><th>--random_seed</th><th>sub-models</th><th>registered images</th>"
             "<th>status</th><th>pairs used</th><th>contradicting pairs</th>"
             "<th></th></tr>";
     for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
       const MapperAttempt& attempt = run.mapper_attempts[i];
-      html << "<tr><td>" << attempt.random_seed << "</td><td>" << attempt.num_sub_models
+      html << "<tr><td>" << attempt.matching_round << "</td><td>" << attempt.random_seed
+           << "</td><td>" << attempt.num_sub_models
            << "</td><td>" << attempt.num_registered_images << "</td><td>"
            << (attempt.produced_model ? Escape(ToString(attempt.status)) : "no model")
            << "</td><td>" << attempt.num_pairs_used << " of " << attempt.num_pairs

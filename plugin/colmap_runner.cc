@@ -5,6 +5,7 @@
 
 #include "odomcal/plugin/colmap_runner.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -138,6 +139,21 @@ std::string FeatureMatchingPrefix(const ColmapVersion& version) {
   return version.AtLeast(3, 13) ? "FeatureMatching" : "SiftMatching";
 }
 
+ColmapPixelThresholds ScaledPixelThresholds(int image_max_side_px) {
+  ColmapPixelThresholds thresholds;
+  if (image_max_side_px <= 0) return thresholds;
+  const double scale = std::min(image_max_side_px / 800.0, 1.0);
+  thresholds.two_view_max_error_px *= scale;
+  thresholds.init_max_error_px *= scale;
+  thresholds.abs_pose_max_error_px *= scale;
+  thresholds.filter_max_reproj_error_px *= scale;
+  return thresholds;
+}
+
+std::string TwoViewMaxErrorOption(const ColmapVersion& version) {
+  return version.AtLeast(3, 9) ? "TwoViewGeometry.max_error" : "SiftMatching.max_error";
+}
+
 std::string ShellQuote(const std::string& argument) {
   if (!argument.empty() &&
       argument.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
@@ -183,26 +199,39 @@ const ColmapVersion& ColmapRunner::Version() {
   return version_;
 }
 
+std::string ColmapRunner::CommandLine(const std::vector<std::string>& arguments) const {
+  std::vector<std::string> argv = {options_.executable};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  return JoinQuoted(argv);
+}
+
+bool ColmapRunner::WillReuse(const std::string& stage,
+                             const std::vector<std::string>& arguments,
+                             const std::vector<std::string>& outputs) const {
+  const fs::path marker = fs::path(options_.workspace) / "stages" / (stage + ".done");
+  if (!options_.reuse_finished_stages || !reuse_allowed_ || !fs::exists(marker) ||
+      ReadWholeFile(marker) != CommandLine(arguments) + "\n") {
+    return false;
+  }
+  return std::all_of(outputs.begin(), outputs.end(),
+                     [](const std::string& output) { return fs::exists(output); });
+}
+
 ColmapStageResult ColmapRunner::RunStage(const std::string& stage,
                                          const std::vector<std::string>& arguments,
                                          const std::vector<std::string>& outputs) {
   std::vector<std::string> argv = {options_.executable};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
-  const std::string command_line = JoinQuoted(argv);
+  const std::string command_line = CommandLine(arguments);
   const fs::path workspace(options_.workspace);
   const fs::path marker = workspace / "stages" / (stage + ".done");
   ColmapStageResult result;
   result.log_path = (workspace / "logs" / (stage + ".log")).string();
-
-  if (options_.reuse_finished_stages && fs::exists(marker) &&
-      ReadWholeFile(marker) == command_line + "\n") {
-    bool outputs_exist = true;
-    for (const std::string& output : outputs) outputs_exist &= fs::exists(output);
-    if (outputs_exist) {
-      result.reused = true;
-      return result;
-    }
+  if (WillReuse(stage, arguments, outputs)) {
+    result.reused = true;
+    return result;
   }
+  reuse_allowed_ = false;
   std::error_code error;
   fs::remove(marker, error);
   fs::remove(result.log_path, error);

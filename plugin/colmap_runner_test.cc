@@ -101,14 +101,58 @@ TEST_F(ColmapRunnerTest, PassesArgumentsVerbatimAndLogsEverything) {
 }
 
 TEST_F(ColmapRunnerTest, ReusesFinishedStagesOnlyWithTheSameArguments) {
-  ColmapRunner runner = Runner();
+  // One runner per program run: reuse is across runs on one workspace.
   const std::string output = (dir_ / "ws" / "database.db").string();
   std::ofstream(output) << "x";
-  EXPECT_FALSE(runner.RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
-  EXPECT_TRUE(runner.RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
-  EXPECT_FALSE(runner.RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+  EXPECT_FALSE(Runner().RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
+  EXPECT_TRUE(Runner().WillReuse("extract", {"feature_extractor", "--a", "1"}, {output}));
+  EXPECT_TRUE(Runner().RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
+  EXPECT_FALSE(Runner().RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
   fs::remove(output);
-  EXPECT_FALSE(runner.RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+  EXPECT_FALSE(Runner().WillReuse("extract", {"feature_extractor", "--a", "2"}, {output}));
+  EXPECT_FALSE(Runner().RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+}
+
+TEST_F(ColmapRunnerTest, AStageRunAnewMakesEveryLaterStageRunAnew) {
+  {
+    ColmapRunner first = Runner();
+    first.RunStage("extract", {"feature_extractor"}, {});
+    first.RunStage("match", {"spatial_matcher"}, {});
+    first.RunStage("map", {"mapper"}, {});
+  }
+  ColmapRunner second = Runner();
+  EXPECT_TRUE(second.RunStage("extract", {"feature_extractor"}, {}).reused);
+  EXPECT_FALSE(second.RunStage("match", {"spatial_matcher", "--changed"}, {}).reused);
+  // Same arguments as before, but its input (the matches) changed.
+  EXPECT_FALSE(second.WillReuse("map", {"mapper"}, {}));
+  EXPECT_FALSE(second.RunStage("map", {"mapper"}, {}).reused);
+
+  ColmapRunner third = Runner();
+  EXPECT_TRUE(third.WillReuse("extract", {"feature_extractor"}, {}));
+  third.RunLaterStagesAnew();  // e.g. the caller rewrote the database
+  EXPECT_FALSE(third.RunStage("extract", {"feature_extractor"}, {}).reused);
+}
+
+TEST(ScaledPixelThresholds, ShrinkWithTheImageAndNeverExceedColmaps) {
+  const ColmapPixelThresholds small = ScaledPixelThresholds(320);
+  EXPECT_DOUBLE_EQ(small.two_view_max_error_px, 1.6);
+  EXPECT_DOUBLE_EQ(small.init_max_error_px, 1.6);
+  EXPECT_DOUBLE_EQ(small.abs_pose_max_error_px, 4.8);
+  EXPECT_DOUBLE_EQ(small.filter_max_reproj_error_px, 1.6);
+  for (const int side : {800, 1920, 0, -1}) {
+    const ColmapPixelThresholds colmap = ScaledPixelThresholds(side);
+    EXPECT_DOUBLE_EQ(colmap.two_view_max_error_px, 4.0) << side;
+    EXPECT_DOUBLE_EQ(colmap.init_max_error_px, 4.0) << side;
+    EXPECT_DOUBLE_EQ(colmap.abs_pose_max_error_px, 12.0) << side;
+    EXPECT_DOUBLE_EQ(colmap.filter_max_reproj_error_px, 4.0) << side;
+  }
+}
+
+TEST(TwoViewMaxErrorOption, FollowsTheVersion) {
+  EXPECT_EQ(TwoViewMaxErrorOption(ParseColmapVersion("COLMAP 3.8 -- Structure-from-Motion")),
+            "SiftMatching.max_error");
+  EXPECT_EQ(TwoViewMaxErrorOption(ParseColmapVersion("COLMAP 3.9.1 -- Structure-from-Motion")),
+            "TwoViewGeometry.max_error");
 }
 
 TEST_F(ColmapRunnerTest, ExplainsAnAbort) {

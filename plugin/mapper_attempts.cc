@@ -54,6 +54,7 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   attempt.num_pairs = num_calibrated + num_left_out;
   attempt.num_pairs_used = num_calibrated - num_unused;
   attempt.num_contradicting_pairs = num_unused + num_left_out;
+  attempt.num_pairs_left_out = num_left_out;
   return attempt;
 }
 
@@ -66,6 +67,16 @@ bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earl
   return later.produced_model && earlier.produced_model &&
          !later.contradicted_spans.empty() &&
          later.contradicted_spans == earlier.contradicted_spans;
+}
+
+bool ShouldMatchAgain(const std::vector<MapperAttempt>& round, bool repeated) {
+  bool any_model = false;
+  for (const MapperAttempt& attempt : round) {
+    if (OdometryAcceptsModel(attempt)) return false;
+    any_model |= attempt.produced_model;
+  }
+  if (!any_model) return false;
+  return !repeated || round.back().num_pairs_left_out > 0;
 }
 
 bool IsBetterMapperAttempt(const MapperAttempt& a, const MapperAttempt& b) {

@@ -8,6 +8,10 @@
 // gave 34 of 34 pairs and 0.03 deg. The odometry sees such a model as
 // motion pairs that no extrinsic explains, so `odomcal run` maps again with
 // another seed while it does, and keeps the model it contradicts least.
+//
+// When the seeds do not help, the matches may be at fault (COLMAP's two-view
+// verification is not deterministic either): `odomcal run` then matches
+// again, with stricter pixel thresholds, and maps that; see ShouldMatchAgain.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +26,7 @@
 namespace odomcal {
 
 struct MapperAttempt {
+  int matching_round = 0;  // 0: the first matches; 1: matched again
   int random_seed = 0;     // COLMAP's --random_seed
   std::string model_path;  // the mapper's output root (sub-models 0, 1, ...)
   bool produced_model = false;
@@ -33,6 +38,7 @@ struct MapperAttempt {
   // Pairs the odometry contradicts: rejected as outliers, or inside a
   // stretch left out as folded.
   int num_contradicting_pairs = 0;
+  int num_pairs_left_out = 0;  // of those, in stretches left out as folded
   // Where: [first, last] stamp of each such pair or left-out stretch.
   std::vector<std::pair<int64_t, int64_t>> contradicted_spans;
 };
@@ -52,6 +58,14 @@ bool OdometryAcceptsModel(const MapperAttempt& attempt);
 // seed changed nothing there, so the odometry or the images disagree, not
 // the mapper's randomness, and a further run would not help.
 bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier);
+
+// Whether to match again after the mapper runs `round` (of one matching
+// round), `repeated` when the last was contradicted where an earlier one
+// was. Yes when models came out but the odometry accepted none, unless the
+// seeds repeated contradictions of isolated pairs only: those are the
+// odometry's outliers (wheel slip), which no matching changes. A repeated
+// folded stretch is the matches' fault: the images themselves show it right.
+bool ShouldMatchAgain(const std::vector<MapperAttempt>& round, bool repeated);
 
 // "a is a better model than b": a model at all; then a status closer to
 // success; then fewer contradicting pairs (their errors leak into the

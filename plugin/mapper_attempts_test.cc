@@ -94,6 +94,7 @@ TEST_F(MapperAttemptsTest, CountsAStretchLeftOutAsContradicting) {
   const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(46), check);
   EXPECT_EQ(attempt.num_pairs, 45);
   EXPECT_EQ(attempt.num_contradicting_pairs, 5);
+  EXPECT_EQ(attempt.num_pairs_left_out, 5);
   EXPECT_FALSE(OdometryAcceptsModel(attempt));
   // A stretch kept with a scale of its own is explained, not contradicting.
   check.stretches.back().kept_as_segment = true;
@@ -114,6 +115,32 @@ TEST_F(MapperAttemptsTest, SeesTheSameContradictionsAgain) {
   EXPECT_FALSE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11})), first));
   const MapperAttempt clean = attempt(1, truth_.pairs);
   EXPECT_FALSE(RepeatsContradictions(clean, clean));
+}
+
+TEST_F(MapperAttemptsTest, MatchesAgainUnlessTheSeedsRepeatIsolatedOutliers) {
+  const MapperAttempt clean =
+      SummarizeMapperAttempt(0, "a", OneSubModel(41), Calibrate(truth_.pairs));
+  const MapperAttempt outliers =
+      SummarizeMapperAttempt(1, "b", OneSubModel(41), Calibrate(WithMisregisteredImages()));
+  ASSERT_EQ(outliers.num_pairs_left_out, 0);
+  StretchCheckResult with_fold = Calibrate(truth_.pairs);
+  with_fold.stretches.emplace_back();
+  with_fold.stretches.back().num_pairs = 6;
+  const MapperAttempt folded = SummarizeMapperAttempt(2, "c", OneSubModel(47), with_fold);
+  MapperAttempt no_model;
+
+  // An accepted model needs nothing more, whatever came before it.
+  EXPECT_FALSE(ShouldMatchAgain({outliers, clean}, /*repeated=*/false));
+  // Every seed contradicted, each elsewhere: the seeds did not help.
+  EXPECT_TRUE(ShouldMatchAgain({outliers, folded, outliers}, /*repeated=*/false));
+  EXPECT_TRUE(ShouldMatchAgain({no_model, outliers}, /*repeated=*/false));
+  // The same isolated pairs twice: the odometry's outliers (hard's wheel slip).
+  EXPECT_FALSE(ShouldMatchAgain({outliers, outliers}, /*repeated=*/true));
+  // The same folded stretch twice: the matches' fault.
+  EXPECT_TRUE(ShouldMatchAgain({folded, folded}, /*repeated=*/true));
+  // No model at all: stricter matching would not make one.
+  EXPECT_FALSE(ShouldMatchAgain({no_model, no_model}, /*repeated=*/false));
+  EXPECT_FALSE(ShouldMatchAgain({}, /*repeated=*/false));
 }
 
 TEST(MapperAttempts, RanksStatusBeforeContradictionsBeforeSize) {

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -139,6 +140,194 @@ std::string OdometryVerdict(const MapperAttempt& attempt) {
   return verdict;
 }
 
+// One matching of the images and the mapper runs on it.
+struct MatchingRound {
+  int index = 0;  // MapperAttempt::matching_round
+  std::string database;
+  std::optional<ColmapPixelThresholds> pixels;  // none: COLMAP's own
+};
+
+struct MappedRound {
+  std::vector<MapperAttempt> attempts;
+  int repeated_seed = -1;  // an earlier seed contradicted where the last was
+};
+
+std::string Pixels(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.2f", value);
+  return text;
+}
+
+std::string AttemptName(const MapperAttempt& attempt) {
+  return "--random_seed " + std::to_string(attempt.random_seed) +
+         (attempt.matching_round == 0 ? "" : " on the new matches");
+}
+
+// The larger side of the largest camera in the database, in pixels.
+int ImageMaxSide(const std::string& database) {
+  uint64_t side = 0;
+  for (const ColmapDatabaseCamera& camera : ReadColmapDatabaseCameras(database)) {
+    side = std::max({side, camera.camera.width, camera.camera.height});
+  }
+  return static_cast<int>(std::min<uint64_t>(side, 1u << 20));
+}
+
+std::vector<std::string> MatcherArguments(const std::string& matcher,
+                                          const MatchingRound& round,
+                                          const RunSettings& run,
+                                          const ColmapVersion& version) {
+  const std::string matching = FeatureMatchingPrefix(version);
+  std::vector<std::string> arguments = {
+      matcher + "_matcher", "--database_path", round.database,
+      "--" + matching + ".use_gpu", "0", "--" + matching + ".num_threads",
+      std::to_string(run.num_threads)};
+  if (matcher == "spatial") {
+    arguments.insert(arguments.end(),
+                     {"--SpatialMatching.is_gps", "0", "--SpatialMatching.ignore_z", "1",
+                      "--SpatialMatching.max_num_neighbors",
+                      std::to_string(run.spatial_neighbors),
+                      "--SpatialMatching.max_distance", "5"});
+  } else {
+    arguments.insert(arguments.end(), {"--SequentialMatching.overlap",
+                                       std::to_string(run.sequential_overlap)});
+  }
+  if (round.pixels) {
+    arguments.insert(arguments.end(), {"--" + TwoViewMaxErrorOption(version),
+                                       Pixels(round.pixels->two_view_max_error_px)});
+  }
+  return arguments;
+}
+
+// [3] again: the features of `first_database` in round.database, matched
+// anew. The copy is made (and every later stage runs anew) unless both
+// stages finished on an earlier run with the same arguments.
+void MatchAgain(ColmapRunner* colmap,
+                const std::string& matcher,
+                const MatchingRound& round,
+                const std::string& first_database,
+                const RunSettings& run,
+                int num_stages) {
+  const ColmapPixelThresholds& pixels = *round.pixels;
+  StageClock clock(3, num_stages,
+                   "COLMAP " + matcher + " matching again, pixel thresholds " +
+                       Pixels(pixels.two_view_max_error_px) + " / " +
+                       Pixels(pixels.init_max_error_px) + " / " +
+                       Pixels(pixels.abs_pose_max_error_px) + " / " +
+                       Pixels(pixels.filter_max_reproj_error_px) +
+                       " (two-view, initial pair, registration, filtering)");
+  const std::vector<std::string> cleaner = {"database_cleaner", "--type", "matches",
+                                            "--database_path", round.database};
+  const std::vector<std::string> matching =
+      MatcherArguments(matcher, round, run, colmap->Version());
+  const std::string cleaner_stage = "database_cleaner_rematch";
+  const std::string matcher_stage = matcher + "_matcher_rematch";
+  if (!colmap->WillReuse(cleaner_stage, cleaner, {round.database}) ||
+      !colmap->WillReuse(matcher_stage, matching, {round.database})) {
+    fs::copy_file(first_database, round.database, fs::copy_options::overwrite_existing);
+    colmap->RunLaterStagesAnew();
+  }
+  colmap->RunStage(cleaner_stage, cleaner, {round.database});
+  clock.Done(Note(colmap->RunStage(matcher_stage, matching, {round.database})) +
+             ", database " + round.database);
+}
+
+// [4]: `colmap mapper` with --random_seed 0, 1, ... on the round's matches,
+// each model calibrated, until the odometry accepts one, a seed repeats an
+// earlier one's contradictions, or run.mapper_attempts runs are made.
+MappedRound MapWithSeeds(ColmapRunner* colmap,
+                         const RunSettings& run,
+                         const MatchingRound& round,
+                         int num_stages,
+                         const std::string& command,
+                         ColmapCalibrationInputs* inputs) {
+  const fs::path workspace(run.workspace_path);
+  const std::string prefix = round.index == 0 ? "" : "rematch_";
+  inputs->database_path = round.database;
+  MappedRound mapped;
+  for (int seed = 0; seed < run.mapper_attempts; ++seed) {
+    MapperAttempt attempt;
+    attempt.matching_round = round.index;
+    attempt.random_seed = seed;
+    StageClock clock(4, num_stages,
+                     std::string("COLMAP mapping") +
+                         (round.index == 0 ? "" : " the new matches") +
+                         ", --random_seed " + std::to_string(seed));
+    const std::string stage_name = "mapper_" + prefix + "seed_" + std::to_string(seed);
+    const fs::path output =
+        workspace / "mapper_attempts" / (prefix + "seed_" + std::to_string(seed));
+    const bool fixed_intrinsics = !run.camera_params.empty();
+    std::vector<std::string> arguments = {
+        "mapper", "--database_path", round.database, "--image_path", run.image_path,
+        "--output_path", output.string(), "--image_list_path",
+        (workspace / "image_list.txt").string(), "--random_seed", std::to_string(seed),
+        "--Mapper.num_threads", std::to_string(run.num_threads),
+        "--Mapper.ba_refine_focal_length", fixed_intrinsics ? "0" : "1",
+        "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params",
+        fixed_intrinsics ? "0" : "1"};
+    if (round.pixels) {
+      arguments.insert(arguments.end(),
+                       {"--Mapper.init_max_error", Pixels(round.pixels->init_max_error_px),
+                        "--Mapper.abs_pose_max_error",
+                        Pixels(round.pixels->abs_pose_max_error_px),
+                        "--Mapper.filter_max_reproj_error",
+                        Pixels(round.pixels->filter_max_reproj_error_px)});
+    }
+    const std::vector<std::string> outputs = {(output / "0").string()};
+    // A rerun must not mix new sub-models with stale ones.
+    std::error_code error;
+    if (!colmap->WillReuse(stage_name, arguments, outputs)) fs::remove_all(output, error);
+    fs::create_directories(output, error);
+    const ColmapStageResult stage = colmap->RunStage(stage_name, arguments, outputs);
+    attempt.model_path = output.string();
+    if (!fs::exists(output / "0")) {
+      mapped.attempts.push_back(attempt);
+      clock.Done("no model, log " + stage.log_path);
+      continue;
+    }
+    inputs->model_path = output.string();
+    const ColmapCalibrationRun calibration = CalibrateColmapProject(*inputs, command);
+    mapped.attempts.push_back(SummarizeMapperAttempt(seed, output.string(),
+                                                     calibration.segments, calibration.check));
+    mapped.attempts.back().matching_round = round.index;
+    const MapperAttempt& last = mapped.attempts.back();
+    const bool accepted = OdometryAcceptsModel(last);
+    for (size_t i = 0; i + 1 < mapped.attempts.size() && !accepted; ++i) {
+      if (RepeatsContradictions(last, mapped.attempts[i])) {
+        mapped.repeated_seed = mapped.attempts[i].random_seed;
+      }
+    }
+    std::string note = Note(stage) + "; " + OdometryVerdict(last);
+    if (mapped.repeated_seed >= 0) {
+      note += ", the same as with --random_seed " + std::to_string(mapped.repeated_seed);
+    } else if (!accepted && seed + 1 < run.mapper_attempts) {
+      note += ": mapping again";
+    }
+    clock.Done(note);
+    if (accepted || mapped.repeated_seed >= 0) break;
+  }
+  return mapped;
+}
+
+// Why the chosen model still has motion pairs the odometry contradicts.
+std::string MapperContradictionWarning(const std::vector<MapperAttempt>& attempts,
+                                       int chosen,
+                                       const MappedRound& last_round) {
+  const MapperAttempt& last = last_round.attempts.back();
+  const std::string on = last.matching_round == 0 ? "" : " on the new matches";
+  if (last_round.repeated_seed >= 0) {
+    return "COLMAP mapper runs with --random_seed " +
+           std::to_string(last_round.repeated_seed) + " and " +
+           std::to_string(last.random_seed) + on + " gave the same " +
+           std::to_string(last.num_contradicting_pairs) +
+           " motion pairs that contradict the odometry: the odometry or the images "
+           "disagree there, not the mapper's randomness";
+  }
+  return "every one of " + std::to_string(attempts.size()) +
+         " COLMAP mapper runs" + (last.matching_round == 0 ? "" : " on two matchings") +
+         " gave motion pairs that contradict the odometry; the model of " +
+         AttemptName(attempts[chosen]) + " contradicts it least";
+}
+
 // `target` becomes a copy of folder `source`; a failure leaves no half copy
 // under `target`'s name.
 void ReplaceWithCopy(const fs::path& source, const fs::path& target) {
@@ -224,7 +413,6 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   // [2] Features.
   const std::string database = (workspace / "database.db").string();
   const std::string extraction = FeatureExtractionPrefix(version);
-  const std::string matching = FeatureMatchingPrefix(version);
   {
     StageClock clock(2, kStages, "COLMAP feature extraction");
     std::vector<std::string> arguments = {
@@ -249,93 +437,43 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
 
   // [3] Matching, guided by odometry positions.
   std::string matcher = run.matcher;
+  if (matcher == "spatial" && version.AtLeast(3, 10)) {
+    std::cout << "(COLMAP >= 3.10 keeps priors elsewhere: sequential matching)\n";
+    matcher = "sequential";
+  }
+  if (matcher == "spatial") {
+    std::map<std::string, Eigen::Vector3d> positions;
+    InterpolationFailure why;
+    for (const TimedImage& image : images) {
+      const auto pose = InterpolateOdometry(
+          odometry, image.stamp_ns + inputs.association.camera_time_offset_ns,
+          inputs.association.max_odometry_gap_s, &why);
+      if (pose) positions[image.name] = pose->translation;
+    }
+    WriteColmapDatabasePositionPriors(database, positions);
+  }
+  MatchingRound first;
+  first.database = database;
   {
     StageClock clock(3, kStages, "COLMAP " + matcher + " matching");
-    std::vector<std::string> arguments;
-    if (matcher == "spatial" && version.AtLeast(3, 10)) {
-      std::cout << " (COLMAP >= 3.10 keeps priors elsewhere: sequential)";
-      matcher = "sequential";
-    }
-    if (matcher == "spatial") {
-      std::map<std::string, Eigen::Vector3d> positions;
-      InterpolationFailure why;
-      for (const TimedImage& image : images) {
-        const auto pose = InterpolateOdometry(
-            odometry, image.stamp_ns + inputs.association.camera_time_offset_ns,
-            inputs.association.max_odometry_gap_s, &why);
-        if (pose) positions[image.name] = pose->translation;
-      }
-      WriteColmapDatabasePositionPriors(database, positions);
-      arguments = {"spatial_matcher", "--database_path", database,
-                   "--" + matching + ".use_gpu", "0",
-                   "--" + matching + ".num_threads", std::to_string(run.num_threads),
-                   "--SpatialMatching.is_gps", "0", "--SpatialMatching.ignore_z", "1",
-                   "--SpatialMatching.max_num_neighbors",
-                   std::to_string(run.spatial_neighbors),
-                   "--SpatialMatching.max_distance", "5"};
-    } else {
-      arguments = {"sequential_matcher", "--database_path", database,
-                   "--" + matching + ".use_gpu", "0",
-                   "--" + matching + ".num_threads", std::to_string(run.num_threads),
-                   "--SequentialMatching.overlap",
-                   std::to_string(run.sequential_overlap)};
-    }
-    clock.Done(Note(colmap.RunStage(matcher + "_matcher", arguments, {database})));
+    clock.Done(Note(colmap.RunStage(matcher + "_matcher",
+                                    MatcherArguments(matcher, first, run, version),
+                                    {database})));
   }
 
-  // [4] Mapping, each model checked against the odometry; [5] calibration
-  // of the model the odometry contradicts least, copied to sparse/.
-  inputs.database_path = database;
-  const fs::path attempts_root = workspace / "mapper_attempts";
-  std::vector<MapperAttempt> attempts;
-  int repeated_seed = -1;  // an earlier seed contradicted where the last was
-  for (int seed = 0; seed < run.mapper_attempts; ++seed) {
-    StageClock clock(4, kStages, "COLMAP mapping, --random_seed " + std::to_string(seed));
-    const std::string stage_name = "mapper_seed_" + std::to_string(seed);
-    const fs::path output = attempts_root / ("seed_" + std::to_string(seed));
-    const bool fixed_intrinsics = !run.camera_params.empty();
-    const std::vector<std::string> arguments = {
-        "mapper", "--database_path", database, "--image_path", run.image_path,
-        "--output_path", output.string(), "--image_list_path",
-        (workspace / "image_list.txt").string(), "--random_seed", std::to_string(seed),
-        "--Mapper.num_threads", std::to_string(run.num_threads),
-        "--Mapper.ba_refine_focal_length", fixed_intrinsics ? "0" : "1",
-        "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params",
-        fixed_intrinsics ? "0" : "1"};
-    // A rerun must not mix new sub-models with stale ones.
-    std::error_code error;
-    if (!fs::exists(workspace / "stages" / (stage_name + ".done"))) {
-      fs::remove_all(output, error);
-    }
-    fs::create_directories(output, error);
-    const ColmapStageResult stage =
-        colmap.RunStage(stage_name, arguments, {(output / "0").string()});
-    if (!fs::exists(output / "0")) {
-      MapperAttempt attempt;
-      attempt.random_seed = seed;
-      attempt.model_path = output.string();
-      attempts.push_back(attempt);
-      clock.Done("no model, log " + stage.log_path);
-      continue;
-    }
-    inputs.model_path = output.string();
-    const ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
-    attempts.push_back(SummarizeMapperAttempt(seed, output.string(), calibration.segments,
-                                              calibration.check));
-    const bool accepted = OdometryAcceptsModel(attempts.back());
-    for (size_t i = 0; i + 1 < attempts.size() && !accepted; ++i) {
-      if (RepeatsContradictions(attempts.back(), attempts[i])) {
-        repeated_seed = attempts[i].random_seed;
-      }
-    }
-    std::string note = Note(stage) + "; " + OdometryVerdict(attempts.back());
-    if (repeated_seed >= 0) {
-      note += ", the same as with --random_seed " + std::to_string(repeated_seed);
-    } else if (!accepted && seed + 1 < run.mapper_attempts) {
-      note += ": mapping again";
-    }
-    clock.Done(note);
-    if (accepted || repeated_seed >= 0) break;
+  // [4] Mapping, each model checked against the odometry; when the random
+  // seeds do not help, [3] and [4] once more on new matches with stricter
+  // pixel thresholds (mapper_attempts.h).
+  MappedRound mapped = MapWithSeeds(&colmap, run, first, kStages, command, &inputs);
+  std::vector<MapperAttempt> attempts = mapped.attempts;
+  MatchingRound second;
+  if (run.rematch && ShouldMatchAgain(mapped.attempts, mapped.repeated_seed >= 0)) {
+    second.index = 1;
+    second.database = (workspace / "database_rematched.db").string();
+    second.pixels = ScaledPixelThresholds(ImageMaxSide(database));
+    MatchAgain(&colmap, matcher, second, database, run, kStages);
+    mapped = MapWithSeeds(&colmap, run, second, kStages, command, &inputs);
+    attempts.insert(attempts.end(), mapped.attempts.begin(), mapped.attempts.end());
   }
   const int chosen = BestMapperAttempt(attempts);
   if (chosen < 0) {
@@ -346,37 +484,28 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                       "): too little texture or overlap, or wrong intrinsics");
   }
 
-  {
-    StageClock clock(5, kStages,
-                     "calibrating against the odometry (model of --random_seed " +
-                         std::to_string(attempts[chosen].random_seed) + ")");
-    const fs::path sparse = workspace / "sparse";
-    ReplaceWithCopy(attempts[chosen].model_path, sparse);
-    // Calibrated again (a fraction of a second) so that every path in the
-    // outputs names sparse/, the model a later `odomcal colmap` would read.
-    inputs.model_path = sparse.string();
-    ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
-    calibration.mapper_attempts = attempts;
-    calibration.chosen_mapper_attempt = chosen;
-    if (repeated_seed >= 0) {
-      calibration.check.result.warnings.push_back(
-          "COLMAP mapper runs with --random_seed " + std::to_string(repeated_seed) +
-          " and " + std::to_string(attempts.back().random_seed) + " gave the same " +
-          std::to_string(attempts.back().num_contradicting_pairs) +
-          " motion pairs that contradict the odometry: the odometry or the images "
-          "disagree there, not the mapper's randomness");
-    } else if (!OdometryAcceptsModel(attempts[chosen]) && attempts.size() > 1) {
-      calibration.check.result.warnings.push_back(
-          "every one of " + std::to_string(attempts.size()) +
-          " COLMAP mapper runs gave motion pairs that contradict the odometry; "
-          "the model of --random_seed " + std::to_string(attempts[chosen].random_seed) +
-          " contradicts it least");
-    }
-    WriteColmapCalibrationOutputs(calibration, run.workspace_path);
-    clock.Done("wrote calibration.json, sparse/, sparse_metric/, camera_in_odom.tum, "
-               "report.html");
-    return calibration;
+  // [5] Calibration of the model the odometry contradicts least.
+  const MapperAttempt& best = attempts[chosen];
+  StageClock clock(5, kStages,
+                   "calibrating against the odometry (model of " + AttemptName(best) +
+                       ")");
+  const fs::path sparse = workspace / "sparse";
+  ReplaceWithCopy(best.model_path, sparse);
+  // Calibrated again (a fraction of a second) so that every path in the
+  // outputs names sparse/, the model a later `odomcal colmap` would read.
+  inputs.model_path = sparse.string();
+  inputs.database_path = best.matching_round == 0 ? first.database : second.database;
+  ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
+  calibration.mapper_attempts = attempts;
+  calibration.chosen_mapper_attempt = chosen;
+  if (!OdometryAcceptsModel(best) && attempts.size() > 1) {
+    calibration.check.result.warnings.push_back(
+        MapperContradictionWarning(attempts, chosen, mapped));
   }
+  WriteColmapCalibrationOutputs(calibration, run.workspace_path);
+  clock.Done("wrote calibration.json, sparse/, sparse_metric/, camera_in_odom.tum, "
+             "report.html");
+  return calibration;
 }
 
 int RunRun(int argc, char** argv) {
@@ -429,8 +558,15 @@ int RunRun(int argc, char** argv) {
   app.add_option("--mapper_attempts", run.mapper_attempts,
                  "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
                  "contradicts motion pairs of the model; the model it contradicts "
-                 "least is kept")
+                 "least is kept; per matching")
       ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  std::string rematch = "on";
+  app.add_option("--rematch", rematch,
+                 "when the mapper's seeds do not give a model the odometry "
+                 "accepts, match again with pixel thresholds scaled to the image "
+                 "size and map that too")
+      ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
   app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
       ->capture_default_str();
@@ -441,6 +577,7 @@ int RunRun(int argc, char** argv) {
 
   return RunReportingErrors("odomcal run", [&]() -> int {
     FinishProjectFlags(flags, &inputs);
+    run.rematch = rematch == "on";
     const ColmapCalibrationRun calibration =
         RunReconstructionPipeline(run, inputs, "odomcal run");
     std::cout << CalibrationSummary(calibration.check.result, calibration.context);

@@ -1,7 +1,8 @@
 // `odomcal run`: from an image folder and an odometry log to a calibration.
 // Selects frames with the odometry, runs COLMAP (feature_extractor,
 // odometry-guided spatial or sequential matching, mapper, run again with
-// another random seed while the odometry contradicts its model) in a workspace,
+// another random seed while the odometry contradicts its model, matching
+// again with stricter pixel thresholds when that does not help) in a workspace,
 // then calibrates the reconstruction as `odomcal colmap` does. Finished
 // COLMAP stages are reused when rerun on the same workspace.
 #pragma once
@@ -24,7 +25,8 @@ struct RunSettings {
   int num_threads = 2;
   int spatial_neighbors = 8;
   int sequential_overlap = 10;
-  int mapper_attempts = 3;  // at most; see mapper_attempts.h
+  int mapper_attempts = 3;  // at most, per matching; see mapper_attempts.h
+  bool rematch = true;      // match again when the seeds do not help
   FrameSelectionOptions frames;
 };
 

@@ -350,7 +350,8 @@ class Robustness : public ::testing::Test {
     WriteColmapModel(model, (dir_ / "models" / name).string(), ColmapFormat::kBinary);
   }
 
-  // bin/colmap whose mapper copies models/seed_<--random_seed>/ to
+  // bin/colmap whose mapper copies models/seed_<--random_seed>/ (on the
+  // matches of database_rematched.db: models/rematch_seed_<...>/) to
   // <--output_path>/0, or writes nothing when there is no such model.
   std::string WriteFakeColmapWithMapperModels() const {
     return WriteFakeColmap(
@@ -358,10 +359,11 @@ class Robustness : public ::testing::Test {
         " \"$3\"; fi\n"
         "if [ \"$1\" = mapper ]; then\n"
         "  while [ $# -gt 0 ]; do\n"
-        "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) seed=\"$2\";; esac\n"
+        "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) seed=\"$2\";;\n"
+        "      --database_path) case \"$2\" in *rematched.db) round=rematch_;; esac;; esac\n"
         "    shift\n"
         "  done\n"
-        "  model=" + Path("models") + "/seed_$seed\n"
+        "  model=" + Path("models") + "/${round}seed_$seed\n"
         "  if [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* \"$out/0/\"; fi\n"
         "fi\n"
         "exit 0\n");
@@ -393,8 +395,9 @@ class Robustness : public ::testing::Test {
     return (dir_ / "bin").string();
   }
 
-  // prepared.db: a database with the images table of COLMAP 3.8 holding
-  // every image of images/, as feature_extractor would leave it.
+  // prepared.db: a database with the cameras and images tables of COLMAP 3.8
+  // holding one 320x240 PINHOLE camera and every image of images/, as
+  // feature_extractor would leave it.
   std::string WritePreparedDatabase() const {
     const std::string path = Path("prepared.db");
     sqlite3* db = nullptr;
@@ -403,7 +406,13 @@ class Robustness : public ::testing::Test {
         "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
         "name TEXT NOT NULL UNIQUE, camera_id INTEGER NOT NULL, prior_qw REAL, "
         "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty REAL, "
-        "prior_tz REAL);";
+        "prior_tz REAL);"
+        "CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
+        "model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL, "
+        "params BLOB, prior_focal_length INTEGER NOT NULL);"
+        // 260, 260, 160, 120 as little-endian float64.
+        "INSERT INTO cameras VALUES (1, 1, 320, 240, "
+        "X'0000000000407040000000000040704000000000000064400000000000005e40', 1);";
     int id = 1;
     for (const auto& entry : fs::directory_iterator(dir_ / "images")) {
       sql += "INSERT INTO images (image_id, name, camera_id) VALUES (" +
@@ -839,8 +848,10 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
 }
 
 // Every run contradicted elsewhere: the least contradicted model is
-// calibrated, with a warning. Contradicted where the previous run was: the
-// mapping stops (another seed changed nothing). --mapper_attempts 1 maps once.
+// calibrated, with a warning (here without matching again). Contradicted
+// where the previous run was, at isolated pairs: the mapping stops (another
+// seed changed nothing) and, as those are the odometry's outliers, no new
+// matching is tried. --mapper_attempts 1 maps once.
 TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
   constexpr int kImages = 30;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
@@ -856,7 +867,7 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
     EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
     return json::parse(ReadFile(Path("ws/calibration.json")));
   };
-  json result = run_in_fresh_workspace({});
+  json result = run_in_fresh_workspace({"--rematch", "off"});
   json attempts = result["colmap"]["mapper_attempts"];
   ASSERT_EQ(attempts.size(), 3u);
   EXPECT_TRUE(attempts[1]["chosen"]) << attempts.dump(2);
@@ -866,12 +877,14 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
                            "contradict the odometry; the model of --random_seed 1 "
                            "contradicts it least"))
       << result["warnings"].dump(2);
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "database_rematched.db"));
 
   WriteMapperModel(drive, kImages, "seed_1", {7, 19});
   result = run_in_fresh_workspace({});
   attempts = result["colmap"]["mapper_attempts"];
   ASSERT_EQ(attempts.size(), 2u) << attempts.dump(2);
   EXPECT_TRUE(attempts[0]["chosen"]);
+  EXPECT_EQ(attempts[1]["num_pairs_left_out"], 0);
   EXPECT_TRUE(ContainsName(
       result["warnings"],
       "COLMAP mapper runs with --random_seed 0 and 1 gave the same " +
@@ -879,9 +892,81 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
           " motion pairs that contradict the odometry: the odometry or the images "
           "disagree there, not the mapper's randomness"))
       << result["warnings"].dump(2);
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "database_rematched.db"));
 
-  result = run_in_fresh_workspace({"--mapper_attempts", "1"});
+  result = run_in_fresh_workspace({"--mapper_attempts", "1", "--rematch", "off"});
   EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 1u);
+}
+
+// The seeds give three models contradicted each elsewhere: odomcal matches
+// again, into database_rematched.db (a copy, cleaned of matches, so that
+// database.db keeps the first matches) with pixel thresholds scaled to the
+// 320x240 images, and maps that. Rerun on the same workspace, every stage is
+// reused. When the new matches are contradicted too, the least contradicted
+// model of either matching is calibrated, with a warning naming both.
+TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0", {7, 19});
+  WriteMapperModel(drive, kImages, "seed_1", {12, 20});
+  WriteMapperModel(drive, kImages, "seed_2", {4, 15, 23});
+  WriteMapperModel(drive, kImages, "rematch_seed_0", {5, 25});
+  WriteMapperModel(drive, kImages, "rematch_seed_1");
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  const RunLimits environment = {{"PATH=" + bin + ":/usr/bin:/bin"}};
+  CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}), environment);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("COLMAP sequential matching again, pixel thresholds 1.60 / 1.60 / "
+                         "4.80 / 1.60 (two-view, initial pair, registration, filtering)"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("COLMAP mapping the new matches, --random_seed 1 ... done"),
+            std::string::npos)
+      << run.out;
+  json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  json attempts = result["colmap"]["mapper_attempts"];
+  ASSERT_EQ(attempts.size(), 5u) << attempts.dump(2);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(attempts[i]["matching_round"], i < 3 ? 0 : 1) << attempts.dump(2);
+    EXPECT_EQ(attempts[i]["chosen"], i == 4) << attempts.dump(2);
+  }
+  EXPECT_EQ(attempts[4]["path"], Path("ws/mapper_attempts/rematch_seed_1"));
+  EXPECT_EQ(attempts[4]["num_contradicting_pairs"], 0);
+  EXPECT_EQ(ReadFile(dir_ / "ws" / "sparse" / "0" / "images.bin"),
+            ReadFile(dir_ / "models" / "rematch_seed_1" / "images.bin"));
+  EXPECT_TRUE(result["warnings"].empty()) << result["warnings"].dump(2);
+  const std::string commands = ReadFile(dir_ / "ws" / "commands.txt");
+  EXPECT_NE(commands.find("database_cleaner --type matches --database_path " +
+                          Path("ws/database_rematched.db")),
+            std::string::npos)
+      << commands;
+  EXPECT_NE(commands.find("--SiftMatching.max_error 1.60"), std::string::npos) << commands;
+  EXPECT_NE(commands.find("--Mapper.init_max_error 1.60 --Mapper.abs_pose_max_error 4.80 "
+                          "--Mapper.filter_max_reproj_error 1.60"),
+            std::string::npos)
+      << commands;
+  EXPECT_TRUE(fs::exists(dir_ / "ws" / "database.db"));
+
+  run = RunOdomcal(RunCommand({"--matcher", "sequential"}), environment);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_EQ(run.out.find("... done"), std::string::npos) << run.out;
+  EXPECT_EQ(ReadFile(dir_ / "ws" / "commands.txt"), commands);
+
+  WriteMapperModel(drive, kImages, "rematch_seed_1", {kImages - 1});  // 1 pair
+  fs::remove_all(dir_ / "models" / "rematch_seed_2");
+  fs::remove_all(dir_ / "ws");
+  run = RunOdomcal(RunCommand({"--matcher", "sequential"}), environment);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  result = json::parse(ReadFile(Path("ws/calibration.json")));
+  attempts = result["colmap"]["mapper_attempts"];
+  ASSERT_EQ(attempts.size(), 6u) << attempts.dump(2);
+  EXPECT_TRUE(attempts[4]["chosen"]) << attempts.dump(2);
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "every one of 6 COLMAP mapper runs on two matchings gave motion "
+                           "pairs that contradict the odometry; the model of --random_seed 1 "
+                           "on the new matches contradicts it least"))
+      << result["warnings"].dump(2);
 }
 
 // Real COLMAP on files that are not images: feature_extractor skips every
