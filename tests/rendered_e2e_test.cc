@@ -166,8 +166,12 @@ class RenderedEndToEnd : public ::testing::Test {
     for (const double error : MetricModelScaleErrors(run)) {
       std::cout << " " << 100.0 * error << " %";
     }
+    // "14 10 2 | 0*": a run per seed, '|' before those on new matches.
     std::cout << "; contradicting pairs per mapper run:";
+    int round = 0;
     for (const auto& attempt : run.result["colmap"]["mapper_attempts"]) {
+      if (attempt["matching_round"] != round) std::cout << " |";
+      round = attempt["matching_round"];
       std::cout << " " << attempt["num_contradicting_pairs"] << (attempt["chosen"] ? "*" : "");
     }
     std::cout << std::endl;
