@@ -262,8 +262,8 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
     html << "<h2>COLMAP mapper runs</h2>\n<p>The mapper runs again with another "
             "random seed while motion pairs of its model contradict the odometry; "
             "the model contradicted least is calibrated. When the seeds do not help, "
-            "the images are matched again with stricter pixel thresholds (matching "
-            "round 1) and mapped again.</p>\n<table>"
+            "the images are matched again (matching round 1) and mapped again."
+            "</p>\n<table>"
             "<tr><th>matching round</th><th>--random_seed</th><th>sub-models</th><th>registered images</th>"
             "<th>status</th><th>pairs used</th><th>contradicting pairs</th>"
             "<th></th></tr>";

@@ -139,21 +139,6 @@ std::string FeatureMatchingPrefix(const ColmapVersion& version) {
   return version.AtLeast(3, 13) ? "FeatureMatching" : "SiftMatching";
 }
 
-ColmapPixelThresholds ScaledPixelThresholds(int image_max_side_px) {
-  ColmapPixelThresholds thresholds;
-  if (image_max_side_px <= 0) return thresholds;
-  const double scale = std::min(image_max_side_px / 800.0, 1.0);
-  thresholds.two_view_max_error_px *= scale;
-  thresholds.init_max_error_px *= scale;
-  thresholds.abs_pose_max_error_px *= scale;
-  thresholds.filter_max_reproj_error_px *= scale;
-  return thresholds;
-}
-
-std::string TwoViewMaxErrorOption(const ColmapVersion& version) {
-  return version.AtLeast(3, 9) ? "TwoViewGeometry.max_error" : "SiftMatching.max_error";
-}
-
 std::string ShellQuote(const std::string& argument) {
   if (!argument.empty() &&
       argument.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"

@@ -40,28 +40,6 @@ ColmapVersion ParseColmapVersion(const std::string& banner);
 std::string FeatureExtractionPrefix(const ColmapVersion& version);
 std::string FeatureMatchingPrefix(const ColmapVersion& version);
 
-// COLMAP's pixel thresholds suit megapixel images: two-view verification
-// 4 px, the initial pair 4 px, registration 12 px, filtering 4 px. On
-// 320x240 images they let the mapper now and then fold a stretch or register
-// images degrees off (the `tilted` preset, seed 6: 1 of 3 runs with the
-// defaults, 0 of 4 with 1.5 / 2 / 4 / 2 px), but stricter ones make mapping
-// 2-4x slower, so `odomcal run` uses them only to match and map again.
-struct ColmapPixelThresholds {
-  double two_view_max_error_px = 4.0;
-  double init_max_error_px = 4.0;
-  double abs_pose_max_error_px = 12.0;
-  double filter_max_reproj_error_px = 4.0;
-};
-
-// COLMAP's thresholds scaled by the image's larger side over 800 px, never
-// above COLMAP's own: 1.6 / 1.6 / 4.8 / 1.6 px at 320x240. COLMAP's own when
-// the size is unknown (<= 0).
-ColmapPixelThresholds ScaledPixelThresholds(int image_max_side_px);
-
-// The option holding the two-view threshold: SiftMatching.max_error up to
-// 3.8, TwoViewGeometry.max_error from 3.9.
-std::string TwoViewMaxErrorOption(const ColmapVersion& version);
-
 // One argument shell-quoted for display in commands.txt and messages.
 std::string ShellQuote(const std::string& argument);
 

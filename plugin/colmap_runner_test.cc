@@ -133,28 +133,6 @@ TEST_F(ColmapRunnerTest, AStageRunAnewMakesEveryLaterStageRunAnew) {
   EXPECT_FALSE(third.RunStage("extract", {"feature_extractor"}, {}).reused);
 }
 
-TEST(ScaledPixelThresholds, ShrinkWithTheImageAndNeverExceedColmaps) {
-  const ColmapPixelThresholds small = ScaledPixelThresholds(320);
-  EXPECT_DOUBLE_EQ(small.two_view_max_error_px, 1.6);
-  EXPECT_DOUBLE_EQ(small.init_max_error_px, 1.6);
-  EXPECT_DOUBLE_EQ(small.abs_pose_max_error_px, 4.8);
-  EXPECT_DOUBLE_EQ(small.filter_max_reproj_error_px, 1.6);
-  for (const int side : {800, 1920, 0, -1}) {
-    const ColmapPixelThresholds colmap = ScaledPixelThresholds(side);
-    EXPECT_DOUBLE_EQ(colmap.two_view_max_error_px, 4.0) << side;
-    EXPECT_DOUBLE_EQ(colmap.init_max_error_px, 4.0) << side;
-    EXPECT_DOUBLE_EQ(colmap.abs_pose_max_error_px, 12.0) << side;
-    EXPECT_DOUBLE_EQ(colmap.filter_max_reproj_error_px, 4.0) << side;
-  }
-}
-
-TEST(TwoViewMaxErrorOption, FollowsTheVersion) {
-  EXPECT_EQ(TwoViewMaxErrorOption(ParseColmapVersion("COLMAP 3.8 -- Structure-from-Motion")),
-            "SiftMatching.max_error");
-  EXPECT_EQ(TwoViewMaxErrorOption(ParseColmapVersion("COLMAP 3.9.1 -- Structure-from-Motion")),
-            "TwoViewGeometry.max_error");
-}
-
 TEST_F(ColmapRunnerTest, ExplainsAnAbort) {
   WriteFake("3.8", 134);
   ColmapRunner runner = Runner();

@@ -9,9 +9,10 @@
 // motion pairs that no extrinsic explains, so `odomcal run` maps again with
 // another seed while it does, and keeps the model it contradicts least.
 //
-// When the seeds do not help, the matches may be at fault (COLMAP's two-view
-// verification is not deterministic either): `odomcal run` then matches
-// again, with stricter pixel thresholds, and maps that; see ShouldMatchAgain.
+// When the seeds do not help, the matches may be at fault. COLMAP's two-view
+// verification is random too (given one database the mapper is
+// deterministic; the runs differ through matching), so `odomcal run` then
+// matches again and maps the new matches; see ShouldMatchAgain.
 #pragma once
 
 #include <cstdint>

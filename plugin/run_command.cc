@@ -14,7 +14,6 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -144,7 +143,6 @@ std::string OdometryVerdict(const MapperAttempt& attempt) {
 struct MatchingRound {
   int index = 0;  // MapperAttempt::matching_round
   std::string database;
-  std::optional<ColmapPixelThresholds> pixels;  // none: COLMAP's own
 };
 
 struct MappedRound {
@@ -152,24 +150,9 @@ struct MappedRound {
   int repeated_seed = -1;  // an earlier seed contradicted where the last was
 };
 
-std::string Pixels(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.2f", value);
-  return text;
-}
-
 std::string AttemptName(const MapperAttempt& attempt) {
   return "--random_seed " + std::to_string(attempt.random_seed) +
          (attempt.matching_round == 0 ? "" : " on the new matches");
-}
-
-// The larger side of the largest camera in the database, in pixels.
-int ImageMaxSide(const std::string& database) {
-  uint64_t side = 0;
-  for (const ColmapDatabaseCamera& camera : ReadColmapDatabaseCameras(database)) {
-    side = std::max({side, camera.camera.width, camera.camera.height});
-  }
-  return static_cast<int>(std::min<uint64_t>(side, 1u << 20));
 }
 
 std::vector<std::string> MatcherArguments(const std::string& matcher,
@@ -191,30 +174,21 @@ std::vector<std::string> MatcherArguments(const std::string& matcher,
     arguments.insert(arguments.end(), {"--SequentialMatching.overlap",
                                        std::to_string(run.sequential_overlap)});
   }
-  if (round.pixels) {
-    arguments.insert(arguments.end(), {"--" + TwoViewMaxErrorOption(version),
-                                       Pixels(round.pixels->two_view_max_error_px)});
-  }
   return arguments;
 }
 
 // [3] again: the features of `first_database` in round.database, matched
-// anew. The copy is made (and every later stage runs anew) unless both
-// stages finished on an earlier run with the same arguments.
+// anew with the same settings (COLMAP's two-view verification is random, so
+// the matches differ). The copy is made (and every later stage runs anew)
+// unless both stages finished on an earlier run with the same arguments.
 void MatchAgain(ColmapRunner* colmap,
                 const std::string& matcher,
                 const MatchingRound& round,
                 const std::string& first_database,
                 const RunSettings& run,
                 int num_stages) {
-  const ColmapPixelThresholds& pixels = *round.pixels;
   StageClock clock(3, num_stages,
-                   "COLMAP " + matcher + " matching again, pixel thresholds " +
-                       Pixels(pixels.two_view_max_error_px) + " / " +
-                       Pixels(pixels.init_max_error_px) + " / " +
-                       Pixels(pixels.abs_pose_max_error_px) + " / " +
-                       Pixels(pixels.filter_max_reproj_error_px) +
-                       " (two-view, initial pair, registration, filtering)");
+                   "COLMAP " + matcher + " matching again, into a copy of the features");
   const std::vector<std::string> cleaner = {"database_cleaner", "--type", "matches",
                                             "--database_path", round.database};
   const std::vector<std::string> matching =
@@ -256,7 +230,7 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
     const fs::path output =
         workspace / "mapper_attempts" / (prefix + "seed_" + std::to_string(seed));
     const bool fixed_intrinsics = !run.camera_params.empty();
-    std::vector<std::string> arguments = {
+    const std::vector<std::string> arguments = {
         "mapper", "--database_path", round.database, "--image_path", run.image_path,
         "--output_path", output.string(), "--image_list_path",
         (workspace / "image_list.txt").string(), "--random_seed", std::to_string(seed),
@@ -264,14 +238,6 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
         "--Mapper.ba_refine_focal_length", fixed_intrinsics ? "0" : "1",
         "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params",
         fixed_intrinsics ? "0" : "1"};
-    if (round.pixels) {
-      arguments.insert(arguments.end(),
-                       {"--Mapper.init_max_error", Pixels(round.pixels->init_max_error_px),
-                        "--Mapper.abs_pose_max_error",
-                        Pixels(round.pixels->abs_pose_max_error_px),
-                        "--Mapper.filter_max_reproj_error",
-                        Pixels(round.pixels->filter_max_reproj_error_px)});
-    }
     const std::vector<std::string> outputs = {(output / "0").string()};
     // A rerun must not mix new sub-models with stale ones.
     std::error_code error;
@@ -462,15 +428,14 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   }
 
   // [4] Mapping, each model checked against the odometry; when the random
-  // seeds do not help, [3] and [4] once more on new matches with stricter
-  // pixel thresholds (mapper_attempts.h).
+  // seeds do not help, [3] and [4] once more on new matches
+  // (mapper_attempts.h).
   MappedRound mapped = MapWithSeeds(&colmap, run, first, kStages, command, &inputs);
   std::vector<MapperAttempt> attempts = mapped.attempts;
   MatchingRound second;
   if (run.rematch && ShouldMatchAgain(mapped.attempts, mapped.repeated_seed >= 0)) {
     second.index = 1;
     second.database = (workspace / "database_rematched.db").string();
-    second.pixels = ScaledPixelThresholds(ImageMaxSide(database));
     MatchAgain(&colmap, matcher, second, database, run, kStages);
     mapped = MapWithSeeds(&colmap, run, second, kStages, command, &inputs);
     attempts.insert(attempts.end(), mapped.attempts.begin(), mapped.attempts.end());
@@ -564,8 +529,7 @@ int RunRun(int argc, char** argv) {
   std::string rematch = "on";
   app.add_option("--rematch", rematch,
                  "when the mapper's seeds do not give a model the odometry "
-                 "accepts, match again with pixel thresholds scaled to the image "
-                 "size and map that too")
+                 "accepts, match the images again and map the new matches too")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
   app.add_option("--colmap_path", run.colmap_path, "the colmap executable")

@@ -2,7 +2,7 @@
 // Selects frames with the odometry, runs COLMAP (feature_extractor,
 // odometry-guided spatial or sequential matching, mapper, run again with
 // another random seed while the odometry contradicts its model, matching
-// again with stricter pixel thresholds when that does not help) in a workspace,
+// again when that does not help) in a workspace,
 // then calibrates the reconstruction as `odomcal colmap` does. Finished
 // COLMAP stages are reused when rerun on the same workspace.
 #pragma once

@@ -900,8 +900,7 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
 
 // The seeds give three models contradicted each elsewhere: odomcal matches
 // again, into database_rematched.db (a copy, cleaned of matches, so that
-// database.db keeps the first matches) with pixel thresholds scaled to the
-// 320x240 images, and maps that. Rerun on the same workspace, every stage is
+// database.db keeps the first matches), and maps that. Rerun on the same workspace, every stage is
 // reused. When the new matches are contradicted too, the least contradicted
 // model of either matching is calibrated, with a warning naming both.
 TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
@@ -916,8 +915,8 @@ TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
   const RunLimits environment = {{"PATH=" + bin + ":/usr/bin:/bin"}};
   CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}), environment);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
-  EXPECT_NE(run.out.find("COLMAP sequential matching again, pixel thresholds 1.60 / 1.60 / "
-                         "4.80 / 1.60 (two-view, initial pair, registration, filtering)"),
+  EXPECT_NE(run.out.find("COLMAP sequential matching again, into a copy of the features ... "
+                         "done"),
             std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("COLMAP mapping the new matches, --random_seed 1 ... done"),
@@ -941,9 +940,11 @@ TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
                           Path("ws/database_rematched.db")),
             std::string::npos)
       << commands;
-  EXPECT_NE(commands.find("--SiftMatching.max_error 1.60"), std::string::npos) << commands;
-  EXPECT_NE(commands.find("--Mapper.init_max_error 1.60 --Mapper.abs_pose_max_error 4.80 "
-                          "--Mapper.filter_max_reproj_error 1.60"),
+  EXPECT_NE(commands.find("sequential_matcher --database_path " +
+                          Path("ws/database_rematched.db")),
+            std::string::npos)
+      << commands;
+  EXPECT_NE(commands.find("mapper --database_path " + Path("ws/database_rematched.db")),
             std::string::npos)
       << commands;
   EXPECT_TRUE(fs::exists(dir_ / "ws" / "database.db"));
