@@ -14,6 +14,7 @@
 #include <cctype>
 #include <filesystem>
 #include <numeric>
+#include <set>
 #include <system_error>
 #include <utility>
 
@@ -151,6 +152,43 @@ std::vector<ColmapSegment> ReadColmapSegments(
     segments.push_back(MakeSegment(folder, sub_model, timestamps, options));
   }
   return segments;
+}
+
+std::vector<DuplicateSegment> RemoveDuplicateSegments(std::vector<ColmapSegment>* segments) {
+  std::vector<std::set<std::string>> names;
+  for (const ColmapSegment& segment : *segments) {
+    names.emplace_back(segment.image_names.begin(), segment.image_names.end());
+  }
+  // holder[k]: the segment that holds every image of segment k, or -1.
+  std::vector<int> holder(segments->size(), -1);
+  for (size_t k = 0; k < segments->size(); ++k) {
+    if (names[k].empty()) continue;
+    for (size_t other = 0; other < segments->size() && holder[k] < 0; ++other) {
+      const bool larger = names[other].size() > names[k].size() ||
+                          (names[other].size() == names[k].size() && other < k);
+      if (other != k && larger &&
+          std::includes(names[other].begin(), names[other].end(), names[k].begin(),
+                        names[k].end())) {
+        holder[k] = static_cast<int>(other);
+      }
+    }
+  }
+  std::vector<std::string> sub_models;
+  for (const ColmapSegment& segment : *segments) sub_models.push_back(segment.sub_model);
+  std::vector<DuplicateSegment> duplicates;
+  std::vector<ColmapSegment> kept;
+  for (size_t k = 0; k < segments->size(); ++k) {
+    if (holder[k] < 0) {
+      kept.push_back(std::move((*segments)[k]));
+      continue;
+    }
+    // A holder that is a duplicate itself: its own holder has the images too.
+    int root = holder[k];
+    while (holder[root] >= 0) root = holder[root];
+    duplicates.push_back({std::move((*segments)[k]), sub_models[root]});
+  }
+  *segments = std::move(kept);
+  return duplicates;
 }
 
 }  // namespace odomcal

@@ -117,6 +117,7 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
   if (run.segments.empty()) {
     throw FormatError(inputs.model_path + ": no COLMAP model found");
   }
+  run.duplicate_segments = RemoveDuplicateSegments(&run.segments);
   if (!inputs.database_path.empty()) {
     run.num_database_images =
         static_cast<int>(ReadColmapDatabaseImages(inputs.database_path).size());
@@ -156,6 +157,13 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
   run.check = CalibrateWithStretchCheck(context.association.pairs,
                                         inputs.calibration, inputs.stretch);
   CalibrationResult& result = run.check.result;
+  for (const DuplicateSegment& duplicate : run.duplicate_segments) {
+    result.warnings.push_back(
+        "sub-model " + duplicate.segment.sub_model + " (" +
+        std::to_string(duplicate.segment.image_names.size()) +
+        " images) holds no image that sub-model " + duplicate.duplicate_of +
+        " does not: left out as a second reconstruction of the same images");
+  }
   for (const InconsistentStretch& stretch : run.check.stretches) {
     result.warnings.push_back(
         "sub-model " + run.segments[stretch.input_segment].sub_model +

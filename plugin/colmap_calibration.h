@@ -2,7 +2,8 @@
 // outputs: the shared core of `odomcal colmap` and `odomcal run`.
 //
 // Steps: read every sub-model as a segment (adapters/colmap_segments.h),
-// associate with the odometry, calibrate with the stretch check
+// leave out those that only repeat images of a larger one, associate with
+// the odometry, calibrate with the stretch check
 // (solver/stretch_consistency.h: odometry as the witness of COLMAP), align
 // each sub-model into the odometry origin frame in metres
 // (solver/similarity_alignment.h).
@@ -52,7 +53,8 @@ struct MetricSubModel {
 };
 
 struct ColmapCalibrationRun {
-  std::vector<ColmapSegment> segments;  // one per sub-model
+  std::vector<ColmapSegment> segments;  // one per sub-model, but for:
+  std::vector<DuplicateSegment> duplicate_segments;  // left out
   Trajectory odometry;
   int num_database_images = -1;  // -1: no database given
   StretchCheckResult check;      // result, pairs used, stretches

@@ -77,6 +77,13 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
                              {"segment", metric.output_segment},
                              {"origin_from_sfm", Sim3ToJson(metric.origin_from_sfm)}});
   }
+  json duplicates = json::array();
+  for (const DuplicateSegment& duplicate : run.duplicate_segments) {
+    duplicates.push_back({{"name", duplicate.segment.sub_model},
+                          {"path", duplicate.segment.model_path},
+                          {"num_registered_images", duplicate.segment.num_registered_images},
+                          {"duplicate_of", duplicate.duplicate_of}});
+  }
   json mapper_attempts = json::array();
   for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
     const MapperAttempt& attempt = run.mapper_attempts[i];
@@ -96,6 +103,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
   }
   out["colmap"] = {
       {"sub_models", sub_models},
+      {"duplicate_sub_models", duplicates},
       {"num_database_images",
        run.num_database_images >= 0 ? json(run.num_database_images) : json(nullptr)},
       {"segment_sub_models", segment_sources},

@@ -328,14 +328,14 @@ class Robustness : public ::testing::Test {
   }
 
   // models/<name>/: the model COLMAP's mapper would make of WriteImageFolder's
-  // `count` images (the drive's camera poses, no points), with the images
-  // `misregistered` 3 deg off about their own x axis.
+  // images first .. count - 1 (the drive's camera poses, no points), with the
+  // images `misregistered` 3 deg off about their own x axis.
   void WriteMapperModel(const SimulatedDrive& drive, int count, const std::string& name,
-                        const std::vector<int>& misregistered = {}) const {
+                        const std::vector<int>& misregistered = {}, int first = 0) const {
     ColmapModel model;
     model.cameras[1] =
         MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
-    for (int i = 0; i < count; ++i) {
+    for (int i = first; i < count; ++i) {
       const uint32_t id = static_cast<uint32_t>(i + 1);
       ColmapImage image = MakeColmapImage(id, static_cast<size_t>(i),
                                           drive.camera.poses[10 * i + 10].world_from_sensor);
@@ -352,7 +352,8 @@ class Robustness : public ::testing::Test {
 
   // bin/colmap whose mapper copies models/seed_<--random_seed>/ (on the
   // matches of database_rematched.db: models/rematch_seed_<...>/) to
-  // <--output_path>/0, or writes nothing when there is no such model.
+  // <--output_path>/0 (its sub-models 0, 1, ... to <--output_path>/ when
+  // it has them), or writes nothing when there is no such model.
   std::string WriteFakeColmapWithMapperModels() const {
     return WriteFakeColmap(
         "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
@@ -364,7 +365,8 @@ class Robustness : public ::testing::Test {
         "    shift\n"
         "  done\n"
         "  model=" + Path("models") + "/${round}seed_$seed\n"
-        "  if [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* \"$out/0/\"; fi\n"
+        "  if [ -d \"$model/0\" ]; then cp -r \"$model\"/* \"$out/\";\n"
+        "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* \"$out/0/\"; fi\n"
         "fi\n"
         "exit 0\n");
   }
@@ -845,6 +847,39 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
                               .conjugate() *
                           drive.odom_from_cam.rotation),
             0.1 * kPi / 180.0);
+}
+
+// COLMAP reconstructed images 20-29 twice: in sub-model 0 on their own,
+// two of them 3 deg off, and in sub-model 1 with all the others. Sub-model
+// 0 is left out as a duplicate (its motions would count twice, and its
+// misregistered images would make the clean model look contradicted), so
+// the first mapper run is accepted and calibrated.
+TEST_F(Robustness, DuplicateSubModelIsLeftOut) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0/0", {22, 25}, /*first=*/20);
+  WriteMapperModel(drive, kImages, "seed_0/1");
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  const CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
+                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  const json& colmap = result["colmap"];
+  ASSERT_EQ(colmap["sub_models"].size(), 1u) << colmap.dump(2);
+  EXPECT_EQ(colmap["sub_models"][0]["name"], "1");
+  ASSERT_EQ(colmap["duplicate_sub_models"].size(), 1u) << colmap.dump(2);
+  EXPECT_EQ(colmap["duplicate_sub_models"][0]["name"], "0");
+  EXPECT_EQ(colmap["duplicate_sub_models"][0]["duplicate_of"], "1");
+  EXPECT_EQ(colmap["duplicate_sub_models"][0]["num_registered_images"], 10);
+  ASSERT_EQ(colmap["mapper_attempts"].size(), 1u) << colmap.dump(2);
+  EXPECT_EQ(colmap["mapper_attempts"][0]["num_contradicting_pairs"], 0);
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "sub-model 0 (10 images) holds no image that sub-model 1 does "
+                           "not: left out as a second reconstruction of the same images"))
+      << result["warnings"].dump(2);
+  EXPECT_TRUE(fs::exists(dir_ / "ws" / "sparse_metric" / "1"));
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "sparse_metric" / "0"));
 }
 
 // Every run contradicted elsewhere: the least contradicted model is
