@@ -69,14 +69,13 @@ bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earl
          later.contradicted_spans == earlier.contradicted_spans;
 }
 
-bool ShouldMatchAgain(const std::vector<MapperAttempt>& round, bool repeated) {
+bool ShouldMatchAgain(const std::vector<MapperAttempt>& round) {
   bool any_model = false;
   for (const MapperAttempt& attempt : round) {
     if (OdometryAcceptsModel(attempt)) return false;
     any_model |= attempt.produced_model;
   }
-  if (!any_model) return false;
-  return !repeated || round.back().num_pairs_left_out > 0;
+  return any_model;
 }
 
 bool IsBetterMapperAttempt(const MapperAttempt& a, const MapperAttempt& b) {

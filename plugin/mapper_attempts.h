@@ -56,17 +56,16 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
 bool OdometryAcceptsModel(const MapperAttempt& attempt);
 
 // True when `later` is contradicted exactly where `earlier` was: another
-// seed changed nothing there, so the odometry or the images disagree, not
-// the mapper's randomness, and a further run would not help.
+// seed changed nothing there, so a further seed would not help; on new
+// matches (ShouldMatchAgain), neither would further matching.
 bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier);
 
-// Whether to match again after the mapper runs `round` (of one matching
-// round), `repeated` when the last was contradicted where an earlier one
-// was. Yes when models came out but the odometry accepted none, unless the
-// seeds repeated contradictions of isolated pairs only: those are the
-// odometry's outliers (wheel slip), which no matching changes. A repeated
-// folded stretch is the matches' fault: the images themselves show it right.
-bool ShouldMatchAgain(const std::vector<MapperAttempt>& round, bool repeated);
+// Whether to match again after the mapper runs `round` of one matching: yes
+// when models came out but the odometry accepted none. Seeds that repeat
+// the same contradictions show that the mapper's randomness is not the
+// cause; new matches tell the matches' fault (the contradictions move or
+// vanish) from the odometry's or the scene's (they stay).
+bool ShouldMatchAgain(const std::vector<MapperAttempt>& round);
 
 // "a is a better model than b": a model at all; then a status closer to
 // success; then fewer contradicting pairs (their errors leak into the

@@ -117,30 +117,21 @@ TEST_F(MapperAttemptsTest, SeesTheSameContradictionsAgain) {
   EXPECT_FALSE(RepeatsContradictions(clean, clean));
 }
 
-TEST_F(MapperAttemptsTest, MatchesAgainUnlessTheSeedsRepeatIsolatedOutliers) {
+TEST_F(MapperAttemptsTest, MatchesAgainWhileNoModelIsAccepted) {
   const MapperAttempt clean =
       SummarizeMapperAttempt(0, "a", OneSubModel(41), Calibrate(truth_.pairs));
   const MapperAttempt outliers =
       SummarizeMapperAttempt(1, "b", OneSubModel(41), Calibrate(WithMisregisteredImages()));
-  ASSERT_EQ(outliers.num_pairs_left_out, 0);
-  StretchCheckResult with_fold = Calibrate(truth_.pairs);
-  with_fold.stretches.emplace_back();
-  with_fold.stretches.back().num_pairs = 6;
-  const MapperAttempt folded = SummarizeMapperAttempt(2, "c", OneSubModel(47), with_fold);
   MapperAttempt no_model;
 
   // An accepted model needs nothing more, whatever came before it.
-  EXPECT_FALSE(ShouldMatchAgain({outliers, clean}, /*repeated=*/false));
-  // Every seed contradicted, each elsewhere: the seeds did not help.
-  EXPECT_TRUE(ShouldMatchAgain({outliers, folded, outliers}, /*repeated=*/false));
-  EXPECT_TRUE(ShouldMatchAgain({no_model, outliers}, /*repeated=*/false));
-  // The same isolated pairs twice: the odometry's outliers (hard's wheel slip).
-  EXPECT_FALSE(ShouldMatchAgain({outliers, outliers}, /*repeated=*/true));
-  // The same folded stretch twice: the matches' fault.
-  EXPECT_TRUE(ShouldMatchAgain({folded, folded}, /*repeated=*/true));
-  // No model at all: stricter matching would not make one.
-  EXPECT_FALSE(ShouldMatchAgain({no_model, no_model}, /*repeated=*/false));
-  EXPECT_FALSE(ShouldMatchAgain({}, /*repeated=*/false));
+  EXPECT_FALSE(ShouldMatchAgain({outliers, clean}));
+  // Contradicted models, whether the seeds repeated the pairs or not.
+  EXPECT_TRUE(ShouldMatchAgain({outliers, outliers}));
+  EXPECT_TRUE(ShouldMatchAgain({no_model, outliers}));
+  // No model at all: new matches would not make one.
+  EXPECT_FALSE(ShouldMatchAgain({no_model, no_model}));
+  EXPECT_FALSE(ShouldMatchAgain({}));
 }
 
 TEST(MapperAttempts, RanksStatusBeforeContradictionsBeforeSize) {

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -147,7 +148,9 @@ struct MatchingRound {
 
 struct MappedRound {
   std::vector<MapperAttempt> attempts;
-  int repeated_seed = -1;  // an earlier seed contradicted where the last was
+  // An earlier run, on these or earlier matches, contradicted where the
+  // last one was.
+  std::optional<MapperAttempt> repeated;
 };
 
 std::string AttemptName(const MapperAttempt& attempt) {
@@ -206,11 +209,13 @@ void MatchAgain(ColmapRunner* colmap,
 }
 
 // [4]: `colmap mapper` with --random_seed 0, 1, ... on the round's matches,
-// each model calibrated, until the odometry accepts one, a seed repeats an
-// earlier one's contradictions, or run.mapper_attempts runs are made.
+// each model calibrated, until the odometry accepts one, a run repeats the
+// contradictions of an earlier one (of this round or in `earlier`), or
+// run.mapper_attempts runs are made.
 MappedRound MapWithSeeds(ColmapRunner* colmap,
                          const RunSettings& run,
                          const MatchingRound& round,
+                         const std::vector<MapperAttempt>& earlier,
                          int num_stages,
                          const std::string& command,
                          ColmapCalibrationInputs* inputs) {
@@ -257,19 +262,21 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
     mapped.attempts.back().matching_round = round.index;
     const MapperAttempt& last = mapped.attempts.back();
     const bool accepted = OdometryAcceptsModel(last);
-    for (size_t i = 0; i + 1 < mapped.attempts.size() && !accepted; ++i) {
-      if (RepeatsContradictions(last, mapped.attempts[i])) {
-        mapped.repeated_seed = mapped.attempts[i].random_seed;
+    std::vector<MapperAttempt> before = earlier;
+    before.insert(before.end(), mapped.attempts.begin(), mapped.attempts.end() - 1);
+    for (const MapperAttempt& other : before) {
+      if (!accepted && !mapped.repeated && RepeatsContradictions(last, other)) {
+        mapped.repeated = other;
       }
     }
     std::string note = Note(stage) + "; " + OdometryVerdict(last);
-    if (mapped.repeated_seed >= 0) {
-      note += ", the same as with --random_seed " + std::to_string(mapped.repeated_seed);
+    if (mapped.repeated) {
+      note += ", the same as with " + AttemptName(*mapped.repeated);
     } else if (!accepted && seed + 1 < run.mapper_attempts) {
       note += ": mapping again";
     }
     clock.Done(note);
-    if (accepted || mapped.repeated_seed >= 0) break;
+    if (accepted || mapped.repeated) break;
   }
   return mapped;
 }
@@ -279,14 +286,18 @@ std::string MapperContradictionWarning(const std::vector<MapperAttempt>& attempt
                                        int chosen,
                                        const MappedRound& last_round) {
   const MapperAttempt& last = last_round.attempts.back();
-  const std::string on = last.matching_round == 0 ? "" : " on the new matches";
-  if (last_round.repeated_seed >= 0) {
-    return "COLMAP mapper runs with --random_seed " +
-           std::to_string(last_round.repeated_seed) + " and " +
-           std::to_string(last.random_seed) + on + " gave the same " +
-           std::to_string(last.num_contradicting_pairs) +
+  if (last_round.repeated) {
+    const MapperAttempt& first = *last_round.repeated;
+    const std::string runs =
+        first.matching_round == last.matching_round
+            ? "COLMAP mapper runs with --random_seed " + std::to_string(first.random_seed) +
+                  " and " + std::to_string(last.random_seed) +
+                  (last.matching_round == 0 ? "" : " on the new matches")
+            : "COLMAP mapper runs on two matchings (" + AttemptName(first) + ", " +
+                  AttemptName(last) + ")";
+    return runs + " gave the same " + std::to_string(last.num_contradicting_pairs) +
            " motion pairs that contradict the odometry: the odometry or the images "
-           "disagree there, not the mapper's randomness";
+           "disagree there, not COLMAP's randomness";
   }
   return "every one of " + std::to_string(attempts.size()) +
          " COLMAP mapper runs" + (last.matching_round == 0 ? "" : " on two matchings") +
@@ -430,14 +441,14 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   // [4] Mapping, each model checked against the odometry; when the random
   // seeds do not help, [3] and [4] once more on new matches
   // (mapper_attempts.h).
-  MappedRound mapped = MapWithSeeds(&colmap, run, first, kStages, command, &inputs);
+  MappedRound mapped = MapWithSeeds(&colmap, run, first, {}, kStages, command, &inputs);
   std::vector<MapperAttempt> attempts = mapped.attempts;
   MatchingRound second;
-  if (run.rematch && ShouldMatchAgain(mapped.attempts, mapped.repeated_seed >= 0)) {
+  if (run.rematch && ShouldMatchAgain(mapped.attempts)) {
     second.index = 1;
     second.database = (workspace / "database_rematched.db").string();
     MatchAgain(&colmap, matcher, second, database, run, kStages);
-    mapped = MapWithSeeds(&colmap, run, second, kStages, command, &inputs);
+    mapped = MapWithSeeds(&colmap, run, second, attempts, kStages, command, &inputs);
     attempts.insert(attempts.end(), mapped.attempts.begin(), mapped.attempts.end());
   }
   const int chosen = BestMapperAttempt(attempts);

@@ -884,9 +884,9 @@ TEST_F(Robustness, DuplicateSubModelIsLeftOut) {
 
 // Every run contradicted elsewhere: the least contradicted model is
 // calibrated, with a warning (here without matching again). Contradicted
-// where the previous run was, at isolated pairs: the mapping stops (another
-// seed changed nothing) and, as those are the odometry's outliers, no new
-// matching is tried. --mapper_attempts 1 maps once.
+// where the previous run was: the mapping stops (another seed changed
+// nothing); new matches contradicted there too end it (the odometry or the
+// images are at fault). --mapper_attempts 1 maps once.
 TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
   constexpr int kImages = 30;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
@@ -915,7 +915,7 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "database_rematched.db"));
 
   WriteMapperModel(drive, kImages, "seed_1", {7, 19});
-  result = run_in_fresh_workspace({});
+  result = run_in_fresh_workspace({"--rematch", "off"});
   attempts = result["colmap"]["mapper_attempts"];
   ASSERT_EQ(attempts.size(), 2u) << attempts.dump(2);
   EXPECT_TRUE(attempts[0]["chosen"]);
@@ -925,9 +925,26 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
       "COLMAP mapper runs with --random_seed 0 and 1 gave the same " +
           attempts[1]["num_contradicting_pairs"].dump() +
           " motion pairs that contradict the odometry: the odometry or the images "
-          "disagree there, not the mapper's randomness"))
+          "disagree there, not COLMAP's randomness"))
       << result["warnings"].dump(2);
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "database_rematched.db"));
+
+  // The new matches contradicted at the same pairs again: no second seed.
+  WriteMapperModel(drive, kImages, "rematch_seed_0", {7, 19});
+  WriteMapperModel(drive, kImages, "rematch_seed_1");
+  result = run_in_fresh_workspace({});
+  attempts = result["colmap"]["mapper_attempts"];
+  ASSERT_EQ(attempts.size(), 3u) << attempts.dump(2);
+  EXPECT_TRUE(attempts[0]["chosen"]);
+  EXPECT_EQ(attempts[2]["matching_round"], 1);
+  EXPECT_TRUE(ContainsName(
+      result["warnings"],
+      "COLMAP mapper runs on two matchings (--random_seed 0, --random_seed 0 on the new "
+      "matches) gave the same " +
+          attempts[2]["num_contradicting_pairs"].dump() +
+          " motion pairs that contradict the odometry: the odometry or the images "
+          "disagree there, not COLMAP's randomness"))
+      << result["warnings"].dump(2);
 
   result = run_in_fresh_workspace({"--mapper_attempts", "1", "--rematch", "off"});
   EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 1u);
