@@ -1020,6 +1020,15 @@ TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
                            "pairs that contradict the odometry; the model of --random_seed 1 "
                            "on the new matches contradicts it least"))
       << result["warnings"].dump(2);
+  // The misregistered last image is in no pair the odometry confirms: it is
+  // left out of the metric model.
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "sparse_metric/0: left out 1 image whose every motion pair the "
+                           "odometry contradicts (" + ImageName(kImages - 1) + ")"))
+      << result["warnings"].dump(2);
+  const ColmapModel metric = ReadColmapModel(Path("ws/sparse_metric/0"));
+  EXPECT_EQ(metric.images.size(), static_cast<size_t>(kImages - 1));
+  for (const auto& [id, image] : metric.images) EXPECT_NE(image.name, ImageName(kImages - 1));
 }
 
 // Real COLMAP on files that are not images: feature_extractor skips every
