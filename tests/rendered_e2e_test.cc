@@ -185,6 +185,35 @@ class RenderedEndToEnd : public ::testing::Test {
   fs::path dir_;
 };
 
+// Two rooms joined by a featureless corridor: COLMAP returns two sub-models,
+// calibrated as two segments with their own scales. The odometry has 1.5 % /
+// 1.0 % wheel-scale errors, 1 % slip and a 0.01 rad/s yaw-rate bias; the
+// camera clock a 25 ms offset (not given to odomcal) with 2 ms jitter.
+// Tolerances, from that noise:
+// - rotation 0.5 deg: the wheel-scale difference (2.5 % over the 0.4 m wheel
+//   base) and the bias make each odometry step turn too far by
+//   |de| d / B -/+ b dt (0.011 -/+ 0.004 rad for an 18 cm step in 0.4 s), so
+//   its direction is off by half that, 0.2-0.43 deg, which the extrinsic's
+//   yaw absorbs (measured 0.22 and 0.37 deg); roll and pitch are unaffected
+//   (these errors are about z); plus COLMAP's ~0.05 deg.
+// - x/y 15 mm: the lever-arm term (R_A - I) p sees the same per-pair yaw
+//   error (about 1 mm for |p| = 0.25 m) and the 25 ms offset shifts every
+//   step along the path by ~1 cm; they average over ~80 pairs.
+// - metric model scale 2.5 % per exported model: the odometry's own scale
+//   error along the stretch (the mean wheel-scale error is +0.25 %, slip and
+//   the bias bend lengths by up to ~1.5 % over a room) is inherited.
+// The corridor defeats the spatial matcher's 8 neighbours at 2048 features
+// (one room only); sequential matching with 4096 features reconstructs both.
+// Defined first, being the longest: ctest -j starts tests in the order
+// listed, so `hard` runs beside the others instead of after them.
+TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
+  const PresetRun run =
+      RunPreset("hard", TestSeed(1), "--matcher sequential --max_num_features 4096");
+  ExpectAccurate(run, 0.5, 0.015, 0.025);
+  EXPECT_GE(run.result["metric_scales"].size(), 2u) << run.log;
+  EXPECT_GE(run.result["colmap"]["sub_models"].size(), 2u) << run.log;
+}
+
 TEST_F(RenderedEndToEnd, SmallPreset) {
   const PresetRun run = RunPreset("small", TestSeed(1));
   ExpectAccurate(run, 0.1, 0.005, 0.003);
@@ -214,33 +243,6 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
 // extrinsic far from the forward mount, same tolerances.
 TEST_F(RenderedEndToEnd, TiltedRolledCamera) {
   ExpectAccurate(RunPreset("tilted", TestSeed(1)), 0.1, 0.005, 0.003);
-}
-
-// Two rooms joined by a featureless corridor: COLMAP returns two sub-models,
-// calibrated as two segments with their own scales. The odometry has 1.5 % /
-// 1.0 % wheel-scale errors, 1 % slip and a 0.01 rad/s yaw-rate bias; the
-// camera clock a 25 ms offset (not given to odomcal) with 2 ms jitter.
-// Tolerances, from that noise:
-// - rotation 0.5 deg: the wheel-scale difference (2.5 % over the 0.4 m wheel
-//   base) and the bias make each odometry step turn too far by
-//   |de| d / B -/+ b dt (0.011 -/+ 0.004 rad for an 18 cm step in 0.4 s), so
-//   its direction is off by half that, 0.2-0.43 deg, which the extrinsic's
-//   yaw absorbs (measured 0.22 and 0.37 deg); roll and pitch are unaffected
-//   (these errors are about z); plus COLMAP's ~0.05 deg.
-// - x/y 15 mm: the lever-arm term (R_A - I) p sees the same per-pair yaw
-//   error (about 1 mm for |p| = 0.25 m) and the 25 ms offset shifts every
-//   step along the path by ~1 cm; they average over ~80 pairs.
-// - metric model scale 2.5 % per exported model: the odometry's own scale
-//   error along the stretch (the mean wheel-scale error is +0.25 %, slip and
-//   the bias bend lengths by up to ~1.5 % over a room) is inherited.
-// The corridor defeats the spatial matcher's 8 neighbours at 2048 features
-// (one room only); sequential matching with 4096 features reconstructs both.
-TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
-  const PresetRun run =
-      RunPreset("hard", TestSeed(1), "--matcher sequential --max_num_features 4096");
-  ExpectAccurate(run, 0.5, 0.015, 0.025);
-  EXPECT_GE(run.result["metric_scales"].size(), 2u) << run.log;
-  EXPECT_GE(run.result["colmap"]["sub_models"].size(), 2u) << run.log;
 }
 
 TEST_F(RenderedEndToEnd, StraightDrivingIsUnobservable) {
