@@ -207,7 +207,7 @@ ColmapStageResult ColmapRunner::RunStage(const std::string& stage,
                                          const std::vector<std::string>& outputs) {
   std::vector<std::string> argv = {options_.executable};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
-  const std::string command_line = CommandLine(arguments);
+  const std::string command_line = JoinQuoted(argv);
   const fs::path workspace(options_.workspace);
   const fs::path marker = workspace / "stages" / (stage + ".done");
   ColmapStageResult result;
