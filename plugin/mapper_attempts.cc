@@ -40,10 +40,17 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
     num_left_out += stretch.num_pairs;
     attempt.contradicted_spans.emplace_back(stretch.first_stamp_ns, stretch.last_stamp_ns);
   }
-  // Without an estimate no pair is explained.
+  // A refusal for too little motion (straight driving, too few pairs)
+  // judged no pair: the odometry contradicts none, and another model of the
+  // same drive would not move more. Otherwise, without an estimate (RANSAC
+  // found no consistent set) no pair is explained.
+  const bool judged_pairs =
+      check.result.has_estimate ||
+      (check.result.status != CalibrationStatus::kUnobservable &&
+       check.result.status != CalibrationStatus::kNotEnoughMotion);
   const std::vector<char>& used = check.result.diagnostics.inlier_mask;
   int num_unused = 0;
-  for (size_t k = 0; k < check.pairs.size(); ++k) {
+  for (size_t k = 0; k < check.pairs.size() && judged_pairs; ++k) {
     if (check.result.has_estimate && k < used.size() && used[k] != 0) continue;
     ++num_unused;
     attempt.contradicted_spans.emplace_back(check.pairs[k].stamp_i_ns,
@@ -52,7 +59,7 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   std::sort(attempt.contradicted_spans.begin(), attempt.contradicted_spans.end());
   const int num_calibrated = static_cast<int>(check.pairs.size());
   attempt.num_pairs = num_calibrated + num_left_out;
-  attempt.num_pairs_used = num_calibrated - num_unused;
+  attempt.num_pairs_used = judged_pairs ? num_calibrated - num_unused : 0;
   attempt.num_contradicting_pairs = num_unused + num_left_out;
   attempt.num_pairs_left_out = num_left_out;
   return attempt;

@@ -134,6 +134,32 @@ TEST_F(MapperAttemptsTest, MatchesAgainWhileNoModelIsAccepted) {
   EXPECT_FALSE(ShouldMatchAgain({}));
 }
 
+// Straight driving: the calibration refuses for the motion, judging no
+// pair, so nothing contradicts the odometry and another mapper run (on the
+// same drive) has nothing to improve. Seen on the `straight` preset, where
+// every pair counted as contradicting cost two mapper runs and a second
+// matching, and a warning blamed the odometry.
+TEST_F(MapperAttemptsTest, StraightDrivingContradictsNothing) {
+  MotionPairs pairs = truth_.pairs;
+  const Rigid3d& x = truth_.odom_from_cam;
+  for (MotionPair& pair : pairs) {
+    pair.odom_i_from_odom_j.rotation = Eigen::Quaterniond::Identity();
+    Rigid3d cam = Inverse(x) * pair.odom_i_from_odom_j * x;
+    cam.translation /= truth_.metric_scales[0];
+    pair.cam_i_from_cam_j = cam;
+  }
+  const StretchCheckResult check = Calibrate(pairs);
+  ASSERT_EQ(check.result.status, CalibrationStatus::kUnobservable) << check.result.message;
+  ASSERT_FALSE(check.result.has_estimate);
+  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  EXPECT_EQ(attempt.num_pairs, 40);
+  EXPECT_EQ(attempt.num_pairs_used, 0);  // no fit
+  EXPECT_EQ(attempt.num_contradicting_pairs, 0);
+  EXPECT_TRUE(attempt.contradicted_spans.empty());
+  EXPECT_TRUE(OdometryAcceptsModel(attempt));
+  EXPECT_FALSE(ShouldMatchAgain({attempt}));
+}
+
 TEST(MapperAttempts, RanksStatusBeforeContradictionsBeforeSize) {
   MapperAttempt success;
   success.produced_model = true;

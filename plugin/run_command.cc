@@ -124,10 +124,14 @@ void CheckImagesWereRead(const std::string& database,
 }
 
 // "the odometry agrees with all 34 motion pairs", "2 of 34 motion pairs
-// contradict the odometry", or the calibration status when it gave no answer.
+// contradict the odometry", "none of 34 motion pairs could be tested" (too
+// little motion), with the calibration status when it gave no answer.
 std::string OdometryVerdict(const MapperAttempt& attempt) {
   std::string verdict;
-  if (attempt.num_contradicting_pairs == 0) {
+  if (attempt.num_contradicting_pairs == 0 && attempt.num_pairs_used == 0) {
+    verdict = "none of " + std::to_string(attempt.num_pairs) +
+              " motion pairs could be tested against the odometry";
+  } else if (attempt.num_contradicting_pairs == 0) {
     verdict = "the odometry agrees with all " + std::to_string(attempt.num_pairs) +
               " motion pairs";
   } else {
