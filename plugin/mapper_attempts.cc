@@ -48,6 +48,10 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
       check.result.has_estimate ||
       (check.result.status != CalibrationStatus::kUnobservable &&
        check.result.status != CalibrationStatus::kNotEnoughMotion);
+  attempt.pairs_tested = judged_pairs;
+  for (const MotionPair& pair : check.pairs) {
+    attempt.pair_spans.emplace_back(pair.stamp_i_ns, pair.stamp_j_ns);
+  }
   const std::vector<char>& used = check.result.diagnostics.inlier_mask;
   int num_unused = 0;
   for (size_t k = 0; k < check.pairs.size() && judged_pairs; ++k) {
@@ -74,6 +78,11 @@ bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earl
   return later.produced_model && earlier.produced_model &&
          !later.contradicted_spans.empty() &&
          later.contradicted_spans == earlier.contradicted_spans;
+}
+
+bool RepeatsUntestedPairs(const MapperAttempt& later, const MapperAttempt& earlier) {
+  return later.produced_model && earlier.produced_model && !later.pairs_tested &&
+         !earlier.pairs_tested && later.pair_spans == earlier.pair_spans;
 }
 
 bool ShouldMatchAgain(const std::vector<MapperAttempt>& round) {

@@ -42,6 +42,10 @@ struct MapperAttempt {
   int num_pairs_left_out = 0;  // of those, in stretches left out as folded
   // Where: [first, last] stamp of each such pair or left-out stretch.
   std::vector<std::pair<int64_t, int64_t>> contradicted_spans;
+  // False when the calibration refused for too little motion (straight
+  // driving, too few pairs) before testing any pair against the odometry.
+  bool pairs_tested = false;
+  std::vector<std::pair<int64_t, int64_t>> pair_spans;  // every motion pair
 };
 
 // What the calibration on one attempt's model found.
@@ -59,6 +63,11 @@ bool OdometryAcceptsModel(const MapperAttempt& attempt);
 // seed changed nothing there, so a further seed would not help; on new
 // matches (ShouldMatchAgain), neither would further matching.
 bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier);
+
+// True when neither model's pairs could be tested (too little motion) and
+// `later` gives the same motion pairs as `earlier`: a further seed would
+// give the same refusal.
+bool RepeatsUntestedPairs(const MapperAttempt& later, const MapperAttempt& earlier);
 
 // Whether to match again after the mapper runs `round` of one matching: yes
 // when models came out but the odometry accepted none. Seeds that repeat

@@ -48,6 +48,18 @@ class MapperAttemptsTest : public ::testing::Test {
     return pairs;
   }
 
+  // The same drive without turns: odometry and camera rotations identity.
+  MotionPairs Straightened(MotionPairs pairs) const {
+    const Rigid3d& x = truth_.odom_from_cam;
+    for (MotionPair& pair : pairs) {
+      pair.odom_i_from_odom_j.rotation = Eigen::Quaterniond::Identity();
+      Rigid3d cam = Inverse(x) * pair.odom_i_from_odom_j * x;
+      cam.translation /= truth_.metric_scales[0];
+      pair.cam_i_from_cam_j = cam;
+    }
+    return pairs;
+  }
+
   SimulatedMotions truth_;
   CalibrationOptions options_;
 };
@@ -140,24 +152,41 @@ TEST_F(MapperAttemptsTest, MatchesAgainWhileNoModelIsAccepted) {
 // every pair counted as contradicting cost two mapper runs and a second
 // matching, and a warning blamed the odometry.
 TEST_F(MapperAttemptsTest, StraightDrivingContradictsNothing) {
-  MotionPairs pairs = truth_.pairs;
-  const Rigid3d& x = truth_.odom_from_cam;
-  for (MotionPair& pair : pairs) {
-    pair.odom_i_from_odom_j.rotation = Eigen::Quaterniond::Identity();
-    Rigid3d cam = Inverse(x) * pair.odom_i_from_odom_j * x;
-    cam.translation /= truth_.metric_scales[0];
-    pair.cam_i_from_cam_j = cam;
-  }
-  const StretchCheckResult check = Calibrate(pairs);
+  const StretchCheckResult check = Calibrate(Straightened(truth_.pairs));
   ASSERT_EQ(check.result.status, CalibrationStatus::kUnobservable) << check.result.message;
   ASSERT_FALSE(check.result.has_estimate);
   const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  EXPECT_FALSE(attempt.pairs_tested);
   EXPECT_EQ(attempt.num_pairs, 40);
   EXPECT_EQ(attempt.num_pairs_used, 0);  // no fit
   EXPECT_EQ(attempt.num_contradicting_pairs, 0);
   EXPECT_TRUE(attempt.contradicted_spans.empty());
   EXPECT_TRUE(OdometryAcceptsModel(attempt));
   EXPECT_FALSE(ShouldMatchAgain({attempt}));
+}
+
+// One turn only: not enough motion, which a model with more registered
+// images might fix, so it is not accepted; but the same pairs again mean
+// the drive, not the mapper, lacks the motion.
+TEST_F(MapperAttemptsTest, TooLittleMotionRepeatedStopsTheSeeds) {
+  MotionPairs pairs = Straightened(truth_.pairs);
+  pairs[5] = truth_.pairs[5];
+  const StretchCheckResult check = Calibrate(pairs);
+  ASSERT_EQ(check.result.status, CalibrationStatus::kNotEnoughMotion) << check.result.message;
+  const MapperAttempt first = SummarizeMapperAttempt(0, "a", OneSubModel(41), check);
+  EXPECT_FALSE(first.pairs_tested);
+  EXPECT_EQ(first.num_contradicting_pairs, 0);
+  EXPECT_FALSE(OdometryAcceptsModel(first));
+  EXPECT_FALSE(RepeatsContradictions(first, first));
+  EXPECT_TRUE(RepeatsUntestedPairs(first, first));
+  pairs.pop_back();  // a model with one image fewer
+  const MapperAttempt fewer = SummarizeMapperAttempt(1, "b", OneSubModel(40), Calibrate(pairs));
+  EXPECT_FALSE(RepeatsUntestedPairs(fewer, first));
+  // Tested models never repeat as untested ones.
+  const MapperAttempt clean =
+      SummarizeMapperAttempt(2, "c", OneSubModel(41), Calibrate(truth_.pairs));
+  EXPECT_TRUE(clean.pairs_tested);
+  EXPECT_FALSE(RepeatsUntestedPairs(clean, clean));
 }
 
 TEST(MapperAttempts, RanksStatusBeforeContradictionsBeforeSize) {

@@ -128,7 +128,7 @@ void CheckImagesWereRead(const std::string& database,
 // little motion), with the calibration status when it gave no answer.
 std::string OdometryVerdict(const MapperAttempt& attempt) {
   std::string verdict;
-  if (attempt.num_contradicting_pairs == 0 && attempt.num_pairs_used == 0) {
+  if (!attempt.pairs_tested) {
     verdict = "none of " + std::to_string(attempt.num_pairs) +
               " motion pairs could be tested against the odometry";
   } else if (attempt.num_contradicting_pairs == 0) {
@@ -269,7 +269,8 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
     std::vector<MapperAttempt> before = earlier;
     before.insert(before.end(), mapped.attempts.begin(), mapped.attempts.end() - 1);
     for (const MapperAttempt& other : before) {
-      if (!accepted && !mapped.repeated && RepeatsContradictions(last, other)) {
+      if (!accepted && !mapped.repeated &&
+          (RepeatsContradictions(last, other) || RepeatsUntestedPairs(last, other))) {
         mapped.repeated = other;
       }
     }
@@ -478,7 +479,8 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
   calibration.mapper_attempts = attempts;
   calibration.chosen_mapper_attempt = chosen;
-  if (!OdometryAcceptsModel(best) && attempts.size() > 1) {
+  // (A refusal for too little motion explains itself in the status.)
+  if (!OdometryAcceptsModel(best) && best.pairs_tested && attempts.size() > 1) {
     calibration.check.result.warnings.push_back(
         MapperContradictionWarning(attempts, chosen, mapped));
   }

@@ -253,6 +253,8 @@ TEST_F(RenderedEndToEnd, StraightDrivingIsUnobservable) {
   const auto& unobservable = run.result["unobservable"];
   EXPECT_NE(std::find(unobservable.begin(), unobservable.end(), "translation_x"),
             unobservable.end());
+  // The drive decides this, not the model: no second mapper run.
+  EXPECT_EQ(run.result["colmap"]["mapper_attempts"].size(), 1u) << run.log;
 }
 
 }  // namespace
