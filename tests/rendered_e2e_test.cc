@@ -204,11 +204,17 @@ class RenderedEndToEnd : public ::testing::Test {
 //   the bias bend lengths by up to ~1.5 % over a room) is inherited.
 // The corridor defeats the spatial matcher's 8 neighbours at 2048 features
 // (one room only); sequential matching with 4096 features reconstructs both.
+// Its slip contradicts the same few pairs on every model, so odomcal always
+// matches twice here: an overlap of 5 (not 10) halves each matching, and one
+// mapper run per matching still exercises the second matching (436 s -> 332 s
+// on seed 1, same accuracy), keeping the e2e tests under 10 minutes.
 // Defined first, being the longest: ctest -j starts tests in the order
 // listed, so `hard` runs beside the others instead of after them.
 TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
-  const PresetRun run =
-      RunPreset("hard", TestSeed(1), "--matcher sequential --max_num_features 4096");
+  const PresetRun run = RunPreset(
+      "hard", TestSeed(1),
+      "--matcher sequential --max_num_features 4096 --sequential_overlap 5 "
+      "--mapper_attempts 1");
   ExpectAccurate(run, 0.5, 0.015, 0.025);
   EXPECT_GE(run.result["metric_scales"].size(), 2u) << run.log;
   EXPECT_GE(run.result["colmap"]["sub_models"].size(), 2u) << run.log;
