@@ -41,9 +41,9 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
     attempt.contradicted_spans.emplace_back(stretch.first_stamp_ns, stretch.last_stamp_ns);
   }
   // A refusal for too little motion (straight driving, too few pairs)
-  // judged no pair: the odometry contradicts none, and another model of the
-  // same drive would not move more. Otherwise, without an estimate (RANSAC
-  // found no consistent set) no pair is explained.
+  // judged no pair, so the odometry contradicts none (a straight drive stays
+  // straight in every model). Any other refusal without an estimate (RANSAC
+  // found no consistent set) explains no pair.
   const bool judged_pairs =
       check.result.has_estimate ||
       (check.result.status != CalibrationStatus::kUnobservable &&
