@@ -103,8 +103,6 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
       {"reduced_chi_square", d.reduced_chi_square},
   };
   out["ransac_num_iterations"] = d.ransac_num_iterations;
-  out["residual_ratio_threshold_deg"] = d.residual_ratio_threshold_deg;
-  out["num_rejected_by_residual_ratio"] = d.num_rejected_by_residual_ratio;
   out["refined"] = d.refined;
   out["refinement_num_iterations"] = d.refinement_num_iterations;
   out["refinement_report"] = d.refinement_report;
@@ -125,8 +123,6 @@ json OptionsToJson(const CalibrationOptions& o) {
       {"ransac_max_translation_error_rel", o.ransac_max_translation_error_rel},
       {"ransac_min_inlier_ratio", o.ransac_min_inlier_ratio},
       {"ransac_seed", o.ransac_seed},
-      {"max_rotation_residual_ratio", o.max_rotation_residual_ratio},
-      {"min_outlier_rotation_residual_deg", o.min_outlier_rotation_residual_deg},
       {"min_rotation_deg", o.min_rotation_deg},
       {"noise",
        {{"odom_yaw_sigma_deg", o.noise.odom_yaw_sigma_deg},

@@ -67,14 +67,6 @@ void AddCalibrationFlags(CLI::App* app,
   app->add_option("--ransac_min_inlier_ratio", o.ransac_min_inlier_ratio,
                   "refuse the data below this inlier fraction")
       ->capture_default_str();
-  app->add_option("--max_rotation_residual_ratio", o.max_rotation_residual_ratio,
-                  "after RANSAC, also reject pairs whose rotation residual is above "
-                  "this many times the median (0: off)")
-      ->capture_default_str();
-  app->add_option("--min_outlier_rotation_residual_deg",
-                  o.min_outlier_rotation_residual_deg,
-                  "...and above this")
-      ->capture_default_str();
   app->add_option("--ransac_seed", o.ransac_seed, "RANSAC random seed")
       ->capture_default_str();
   app->add_option("--robust_loss", flags->robust_loss,

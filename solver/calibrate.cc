@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -262,71 +261,6 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
 }
 
-// Ceres refinement over pairs[used] from the current estimate. On failure
-// the estimate is kept and the status says so; returns whether it was used.
-bool RefineOnPairs(const MotionPairs& pairs,
-                   const std::vector<int>& used,
-                   const CalibrationOptions& options,
-                   CalibrationResult* result,
-                   Eigen::MatrixXd* information,
-                   std::vector<int>* information_segments) {
-  CalibrationDiagnostics& d = result->diagnostics;
-  const RefinementResult refined = RefineOdomFromCam(
-      pairs, used, result->odom_from_cam, result->metric_scales, options);
-  d.refinement_report = refined.report;
-  d.refinement_num_iterations = refined.num_iterations;
-  bool refined_finite = IsFinite(refined.odom_from_cam);
-  for (const int i : used) {
-    refined_finite &= std::isfinite(refined.metric_scales[pairs[i].segment]);
-  }
-  if (!refined.usable || !refined_finite) {
-    result->status = CalibrationStatus::kRefinementFailed;
-    result->message = "refinement failed (" + refined.report +
-                      "); the closed-form estimate is reported";
-    return false;
-  }
-  d.refined = true;
-  result->odom_from_cam = refined.odom_from_cam;
-  result->metric_scales = refined.metric_scales;
-  *information = refined.information;
-  *information_segments = refined.information_segments;
-  return true;
-}
-
-// The pairs of `used` whose rotation residual is within
-// max(ratio x median, floor) (CalibrationOptions::max_rotation_residual_ratio).
-// A segment whose every pair would go keeps them: its scale needs them.
-std::vector<int> PairsWithinResidualRatio(const MotionPairs& pairs,
-                                          const std::vector<int>& used,
-                                          const CalibrationResult& result,
-                                          const CalibrationOptions& options,
-                                          double* threshold_deg) {
-  std::vector<double> residuals;
-  for (const int i : used) {
-    residuals.push_back(
-        EvaluatePair(pairs[i], result.odom_from_cam,
-                     result.metric_scales[pairs[i].segment])
-            .rotation_deg);
-  }
-  std::vector<double> sorted = residuals;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
-  *threshold_deg = std::max(options.max_rotation_residual_ratio * median,
-                            options.min_outlier_rotation_residual_deg);
-  std::map<int, int> kept_per_segment;
-  for (size_t k = 0; k < used.size(); ++k) {
-    kept_per_segment[pairs[used[k]].segment] += residuals[k] <= *threshold_deg;
-  }
-  std::vector<int> kept;
-  for (size_t k = 0; k < used.size(); ++k) {
-    if (residuals[k] <= *threshold_deg ||
-        kept_per_segment[pairs[used[k]].segment] == 0) {
-      kept.push_back(used[k]);
-    }
-  }
-  return kept;
-}
-
 CalibrationResult Refuse(CalibrationResult result,
                          CalibrationStatus status,
                          const std::string& message) {
@@ -497,19 +431,25 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // Refinement.
   std::vector<int> information_segments;
   Eigen::MatrixXd information;
-  if (options.refine &&
-      RefineOnPairs(pairs, used, options, &result, &information, &information_segments) &&
-      options.use_ransac && options.max_rotation_residual_ratio > 0.0) {
-    // RANSAC's absolute thresholds, then one judged by the data's own
-    // residuals; the fit is refined once more without what it rejects.
-    const std::vector<int> kept = PairsWithinResidualRatio(
-        pairs, used, result, options, &d.residual_ratio_threshold_deg);
-    if (kept.size() < used.size()) {
-      d.num_rejected_by_residual_ratio = static_cast<int>(used.size() - kept.size());
-      used = kept;
-      d.num_pairs_per_segment.assign(num_segments, 0);
-      for (const int i : used) ++d.num_pairs_per_segment[pairs[i].segment];
-      RefineOnPairs(pairs, used, options, &result, &information, &information_segments);
+  if (options.refine) {
+    const RefinementResult refined = RefineOdomFromCam(
+        pairs, used, result.odom_from_cam, result.metric_scales, options);
+    d.refinement_report = refined.report;
+    d.refinement_num_iterations = refined.num_iterations;
+    bool refined_finite = IsFinite(refined.odom_from_cam);
+    for (const int i : used) {
+      refined_finite &= std::isfinite(refined.metric_scales[pairs[i].segment]);
+    }
+    if (!refined.usable || !refined_finite) {
+      result.status = CalibrationStatus::kRefinementFailed;
+      result.message = "refinement failed (" + refined.report +
+                       "); the closed-form estimate is reported";
+    } else {
+      d.refined = true;
+      result.odom_from_cam = refined.odom_from_cam;
+      result.metric_scales = refined.metric_scales;
+      information = refined.information;
+      information_segments = refined.information_segments;
     }
   }
   if (information.size() == 0) {
@@ -526,18 +466,9 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
 
   // Warnings a user should read even when the answer is usable.
   if (num_pairs - d.num_pairs_used > 0) {
-    std::string warning = std::to_string(num_pairs - d.num_pairs_used) + " of " +
-                          std::to_string(num_pairs) + " motion pairs rejected as outliers";
-    if (d.num_rejected_by_residual_ratio > 0) {
-      warning += " (" + std::to_string(d.num_rejected_by_residual_ratio) +
-                 " of them after RANSAC: rotation residual above " +
-                 FormatDouble(d.residual_ratio_threshold_deg, 2) + " deg, " +
-                 FormatDouble(options.max_rotation_residual_ratio, 3) +
-                 "x the median or " +
-                 FormatDouble(options.min_outlier_rotation_residual_deg, 3) +
-                 " deg)";
-    }
-    result.warnings.push_back(warning);
+    result.warnings.push_back(std::to_string(num_pairs - d.num_pairs_used) +
+                              " of " + std::to_string(num_pairs) +
+                              " motion pairs rejected as outliers");
   }
   if (d.num_angle_mismatches > 0) {
     result.warnings.push_back(

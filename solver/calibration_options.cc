@@ -73,9 +73,6 @@ void CalibrationOptions::Check() const {
         "ransac iterations need 1 <= ransac_min_iterations <= "
         "ransac_max_iterations");
   }
-  CheckNonNegative(max_rotation_residual_ratio, "max_rotation_residual_ratio");
-  CheckNonNegative(min_outlier_rotation_residual_deg,
-                   "min_outlier_rotation_residual_deg");
   CheckNonNegative(min_rotation_deg, "min_rotation_deg");
   if (min_num_rotating_pairs < 1) {
     throw std::invalid_argument("min_num_rotating_pairs must be >= 1");

@@ -68,15 +68,6 @@ struct CalibrationOptions {
   int ransac_min_iterations = 50;
   int ransac_max_iterations = 5000;
   uint64_t ransac_seed = 0;
-  // After the fit, a used pair whose rotation residual exceeds this many
-  // times the median over the used pairs (and min_outlier_rotation_residual_deg)
-  // is rejected too, and the fit refined once more without it (with RANSAC
-  // and refinement on; 0 turns it off). RANSAC's thresholds are absolute and
-  // sized for wheel odometry; on far cleaner data (COLMAP on rendered scenes:
-  // a median of 0.01 deg) an image registered a fraction of a degree off
-  // passes them. Gaussian residuals never reach 10x their median.
-  double max_rotation_residual_ratio = 10.0;
-  double min_outlier_rotation_residual_deg = 0.05;
 
   // Excitation and refusal thresholds.
   double min_rotation_deg = 2.0;  // a pair with |yaw| above this excites rotation

@@ -70,11 +70,6 @@ struct CalibrationDiagnostics {
   std::vector<double> linear_metric_scales;
 
   int ransac_num_iterations = 0;
-  // The test against the median residual (CalibrationOptions::
-  // max_rotation_residual_ratio): its threshold (0 when not applied) and
-  // the pairs it rejected after RANSAC.
-  double residual_ratio_threshold_deg = 0.0;
-  int num_rejected_by_residual_ratio = 0;
   bool refined = false;
   int refinement_num_iterations = 0;
   std::string refinement_report;  // Ceres BriefReport()
