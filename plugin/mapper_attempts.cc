@@ -44,17 +44,15 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   // judged no pair, so the odometry contradicts none (a straight drive stays
   // straight in every model). Any other refusal without an estimate (RANSAC
   // found no consistent set) explains no pair.
-  const bool judged_pairs =
-      check.result.has_estimate ||
-      (check.result.status != CalibrationStatus::kUnobservable &&
-       check.result.status != CalibrationStatus::kNotEnoughMotion);
-  attempt.pairs_tested = judged_pairs;
+  attempt.pairs_tested = check.result.has_estimate ||
+                         (check.result.status != CalibrationStatus::kUnobservable &&
+                          check.result.status != CalibrationStatus::kNotEnoughMotion);
   for (const MotionPair& pair : check.pairs) {
     attempt.pair_spans.emplace_back(pair.stamp_i_ns, pair.stamp_j_ns);
   }
   const std::vector<char>& used = check.result.diagnostics.inlier_mask;
   int num_unused = 0;
-  for (size_t k = 0; k < check.pairs.size() && judged_pairs; ++k) {
+  for (size_t k = 0; k < check.pairs.size() && attempt.pairs_tested; ++k) {
     if (check.result.has_estimate && k < used.size() && used[k] != 0) continue;
     ++num_unused;
     attempt.contradicted_spans.emplace_back(check.pairs[k].stamp_i_ns,
@@ -63,7 +61,7 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   std::sort(attempt.contradicted_spans.begin(), attempt.contradicted_spans.end());
   const int num_calibrated = static_cast<int>(check.pairs.size());
   attempt.num_pairs = num_calibrated + num_left_out;
-  attempt.num_pairs_used = judged_pairs ? num_calibrated - num_unused : 0;
+  attempt.num_pairs_used = attempt.pairs_tested ? num_calibrated - num_unused : 0;
   attempt.num_contradicting_pairs = num_unused + num_left_out;
   attempt.num_pairs_left_out = num_left_out;
   return attempt;
