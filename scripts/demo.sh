@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job on the embedded default: installs the Debian packages, builds,
-# and runs `odomcal demo` (simulated drive -> input files -> calibration ->
-# comparison with the ground truth). Extra arguments go to `odomcal demo`.
+# and runs `odomcal demo` (renders the `default` scene -> `odomcal run`:
+# COLMAP, then the calibration -> comparison with the ground truth). Extra
+# arguments go to `odomcal demo` (`--simulated`: the trajectory-only variant).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install_deps.sh
