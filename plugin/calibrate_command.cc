@@ -10,6 +10,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_guard.h"
 #include "odomcal/solver/calibrate.h"
 
 namespace odomcal {
@@ -57,6 +58,21 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
         max_gap_s.str() + " s");
   }
   return run;
+}
+
+void CheckCalibrationOutputs(const CalibrateInputs& inputs,
+                             const std::string& json_path,
+                             bool overwrite) {
+  const std::string yaml_path = ReplaceExtension(json_path, ".yaml");
+  GuardedPaths paths;
+  for (const std::string& camera_path : inputs.camera_paths) {
+    paths.inputs.push_back({camera_path, "--camera_poses"});
+  }
+  paths.inputs.push_back({inputs.odometry_path, "--odometry"});
+  paths.output_files = {{json_path, "--output"}, {yaml_path, "the YAML beside --output"}};
+  CheckOutputsApartFromInputs(paths);
+  CheckOutputPath(json_path, overwrite);
+  CheckOutputPath(yaml_path, overwrite);
 }
 
 void WriteCalibrationOutputs(const CalibrationRun& run,
@@ -108,8 +124,7 @@ int RunCalibrate(int argc, char** argv) {
   }
   return RunReportingErrors("odomcal calibrate", [&]() -> int {
     FinishCalibrationFlags(flags, &inputs);
-    CheckOutputPath(output_path, overwrite);
-    CheckOutputPath(ReplaceExtension(output_path, ".yaml"), overwrite);
+    CheckCalibrationOutputs(inputs, output_path, overwrite);
     const CalibrationRun run =
         RunCalibrationPipeline(inputs, "odomcal calibrate");
     WriteCalibrationOutputs(run, output_path, overwrite);

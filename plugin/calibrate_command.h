@@ -36,6 +36,13 @@ struct CalibrationRun {
 CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
                                       const std::string& command);
 
+// Checks <output>.json and the <output>.yaml beside it before any work: apart
+// from the inputs and from each other (output_guard.h), and replaceable
+// (CheckOutputPath). Throws OutputError.
+void CheckCalibrationOutputs(const CalibrateInputs& inputs,
+                             const std::string& json_path,
+                             bool overwrite);
+
 // Writes <output>.json and <output>.yaml atomically (both checked first).
 void WriteCalibrationOutputs(const CalibrationRun& run,
                              const std::string& json_path,

@@ -17,6 +17,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_folder.h"
 
 namespace odomcal {
 namespace {
@@ -271,6 +272,11 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
   return run;
 }
 
+std::vector<std::string> ColmapCalibrationOutputEntries() {
+  return {"calibration.json",   "calibration.yaml",       "sparse_metric",
+          "camera_in_odom.tum", "camera_in_odom.tum.tmp", "report.html"};
+}
+
 void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
                                    const std::string& output_dir) {
   const fs::path root(output_dir);
@@ -285,10 +291,10 @@ void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
   for (const MetricSubModel& metric : run.metric_models) {
     const fs::path target = metric_root / metric.name;
     const fs::path temporary = metric_root / (metric.name + ".tmp");
-    fs::remove_all(temporary);
+    RemoveOwnedOutput(output_dir, "sparse_metric/" + metric.name + ".tmp");
     fs::create_directories(temporary);
     WriteColmapModel(metric.model, temporary.string(), ColmapFormat::kBinary);
-    fs::remove_all(target);
+    RemoveOwnedOutput(output_dir, "sparse_metric/" + metric.name);
     fs::rename(temporary, target);
   }
 

@@ -69,9 +69,13 @@ struct ColmapCalibrationRun {
 ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
                                             const std::string& command);
 
-// Writes into `output_dir` (which must exist): calibration.json/.yaml,
-// sparse_metric/<sub-model>/ (COLMAP binary), camera_in_odom.tum and
-// report.html. Every file is written atomically.
+// The entries WriteColmapCalibrationOutputs writes in its folder (for
+// ClaimOutputFolder, output_folder.h).
+std::vector<std::string> ColmapCalibrationOutputEntries();
+
+// Writes into `output_dir` (which must exist and be claimed for the entries
+// above): calibration.json/.yaml, sparse_metric/<sub-model>/ (COLMAP binary),
+// camera_in_odom.tum and report.html. Every file is written atomically.
 void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
                                    const std::string& output_dir);
 

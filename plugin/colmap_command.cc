@@ -1,5 +1,6 @@
 #include "odomcal/plugin/colmap_command.h"
 
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
@@ -44,13 +45,17 @@ int RunColmap(int argc, char** argv) {
   }
   return RunReportingErrors("odomcal colmap", [&]() -> int {
     FinishProjectFlags(flags, &inputs);
-    PrepareOutputFolder(output_path, overwrite,
-                        {inputs.model_path,
-                         inputs.database_path.empty()
-                             ? std::string()
-                             : std::filesystem::path(inputs.database_path)
-                                   .parent_path()
-                                   .string()});
+    const std::string database_folder =
+        std::filesystem::path(inputs.database_path).parent_path().string();
+    PrepareOutputFolder({output_path, "--output_path"},
+                        {{inputs.model_path, "--model_path"},
+                         {inputs.database_path, "--database_path"},
+                         {database_folder, "the folder of --database_path"},
+                         {inputs.odometry_path, "--odometry"},
+                         {inputs.image_timestamps_path, "--image_timestamps"}},
+                        ColmapCalibrationOutputEntries(),
+                        overwrite ? ExistingOutputs::kReplaceOwn
+                                  : ExistingOutputs::kRefuseNonEmptyFolder);
     const ColmapCalibrationRun run = CalibrateColmapProject(inputs, "odomcal colmap");
     WriteColmapCalibrationOutputs(run, output_path);
     if (!quiet) {

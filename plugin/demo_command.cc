@@ -20,6 +20,7 @@
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_folder.h"
 
 namespace odomcal {
 namespace {
@@ -52,11 +53,11 @@ nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
 int RunSimulatedDemo(const std::string& workspace,
                      const DriveSimulatorOptions& simulation,
                      CalibrateInputs inputs) {
-  std::error_code error;
-  std::filesystem::create_directories(workspace, error);
-  if (error || !std::filesystem::is_directory(workspace)) {
-    throw OutputError(workspace + ": cannot create the workspace folder");
-  }
+  // Every run replaces the demo's own files (and only those).
+  ClaimOutputFolder(workspace,
+                    {"camera.tum", "odometry.csv", "ground_truth.json", "calibration.json",
+                     "calibration.yaml"},
+                    ExistingOutputs::kReplaceOwn);
   const std::filesystem::path root(workspace);
   std::cout << "[1/3] simulating a " << simulation.duration_s
             << " s drive (seed " << simulation.seed << ")\n";
@@ -135,17 +136,17 @@ int RunRenderedDemo(const std::string& workspace,
   namespace fs = std::filesystem;
   const fs::path root(workspace);
   const fs::path dataset_dir = root / "dataset";
+  // Every run replaces the demo's own dataset/ and run/ (and only those).
+  ClaimOutputFolder(workspace, {"dataset", "run"}, ExistingOutputs::kReplaceOwn);
   std::cout << "[demo] rendering preset '" << preset << "' (seed " << seed
             << ") into " << dataset_dir.string() << std::endl;
   const RenderedDataset dataset =
       SimulateRenderedDataset(MakeDatasetPreset(preset, seed));
   const std::string truth_json = GroundTruthJson(dataset);
-  std::error_code error;
   if (ReadTextFile((dataset_dir / "ground_truth.json").string()) == truth_json) {
     std::cout << "       already rendered; reusing it" << std::endl;
   } else {
-    fs::remove_all(dataset_dir, error);
-    fs::create_directories(root, error);
+    RemoveOwnedOutput(workspace, "dataset");
     WriteRenderedDataset(dataset, dataset_dir.string(), [](size_t done, size_t total) {
       if (done == total || done % 10 == 0) {
         std::cout << "       rendered " << done << "/" << total << " images" << std::endl;

@@ -4,6 +4,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -24,6 +28,11 @@ void CheckOutputPath(const std::string& path, bool overwrite) {
   if (fs::is_directory(target, error)) {
     throw OutputError(path + ": is a directory");
   }
+  if (fs::exists(target, error) && !IsOdomcalResultFile(path)) {
+    throw OutputError(path +
+                      ": exists and is not an odomcal result; --overwrite replaces only "
+                      "odomcal's own files");
+  }
   const fs::path parent =
       target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (fs::exists(parent, error) && !fs::is_directory(parent, error)) {
@@ -32,6 +41,25 @@ void CheckOutputPath(const std::string& path, bool overwrite) {
   if (!fs::is_directory(parent, error)) {
     throw OutputError(path + ": folder " + parent.string() + " does not exist");
   }
+}
+
+bool IsOdomcalResultFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  constexpr uintmax_t kMaxResultBytes = 64 << 20;  // results are kilobytes
+  std::error_code error;
+  if (!fs::is_regular_file(path, error) || fs::file_size(path, error) > kMaxResultBytes) {
+    return false;
+  }
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  const std::string text = buffer.str();
+  if (text.rfind("%YAML:1.0\n---\nstatus: ", 0) == 0) {
+    return text.find("\nunobservable:") != std::string::npos;
+  }
+  const nlohmann::json json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  return json.is_object() && json.contains("schema") && json["schema"].is_string() &&
+         json["schema"].get<std::string>().rfind("odomcal.", 0) == 0;
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& contents) {

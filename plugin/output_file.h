@@ -13,9 +13,15 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Throws OutputError when `path` exists and !overwrite, or when its folder
-// does not exist. Call for every output before doing any work.
+// Throws OutputError when `path` exists and !overwrite, when it exists and is
+// not an odomcal result file (--overwrite replaces only odomcal's own), or
+// when its folder does not exist. Call for every output before doing any work.
 void CheckOutputPath(const std::string& path, bool overwrite);
+
+// A result file odomcal wrote: JSON whose "schema" starts with "odomcal.", or
+// the OpenCV YAML of a calibration (%YAML:1.0, then status, message, ...,
+// unobservable).
+bool IsOdomcalResultFile(const std::string& path);
 
 // Throws OutputError naming the path when any step fails; the target is then
 // left as it was.

@@ -1,12 +1,6 @@
 #include "odomcal/plugin/project_flags.h"
 
-#include <filesystem>
-
-#include "odomcal/plugin/output_file.h"
-
 namespace odomcal {
-
-namespace fs = std::filesystem;
 
 void AddProjectFlags(CLI::App* app,
                      ColmapCalibrationInputs* inputs,
@@ -46,36 +40,15 @@ void FinishProjectFlags(const ProjectFlags& flags, ColmapCalibrationInputs* inpu
   }
 }
 
-void PrepareOutputFolder(const std::string& output_dir,
-                         bool overwrite,
-                         const std::vector<std::string>& protected_paths) {
-  std::error_code error;
-  const fs::path output = fs::weakly_canonical(fs::absolute(output_dir), error);
-  for (const std::string& input : protected_paths) {
-    if (input.empty()) continue;
-    const fs::path root = fs::weakly_canonical(fs::absolute(input), error);
-    const auto mismatch =
-        std::mismatch(root.begin(), root.end(), output.begin(), output.end());
-    if (mismatch.first == root.end()) {
-      throw OutputError(output_dir + ": is inside the input " + input +
-                        "; odomcal never writes into an input project");
-    }
-  }
-  if (fs::exists(output_dir, error)) {
-    if (!fs::is_directory(output_dir, error)) {
-      throw OutputError(output_dir + ": exists and is not a folder");
-    }
-    if (!fs::is_empty(output_dir, error) && !overwrite) {
-      throw OutputError(output_dir +
-                        ": is not empty (pass --overwrite to replace odomcal's "
-                        "files in it)");
-    }
-    return;
-  }
-  fs::create_directories(output_dir, error);
-  if (error) {
-    throw OutputError(output_dir + ": cannot create (" + error.message() + ")");
-  }
+void PrepareOutputFolder(const FlaggedPath& output,
+                         const std::vector<FlaggedPath>& inputs,
+                         const std::vector<std::string>& entries,
+                         ExistingOutputs existing) {
+  GuardedPaths paths;
+  paths.inputs = inputs;
+  paths.output_folders = {output};
+  CheckOutputsApartFromInputs(paths);
+  ClaimOutputFolder(output.path, entries, existing);
 }
 
 }  // namespace odomcal

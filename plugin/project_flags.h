@@ -9,6 +9,8 @@
 
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/output_guard.h"
 
 namespace odomcal {
 
@@ -27,11 +29,12 @@ void AddProjectFlags(CLI::App* app,
 // Converts the text flags into `inputs`; throws std::invalid_argument.
 void FinishProjectFlags(const ProjectFlags& flags, ColmapCalibrationInputs* inputs);
 
-// Creates `output_dir` if needed. Throws OutputError when it holds files and
-// !overwrite, or when it lies inside one of `protected_paths` (the user's
-// input project: it is never written to).
-void PrepareOutputFolder(const std::string& output_dir,
-                         bool overwrite,
-                         const std::vector<std::string>& protected_paths);
+// Checks the output folder `output` against `inputs` (output_guard.h), then
+// creates it if needed and claims `entries` in it (output_folder.h), before
+// any work. Throws OutputError.
+void PrepareOutputFolder(const FlaggedPath& output,
+                         const std::vector<FlaggedPath>& inputs,
+                         const std::vector<std::string>& entries,
+                         ExistingOutputs existing);
 
 }  // namespace odomcal

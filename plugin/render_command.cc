@@ -6,6 +6,7 @@
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_folder.h"
 
 #include <CLI/CLI.hpp>
 
@@ -22,32 +23,24 @@ namespace {
 namespace fs = std::filesystem;
 
 // Refuses a non-empty output folder unless overwriting; then removes the
-// images an earlier render left (only names this command writes).
+// images an earlier render left (only names this command writes, in the
+// images/ odomcal wrote: output_folder.h).
 void PrepareOutputFolder(const fs::path& dir, bool overwrite) {
+  ClaimOutputFolder(dir.string(),
+                    {"images", "odometry.csv", "odometry_ground_truth.csv",
+                     "image_timestamps.csv", "ground_truth.json"},
+                    overwrite ? ExistingOutputs::kReplaceOwn
+                              : ExistingOutputs::kRefuseNonEmptyFolder);
   std::error_code error;
-  if (fs::exists(dir, error) && !fs::is_directory(dir, error)) {
-    throw OutputError(dir.string() + ": exists and is not a folder");
-  }
-  if (fs::is_directory(dir, error) && !fs::is_empty(dir, error)) {
-    if (!overwrite) {
-      throw OutputError(
-          dir.string() +
-          ": exists and is not empty (pass --overwrite to replace "
-          "the dataset in it)");
-    }
-    const fs::path images = dir / "images";
-    if (fs::is_directory(images, error)) {
-      static const std::regex kImageName("[0-9]{6}\\.png");
-      for (const fs::directory_entry& entry : fs::directory_iterator(images)) {
-        if (std::regex_match(entry.path().filename().string(), kImageName)) {
-          fs::remove(entry.path(), error);
-        }
+  const fs::path images = dir / "images";
+  if (fs::is_directory(images, error)) {
+    static const std::regex kImageName("[0-9]{6}\\.png");
+    for (const fs::directory_entry& entry : fs::directory_iterator(images)) {
+      const std::string name = entry.path().filename().string();
+      if (std::regex_match(name, kImageName)) {
+        RemoveOwnedOutput(dir.string(), "images/" + name);
       }
     }
-  }
-  fs::create_directories(dir, error);
-  if (!fs::is_directory(dir, error)) {
-    throw OutputError(dir.string() + ": cannot create the folder");
   }
 }
 

@@ -31,6 +31,7 @@
 #include "odomcal/plugin/colmap_runner.h"
 #include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/project_flags.h"
 
 namespace odomcal {
@@ -250,7 +251,10 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
     const std::vector<std::string> outputs = {(output / "0").string()};
     // A rerun must not mix new sub-models with stale ones.
     std::error_code error;
-    if (!colmap->WillReuse(stage_name, arguments, outputs)) fs::remove_all(output, error);
+    if (!colmap->WillReuse(stage_name, arguments, outputs)) {
+      RemoveOwnedOutput(run.workspace_path,
+                        "mapper_attempts/" + prefix + "seed_" + std::to_string(seed));
+    }
     fs::create_directories(output, error);
     const ColmapStageResult stage = colmap->RunStage(stage_name, arguments, outputs);
     attempt.model_path = output.string();
@@ -310,15 +314,25 @@ std::string MapperContradictionWarning(const std::vector<MapperAttempt>& attempt
          AttemptName(attempts[chosen]) + " contradicts it least";
 }
 
-// `target` becomes a copy of folder `source`; a failure leaves no half copy
-// under `target`'s name.
-void ReplaceWithCopy(const fs::path& source, const fs::path& target) {
-  fs::path temporary = target;
-  temporary += ".tmp";
-  fs::remove_all(temporary);
+// `workspace`/`entry` becomes a copy of folder `source`; a failure leaves no
+// half copy under that name.
+void ReplaceWithCopy(const fs::path& source,
+                     const std::string& workspace,
+                     const std::string& entry) {
+  const fs::path temporary = fs::path(workspace) / (entry + ".tmp");
+  RemoveOwnedOutput(workspace, entry + ".tmp");
   fs::copy(source, temporary, fs::copy_options::recursive);
-  fs::remove_all(target);
-  fs::rename(temporary, target);
+  RemoveOwnedOutput(workspace, entry);
+  fs::rename(temporary, fs::path(workspace) / entry);
+}
+
+// Everything `odomcal run` writes in its workspace, COLMAP's files included.
+std::vector<std::string> RunWorkspaceEntries() {
+  std::vector<std::string> entries = ColmapCalibrationOutputEntries();
+  entries.insert(entries.end(),
+                 {"image_list.txt", "database.db", "database_rematched.db", "logs", "stages",
+                  "commands.txt", "mapper_attempts", "sparse", "sparse.tmp"});
+  return entries;
 }
 
 }  // namespace
@@ -328,7 +342,12 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                                              const std::string& command) {
   RunSettings run = settings;
   const fs::path workspace(run.workspace_path);
-  PrepareOutputFolder(run.workspace_path, /*overwrite=*/true, {run.image_path});
+  // Reruns reuse the workspace: odomcal's own entries in it are replaced.
+  PrepareOutputFolder({run.workspace_path, "--workspace_path"},
+                      {{run.image_path, "--image_path"},
+                       {inputs.odometry_path, "--odometry"},
+                       {inputs.image_timestamps_path, "--image_timestamps"}},
+                      RunWorkspaceEntries(), ExistingOutputs::kReplaceOwn);
   ColmapRunner::Options runner_options;
   runner_options.executable = run.colmap_path;
   runner_options.workspace = run.workspace_path;
@@ -471,7 +490,7 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                    "calibrating against the odometry (model of " + AttemptName(best) +
                        ")");
   const fs::path sparse = workspace / "sparse";
-  ReplaceWithCopy(best.model_path, sparse);
+  ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
   // Calibrated again (a fraction of a second) so that every path in the
   // outputs names sparse/, the model a later `odomcal colmap` would read.
   inputs.model_path = sparse.string();

@@ -14,6 +14,7 @@
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/svg_plot.h"
 
 #include <unistd.h>
@@ -231,18 +232,16 @@ int RunSimulate(int argc, char** argv) {
     } else {
       sweeps.push_back(FindPaperSweep(sweep_name));
     }
-    std::error_code error;
-    std::filesystem::create_directories(output_path, error);
-    if (error || !std::filesystem::is_directory(output_path)) {
-      throw OutputError(output_path + ": cannot create the output folder");
-    }
     const std::filesystem::path root(output_path);
     const std::string divergence_path = (root / "divergence.csv").string();
+    std::vector<std::string> entries = {"divergence.csv"};
     for (const PaperSweep& sweep : sweeps) {
-      CheckOutputPath((root / (sweep.name + ".csv")).string(), overwrite);
-      CheckOutputPath((root / (sweep.name + ".svg")).string(), overwrite);
+      entries.push_back(sweep.name + ".csv");
+      entries.push_back(sweep.name + ".svg");
     }
-    CheckOutputPath(divergence_path, overwrite);
+    ClaimOutputFolder(output_path, entries,
+                      overwrite ? ExistingOutputs::kReplaceOwn
+                                : ExistingOutputs::kRefuseExistingEntry);
 
     const bool show_progress = isatty(STDERR_FILENO) != 0;
     const PaperSimulationOptions nominal = NominalPaperSimulation(mode);

@@ -988,9 +988,10 @@ TEST_F(Robustness, OutputInsideTheInputProject) {
   WriteColmapProject();
   const std::string inside = (dir_ / "project" / "sparse" / "0" / "out").string();
   ExpectBadInput(RunOdomcal(Colmap("project/sparse/0/out")),
-                 std::string(kColmapError) + inside + ": is inside the input " +
+                 std::string(kColmapError) + inside +
+                     " (--output_path) is inside the input folder " +
                      (dir_ / "project" / "sparse").string() +
-                     "; odomcal never writes into an input project");
+                     " (--model_path); odomcal never writes into an input");
   EXPECT_FALSE(fs::exists(inside));
 }
 
