@@ -4,7 +4,10 @@
 // otherwise on runs of blanks), the timestamp field goes through the exact
 // ParseTimestampNs and the others through std::from_chars, which is
 // locale-independent unlike strtod. Each check throws a FormatError prefixed
-// with "path:line: ". Writers format timestamps from the integer
+// with "path:line: ". An odometry CSV header becomes OdometryCsvColumns
+// (odometry_csv_header.h): field indices and factors to s, m and rad applied
+// while reading; ReadOdometry opens the file twice under kAuto, once to see
+// the first data line's field count. Writers format timestamps from the integer
 // nanoseconds, never through a double, and values with %.17g so that a
 // written file reads back to the same doubles.
 #include "odomcal/adapters/trajectory_io.h"
