@@ -40,6 +40,15 @@ bool LooksLikeHeader(std::string_view field) {
   return lower != "nan" && lower != "inf" && lower != "infinity";
 }
 
+// `field` without one pair of enclosing double quotes, as spreadsheet
+// programs write text fields.
+std::string_view Unquoted(std::string_view field) {
+  if (field.size() >= 2 && field.front() == '"' && field.back() == '"') {
+    return TrimBlanks(field.substr(1, field.size() - 2));
+  }
+  return field;
+}
+
 }  // namespace
 
 std::map<std::string, int64_t> ReadImageTimestampsCsv(const std::string& path,
@@ -50,7 +59,8 @@ std::map<std::string, int64_t> ReadImageTimestampsCsv(const std::string& path,
   std::string line;
   bool first = true;
   while (reader.NextDataLine(&line)) {
-    const std::vector<std::string_view> fields = SplitOnCommas(line);
+    std::vector<std::string_view> fields = SplitOnCommas(line);
+    for (std::string_view& field : fields) field = Unquoted(field);
     if (fields.size() != 2) {
       reader.Fail(
           "expected 2 comma-separated fields (image_name,timestamp), "
@@ -124,7 +134,11 @@ std::optional<int64_t> TimestampFromImageName(const std::string& image_name,
 
 ImageTimestamps ImageTimestamps::FromCsv(const std::string& path,
                                          TimeUnit unit) {
-  return FromTable(ReadImageTimestampsCsv(path, unit), path);
+  ImageTimestamps timestamps =
+      FromTable(ReadImageTimestampsCsv(path, unit), path);
+  timestamps.how_read_ =
+      std::string("read from ") + path + " in " + TimeUnitName(unit);
+  return timestamps;
 }
 
 ImageTimestamps ImageTimestamps::FromFileNames(std::optional<TimeUnit> unit) {
@@ -132,6 +146,10 @@ ImageTimestamps ImageTimestamps::FromFileNames(std::optional<TimeUnit> unit) {
   timestamps.from_file_names_ = true;
   timestamps.file_name_unit_ = unit;
   timestamps.source_ = "image file names";
+  timestamps.how_read_ =
+      unit ? std::string("read from the image names as ") + TimeUnitName(*unit)
+           : "read from the image names as ns (s for names with a decimal "
+             "point)";
   return timestamps;
 }
 
@@ -139,6 +157,7 @@ ImageTimestamps ImageTimestamps::FromTable(std::map<std::string, int64_t> table,
                                            std::string source) {
   ImageTimestamps timestamps;
   timestamps.table_ = std::move(table);
+  timestamps.how_read_ = "read from " + source;
   timestamps.source_ = std::move(source);
   return timestamps;
 }

@@ -13,8 +13,10 @@
 //      holds no digit (e.g. "image_name,timestamp"); a field with digits that
 //      does not parse ("1e9"), "nan" or "inf" is an error, even on the first
 //      line. Blank lines and lines
-//      starting with '#' are skipped. Fields are trimmed of blanks; names
-//      cannot contain commas (no quoting).
+//      starting with '#' are skipped. Fields are trimmed of blanks and of
+//      one pair of enclosing double quotes ("000001.png" as a spreadsheet
+//      writes it, also in the header); names cannot contain commas. A UTF-8
+//      byte order mark before the first line is ignored.
 //    - Errors (FormatError, "path:line: what"): not exactly two fields, an
 //      empty name, a bad timestamp, a name listed twice (both lines named),
 //      no data lines.
@@ -29,7 +31,9 @@
 //        1403636579763555584.png  -> 1403636579763555584 ns
 //        1403636579.763555.png    -> 1403636579763555000 ns
 //        cam0/000123.png          -> 123 ns (frame numbers are NOT times:
-//                                    use a CSV for such names)
+//                                    use a CSV for such names; the
+//                                    calibration refuses image times less
+//                                    than 1 ms apart, input_plausibility.h)
 //    - names that do not follow the rule have no timestamp; the lookup says
 //      why.
 //
@@ -80,6 +84,11 @@ class ImageTimestamps {
   // "image file names".
   const std::string& source() const { return source_; }
 
+  // How the stamps were obtained, for messages: "read from the image names
+  // as ns (s for names with a decimal point)", "read from the image names as
+  // ms", "read from stamps.csv in s".
+  const std::string& how_read() const { return how_read_; }
+
  private:
   ImageTimestamps() = default;
 
@@ -87,6 +96,7 @@ class ImageTimestamps {
   std::optional<TimeUnit> file_name_unit_;
   std::map<std::string, int64_t> table_;
   std::string source_;
+  std::string how_read_;
 };
 
 }  // namespace odomcal

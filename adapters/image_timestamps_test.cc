@@ -177,5 +177,35 @@ TEST(ImageTimestamps, LookupFromFileNames) {
   EXPECT_EQ(in_us.Lookup("7.png", &why), 7000);
 }
 
+TEST(ReadImageTimestampsCsv, QuotedNamesAndByteOrderMark) {
+  const std::string path =
+      WriteTextFile("quoted.csv",
+                    "\xEF\xBB\xBF\"image_name\",\"timestamp\"\n"
+                    "\"000001.png\",1403636579.5\n"
+                    "\"cam0/000002.png\" , \"1403636579.75\"\n");
+  const std::map<std::string, int64_t> stamps =
+      ReadImageTimestampsCsv(path, TimeUnit::kSeconds);
+  ASSERT_EQ(stamps.size(), 2u);
+  EXPECT_EQ(stamps.at("000001.png"), 1403636579500000000);
+  EXPECT_EQ(stamps.at("cam0/000002.png"), 1403636579750000000);
+  // Without a header, a BOM does not hide the first image.
+  const std::string bare = WriteTextFile("bom.csv",
+                                         "\xEF\xBB\xBF"
+                                         "000001.png,1.5\n");
+  EXPECT_EQ(ReadImageTimestampsCsv(bare, TimeUnit::kSeconds).at("000001.png"),
+            1500000000);
+}
+
+TEST(ImageTimestamps, SayHowTheTimesWereRead) {
+  EXPECT_EQ(ImageTimestamps::FromFileNames(TimeUnit::kMilliseconds).how_read(),
+            "read from the image names as ms");
+  EXPECT_EQ(
+      ImageTimestamps::FromFileNames(std::nullopt).how_read(),
+      "read from the image names as ns (s for names with a decimal point)");
+  const std::string path = WriteTextFile("how.csv", "a.png,1\n");
+  EXPECT_EQ(ImageTimestamps::FromCsv(path, TimeUnit::kMicroseconds).how_read(),
+            "read from " + path + " in us");
+}
+
 }  // namespace
 }  // namespace odomcal

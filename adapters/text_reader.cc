@@ -29,6 +29,7 @@ TextLineReader::TextLineReader(const std::string& path) : path_(path) {
 bool TextLineReader::NextRawLine(std::string* line) {
   if (std::getline(stream_, *line)) {
     ++line_number_;
+    if (line_number_ == 1) StripUtf8Bom(line);
     if (!line->empty() && line->back() == '\r') line->pop_back();
     return true;
   }
@@ -50,6 +51,10 @@ bool TextLineReader::NextDataLine(std::string* line) {
 
 void TextLineReader::Fail(const std::string& what) const {
   throw FormatError(path_ + ":" + std::to_string(line_number_) + ": " + what);
+}
+
+void StripUtf8Bom(std::string* line) {
+  if (line->compare(0, 3, "\xEF\xBB\xBF") == 0) line->erase(0, 3);
 }
 
 std::string_view TrimBlanks(std::string_view text) {

@@ -24,8 +24,9 @@ class TextLineReader {
   // when it is missing, a directory or unreadable.
   explicit TextLineReader(const std::string& path);
 
-  // Next line without its line terminator ('\n' or "\r\n"), whatever it
-  // holds (blank lines and comments included). Returns false at the end of
+  // Next line without its line terminator ('\n' or "\r\n") and, on the
+  // first line, without a UTF-8 byte order mark, whatever it holds (blank
+  // lines and comments included). Returns false at the end of
   // the file; throws FormatError on a read error.
   bool NextRawLine(std::string* line);
 
@@ -45,6 +46,10 @@ class TextLineReader {
   std::ifstream stream_;
   int line_number_ = 0;
 };
+
+// Removes a UTF-8 byte order mark (EF BB BF) at the start of `line`, as
+// some Windows editors write before the first line of a text file.
+void StripUtf8Bom(std::string* line);
 
 // `text` without leading and trailing spaces, tabs and carriage returns.
 std::string_view TrimBlanks(std::string_view text);

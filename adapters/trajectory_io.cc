@@ -4,10 +4,17 @@
 // otherwise on runs of blanks), the timestamp field goes through the exact
 // ParseTimestampNs and the others through std::from_chars, which is
 // locale-independent unlike strtod. Each check throws a FormatError prefixed
-// with "path:line: ". Writers format timestamps from the integer
+// with "path:line: ". An odometry CSV header becomes OdometryCsvColumns
+// (odometry_csv_header.h): field indices and factors to s, m and rad applied
+// while reading; ReadOdometry opens the file twice under kAuto, once to see
+// the first data line's field count. Writers format timestamps from the integer
 // nanoseconds, never through a double, and values with %.17g so that a
 // written file reads back to the same doubles.
 #include "odomcal/adapters/trajectory_io.h"
+
+#include "odomcal/adapters/input_plausibility.h"
+#include "odomcal/adapters/odometry_csv_header.h"
+#include "odomcal/adapters/text_reader.h"
 
 #include <algorithm>
 #include <cctype>
@@ -33,7 +40,6 @@ constexpr double kPlanarTolerance = 1e-9;
 constexpr const char* kTumColumns[] = {
     "timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
 constexpr const char* kTumColumnList = "timestamp tx ty tz qx qy qz qw";
-constexpr const char* kCsvColumns[] = {"timestamp", "x", "y", "yaw"};
 constexpr const char* kCsvColumnList = "timestamp,x,y,yaw";
 
 std::string SystemReason() {
@@ -66,6 +72,7 @@ class LineReader {
   bool Next(std::string* line) {
     while (std::getline(stream_, *line)) {
       ++line_number_;
+      if (line_number_ == 1) StripUtf8Bom(line);
       if (!line->empty() && line->back() == '\r') line->pop_back();
       const size_t first = line->find_first_not_of(" \t");
       if (first == std::string::npos || (*line)[first] == '#') continue;
@@ -136,20 +143,25 @@ bool LooksNumeric(std::string_view field) {
           field[0] == '-' || field[0] == '+' || field[0] == '.');
 }
 
+// `format_hint` (may be empty) is appended on the first data line, where a
+// wrong count means a wrong format rather than a broken line.
 void CheckFieldCount(const LineReader& reader,
                      const std::vector<std::string_view>& fields,
                      size_t expected,
-                     const char* column_list) {
+                     const std::string& column_list,
+                     bool first_data_line,
+                     const std::string& format_hint) {
   if (fields.size() != expected) {
     reader.Fail("expected " + std::to_string(expected) + " fields (" +
-                column_list + "), got " + std::to_string(fields.size()));
+                column_list + "), got " + std::to_string(fields.size()) +
+                (first_data_line ? format_hint : std::string()));
   }
 }
 
 double ParseValue(const LineReader& reader,
                   std::string_view field,
-                  const char* column) {
-  const std::string name = std::string("column '") + column + "'";
+                  const std::string& column) {
+  const std::string name = "column '" + column + "'";
   if (field.empty()) reader.Fail(name + " is empty");
   std::string_view digits = field;
   // from_chars does not accept a leading '+'.
@@ -176,10 +188,11 @@ double ParseValue(const LineReader& reader,
 
 int64_t ParseStamp(const LineReader& reader,
                    std::string_view field,
-                   TimeUnit unit) {
+                   TimeUnit unit,
+                   const std::string& column = "timestamp") {
   std::string error;
   const std::optional<int64_t> stamp_ns = ParseTimestampNs(field, unit, &error);
-  if (!stamp_ns) reader.Fail("column 'timestamp': " + error);
+  if (!stamp_ns) reader.Fail("column '" + column + "': " + error);
   return *stamp_ns;
 }
 
@@ -239,8 +252,11 @@ std::string LowercaseExtension(const std::string& path) {
   return extension;
 }
 
-// Field count of the first data line after an optional header.
-OdometryFormat SniffOdometryFormat(const std::string& path) {
+// The format the first data line (after an optional header) shows: 4
+// fields -> CSV, 8 -> TUM, else std::nullopt with *num_fields and *line set.
+std::optional<OdometryFormat> FormatByContent(const std::string& path,
+                                              size_t* num_fields,
+                                              int* line_number) {
   LineReader reader(path);
   std::string line;
   bool first = true;
@@ -252,17 +268,20 @@ OdometryFormat SniffOdometryFormat(const std::string& path) {
     }
     if (fields.size() == 4) return OdometryFormat::kCsv;
     if (fields.size() == 8) return OdometryFormat::kTum;
-    reader.Fail("cannot tell the odometry format from " +
-                std::to_string(fields.size()) + " fields; expected 4 (" +
-                kCsvColumnList + ") or 8 (TUM: " + kTumColumnList +
-                "); pass the format explicitly");
+    *num_fields = fields.size();
+    *line_number = reader.line_number();
+    return std::nullopt;
   }
   reader.FailNoData();
 }
 
-}  // namespace
+const char* FormatName(OdometryFormat format) {
+  return format == OdometryFormat::kCsv ? "csv" : "tum";
+}
 
-Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit) {
+Trajectory ReadTum(const std::string& path,
+                   TimeUnit unit,
+                   const std::string& format_hint) {
   Trajectory trajectory;
   trajectory.source = path;
   trajectory.planar = false;
@@ -271,7 +290,12 @@ Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit) {
   std::string line;
   while (reader.Next(&line)) {
     const std::vector<std::string_view> fields = SplitFields(line);
-    CheckFieldCount(reader, fields, 8, kTumColumnList);
+    CheckFieldCount(reader,
+                    fields,
+                    8,
+                    kTumColumnList,
+                    trajectory.poses.empty(),
+                    format_hint);
     StampedPose pose;
     pose.stamp_ns = ParseStamp(reader, fields[0], unit);
     double values[8];
@@ -297,38 +321,101 @@ Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit) {
   return trajectory;
 }
 
-Trajectory ReadOdometryCsv(const std::string& path, TimeUnit unit) {
+// The unit of the time column: the header's suffix, else `unit`. A suffix
+// that contradicts a time unit the user gave is an error naming both.
+TimeUnit TimeColumnUnit(const LineReader& reader,
+                        const OdometryCsvColumns& columns,
+                        TimeUnit unit,
+                        bool unit_given) {
+  if (!columns.time_unit) return unit;
+  if (unit_given && *columns.time_unit != unit) {
+    reader.Fail("header column '" + columns.time_name +
+                "' says the time is in " + TimeUnitName(*columns.time_unit) +
+                " but --odometry_time_unit is " + TimeUnitName(unit) +
+                "; drop the flag or rename the column");
+  }
+  return *columns.time_unit;
+}
+
+Trajectory ReadCsv(const std::string& path,
+                   TimeUnit unit,
+                   bool unit_given,
+                   const std::string& format_hint) {
   Trajectory trajectory;
   trajectory.source = path;
   trajectory.planar = true;
   LineReader reader(path);
   IncreasingStamps increasing;
+  OdometryCsvColumns columns;
+  std::string column_list = kCsvColumnList;
+  TimeUnit time_unit = unit;
+  bool yaw_unit_named = false;
+  double previous_yaw = 0.0;
   std::string line;
   bool first = true;
   while (reader.Next(&line)) {
     const std::vector<std::string_view> fields = SplitFields(line);
     const bool is_header = first && !fields.empty() && !LooksNumeric(fields[0]);
+    const bool first_data_line = first;
     first = false;
     if (is_header) {
       if (fields.size() != 4) {
         reader.Fail("header has " + std::to_string(fields.size()) +
-                    " fields, expected 4 (" + kCsvColumnList + ")");
+                    " fields, expected 4 (" + kCsvColumnList + ")" +
+                    format_hint);
+      }
+      std::string error;
+      const std::optional<OdometryCsvColumns> named =
+          ParseOdometryCsvHeader(fields, &error);
+      if (!named) reader.Fail(error + format_hint);
+      columns = *named;
+      time_unit = TimeColumnUnit(reader, columns, unit, unit_given);
+      yaw_unit_named = std::string_view(columns.yaw_name).find('_') !=
+                       std::string_view::npos;
+      column_list.clear();
+      for (size_t i = 0; i < fields.size(); ++i) {
+        column_list += (i == 0 ? "" : ",") + std::string(fields[i]);
       }
       continue;
     }
-    CheckFieldCount(reader, fields, 4, kCsvColumnList);
+    CheckFieldCount(
+        reader, fields, 4, column_list, first_data_line, format_hint);
     StampedPose pose;
-    pose.stamp_ns = ParseStamp(reader, fields[0], unit);
-    const double x = ParseValue(reader, fields[1], kCsvColumns[1]);
-    const double y = ParseValue(reader, fields[2], kCsvColumns[2]);
-    const double yaw = ParseValue(reader, fields[3], kCsvColumns[3]);
+    pose.stamp_ns =
+        ParseStamp(reader, fields[columns.time], time_unit, columns.time_name);
+    const double x =
+        columns.x_to_m * ParseValue(reader, fields[columns.x], columns.x_name);
+    const double y =
+        columns.y_to_m * ParseValue(reader, fields[columns.y], columns.y_name);
+    const double yaw =
+        columns.yaw_to_rad *
+        ParseValue(reader, fields[columns.yaw], columns.yaw_name);
+    increasing.Check(reader, pose.stamp_ns, fields[columns.time]);
+    if (!trajectory.poses.empty()) {
+      if (const std::optional<std::string> problem =
+              YawStepProblem(previous_yaw, yaw, yaw_unit_named)) {
+        reader.Fail(*problem);
+      }
+    }
+    previous_yaw = yaw;
     pose.world_from_sensor.rotation = YawRotation(yaw);
     pose.world_from_sensor.translation = Eigen::Vector3d(x, y, 0.0);
-    increasing.Check(reader, pose.stamp_ns, fields[0]);
     trajectory.poses.push_back(pose);
   }
   if (trajectory.poses.empty()) reader.FailNoData();
   return trajectory;
+}
+
+}  // namespace
+
+Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit) {
+  return ReadTum(path, unit, "");
+}
+
+Trajectory ReadOdometryCsv(const std::string& path,
+                           TimeUnit unit,
+                           bool unit_given) {
+  return ReadCsv(path, unit, unit_given, "");
 }
 
 OdometryFormat ParseOdometryFormat(const std::string& name) {
@@ -341,19 +428,40 @@ OdometryFormat ParseOdometryFormat(const std::string& name) {
 
 Trajectory ReadOdometry(const std::string& path,
                         OdometryFormat format,
-                        TimeUnit unit) {
+                        TimeUnit unit,
+                        bool unit_given) {
+  std::string reason;
   if (format == OdometryFormat::kAuto) {
+    size_t num_fields = 0;
+    int line_number = 0;
     const std::string extension = LowercaseExtension(path);
-    if (extension == ".csv") {
+    if (const std::optional<OdometryFormat> by_content =
+            FormatByContent(path, &num_fields, &line_number)) {
+      format = *by_content;
+      reason = "its first data line";
+    } else if (extension == ".csv") {
       format = OdometryFormat::kCsv;
+      reason = "its extension " + extension;
     } else if (extension == ".tum" || extension == ".txt") {
       format = OdometryFormat::kTum;
+      reason = "its extension " + extension;
     } else {
-      format = SniffOdometryFormat(path);
+      ThrowAt(path,
+              line_number,
+              "cannot tell the odometry format from " +
+                  std::to_string(num_fields) + " fields; expected 4 (" +
+                  kCsvColumnList + ") or 8 (TUM: " + kTumColumnList +
+                  "); pass --odometry_format csv or tum");
     }
+  } else {
+    reason = std::string("--odometry_format ") + FormatName(format);
   }
-  return format == OdometryFormat::kCsv ? ReadOdometryCsv(path, unit)
-                                        : ReadTumTrajectory(path, unit);
+  const std::string format_hint = std::string(" (read as ") +
+                                  FormatName(format) + " because of " + reason +
+                                  "; --odometry_format csv or tum chooses)";
+  return format == OdometryFormat::kCsv
+             ? ReadCsv(path, unit, unit_given, format_hint)
+             : ReadTum(path, unit, format_hint);
 }
 
 void WriteTumTrajectory(const Trajectory& trajectory, const std::string& path) {

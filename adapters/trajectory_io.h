@@ -11,13 +11,25 @@
 //   timestamp,x,y,yaw
 // origin_from_odom of a planar vehicle: x, y in metres, yaw in radians about
 // +z (counter-clockwise seen from above). The pose is translation (x, y, 0)
-// and rotation YawRotation(yaw); the Trajectory is marked planar. An optional
-// header line is allowed: the first non-comment line is taken as a header
-// when its first field does not start like a number; it must have 4 fields.
+// and rotation YawRotation(yaw); the Trajectory is marked planar.
+// An optional header line names the columns: the first non-comment line is
+// taken as a header when its first field does not start like a number. Its
+// grammar (odometry_csv_header.h): four names in any order, any case,
+//   t|time|timestamp[_s|_ms|_us|_ns], x[_m|_cm|_mm], y[_m|_cm|_mm],
+//   yaw|theta[_rad|_deg]
+// e.g. "time,x_mm,y_mm,yaw_deg" or "timestamp,yaw,x,y". Values are converted
+// to metres and radians; the time is parsed exactly in the suffix's unit.
+// Without a suffix, and in a file without a header (timestamp,x,y,yaw), the
+// units are the time unit passed in, metres and radians. Errors: an unknown,
+// duplicate or missing name (the message lists the accepted ones); a time
+// suffix that contradicts a time unit the user gave (unit_given); a yaw step
+// of more than pi between consecutive samples that is not a 2 pi wrap
+// (degrees read as radians; input_plausibility.h).
 //
 // Both readers: timestamps are parsed exactly in `unit` (see timestamp.h);
 // lines whose first non-blank character is '#' and blank lines are skipped;
-// trailing '\r' is ignored. Every problem throws FormatError whose message is
+// trailing '\r' and a UTF-8 byte order mark before the first line are
+// ignored. Every problem throws FormatError whose message is
 // "path:line: what is wrong" (or "path: what is wrong" when no line applies):
 //   - the file cannot be opened ("cannot open for reading");
 //   - no data lines ("no data lines");
@@ -44,21 +56,32 @@ namespace odomcal {
 // Reads a TUM trajectory (see above). planar = false.
 Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit);
 
-// Reads a timestamp,x,y,yaw odometry log (see above). planar = true.
-Trajectory ReadOdometryCsv(const std::string& path, TimeUnit unit);
+// Reads an odometry CSV (see above). planar = true. `unit` applies to a time
+// column without a unit suffix; when `unit_given` (the user chose it with
+// --odometry_time_unit), a header suffix naming another unit is an error.
+Trajectory ReadOdometryCsv(const std::string& path,
+                           TimeUnit unit,
+                           bool unit_given = false);
 
 enum class OdometryFormat { kAuto, kTum, kCsv };
 
 // "auto", "tum" or "csv"; throws std::invalid_argument otherwise.
 OdometryFormat ParseOdometryFormat(const std::string& name);
 
-// Reads an odometry log as TUM or CSV. kAuto decides by extension first
-// (".csv" -> CSV; ".tum", ".txt" -> TUM; case-insensitive), then by the first
-// data line (header and comments skipped): 4 fields -> CSV, 8 fields -> TUM,
-// anything else -> FormatError asking for an explicit format.
+// Reads an odometry log as TUM or CSV. kAuto decides by the content: the
+// first data line (header and comments skipped) with 4 fields -> CSV, 8
+// fields -> TUM, whatever the extension (a CSV named .txt is read as CSV);
+// for any other count by the extension (".csv" -> CSV; ".tum", ".txt" ->
+// TUM; case-insensitive), and without one a FormatError asks for
+// --odometry_format. A wrong field count on the first data line or a bad
+// header says how the format was chosen and names --odometry_format, e.g.
+//   "path:1: expected 8 fields (...), got 4 (read as tum because of
+//    --odometry_format tum; --odometry_format csv or tum chooses)".
+// `unit` and `unit_given` as for ReadOdometryCsv.
 Trajectory ReadOdometry(const std::string& path,
                         OdometryFormat format,
-                        TimeUnit unit);
+                        TimeUnit unit,
+                        bool unit_given = false);
 
 // Writes a TUM trajectory: a '#' header comment, then one line per pose with
 // the timestamp in exact decimal seconds (FormatTimestampSeconds) and the

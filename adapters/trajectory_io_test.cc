@@ -237,7 +237,7 @@ TEST(ReadOdometryCsv, ReadsWithHeader) {
       WriteTextFile("with_header.csv",
                     "# exported by the vehicle\n"
                     "timestamp,x,y,yaw\n"
-                    "1403636579.763555584,1.5,-2.0,0.5\n"
+                    "1403636579.763555584,1.5,-2.0,2.9\n"
                     "1403636579.863555584, 2.5 , -2.0 , -3.0\n");
   const Trajectory trajectory = ReadOdometryCsv(path, TimeUnit::kSeconds);
   EXPECT_TRUE(trajectory.planar);
@@ -247,9 +247,10 @@ TEST(ReadOdometryCsv, ReadsWithHeader) {
   const Rigid3d& pose = trajectory.poses[0].world_from_sensor;
   EXPECT_EQ(pose.translation, Eigen::Vector3d(1.5, -2.0, 0.0));
   EXPECT_TRUE(pose.rotation.isApprox(
-      Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())),
+      Eigen::Quaterniond(Eigen::AngleAxisd(2.9, Eigen::Vector3d::UnitZ())),
       1e-15));
-  // Yaw is counter-clockwise about +z: the body x axis points to +y at pi/2.
+  // Yaw is counter-clockwise (and may wrap by 2 pi between samples) about +z:
+  // the body x axis points to +y at pi/2.
   EXPECT_TRUE(trajectory.poses[1].world_from_sensor.rotation.isApprox(
       Eigen::Quaterniond(Eigen::AngleAxisd(-3.0, Eigen::Vector3d::UnitZ())),
       1e-15));
@@ -273,7 +274,7 @@ TEST(ReadOdometryCsv, RejectsMalformedLines) {
   ExpectCsvError("five.csv",
                  "t,x,y,yaw\n1,0,0,0\n2,0,0,0,0\n",
                  3,
-                 "expected 4 fields (timestamp,x,y,yaw), got 5");
+                 "expected 4 fields (t,x,y,yaw), got 5");
   ExpectCsvError("second_header.csv",
                  "1,0,0,0\nt,x,y,yaw\n",
                  2,
@@ -281,7 +282,7 @@ TEST(ReadOdometryCsv, RejectsMalformedLines) {
   ExpectCsvError("yaw.csv", "1,0,0,north\n", 1, "column 'yaw' is not a number");
   ExpectCsvError("nan.csv", "1,0,NaN,0\n", 1, "column 'y' is not finite");
   ExpectCsvError("duplicate.csv",
-                 "x,x,x,x\n1,0,0,0\n1,0,0,0\n",
+                 "t,x,y,yaw\n1,0,0,0\n1,0,0,0\n",
                  3,
                  "duplicate timestamp 1 after 1 on line 2");
   ExpectCsvError("ns_as_s.csv",
@@ -361,10 +362,153 @@ TEST(ReadOdometry, ChoosesFormatByExtension) {
           .poses[0]
           .world_from_sensor.translation,
       Eigen::Vector3d(2, 3, 4));
-  // Read as CSV by extension, it fails on the field count.
-  EXPECT_THROW(
-      ReadOdometry(tum_named_csv, OdometryFormat::kAuto, TimeUnit::kSeconds),
-      FormatError);
+  // The content decides over the extension.
+  EXPECT_FALSE(
+      ReadOdometry(tum_named_csv, OdometryFormat::kAuto, TimeUnit::kSeconds)
+          .planar);
+  // A field count that is neither: the extension chooses, and the error
+  // says so and names the flag.
+  const std::string three = WriteTextFile("three.csv", "1,2,3\n");
+  EXPECT_EQ(FormatErrorOf([&] {
+              ReadOdometry(three, OdometryFormat::kAuto, TimeUnit::kSeconds);
+            }),
+            three +
+                ":1: expected 4 fields (timestamp,x,y,yaw), got 3 (read as csv "
+                "because of its extension .csv; --odometry_format csv or tum "
+                "chooses)");
+}
+
+TEST(ReadOdometry, ContentDecidesOverTheExtension) {
+  // A CSV named .txt (issue 12: it failed with "expected 8 fields").
+  const std::string csv_txt =
+      WriteTextFile("csv_named.txt", "timestamp,x,y,yaw\n1,2,3,0.5\n");
+  const Trajectory from_txt =
+      ReadOdometry(csv_txt, OdometryFormat::kAuto, TimeUnit::kSeconds);
+  EXPECT_TRUE(from_txt.planar);
+  EXPECT_EQ(from_txt.poses[0].world_from_sensor.translation,
+            Eigen::Vector3d(2, 3, 0));
+  // An explicit format still wins, and the error names the flag.
+  EXPECT_EQ(FormatErrorOf([&] {
+              ReadOdometry(csv_txt, OdometryFormat::kTum, TimeUnit::kSeconds);
+            }),
+            csv_txt +
+                ":1: expected 8 fields (timestamp tx ty tz qx qy qz qw), got 4 "
+                "(read as tum because of --odometry_format tum; "
+                "--odometry_format csv or tum chooses)");
+  // A later broken line is a broken line, not a format question.
+  const std::string broken = WriteTextFile("broken.txt", "1,2,3,0.5\n2,2,3\n");
+  EXPECT_EQ(FormatErrorOf([&] {
+              ReadOdometry(broken, OdometryFormat::kAuto, TimeUnit::kSeconds);
+            }),
+            broken + ":2: expected 4 fields (timestamp,x,y,yaw), got 3");
+}
+
+TEST(ReadOdometry, ByteOrderMarkIsIgnored) {
+  const std::string bom = "\xEF\xBB\xBF";
+  // Before a TUM comment line (it failed) ...
+  const std::string tum = WriteTextFile(
+      "bom.tum", bom + "# timestamp tx ty tz qx qy qz qw\n1 2 3 4 0 0 0 1\n");
+  EXPECT_EQ(
+      ReadOdometry(tum, OdometryFormat::kAuto, TimeUnit::kSeconds).poses.size(),
+      1u);
+  // ... and before the first sample of a CSV without a header (it was
+  // taken for a header and the sample silently dropped).
+  const std::string csv = WriteTextFile("bom.csv", bom + "1,2,3,0\n2,3,3,0\n");
+  const Trajectory from_csv =
+      ReadOdometry(csv, OdometryFormat::kAuto, TimeUnit::kSeconds);
+  ASSERT_EQ(from_csv.poses.size(), 2u);
+  EXPECT_EQ(from_csv.poses[0].stamp_ns, 1000000000);
+  const std::string header =
+      WriteTextFile("bom_header.csv", bom + "time_ms,x,y,yaw\n1,2,3,0\n");
+  EXPECT_EQ(ReadOdometryCsv(header, TimeUnit::kSeconds).poses[0].stamp_ns,
+            1000000);
+}
+
+TEST(ReadOdometryCsv, HeaderNamesOrderAndUnits) {
+  // Reordered columns (issue 12: read as x,y,yaw before).
+  const std::string reordered =
+      WriteTextFile("reordered.csv", "timestamp,yaw,x,y\n1,0.5,2,3\n");
+  const Trajectory a = ReadOdometryCsv(reordered, TimeUnit::kSeconds);
+  EXPECT_EQ(a.poses[0].world_from_sensor.translation, Eigen::Vector3d(2, 3, 0));
+  EXPECT_TRUE(
+      a.poses[0].world_from_sensor.rotation.isApprox(YawRotation(0.5), 1e-15));
+  // Millimetres, degrees and a time unit, exactly.
+  const std::string units = WriteTextFile(
+      "units.csv",
+      "Time_NS,X_MM,y_cm,Yaw_Deg\n1700000000123456789,1500,-25,90\n"
+      "1700000000223456789,1600,-25,100\n");
+  const Trajectory b = ReadOdometryCsv(units, TimeUnit::kSeconds);
+  ASSERT_EQ(b.poses.size(), 2u);
+  EXPECT_EQ(b.poses[0].stamp_ns, 1700000000123456789);
+  EXPECT_TRUE(b.poses[0].world_from_sensor.translation.isApprox(
+      Eigen::Vector3d(1.5, -0.25, 0), 1e-15));
+  EXPECT_TRUE(b.poses[0].world_from_sensor.rotation.isApprox(
+      YawRotation(3.14159265358979323846 / 2), 1e-15));
+  // theta, t and milliseconds with a fraction.
+  const std::string theta =
+      WriteTextFile("theta.csv", "theta,y,x,t_ms\n0,1,2,1.5\n");
+  EXPECT_EQ(ReadOdometryCsv(theta, TimeUnit::kSeconds).poses[0].stamp_ns,
+            1500000);
+}
+
+TEST(ReadOdometryCsv, HeaderErrors) {
+  const std::string accepted =
+      std::string("; accepted: ") +
+      "t|time|timestamp[_s|_ms|_us|_ns], x[_m|_cm|_mm], "
+      "y[_m|_cm|_mm], yaw|theta[_rad|_deg] (any order, "
+      "any case)";
+  ExpectCsvError(
+      "unknown.csv",
+      "time,x,y,heading\n1,0,0,0\n",
+      1,
+      "header column 'heading' is not an odometry column" + accepted);
+  ExpectCsvError(
+      "twice.csv",
+      "time,t,x,y\n1,0,0,0\n",
+      1,
+      "header names the time column twice ('time' and 't')" + accepted);
+  ExpectCsvError("values.csv",
+                 "time,x_cm,y,yaw\n1,abc,0,0\n",
+                 2,
+                 "column 'x_cm' is not a number: 'abc'");
+  // A suffix that contradicts the unit the user gave names both.
+  const std::string ms =
+      WriteTextFile("conflict.csv", "time_ms,x,y,yaw\n1,0,0,0\n");
+  EXPECT_EQ(
+      FormatErrorOf([&] { ReadOdometryCsv(ms, TimeUnit::kNanoseconds, true); }),
+      ms + ":1: header column 'time_ms' says the time is in ms but "
+           "--odometry_time_unit is ns; drop the flag or rename the column");
+  // The same unit, or the default, is fine.
+  EXPECT_EQ(
+      ReadOdometryCsv(ms, TimeUnit::kMilliseconds, true).poses[0].stamp_ns,
+      1000000);
+  EXPECT_EQ(
+      ReadOdometryCsv(ms, TimeUnit::kNanoseconds, false).poses[0].stamp_ns,
+      1000000);
+  // Through ReadOdometry a header error also names --odometry_format.
+  const std::string bad =
+      WriteTextFile("bad_header.txt", "time,x,y,z\n1,0,0,0\n");
+  EXPECT_TRUE(Contains(FormatErrorOf([&] {
+                         ReadOdometry(
+                             bad, OdometryFormat::kAuto, TimeUnit::kSeconds);
+                       }),
+                       "(read as csv because of its first data line; "
+                       "--odometry_format csv or tum chooses)"));
+}
+
+TEST(ReadOdometryCsv, DegreesAsRadiansAreNamed) {
+  ExpectCsvError(
+      "degrees.csv",
+      "0,0,0,179.5\n0.1,0,0,179.9\n0.2,0,0,-179.8\n",
+      3,
+      "yaw jumps from 179.9 to -179.8 rad, more than pi and not a 2 pi wrap: "
+      "the yaw looks like degrees; name the column yaw_deg in the header or "
+      "convert it to radians");
+  // Named as degrees, the same file reads.
+  const std::string named = WriteTextFile(
+      "degrees_named.csv",
+      "t,x,y,yaw_deg\n0,0,0,179.5\n0.1,0,0,179.9\n0.2,0,0,-179.8\n");
+  EXPECT_EQ(ReadOdometryCsv(named, TimeUnit::kSeconds).poses.size(), 3u);
 }
 
 TEST(ReadOdometry, SniffsFormatWithoutKnownExtension) {

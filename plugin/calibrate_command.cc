@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_guard.h"
@@ -23,8 +24,11 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
   for (const std::string& path : inputs.camera_paths) {
     cameras.push_back(ReadTumTrajectory(path, inputs.camera_time_unit));
   }
-  const Trajectory odometry = ReadOdometry(
-      inputs.odometry_path, inputs.odometry_format, inputs.odometry_time_unit);
+  const Trajectory odometry = ReadOdometry(inputs.odometry_path,
+                                           inputs.odometry_format,
+                                           inputs.odometry_time_unit,
+                                           inputs.odometry_time_unit_given);
+  CheckOdometrySpeed(odometry);
 
   CalibrationRun run;
   ReportContext& context = run.context;
@@ -43,9 +47,19 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
         std::to_string(context.association.num_outside_odometry_span) +
         " outside its span, " +
         std::to_string(context.association.num_in_odometry_gaps) +
-        " in gaps): check the time units and --camera_time_offset_s");
+        " in gaps): " +
+        TimeSpansText(
+            cameras, "", inputs.association.camera_time_offset_ns, odometry) +
+        "; check the time units and --camera_time_offset_s");
   }
+  CheckRotationAngleUnits(context.association.pairs, odometry.source);
   run.result = CalibrateOdomCam(context.association.pairs, inputs.calibration);
+  if (run.result.status == CalibrationStatus::kSuccess) {
+    if (const auto warning =
+            ExtrinsicDistanceWarning(run.result.odom_from_cam)) {
+      run.result.warnings.push_back(*warning);
+    }
+  }
   if (context.association.num_outside_odometry_span > 0 ||
       context.association.num_in_odometry_gaps > 0) {
     std::ostringstream max_gap_s;  // "0.25", not std::to_string's "0.250000"

@@ -22,6 +22,7 @@ struct CalibrateInputs {
   OdometryFormat odometry_format = OdometryFormat::kAuto;
   TimeUnit camera_time_unit = TimeUnit::kSeconds;
   TimeUnit odometry_time_unit = TimeUnit::kSeconds;
+  bool odometry_time_unit_given = false;  // by the user, not the default
   AssociationOptions association;
   CalibrationOptions calibration;
 };

@@ -20,9 +20,13 @@ void AddCalibrationFlags(CLI::App* app,
       ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
       ->capture_default_str();
   app->add_option("--odometry_time_unit", flags->odometry_time_unit,
-                  "unit of the odometry timestamps")
+                  "unit of the odometry timestamps (a CSV header's time_ms "
+                  "etc. sets it per file)")
       ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->each([flags](const std::string&) {
+        flags->odometry_time_unit_given = true;
+      });
   app->add_option("--camera_time_offset_s", flags->camera_time_offset_s,
                   "added to camera times to get odometry times")
       ->capture_default_str();
@@ -125,6 +129,7 @@ void FinishCalibrationFlags(const CalibrationFlags& flags,
   inputs->odometry_format = ParseOdometryFormat(flags.odometry_format);
   inputs->camera_time_unit = ParseTimeUnit(flags.camera_time_unit);
   inputs->odometry_time_unit = ParseTimeUnit(flags.odometry_time_unit);
+  inputs->odometry_time_unit_given = flags.odometry_time_unit_given;
   if (!std::isfinite(flags.camera_time_offset_s) ||
       std::abs(flags.camera_time_offset_s) > 1e9) {
     throw std::invalid_argument("--camera_time_offset_s must be finite");

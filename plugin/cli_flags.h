@@ -19,6 +19,9 @@ struct CalibrationFlags {
   std::string odometry_format = "auto";
   std::string camera_time_unit = "s";
   std::string odometry_time_unit = "s";
+  // --odometry_time_unit given on the command line: then an odometry CSV
+  // header that names another time unit is an error.
+  bool odometry_time_unit_given = false;
   double camera_time_offset_s = 0.0;
   bool no_refine = false;
 };

@@ -15,6 +15,7 @@
 #include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
@@ -124,11 +125,21 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
         static_cast<int>(ReadColmapDatabaseImages(inputs.database_path).size());
   }
   run.odometry = ReadOdometry(inputs.odometry_path, inputs.odometry_format,
-                              inputs.odometry_time_unit);
+                              inputs.odometry_time_unit,
+                              inputs.odometry_time_unit_given);
+  CheckOdometrySpeed(run.odometry);
 
   std::vector<Trajectory> cameras;
+  std::vector<int64_t> image_stamps_ns;
   for (const ColmapSegment& segment : run.segments) {
     cameras.push_back(segment.trajectory);
+    for (const StampedPose& pose : segment.trajectory.poses) {
+      image_stamps_ns.push_back(pose.stamp_ns);
+    }
+  }
+  if (inputs.image_timestamps_path.empty()) {
+    CheckImageTimesAreNotFrameNumbers(image_stamps_ns, inputs.model_path,
+                                      timestamps.how_read());
   }
   ReportContext& context = run.context;
   context.command = command;
@@ -151,13 +162,22 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
         std::to_string(context.association.num_outside_odometry_span) +
         " outside its span, " +
         std::to_string(context.association.num_in_odometry_gaps) +
-        " in gaps): check the image timestamps, their unit and "
+        " in gaps): " +
+        TimeSpansText(cameras, timestamps.how_read(),
+                      inputs.association.camera_time_offset_ns, run.odometry) +
+        "; check the image timestamps, their unit and "
         "--camera_time_offset_s");
   }
+  CheckRotationAngleUnits(context.association.pairs, run.odometry.source);
 
   run.check = CalibrateWithStretchCheck(context.association.pairs,
                                         inputs.calibration, inputs.stretch);
   CalibrationResult& result = run.check.result;
+  if (result.status == CalibrationStatus::kSuccess) {
+    if (const auto warning = ExtrinsicDistanceWarning(result.odom_from_cam)) {
+      result.warnings.push_back(*warning);
+    }
+  }
   for (const DuplicateSegment& duplicate : run.duplicate_segments) {
     result.warnings.push_back(
         "sub-model " + duplicate.segment.sub_model + " (" +

@@ -34,6 +34,7 @@ struct ColmapCalibrationInputs {
   std::string odometry_path;
   OdometryFormat odometry_format = OdometryFormat::kAuto;
   TimeUnit odometry_time_unit = TimeUnit::kSeconds;
+  bool odometry_time_unit_given = false;  // by the user, not the default
   std::string image_timestamps_path;  // CSV image_name,timestamp; else names
   TimeUnit image_time_unit = TimeUnit::kSeconds;  // of the CSV
   std::optional<TimeUnit> file_name_time_unit;    // of numeric file names

@@ -32,6 +32,7 @@ void FinishProjectFlags(const ProjectFlags& flags, ColmapCalibrationInputs* inpu
   FinishCalibrationFlags(flags.calibration, &calibrate);
   inputs->odometry_format = calibrate.odometry_format;
   inputs->odometry_time_unit = calibrate.odometry_time_unit;
+  inputs->odometry_time_unit_given = calibrate.odometry_time_unit_given;
   inputs->image_time_unit = calibrate.camera_time_unit;
   inputs->association = calibrate.association;
   inputs->calibration = calibrate.calibration;

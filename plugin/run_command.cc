@@ -25,6 +25,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration.h"
@@ -356,8 +357,11 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   constexpr int kStages = 5;
 
   // [1] Frame selection.
-  const Trajectory odometry = ReadOdometry(
-      inputs.odometry_path, inputs.odometry_format, inputs.odometry_time_unit);
+  const Trajectory odometry = ReadOdometry(inputs.odometry_path,
+                                           inputs.odometry_format,
+                                           inputs.odometry_time_unit,
+                                           inputs.odometry_time_unit_given);
+  CheckOdometrySpeed(odometry);
   std::vector<TimedImage> images;
   {
     StageClock clock(1, kStages, "selecting frames with the odometry");
@@ -377,6 +381,12 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
       const auto stamp = timestamps.Lookup(name, &why);
       if (!stamp) throw FormatError(run.image_path + "/" + name + ": " + why);
       all.push_back({name, *stamp});
+    }
+    if (inputs.image_timestamps_path.empty()) {
+      std::vector<int64_t> stamps_ns;
+      for (const TimedImage& image : all) stamps_ns.push_back(image.stamp_ns);
+      CheckImageTimesAreNotFrameNumbers(stamps_ns, run.image_path,
+                                        timestamps.how_read());
     }
     run.frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
     run.frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;

@@ -536,8 +536,10 @@ TEST_F(Robustness, NoTimeOverlap) {
   ExpectBadInput(RunOdomcal(arguments),
                  std::string(kCalibrateError) +
                      "no camera timestamp falls inside the odometry (601 outside "
-                     "its span, 0 in gaps): check the time units and "
-                     "--camera_time_offset_s");
+                     "its span, 0 in gaps): camera times "
+                     "1700000000.000-1700000060.000 s (then shifted by 3600.000 s), "
+                     "odometry 1700000000.000-1700000060.000 s; check the time units "
+                     "and --camera_time_offset_s");
   EXPECT_FALSE(fs::exists(Path("result.json")));
 }
 

@@ -1,0 +1,401 @@
+// Odometry and image times in units or formats other than odomcal's own
+// (issue 12): each case either calibrates correctly once the file says its
+// units, or ends in one error line that names the likely mistake, never in a
+// "success" with a wrong scale or in advice about something else. One test
+// per row of docs/robustness.md, "Column names, units and formats".
+
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/odomcal_process.h"
+#include "odomcal/tests/test_files.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr char kCalibrateError[] = "odomcal calibrate: error: ";
+constexpr char kColmapError[] = "odomcal colmap: error: ";
+const char kBom[] = "\xEF\xBB\xBF";
+
+std::string Number(double value) {
+  char text[40];
+  std::snprintf(text, sizeof(text), "%.17g", value);
+  return text;
+}
+
+double YawOf(const Rigid3d& pose) {
+  const Eigen::Quaterniond q = pose.rotation.normalized();
+  return 2.0 * std::atan2(q.z(), q.w());
+}
+
+// One odometry sample as the columns of a CSV line.
+struct Sample {
+  std::string time;  // exact decimal seconds
+  double x = 0.0, y = 0.0, yaw = 0.0;
+};
+
+class InputUnits : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(::testing::TempDir()) /
+           (std::string("odomcal_units_") + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    DriveSimulatorOptions options;
+    options.seed = 5;
+    options.camera_rotation_noise_deg = 0.01;
+    options.camera_position_noise = 0.0005;
+    drive_ = SimulateDrive(options);
+    WriteTumTrajectory(drive_.camera, Path("camera.tum"));
+  }
+  void TearDown() override {
+    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
+  }
+
+  std::string Path(const std::string& name) const {
+    return (dir_ / name).string();
+  }
+
+  // The drive's odometry as `name`: `header` (none when empty), then one
+  // line per sample made by `line` from the sample in s, m and unwrapped rad.
+  void WriteOdometry(const std::string& name,
+                     const std::string& header,
+                     const std::function<std::string(const Sample&)>& line,
+                     const std::string& prefix = "") const {
+    std::string text = prefix + (header.empty() ? "" : header + "\n");
+    double previous = 0.0, unwrapped = 0.0;
+    for (size_t i = 0; i < drive_.odometry.poses.size(); ++i) {
+      const StampedPose& pose = drive_.odometry.poses[i];
+      const double yaw = YawOf(pose.world_from_sensor);
+      unwrapped += i == 0 ? yaw : std::remainder(yaw - previous, 2.0 * kPi);
+      previous = yaw;
+      const Sample sample{FormatTimestampSeconds(pose.stamp_ns),
+                          pose.world_from_sensor.translation.x(),
+                          pose.world_from_sensor.translation.y(),
+                          unwrapped};
+      text += line(sample) + "\n";
+    }
+    WriteFile(dir_ / name, text);
+  }
+
+  std::vector<std::string> Calibrate(
+      const std::string& odometry,
+      const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> arguments = {"calibrate",
+                                          "--camera_poses",
+                                          Path("camera.tum"),
+                                          "--odometry",
+                                          Path(odometry),
+                                          "--output",
+                                          Path("result.json")};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return arguments;
+  }
+
+  // Exit 0 and the simulated extrinsic and scale in result.json.
+  void ExpectCalibrated(const CommandResult& run) const {
+    ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+    const json result = json::parse(ReadFile(Path("result.json")));
+    EXPECT_EQ(result["status"], "success");
+    EXPECT_NEAR(
+        result["metric_scale"].get<double>() / drive_.metric_scale, 1.0, 0.01);
+    const auto& t = result["odom_from_cam"]["translation_m"];
+    EXPECT_NEAR(t[0].get<double>(), drive_.odom_from_cam.translation.x(), 0.01);
+    EXPECT_NEAR(t[1].get<double>(), drive_.odom_from_cam.translation.y(), 0.01);
+    const auto& q = result["odom_from_cam"]["quaternion_wxyz"];
+    const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
+    EXPECT_LT(
+        RotationAngle(rotation.conjugate() * drive_.odom_from_cam.rotation),
+        0.002);
+  }
+
+  // project/sparse/0: a binary model of every second camera pose, the
+  // images named by `name(index)`.
+  void WriteColmapModel(const std::function<std::string(size_t)>& name) const {
+    ColmapModel model;
+    model.cameras[1] = MakeColmapCamera(
+        1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
+    for (size_t i = 0; i < drive_.camera.poses.size(); i += 2) {
+      ColmapImage image;
+      image.image_id = static_cast<uint32_t>(i + 1);
+      image.camera_id = 1;
+      image.name = name(i);
+      image.cam_from_world = Inverse(drive_.camera.poses[i].world_from_sensor);
+      model.images[image.image_id] = image;
+    }
+    fs::create_directories(dir_ / "project" / "sparse" / "0");
+    odomcal::WriteColmapModel(model,
+                              (dir_ / "project" / "sparse" / "0").string(),
+                              ColmapFormat::kBinary);
+  }
+
+  std::vector<std::string> Colmap(const std::vector<std::string>& extra) const {
+    std::vector<std::string> arguments = {
+        "colmap",
+        "--model_path",
+        (dir_ / "project" / "sparse").string(),
+        "--odometry",
+        Path("odometry.csv"),
+        "--output_path",
+        Path("out")};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return arguments;
+  }
+
+  fs::path dir_;
+  SimulatedDrive drive_;
+};
+
+std::string FrameName(size_t index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06zu.png", index);
+  return name;
+}
+
+// ---------------------------------------------------------------------------
+// Positions in centimetres and millimetres.
+
+TEST_F(InputUnits, CentimetresWithoutUnitAreNamed) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(100 * s.x) + "," + Number(100 * s.y) + "," +
+           Number(s.yaw);
+  });
+  const CommandResult run = RunOdomcal(Calibrate("odometry.csv"));
+  ExpectBadInputContaining(
+      run,
+      kCalibrateError + Path("odometry.csv") + ": the odometry moves at ",
+      {" m/s between samples (90th percentile), faster than 20 m/s: the "
+       "positions look "
+       "like centimetres or millimetres; name the columns x_cm,y_cm or "
+       "x_mm,y_mm in the "
+       "header or convert them to metres"});
+  EXPECT_FALSE(fs::exists(Path("result.json")));
+}
+
+TEST_F(InputUnits, CentimetresNamedInTheHeaderCalibrate) {
+  WriteOdometry("odometry.csv", "timestamp,x_cm,y_cm,yaw", [](const Sample& s) {
+    return s.time + "," + Number(100 * s.x) + "," + Number(100 * s.y) + "," +
+           Number(s.yaw);
+  });
+  ExpectCalibrated(RunOdomcal(Calibrate("odometry.csv")));
+}
+
+TEST_F(InputUnits, MillimetresWithoutUnitAreNamed) {
+  WriteOdometry("odometry.csv", "", [](const Sample& s) {
+    return s.time + "," + Number(1000 * s.x) + "," + Number(1000 * s.y) + "," +
+           Number(s.yaw);
+  });
+  ExpectBadInputContaining(
+      RunOdomcal(Calibrate("odometry.csv")),
+      kCalibrateError + Path("odometry.csv") + ": the odometry moves at ",
+      {"the positions look like centimetres or millimetres"});
+}
+
+TEST_F(InputUnits, MillimetresNamedInTheHeaderCalibrate) {
+  // The header of issue 12, with the time in milliseconds too.
+  WriteOdometry("odometry.csv", "time_ms,x_mm,y_mm,yaw", [](const Sample& s) {
+    std::string digits = s.time;  // 9 fraction digits: move the point by 3
+    digits.erase(digits.find('.'), 1);
+    digits.insert(digits.size() - 6, ".");
+    return digits + "," + Number(1000 * s.x) + "," + Number(1000 * s.y) + "," +
+           Number(s.yaw);
+  });
+  ExpectCalibrated(RunOdomcal(Calibrate("odometry.csv")));
+}
+
+// ---------------------------------------------------------------------------
+// Yaw in degrees.
+
+TEST_F(InputUnits, DegreesWrappingAt180AreNamed) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," +
+           Number(std::remainder(s.yaw, 2 * kPi) * 180.0 / kPi);
+  });
+  ExpectBadInputContaining(
+      RunOdomcal(Calibrate("odometry.csv")),
+      kCalibrateError + Path("odometry.csv") + ":",
+      {"more than pi and not a 2 pi wrap: the yaw looks like degrees; "
+       "name the column yaw_deg in the header or convert it to radians"});
+}
+
+// Unwrapped degrees never jump: the camera's rotation angles show it.
+TEST_F(InputUnits, UnwrappedDegreesAreNamedByTheCameraRotation) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," +
+           Number(s.yaw * 180.0 / kPi);
+  });
+  const CommandResult run = RunOdomcal(Calibrate("odometry.csv"));
+  ExpectBadInputContaining(run,
+                           kCalibrateError + Path("odometry.csv") +
+                               ": the odometry turns 57.3 times as far as the "
+                               "camera in every motion pair",
+                           {"the odometry yaw looks like degrees; name the "
+                            "column yaw_deg in the header or "
+                            "convert it to radians"});
+  EXPECT_EQ(run.err.find("time association"), std::string::npos);
+}
+
+TEST_F(InputUnits, DegreesNamedInTheHeaderCalibrate) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw_deg", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," +
+           Number(std::remainder(s.yaw, 2 * kPi) * 180.0 / kPi);
+  });
+  ExpectCalibrated(RunOdomcal(Calibrate("odometry.csv")));
+}
+
+// ---------------------------------------------------------------------------
+// Column order and names.
+
+TEST_F(InputUnits, ReorderedHeaderIsHonoured) {
+  WriteOdometry("odometry.csv", "timestamp,yaw,x,y", [](const Sample& s) {
+    return s.time + "," + Number(s.yaw) + "," + Number(s.x) + "," + Number(s.y);
+  });
+  ExpectCalibrated(RunOdomcal(Calibrate("odometry.csv")));
+}
+
+TEST_F(InputUnits, UnknownHeaderNameListsTheAcceptedOnes) {
+  WriteOdometry("odometry.csv", "time,x,y,heading", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
+  });
+  ExpectBadInput(
+      RunOdomcal(Calibrate("odometry.csv")),
+      kCalibrateError + Path("odometry.csv") +
+          ":1: header column 'heading' is not an odometry column; accepted: "
+          "t|time|timestamp[_s|_ms|_us|_ns], x[_m|_cm|_mm], y[_m|_cm|_mm], "
+          "yaw|theta[_rad|_deg] (any order, any case) (read as csv because of "
+          "its "
+          "first data line; --odometry_format csv or tum chooses)");
+}
+
+TEST_F(InputUnits, TimeSuffixContradictingTheFlagNamesBoth) {
+  WriteOdometry("odometry.csv", "time_ms,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
+  });
+  ExpectBadInput(
+      RunOdomcal(Calibrate("odometry.csv", {"--odometry_time_unit", "s"})),
+      kCalibrateError + Path("odometry.csv") +
+          ":1: header column 'time_ms' says the time is in ms but "
+          "--odometry_time_unit is s; drop the flag or rename the column");
+}
+
+// ---------------------------------------------------------------------------
+// Format from the content; byte order marks.
+
+TEST_F(InputUnits, CsvNamedTxtIsReadAsCsv) {
+  WriteOdometry("odometry.txt", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
+  });
+  ExpectCalibrated(RunOdomcal(Calibrate("odometry.txt")));
+  fs::remove(Path("result.json"));
+  fs::remove(Path("result.yaml"));
+  ExpectBadInput(
+      RunOdomcal(Calibrate("odometry.txt", {"--odometry_format", "tum"})),
+      kCalibrateError + Path("odometry.txt") +
+          ":1: expected 8 fields (timestamp tx ty tz qx qy qz qw), got 4 (read "
+          "as "
+          "tum because of --odometry_format tum; --odometry_format csv or tum "
+          "chooses)");
+}
+
+TEST_F(InputUnits, ByteOrderMarksAreIgnored) {
+  // Before the comment line of a TUM file (it failed) ...
+  WriteFile(dir_ / "camera.tum", kBom + ReadFile(dir_ / "camera.tum"));
+  ASSERT_EQ(ReadFile(dir_ / "camera.tum").rfind(std::string(kBom) + "#", 0),
+            0u);
+  // ... and before the first sample of a CSV without a header (the sample
+  // was taken for a header and dropped: the first image lost its odometry).
+  WriteOdometry(
+      "odometry.csv",
+      "",
+      [](const Sample& s) {
+        return s.time + "," + Number(s.x) + "," + Number(s.y) + "," +
+               Number(s.yaw);
+      },
+      kBom);
+  ASSERT_EQ(drive_.camera.poses.front().stamp_ns,
+            drive_.odometry.poses.front().stamp_ns);
+  const CommandResult run = RunOdomcal(Calibrate("odometry.csv"));
+  ExpectCalibrated(run);
+  const json result = json::parse(ReadFile(Path("result.json")));
+  for (const auto& warning : result["warnings"]) {
+    EXPECT_EQ(warning.get<std::string>().find("skipped"), std::string::npos)
+        << warning;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Image times from file names and time spans.
+
+TEST_F(InputUnits, FrameNumberedImageNamesAreNamed) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
+  });
+  WriteColmapModel(FrameName);
+  ExpectBadInput(
+      RunOdomcal(Colmap({})),
+      kColmapError + (dir_ / "project" / "sparse").string() +
+          ": the image times were read from the image names as ns (s for names "
+          "with a decimal point) and are 2e-09 s apart (median): the names "
+          "look "
+          "like frame numbers, not times; pass --image_timestamps with a CSV "
+          "image_name,timestamp (or --file_name_time_unit if the names are "
+          "times)");
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "calibration.json"));
+}
+
+TEST_F(InputUnits, TimeOverlapErrorShowsBothSpans) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
+  });
+  // Names that are times in ms since the start, read as such, but the
+  // odometry has Unix times.
+  WriteColmapModel([](size_t index) { return FrameName(100 * index); });
+  ExpectBadInput(RunOdomcal(Colmap({"--file_name_time_unit", "ms"})),
+                 kColmapError + (dir_ / "project" / "sparse").string() +
+                     ": no registered image time falls inside the odometry " +
+                     Path("odometry.csv") +
+                     " (301 outside its span, 0 in gaps): camera times "
+                     "0.000-60.000 s (read from the "
+                     "image names as ms), odometry "
+                     "1700000000.000-1700000060.000 s; check the image "
+                     "timestamps, their unit and --camera_time_offset_s");
+}
+
+TEST_F(InputUnits, QuotedImageNamesInTheTimestampsCsv) {
+  WriteOdometry("odometry.csv", "timestamp,x,y,yaw", [](const Sample& s) {
+    return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
+  });
+  WriteColmapModel(FrameName);
+  std::string stamps = "\"image_name\",\"timestamp\"\n";
+  for (size_t i = 0; i < drive_.camera.poses.size(); i += 2) {
+    stamps += "\"" + FrameName(i) + "\"," +
+              FormatTimestampSeconds(drive_.camera.poses[i].stamp_ns) + "\n";
+  }
+  WriteFile(dir_ / "stamps.csv", stamps);
+  const CommandResult run =
+      RunOdomcal(Colmap({"--image_timestamps", Path("stamps.csv")}));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
+  EXPECT_EQ(result["status"], "success");
+}
+
+}  // namespace
+}  // namespace odomcal
