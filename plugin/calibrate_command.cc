@@ -106,7 +106,7 @@ int RunCalibrate(int argc, char** argv) {
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
-  return RunReportingErrors("odomcal calibrate", [&]() -> int {
+  return RunReportingErrors(app, [&]() -> int {
     FinishCalibrationFlags(flags, &inputs);
     CheckOutputPath(output_path, overwrite);
     CheckOutputPath(ReplaceExtension(output_path, ".yaml"), overwrite);

@@ -42,7 +42,7 @@ int RunColmap(int argc, char** argv) {
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
-  return RunReportingErrors("odomcal colmap", [&]() -> int {
+  return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &inputs);
     PrepareOutputFolder(output_path, overwrite,
                         {inputs.model_path,
