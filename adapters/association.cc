@@ -9,6 +9,7 @@
 #include "odomcal/adapters/association.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/solver/format_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -96,9 +97,9 @@ void CheckIncreasing(const Trajectory& trajectory, const std::string& name) {
 
 void CheckNonNegative(double value, const char* field) {
   if (!std::isfinite(value) || value < 0.0) {
-    throw std::invalid_argument(std::string("AssociationOptions.") + field +
+    throw std::invalid_argument(std::string(field) +
                                 " must be finite and >= 0, got " +
-                                std::to_string(value));
+                                FormatNumber(value));
   }
 }
 
@@ -106,7 +107,7 @@ void CheckMaxGap(double max_gap_s, const char* field) {
   if (!std::isfinite(max_gap_s) || max_gap_s <= 0.0) {
     throw std::invalid_argument(std::string(field) +
                                 " must be finite and > 0, got " +
-                                std::to_string(max_gap_s));
+                                FormatNumber(max_gap_s));
   }
 }
 
@@ -117,7 +118,7 @@ void SetFailure(InterpolationFailure* why, InterpolationFailure failure) {
 }  // namespace
 
 void AssociationOptions::Check() const {
-  CheckMaxGap(max_odometry_gap_s, "AssociationOptions.max_odometry_gap_s");
+  CheckMaxGap(max_odometry_gap_s, "max_odometry_gap_s");
   CheckNonNegative(keyframe_min_rotation_deg, "keyframe_min_rotation_deg");
   CheckNonNegative(keyframe_min_translation_m, "keyframe_min_translation_m");
 }

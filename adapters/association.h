@@ -35,8 +35,9 @@ struct AssociationOptions {
   // odometry_time = camera_time + camera_time_offset_ns.
   int64_t camera_time_offset_ns = 0;
 
-  // Throws std::invalid_argument naming the field when a value is out of
-  // range or not finite.
+  // Throws std::invalid_argument when a value is out of range or not finite;
+  // the message starts with the field's name, which is also the CLI flag's
+  // ("max_odometry_gap_s must be finite and > 0, got -1").
   void Check() const;
 };
 

@@ -234,13 +234,19 @@ TEST(AssociationOptions, CheckNamesTheField) {
     options.Check();
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("max_odometry_gap_s"),
-              std::string::npos)
-        << error.what();
+    // The field's name first, which the CLI turns into its flag.
+    EXPECT_EQ(std::string(error.what()),
+              "max_odometry_gap_s must be finite and > 0, got 0");
   }
   options = AssociationOptions();
-  options.keyframe_min_rotation_deg = -1.0;
-  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.keyframe_min_rotation_deg = -1.5;
+  try {
+    options.Check();
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "keyframe_min_rotation_deg must be finite and >= 0, got -1.5");
+  }
   options = AssociationOptions();
   options.keyframe_min_translation_m = INFINITY;
   EXPECT_THROW(options.Check(), std::invalid_argument);

@@ -5,18 +5,23 @@
 #include <stdexcept>
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/solver/format_number.h"
 
 namespace odomcal {
 
 void FrameSelectionOptions::Check() const {
-  if (!(min_translation_m >= 0.0) || !(min_rotation_deg >= 0.0) ||
-      !std::isfinite(min_translation_m) || !std::isfinite(min_rotation_deg)) {
-    throw std::invalid_argument(
-        "frame selection thresholds must be finite and >= 0");
-  }
-  if (!(max_odometry_gap_s > 0.0) || !std::isfinite(max_odometry_gap_s)) {
-    throw std::invalid_argument("max_odometry_gap_s must be finite and > 0");
-  }
+  // The message starts with the field's name, like the other options' Check().
+  const auto check = [](double value, bool zero_allowed, const char* name) {
+    if (!std::isfinite(value) || value < 0.0 ||
+        (!zero_allowed && value == 0.0)) {
+      throw std::invalid_argument(std::string(name) + " must be finite and " +
+                                  (zero_allowed ? ">= 0" : "> 0") + ", got " +
+                                  FormatNumber(value));
+    }
+  };
+  check(min_translation_m, true, "min_translation_m");
+  check(min_rotation_deg, true, "min_rotation_deg");
+  check(max_odometry_gap_s, false, "max_odometry_gap_s");
 }
 
 FrameSelection SelectFrames(std::vector<TimedImage> images,

@@ -18,7 +18,7 @@ struct FrameSelectionOptions {
   double min_rotation_deg = 3.0;    // ...or turned this much
   double max_odometry_gap_s = 0.25;
   int64_t camera_time_offset_ns = 0;  // odometry time = image time + offset
-  void Check() const;  // throws std::invalid_argument
+  void Check() const;  // throws std::invalid_argument naming the field
 };
 
 struct TimedImage {

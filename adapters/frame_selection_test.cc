@@ -53,6 +53,15 @@ TEST(SelectFrames, RejectsBadThresholds) {
   FrameSelectionOptions options;
   options.min_translation_m = -1.0;
   EXPECT_THROW(SelectFrames({}, MakeOdometry(), options), std::invalid_argument);
+  options = FrameSelectionOptions();
+  options.max_odometry_gap_s = 0.0;
+  try {
+    options.Check();
+    ADD_FAILURE() << "accepted a zero gap";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "max_odometry_gap_s must be finite and > 0, got 0");
+  }
 }
 
 }  // namespace

@@ -136,7 +136,7 @@ int RunCalibrate(int argc, char** argv) {
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
-  return RunReportingErrors("odomcal calibrate", [&]() -> int {
+  return RunReportingErrors(app, [&]() -> int {
     FinishCalibrationFlags(flags, &inputs);
     CheckCalibrationOutputs(inputs, output_path, overwrite);
     const CalibrationRun run =

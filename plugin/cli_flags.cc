@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odomcal/solver/format_number.h"
+
 namespace odomcal {
 
 void AddCalibrationFlags(CLI::App* app,
@@ -72,6 +74,7 @@ void AddCalibrationFlags(CLI::App* app,
                   "refuse the data below this inlier fraction")
       ->capture_default_str();
   app->add_option("--ransac_seed", o.ransac_seed, "RANSAC random seed")
+      ->check(AtLeast(0))
       ->capture_default_str();
   app->add_option("--robust_loss", flags->robust_loss,
                   "robust loss of the refinement")
@@ -132,7 +135,9 @@ void FinishCalibrationFlags(const CalibrationFlags& flags,
   inputs->odometry_time_unit_given = flags.odometry_time_unit_given;
   if (!std::isfinite(flags.camera_time_offset_s) ||
       std::abs(flags.camera_time_offset_s) > 1e9) {
-    throw std::invalid_argument("--camera_time_offset_s must be finite");
+    throw std::invalid_argument(
+        "--camera_time_offset_s must be finite and within [-1e9, 1e9], got " +
+        FormatNumber(flags.camera_time_offset_s));
   }
   inputs->association.camera_time_offset_ns =
       std::llround(flags.camera_time_offset_s * 1e9);

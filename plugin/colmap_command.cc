@@ -43,7 +43,7 @@ int RunColmap(int argc, char** argv) {
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
-  return RunReportingErrors("odomcal colmap", [&]() -> int {
+  return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &inputs);
     const std::string database_folder =
         std::filesystem::path(inputs.database_path).parent_path().string();

@@ -247,12 +247,14 @@ int RunDemo(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--preset", preset, "rendered scene preset (see odomcal render --help)")
       ->capture_default_str();
-  app.add_option("--seed", seed, "scene / simulation seed")->capture_default_str();
+  app.add_option("--seed", seed, "scene / simulation seed")
+      ->check(AtLeast(0))
+      ->capture_default_str();
   app.add_flag("--simulated", simulated,
                "calibrate a simulated trajectory pair instead (no images, no "
                "COLMAP; about a second)");
   app.add_option("--duration_s", simulation.duration_s, "--simulated: drive duration")
-      ->check(CLI::Range(5.0, 3600.0))
+      ->check(InRange(5, 3600))
       ->capture_default_str();
   CalibrateInputs inputs;
   CalibrationFlags flags;
@@ -260,7 +262,7 @@ int RunDemo(int argc, char** argv) {
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
-  return RunReportingErrors("odomcal demo", [&]() -> int {
+  return RunReportingErrors(app, [&]() -> int {
     FinishCalibrationFlags(flags, &inputs);
     if (simulated) {
       simulation.seed = seed;

@@ -46,13 +46,66 @@ const Command kCommands[] = {
 void PrintUsage(std::ostream& out) {
   out << "odomcal " << ODOMCAL_VERSION
       << ": camera-to-wheel-odometry extrinsic calibration\n"
-         "usage: odomcal <command> [flags]   (odomcal <command> --help)\n"
+         "usage: odomcal <command> [flags]   (odomcal help <command>)\n"
          "commands:\n";
   for (const Command& command : kCommands) {
     out << "  " << command.name << std::string(12 - std::strlen(command.name), ' ')
         << command.summary << "\n";
   }
   out << "  version     print the version\n";
+}
+
+const Command* FindCommand(const std::string& name) {
+  for (const Command& command : kCommands) {
+    if (name == command.name) return &command;
+  }
+  return nullptr;
+}
+
+std::string CommandNames() {
+  std::string names;
+  for (const Command& command : kCommands)
+    names += std::string(command.name) + ", ";
+  return names + "version";
+}
+
+int RunCommand(const Command& command, int argc, char** argv) {
+  try {
+    // The subcommand sees itself as argv[0].
+    return command.run(argc, argv);
+  } catch (const std::exception& error) {
+    std::cerr << "odomcal " << command.name
+              << ": internal error: " << error.what() << "\n";
+    return odomcal::kExitInternalError;
+  }
+}
+
+// `odomcal help` lists the commands, `odomcal help <command>` is
+// `odomcal <command> --help`.
+int RunHelp(int argc, char** argv) {
+  if (argc == 1) {
+    PrintUsage(std::cout);
+    return odomcal::kExitSuccess;
+  }
+  const std::string name = argv[1];
+  if (argc > 2) {
+    std::cerr << "odomcal help: error: unexpected argument '" << argv[2]
+              << "' (usage: odomcal help <command>)\n";
+    return odomcal::kExitBadInput;
+  }
+  if (name == "version") {
+    std::cout << "usage: odomcal version\nprints the version of odomcal\n";
+    return odomcal::kExitSuccess;
+  }
+  const Command* command = FindCommand(name);
+  if (command == nullptr) {
+    std::cerr << "odomcal help: error: unknown command '" << name
+              << "' (commands: " << CommandNames() << ")\n";
+    return odomcal::kExitBadInput;
+  }
+  char help_flag[] = "--help";
+  char* help_argv[] = {argv[1], help_flag, nullptr};
+  return RunCommand(*command, 2, help_argv);
 }
 
 }  // namespace
@@ -64,24 +117,14 @@ int main(int argc, char** argv) {
   }
   const std::string name = argv[1];
   if (name == "help" || name == "--help" || name == "-h") {
-    PrintUsage(std::cout);
-    return odomcal::kExitSuccess;
+    return RunHelp(argc - 1, argv + 1);
   }
   if (name == "version" || name == "--version") {
     std::cout << "odomcal " << ODOMCAL_VERSION << "\n";
     return odomcal::kExitSuccess;
   }
-  for (const Command& command : kCommands) {
-    if (name == command.name) {
-      try {
-        // The subcommand sees itself as argv[0].
-        return command.run(argc - 1, argv + 1);
-      } catch (const std::exception& error) {
-        std::cerr << "odomcal " << name << ": internal error: " << error.what()
-                  << "\n";
-        return odomcal::kExitInternalError;
-      }
-    }
+  if (const Command* command = FindCommand(name)) {
+    return RunCommand(*command, argc - 1, argv + 1);
   }
   std::cerr << "odomcal: error: unknown command '" << name
             << "' (odomcal help lists them)\n";

@@ -22,7 +22,7 @@ void AddProjectFlags(CLI::App* app,
   app->add_option("--min_inconsistent_run_pairs", inputs->stretch.min_run_pairs,
                   "consecutive motion pairs contradicting the odometry that "
                   "make a stretch to cut out or split off")
-      ->check(CLI::PositiveNumber)
+      ->check(AtLeast(1))
       ->capture_default_str();
   AddCalibrationFlags(app, &flags->calibrate, &flags->calibration);
 }

@@ -75,6 +75,7 @@ int RunRender(int argc, char** argv) {
                  "ground_truth.json, odometry_ground_truth.csv")
       ->required();
   app.add_option("--seed", seed, "random seed (scene textures, path, noise)")
+      ->check(AtLeast(0))
       ->capture_default_str();
   app.add_flag(
       "--overwrite", overwrite, "replace a dataset already in output_path");

@@ -547,30 +547,32 @@ int RunRun(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--spatial_neighbors", run.spatial_neighbors,
                  "spatial matcher: neighbours per image")
-      ->check(CLI::PositiveNumber)
+      ->check(AtLeast(1))
       ->capture_default_str();
   app.add_option("--sequential_overlap", run.sequential_overlap,
                  "sequential matcher: overlap")
-      ->check(CLI::PositiveNumber)
+      ->check(AtLeast(1))
       ->capture_default_str();
   app.add_option("--max_num_features", run.max_num_features,
                  "SIFT features per image (matching cost grows with its square)")
-      ->check(CLI::PositiveNumber)
+      ->check(AtLeast(1))
       ->capture_default_str();
   app.add_option("--num_threads", run.num_threads, "COLMAP threads")
-      ->check(CLI::PositiveNumber)
+      ->check(AtLeast(1))
       ->capture_default_str();
   app.add_option("--frame_min_translation_m", run.frames.min_translation_m,
                  "frame selection: keep an image once the robot moved this far...")
+      ->check(AtLeast(0))
       ->capture_default_str();
   app.add_option("--frame_min_rotation_deg", run.frames.min_rotation_deg,
                  "...or turned this much since the last kept image")
+      ->check(AtLeast(0))
       ->capture_default_str();
   app.add_option("--mapper_attempts", run.mapper_attempts,
                  "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
                  "contradicts motion pairs of the model; the model it contradicts "
                  "least is kept; per matching")
-      ->check(CLI::Range(1, 20))
+      ->check(InRange(1, 20))
       ->capture_default_str();
   std::string rematch = "on";
   app.add_option("--rematch", rematch,
@@ -585,7 +587,7 @@ int RunRun(int argc, char** argv) {
     return *exit_code;
   }
 
-  return RunReportingErrors("odomcal run", [&]() -> int {
+  return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &inputs);
     run.rematch = rematch == "on";
     const ColmapCalibrationRun calibration =

@@ -193,9 +193,10 @@ int RunSimulate(int argc, char** argv) {
                  "(created if missing)")
       ->required();
   app.add_option("--trials", num_trials, "Monte Carlo trials per sweep point")
-      ->check(CLI::Range(1, 1000000))
+      ->check(InRange(1, 1000000))
       ->capture_default_str();
   app.add_option("--seed", seed, "base seed of every trial")
+      ->check(AtLeast(0))
       ->capture_default_str();
   app.add_option("--sweep", sweep_name, "the sweep to run")
       ->check(CLI::IsMember({"rotation_noise",
@@ -205,7 +206,7 @@ int RunSimulate(int argc, char** argv) {
                              "all"}))
       ->capture_default_str();
   app.add_option("--threads", num_threads, "worker threads")
-      ->check(CLI::Range(1, 256))
+      ->check(InRange(1, 256))
       ->capture_default_str();
   app.add_option("--camera_noise",
                  camera_noise,
@@ -217,7 +218,7 @@ int RunSimulate(int argc, char** argv) {
   app.add_option("--cm_iterations",
                  evaluation.cm_ransac_iterations,
                  "RANSAC samples of the CM baseline (fixed budget)")
-      ->check(CLI::Range(1, 1000000))
+      ->check(InRange(1, 1000000))
       ->capture_default_str();
   app.add_flag("--overwrite", overwrite, "replace existing output files");
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {

@@ -363,8 +363,18 @@ TEST(CalibrationOptions, CheckNamesTheBadField) {
     options.Check();
     FAIL() << "Check() accepted a negative sigma";
   } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("cam_rotation_sigma_deg"),
-              std::string::npos);
+    // The field's name first (the CLI's flag name), the shortest number.
+    EXPECT_EQ(std::string(error.what()),
+              "cam_rotation_sigma_deg must be finite and > 0, got -1");
+  }
+  options = CalibrationOptions();
+  options.ransac_min_inlier_ratio = 1.5;
+  try {
+    options.Check();
+    FAIL() << "Check() accepted an inlier ratio above 1";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "ransac_min_inlier_ratio must be in [0, 1], got 1.5");
   }
 }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "odomcal/solver/format_number.h"
+
 namespace odomcal {
 namespace {
 
@@ -10,7 +12,7 @@ void CheckNonNegative(double value, const char* name) {
   if (!(std::isfinite(value) && value >= 0.0)) {
     throw std::invalid_argument(std::string(name) +
                                 " must be finite and >= 0, got " +
-                                std::to_string(value));
+                                FormatNumber(value));
   }
 }
 
@@ -18,28 +20,29 @@ void CheckPositive(double value, const char* name) {
   if (!(std::isfinite(value) && value > 0.0)) {
     throw std::invalid_argument(std::string(name) +
                                 " must be finite and > 0, got " +
-                                std::to_string(value));
+                                FormatNumber(value));
   }
 }
 
 }  // namespace
 
 void NoiseModel::Check() const {
-  CheckNonNegative(odom_yaw_sigma_deg, "noise.odom_yaw_sigma_deg");
-  CheckNonNegative(odom_yaw_sigma_rel, "noise.odom_yaw_sigma_rel");
-  CheckNonNegative(odom_tilt_sigma_deg, "noise.odom_tilt_sigma_deg");
+  CheckNonNegative(odom_yaw_sigma_deg, "odom_yaw_sigma_deg");
+  CheckNonNegative(odom_yaw_sigma_rel, "odom_yaw_sigma_rel");
+  CheckNonNegative(odom_tilt_sigma_deg, "odom_tilt_sigma_deg");
   // A zero constant part would make short odometry steps infinitely precise.
-  CheckPositive(odom_translation_sigma_m, "noise.odom_translation_sigma_m");
+  CheckPositive(odom_translation_sigma_m, "odom_translation_sigma_m");
   CheckNonNegative(odom_translation_sigma_rel,
-                   "noise.odom_translation_sigma_rel");
+                   "odom_translation_sigma_rel");
   // The camera rotation noise keeps the rotation residual covariance full
   // rank when the odometry reports no tilt noise.
-  CheckPositive(cam_rotation_sigma_deg, "noise.cam_rotation_sigma_deg");
+  CheckPositive(cam_rotation_sigma_deg, "cam_rotation_sigma_deg");
   CheckNonNegative(cam_translation_sigma_rel,
-                   "noise.cam_translation_sigma_rel");
+                   "cam_translation_sigma_rel");
   if (odom_yaw_sigma_deg == 0.0 && odom_yaw_sigma_rel == 0.0) {
     throw std::invalid_argument(
-        "noise.odom_yaw_sigma_deg and noise.odom_yaw_sigma_rel are both 0");
+        "odom_yaw_sigma_deg and odom_yaw_sigma_rel are both 0 (the odometry "
+        "yaw would be exact)");
   }
 }
 
@@ -51,7 +54,8 @@ void CalibrationOptions::Check() const {
   }
   CheckPositive(robust_loss_scale, "robust_loss_scale");
   if (!std::isfinite(fixed_translation_z_m)) {
-    throw std::invalid_argument("fixed_translation_z_m must be finite");
+    throw std::invalid_argument("fixed_translation_z_m must be finite, got " +
+                                FormatNumber(fixed_translation_z_m));
   }
   CheckPositive(ransac_max_rotation_error_deg, "ransac_max_rotation_error_deg");
   CheckPositive(ransac_max_translation_error_m,
@@ -61,24 +65,28 @@ void CalibrationOptions::Check() const {
   if (!(ransac_min_inlier_ratio >= 0.0 && ransac_min_inlier_ratio <= 1.0)) {
     throw std::invalid_argument(
         "ransac_min_inlier_ratio must be in [0, 1], got " +
-        std::to_string(ransac_min_inlier_ratio));
+        FormatNumber(ransac_min_inlier_ratio));
   }
   if (!(ransac_confidence > 0.0 && ransac_confidence < 1.0)) {
     throw std::invalid_argument("ransac_confidence must be in (0, 1), got " +
-                                std::to_string(ransac_confidence));
+                                FormatNumber(ransac_confidence));
   }
   if (ransac_min_iterations < 1 ||
       ransac_max_iterations < ransac_min_iterations) {
     throw std::invalid_argument(
-        "ransac iterations need 1 <= ransac_min_iterations <= "
-        "ransac_max_iterations");
+        "ransac_min_iterations and ransac_max_iterations must satisfy 1 <= "
+        "min <= max, got " +
+        std::to_string(ransac_min_iterations) + " and " +
+        std::to_string(ransac_max_iterations));
   }
   CheckNonNegative(min_rotation_deg, "min_rotation_deg");
   if (min_num_rotating_pairs < 1) {
-    throw std::invalid_argument("min_num_rotating_pairs must be >= 1");
+    throw std::invalid_argument("min_num_rotating_pairs must be >= 1, got " +
+                                std::to_string(min_num_rotating_pairs));
   }
   if (min_num_pairs < 2) {
-    throw std::invalid_argument("min_num_pairs must be >= 2");
+    throw std::invalid_argument("min_num_pairs must be >= 2, got " +
+                                std::to_string(min_num_pairs));
   }
   CheckPositive(max_angle_mismatch_deg, "max_angle_mismatch_deg");
   CheckPositive(max_rotation_stddev_deg, "max_rotation_stddev_deg");

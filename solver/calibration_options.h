@@ -39,7 +39,7 @@ struct NoiseModel {
   double odom_translation_sigma_rel = 0.01;  // + this fraction of the length
   double cam_rotation_sigma_deg = 0.05;      // per axis
   double cam_translation_sigma_rel = 0.01;   // per axis, fraction of length
-  void Check() const;  // throws std::invalid_argument naming the field
+  void Check() const;  // throws like CalibrationOptions::Check
 };
 
 struct CalibrationOptions {
@@ -85,7 +85,11 @@ struct CalibrationOptions {
   // world_from_cam was expected).
   double max_relative_translation_residual = 0.2;
 
-  void Check() const;  // throws std::invalid_argument naming the field
+  // Throws std::invalid_argument whose message starts with the field's name
+  // ("ransac_min_inlier_ratio must be in [0, 1], got 1.5"); the field names
+  // of the noise model and of this struct are the CLI's flag names without
+  // "--", so that odomcal can name the flag.
+  void Check() const;
 };
 
 std::string ToString(LinearMethod method);
