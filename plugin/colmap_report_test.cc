@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -20,7 +21,8 @@ bool Contains(const std::string& text, const std::string& part) {
 
 // Each <tag ...>...</tag> (not nested in itself), in order. By hand:
 // std::regex recurses per character and overflows the stack on an SVG.
-std::vector<std::string> Elements(const std::string& html, const std::string& tag) {
+std::vector<std::string> Elements(const std::string& html,
+                                  const std::string& tag) {
   std::vector<std::string> elements;
   const std::string open = "<" + tag, close = "</" + tag + ">";
   for (size_t begin = html.find(open); begin != std::string::npos;
@@ -78,6 +80,11 @@ class ColmapReport : public ::testing::Test {
     WriteColmapCalibrationOutputs(*run_, (dir / "out").string());  // for a look
   }
   static void TearDownTestSuite() {
+    // ODOMCAL_KEEP_TEST_FILES keeps out/report.html
+    // (scripts/report_screenshot.sh).
+    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) {
+      fs::remove_all(fs::path(::testing::TempDir()) / "colmap_report_test");
+    }
     delete run_;
     delete html_;
   }
