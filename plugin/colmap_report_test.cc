@@ -2,6 +2,8 @@
 
 #include "odomcal/plugin/report_testing.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -42,13 +44,20 @@ std::string TextOf(const std::string& html) {
                             "");
 }
 
+// One folder per process: ctest runs each test in its own process, in
+// parallel.
+fs::path ProcessDir() {
+  return fs::path(::testing::TempDir()) /
+         ("colmap_report_test_" + std::to_string(::getpid()));
+}
+
 // A real `odomcal colmap` run on a simulated project with a folded stretch,
 // plus what only `odomcal run` fills in (mapper attempts) and a warning with
 // markup characters.
 class ColmapReport : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const fs::path dir = fs::path(::testing::TempDir()) / "colmap_report_test";
+    const fs::path dir = ProcessDir();
     fs::remove_all(dir);
     SimulatedColmapProjectOptions options;
     options.fold = true;
@@ -83,7 +92,7 @@ class ColmapReport : public ::testing::Test {
     // ODOMCAL_KEEP_TEST_FILES keeps out/report.html
     // (scripts/report_screenshot.sh).
     if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) {
-      fs::remove_all(fs::path(::testing::TempDir()) / "colmap_report_test");
+      fs::remove_all(ProcessDir());
     }
     delete run_;
     delete html_;

@@ -11,6 +11,8 @@
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/report_testing.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -178,7 +180,8 @@ TEST(ResultSchema, CalibrateOutputsConform) {
 }
 
 TEST(ResultSchema, ColmapOutputConforms) {
-  const fs::path dir = fs::path(::testing::TempDir()) / "result_schema_test";
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("result_schema_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   SimulatedColmapProjectOptions options;
   options.fold = true;
