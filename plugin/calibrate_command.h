@@ -3,6 +3,9 @@
 // CSV timestamp,x,y,yaw).
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
@@ -10,9 +13,6 @@
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
-
-#include <string>
-#include <vector>
 
 namespace odomcal {
 

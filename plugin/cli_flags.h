@@ -2,11 +2,11 @@
 // Flag names are public interface: keep them stable (README, "Flags").
 #pragma once
 
-#include "odomcal/plugin/calibrate_command.h"
+#include <string>
 
 #include <CLI/CLI.hpp>
 
-#include <string>
+#include "odomcal/plugin/calibrate_command.h"
 
 namespace odomcal {
 

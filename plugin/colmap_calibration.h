@@ -9,6 +9,10 @@
 // (solver/similarity_alignment.h).
 #pragma once
 
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_segments.h"
@@ -22,15 +26,11 @@
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
 
-#include <optional>
-#include <string>
-#include <vector>
-
 namespace odomcal {
 
 struct ColmapCalibrationInputs {
-  std::string model_path;     // a model folder or the mapper's sparse root
-  std::string database_path;  // optional: counts unregistered images
+  std::string model_path;      // a model folder or the mapper's sparse root
+  std::string database_path;   // optional: counts unregistered images
   std::string odometry_path;
   OdometryFormat odometry_format = OdometryFormat::kAuto;
   TimeUnit odometry_time_unit = TimeUnit::kSeconds;
@@ -66,8 +66,8 @@ struct ColmapCalibrationRun {
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).
-ColmapCalibrationRun CalibrateColmapProject(
-    const ColmapCalibrationInputs& inputs, const std::string& command);
+ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
+                                            const std::string& command);
 
 // Writes into `output_dir` (which must exist): calibration.json/.yaml,
 // sparse_metric/<sub-model>/ (COLMAP binary), camera_in_odom.tum and

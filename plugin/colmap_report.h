@@ -3,11 +3,11 @@
 // report with inline SVG plots.
 #pragma once
 
-#include "odomcal/plugin/colmap_calibration.h"
+#include <string>
 
 #include <nlohmann/json.hpp>
 
-#include <string>
+#include "odomcal/plugin/colmap_calibration.h"
 
 namespace odomcal {
 

@@ -18,8 +18,7 @@ std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv) {
   return std::nullopt;
 }
 
-int RunReportingErrors(const std::string& command,
-                       const std::function<int()>& body) {
+int RunReportingErrors(const std::string& command, const std::function<int()>& body) {
   try {
     return body();
   } catch (const std::invalid_argument& error) {

@@ -2,11 +2,11 @@
 // and turn the errors of bad input into one line on stderr and exit code 2.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <functional>
 #include <optional>
 #include <string>
+
+#include <CLI/CLI.hpp>
 
 namespace odomcal {
 
@@ -25,7 +25,6 @@ std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv);
 // ColmapError, std::invalid_argument and other std::runtime_errors (the
 // library's ways of rejecting input) become one line
 // "odomcal <command>: error: <what>" and kExitBadInput.
-int RunReportingErrors(const std::string& command,
-                       const std::function<int()>& body);
+int RunReportingErrors(const std::string& command, const std::function<int()>& body);
 
 }  // namespace odomcal

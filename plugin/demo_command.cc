@@ -1,18 +1,5 @@
 #include "odomcal/plugin/demo_command.h"
 
-#include "odomcal/adapters/format_error.h"
-#include "odomcal/datasets/dataset_presets.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/datasets/rendered_dataset.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/colmap_runner.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/run_command.h"
-
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -21,13 +8,26 @@
 #include <map>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/datasets/dataset_presets.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/run_command.h"
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/output_file.h"
+
 namespace odomcal {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
-                                        const DriveSimulatorOptions& options) {
+                               const DriveSimulatorOptions& options) {
   const Eigen::Quaterniond& q = drive.odom_from_cam.rotation;
   const Eigen::Vector3d& t = drive.odom_from_cam.translation;
   return {
@@ -66,18 +66,17 @@ int RunSimulatedDemo(const std::string& workspace,
   const std::string truth_path = (root / "ground_truth.json").string();
   WriteTumTrajectory(drive.camera, camera_path);
   WriteOdometryCsv(drive.odometry, odometry_path);
-  WriteFileAtomically(
-      truth_path, SimulatedGroundTruthJson(drive, simulation).dump(2) + "\n");
-  std::cout << "      wrote " << camera_path << " ("
-            << drive.camera.poses.size() << " poses), " << odometry_path << " ("
+  WriteFileAtomically(truth_path,
+                      SimulatedGroundTruthJson(drive, simulation).dump(2) + "\n");
+  std::cout << "      wrote " << camera_path << " (" << drive.camera.poses.size()
+            << " poses), " << odometry_path << " ("
             << drive.odometry.poses.size() << " samples), " << truth_path
             << "\n";
 
   std::cout << "[2/3] calibrating from the written files\n";
   inputs.camera_paths = {camera_path};
   inputs.odometry_path = odometry_path;
-  inputs.calibration.fixed_translation_z_m =
-      drive.odom_from_cam.translation.z();
+  inputs.calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
   const CalibrationRun run = RunCalibrationPipeline(inputs, "odomcal demo");
   const std::string result_path = (root / "calibration.json").string();
   WriteCalibrationOutputs(run, result_path, /*overwrite=*/true);
@@ -97,11 +96,11 @@ int RunSimulatedDemo(const std::string& workspace,
       kRadToDeg;
   const Eigen::Vector3d translation_error =
       result.odom_from_cam.translation - drive.odom_from_cam.translation;
-  const double scale_error = result.metric_scales[0] / drive.metric_scale - 1.0;
+  const double scale_error =
+      result.metric_scales[0] / drive.metric_scale - 1.0;
   std::printf("      rotation error     %8.4f deg\n", rotation_error_deg);
   std::printf("      translation error  x %+7.2f mm, y %+7.2f mm (z fixed)\n",
-              1000.0 * translation_error.x(),
-              1000.0 * translation_error.y());
+              1000.0 * translation_error.x(), 1000.0 * translation_error.y());
   std::printf("      scale error        %+8.4f %%\n", 100.0 * scale_error);
   return ExitCodeFor(result);
 }
@@ -142,19 +141,16 @@ int RunRenderedDemo(const std::string& workspace,
       SimulateRenderedDataset(MakeDatasetPreset(preset, seed));
   const std::string truth_json = GroundTruthJson(dataset);
   std::error_code error;
-  if (ReadTextFile((dataset_dir / "ground_truth.json").string()) ==
-      truth_json) {
+  if (ReadTextFile((dataset_dir / "ground_truth.json").string()) == truth_json) {
     std::cout << "       already rendered; reusing it" << std::endl;
   } else {
     fs::remove_all(dataset_dir, error);
     fs::create_directories(root, error);
-    WriteRenderedDataset(
-        dataset, dataset_dir.string(), [](size_t done, size_t total) {
-          if (done == total || done % 10 == 0) {
-            std::cout << "       rendered " << done << "/" << total << " images"
-                      << std::endl;
-          }
-        });
+    WriteRenderedDataset(dataset, dataset_dir.string(), [](size_t done, size_t total) {
+      if (done == total || done % 10 == 0) {
+        std::cout << "       rendered " << done << "/" << total << " images" << std::endl;
+      }
+    });
   }
 
   RunSettings settings;
@@ -169,8 +165,7 @@ int RunRenderedDemo(const std::string& workspace,
   }
   ColmapCalibrationInputs inputs;
   inputs.odometry_path = (dataset_dir / "odometry.csv").string();
-  inputs.image_timestamps_path =
-      (dataset_dir / "image_timestamps.csv").string();
+  inputs.image_timestamps_path = (dataset_dir / "image_timestamps.csv").string();
   inputs.association = calibrate.association;
   inputs.calibration = calibrate.calibration;
   // z is unobservable from planar motion: the demo holds it at the true
@@ -180,9 +175,8 @@ int RunRenderedDemo(const std::string& workspace,
   std::cout << "[demo] odomcal run --image_path " << settings.image_path
             << " --odometry " << inputs.odometry_path << " --image_timestamps "
             << inputs.image_timestamps_path << " --camera_model "
-            << settings.camera_model << " --camera_params "
-            << settings.camera_params << " --workspace_path "
-            << settings.workspace_path << std::endl;
+            << settings.camera_model << " --camera_params " << settings.camera_params
+            << " --workspace_path " << settings.workspace_path << std::endl;
   const ColmapCalibrationRun run =
       RunReconstructionPipeline(settings, inputs, "odomcal demo");
   const CalibrationResult& result = run.check.result;
@@ -195,8 +189,7 @@ int RunRenderedDemo(const std::string& workspace,
   }
   const Rigid3d& truth = dataset.options.odom_from_cam;
   const double rotation_error_deg =
-      RotationAngle(result.odom_from_cam.rotation.conjugate() *
-                    truth.rotation) *
+      RotationAngle(result.odom_from_cam.rotation.conjugate() * truth.rotation) *
       kRadToDeg;
   const Eigen::Vector3d translation_error =
       result.odom_from_cam.translation - truth.translation;
@@ -204,8 +197,7 @@ int RunRenderedDemo(const std::string& workspace,
   std::printf(
       "       translation error  x %+7.2f mm, y %+7.2f mm (z held at the true "
       "%.3f m)\n",
-      1000.0 * translation_error.x(),
-      1000.0 * translation_error.y(),
+      1000.0 * translation_error.x(), 1000.0 * translation_error.y(),
       truth.translation.z());
   // The metric model against the true camera positions.
   std::map<std::string, Eigen::Vector3d> true_position;
@@ -221,13 +213,11 @@ int RunRenderedDemo(const std::string& workspace,
       expected.push_back(it->second);
     }
   }
-  std::printf(
-      "       metric model scale %+8.4f %% (over %zu registered images)\n",
-      100.0 * (RelativeModelScale(estimated, expected) - 1.0),
-      estimated.size());
+  std::printf("       metric model scale %+8.4f %% (over %zu registered images)\n",
+              100.0 * (RelativeModelScale(estimated, expected) - 1.0),
+              estimated.size());
   std::cout << "       report: "
-            << (fs::path(settings.workspace_path) / "report.html").string()
-            << "\n";
+            << (fs::path(settings.workspace_path) / "report.html").string() << "\n";
   return ExitCodeFor(result);
 }
 
@@ -250,23 +240,17 @@ int RunDemo(int argc, char** argv) {
   simulation.yaw_rate_bias_radps = 0.002;
   simulation.camera_rotation_noise_deg = 0.02;
   simulation.camera_position_noise = 0.002;
-  app.add_option("--workspace_path",
-                 workspace,
+  app.add_option("--workspace_path", workspace,
                  "folder for the demo's inputs and outputs (its files are "
                  "replaced on every run; finished COLMAP stages are reused)")
       ->capture_default_str();
-  app.add_option("--preset",
-                 preset,
-                 "rendered scene preset (see odomcal render --help)")
+  app.add_option("--preset", preset, "rendered scene preset (see odomcal render --help)")
       ->capture_default_str();
-  app.add_option("--seed", seed, "scene / simulation seed")
-      ->capture_default_str();
-  app.add_flag("--simulated",
-               simulated,
+  app.add_option("--seed", seed, "scene / simulation seed")->capture_default_str();
+  app.add_flag("--simulated", simulated,
                "calibrate a simulated trajectory pair instead (no images, no "
                "COLMAP; about a second)");
-  app.add_option(
-         "--duration_s", simulation.duration_s, "--simulated: drive duration")
+  app.add_option("--duration_s", simulation.duration_s, "--simulated: drive duration")
       ->check(CLI::Range(5.0, 3600.0))
       ->capture_default_str();
   CalibrateInputs inputs;

@@ -2,17 +2,17 @@
 // (`odomcal <command> --help`). Exit codes: 0 success, 1 internal error,
 // 2 bad arguments or files, 3 the data do not determine the calibration.
 
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_command.h"
-#include "odomcal/plugin/demo_command.h"
-#include "odomcal/plugin/render_command.h"
-#include "odomcal/plugin/run_command.h"
-#include "odomcal/plugin/simulate_command.h"
-
 #include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
+
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/colmap_command.h"
+#include "odomcal/plugin/demo_command.h"
+#include "odomcal/plugin/run_command.h"
+#include "odomcal/plugin/render_command.h"
+#include "odomcal/plugin/simulate_command.h"
 
 namespace {
 
@@ -49,9 +49,8 @@ void PrintUsage(std::ostream& out) {
          "usage: odomcal <command> [flags]   (odomcal <command> --help)\n"
          "commands:\n";
   for (const Command& command : kCommands) {
-    out << "  " << command.name
-        << std::string(12 - std::strlen(command.name), ' ') << command.summary
-        << "\n";
+    out << "  " << command.name << std::string(12 - std::strlen(command.name), ' ')
+        << command.summary << "\n";
   }
   out << "  version     print the version\n";
 }

@@ -2,13 +2,13 @@
 // (`odomcal colmap`, `odomcal run`), and the output-folder rules.
 #pragma once
 
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
-#include <string>
-#include <vector>
+#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/colmap_calibration.h"
 
 namespace odomcal {
 
@@ -25,8 +25,7 @@ void AddProjectFlags(CLI::App* app,
                      ProjectFlags* flags);
 
 // Converts the text flags into `inputs`; throws std::invalid_argument.
-void FinishProjectFlags(const ProjectFlags& flags,
-                        ColmapCalibrationInputs* inputs);
+void FinishProjectFlags(const ProjectFlags& flags, ColmapCalibrationInputs* inputs);
 
 // Creates `output_dir` if needed. Throws OutputError when it holds files and
 // !overwrite, or when it lies inside one of `protected_paths` (the user's

@@ -7,10 +7,10 @@
 // COLMAP stages are reused when rerun on the same workspace.
 #pragma once
 
+#include <string>
+
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/plugin/colmap_calibration.h"
-
-#include <string>
 
 namespace odomcal {
 
