@@ -1,16 +1,25 @@
 // Layout: panels on a grid of num_columns, each with a fixed margin for its
-// title, tick labels and axis labels; the legend is a row of entries under
-// the grid, wrapped to the figure width. Axis ranges come from the finite
-// data (log-y: positive data), widened to the outer ticks; an empty or
-// constant range gets a unit (or one-decade) span. Text is XML-escaped.
+// title, tick labels and axis labels; the legend is a row of entries (swatch,
+// then label, measured with TextWidthUpperBoundPx) under the grid, wrapped to
+// the figure width. Axis ranges come from the finite data (log-y: positive
+// data), widened to the outer ticks; an empty or constant range gets a unit
+// (or one-decade) span. Equal-aspect panels instead pad the data ranges by
+// 5 % and widen the shorter one about its centre until both axes have the
+// same units per pixel, with one tick step for both (square grid cells). Text
+// is XML-escaped.
 
 #include "odomcal/plugin/svg_plot.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -21,7 +30,11 @@ constexpr double kMarginTop = 28.0;
 constexpr double kMarginBottom = 44.0;
 constexpr double kFigureTitleHeight = 30.0;
 constexpr double kLegendRowHeight = 20.0;
-constexpr double kLegendEntryWidth = 120.0;
+constexpr double kLegendFontPx = 12.0;
+constexpr double kLegendLeft = 20.0;
+constexpr double kSwatchWidth = 26.0;
+constexpr double kSwatchGap = 6.0;  // swatch to its label
+constexpr double kEntryGap = 22.0;  // label to the next swatch
 constexpr int kTargetTicks = 6;
 
 std::string Escape(const std::string& text) {
@@ -120,6 +133,79 @@ Axis MakeAxis(double lo, double hi, bool log_scale) {
   return axis;
 }
 
+std::vector<double> TicksWithStep(double min, double max, double step) {
+  std::vector<double> ticks;
+  for (double value = std::ceil(min / step - 1e-9) * step;
+       value <= max + 1e-9 * step;
+       value += step) {
+    ticks.push_back(std::abs(value) < 1e-12 * step ? 0.0 : value);
+  }
+  return ticks;
+}
+
+// Axes with equal units per pixel; [lo, hi] may be empty (lo > hi).
+std::pair<Axis, Axis> EqualAspectAxes(double x_lo,
+                                      double x_hi,
+                                      double y_lo,
+                                      double y_hi,
+                                      double width_px,
+                                      double height_px) {
+  if (!(x_lo <= x_hi) || !(y_lo <= y_hi)) x_lo = y_lo = 0.0, x_hi = y_hi = 1.0;
+  double x_range = x_hi - x_lo, y_range = y_hi - y_lo;
+  const double pad = 0.05 * std::max(x_range, y_range);
+  x_range += 2.0 * pad;
+  y_range += 2.0 * pad;
+  if (x_range == 0.0) x_range = y_range = 1.0;  // one point
+  const double units_per_px = std::max(x_range / width_px, y_range / height_px);
+  const double x_centre = 0.5 * (x_lo + x_hi), y_centre = 0.5 * (y_lo + y_hi);
+  Axis x_axis, y_axis;
+  x_axis.min = x_centre - 0.5 * units_per_px * width_px;
+  x_axis.max = x_centre + 0.5 * units_per_px * width_px;
+  y_axis.min = y_centre - 0.5 * units_per_px * height_px;
+  y_axis.max = y_centre + 0.5 * units_per_px * height_px;
+  // The shorter axis gets about kTargetTicks ticks, the longer more.
+  const double step = NiceStep(
+      std::min(x_axis.max - x_axis.min, y_axis.max - y_axis.min), kTargetTicks);
+  x_axis.ticks = TicksWithStep(x_axis.min, x_axis.max, step);
+  y_axis.ticks = TicksWithStep(y_axis.min, y_axis.max, step);
+  return {x_axis, y_axis};
+}
+
+void DrawMarker(MarkerShape shape,
+                double x,
+                double y,
+                double r,
+                const std::string& color,
+                std::ostringstream* svg) {
+  auto polygon = [&](std::initializer_list<std::pair<double, double>> points) {
+    *svg << "<polygon points=\"";
+    bool first = true;
+    for (const auto& [dx, dy] : points) {
+      *svg << (first ? "" : " ") << Number(x + dx * r) << ","
+           << Number(y + dy * r);
+      first = false;
+    }
+    *svg << "\" fill=\"" << color << "\"/>\n";
+  };
+  switch (shape) {
+    case MarkerShape::kCircle:
+      *svg << "<circle cx=\"" << Number(x) << "\" cy=\"" << Number(y)
+           << "\" r=\"" << Number(r) << "\" fill=\"" << color << "\"/>\n";
+      break;
+    case MarkerShape::kSquare:
+      *svg << "<rect x=\"" << Number(x - r) << "\" y=\"" << Number(y - r)
+           << "\" width=\"" << Number(2 * r) << "\" height=\"" << Number(2 * r)
+           << "\" fill=\"" << color << "\"/>\n";
+      break;
+    case MarkerShape::kTriangle:
+      polygon({{0.0, -1.3}, {1.2, 0.9}, {-1.2, 0.9}});
+      break;
+    case MarkerShape::kDiamond:
+      polygon({{0.0, -1.35}, {1.35, 0.0}, {0.0, 1.35}, {-1.35, 0.0}});
+      break;
+  }
+}
+
 void RenderPanel(const PlotPanel& panel,
                  const std::vector<std::string>& colors,
                  const std::vector<int>& color_index,
@@ -128,11 +214,12 @@ void RenderPanel(const PlotPanel& panel,
                  double width,
                  double height,
                  std::ostringstream* svg) {
+  const bool log_y = panel.log_y && !panel.equal_aspect;
   double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo;
   double y_lo = x_lo, y_hi = -x_lo;
   for (const PlotSeries& series : panel.series) {
     for (size_t k = 0; k < series.x.size() && k < series.y.size(); ++k) {
-      if (!std::isfinite(series.x[k]) || !Usable(series.y[k], panel.log_y)) {
+      if (!std::isfinite(series.x[k]) || !Usable(series.y[k], log_y)) {
         continue;
       }
       x_lo = std::min(x_lo, series.x[k]);
@@ -141,13 +228,19 @@ void RenderPanel(const PlotPanel& panel,
       y_hi = std::max(y_hi, series.y[k]);
     }
   }
-  if (!panel.log_y && y_lo > 0.0) y_lo = 0.0;  // RMSE-like data: from zero
-  const Axis x_axis = MakeAxis(x_lo, x_hi, false);
-  const Axis y_axis = MakeAxis(y_lo, y_hi, panel.log_y);
   const double left = x0 + kMarginLeft;
   const double top = y0 + kMarginTop;
   const double plot_width = width - kMarginLeft - kMarginRight;
   const double plot_height = height - kMarginTop - kMarginBottom;
+  Axis x_axis, y_axis;
+  if (panel.equal_aspect) {
+    std::tie(x_axis, y_axis) =
+        EqualAspectAxes(x_lo, x_hi, y_lo, y_hi, plot_width, plot_height);
+  } else {
+    if (!log_y && y_lo > 0.0) y_lo = 0.0;  // RMSE-like data: from zero
+    x_axis = MakeAxis(x_lo, x_hi, false);
+    y_axis = MakeAxis(y_lo, y_hi, log_y);
+  }
   auto px = [&](double x) { return left + x_axis.Fraction(x) * plot_width; };
   auto py = [&](double y) {
     return top + (1.0 - y_axis.Fraction(y)) * plot_height;
@@ -170,8 +263,8 @@ void RenderPanel(const PlotPanel& panel,
          << Number(top + plot_height + 4) << "\" stroke=\"#333\"/>\n";
     *svg << "<text x=\"" << Number(x) << "\" y=\""
          << Number(top + plot_height + 16)
-         << "\" text-anchor=\"middle\" font-size=\"11\">" << TickLabel(tick)
-         << "</text>\n";
+         << "\" class=\"x-tick\" text-anchor=\"middle\" font-size=\"11\">"
+         << TickLabel(tick) << "</text>\n";
   }
   for (const double tick : y_axis.ticks) {
     const double y = py(tick);
@@ -182,8 +275,8 @@ void RenderPanel(const PlotPanel& panel,
          << "\" x2=\"" << Number(left) << "\" y2=\"" << Number(y)
          << "\" stroke=\"#333\"/>\n";
     *svg << "<text x=\"" << Number(left - 6) << "\" y=\"" << Number(y + 4)
-         << "\" text-anchor=\"end\" font-size=\"11\">" << TickLabel(tick)
-         << "</text>\n";
+         << "\" class=\"y-tick\" text-anchor=\"end\" font-size=\"11\">"
+         << TickLabel(tick) << "</text>\n";
   }
   *svg << "<text x=\"" << Number(left + plot_width / 2) << "\" y=\""
        << Number(y0 + height - 8) << "\" text-anchor=\"middle\" "
@@ -193,7 +286,7 @@ void RenderPanel(const PlotPanel& panel,
   *svg << "<text x=\"" << Number(label_x) << "\" y=\"" << Number(label_y)
        << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 "
        << Number(label_x) << " " << Number(label_y) << ")\">"
-       << Escape(panel.y_label + (panel.log_y ? " (log)" : "")) << "</text>\n";
+       << Escape(panel.y_label + (log_y ? " (log)" : "")) << "</text>\n";
 
   for (size_t s = 0; s < panel.series.size(); ++s) {
     const PlotSeries& series = panel.series[s];
@@ -201,7 +294,7 @@ void RenderPanel(const PlotPanel& panel,
     std::string path;
     bool pen_down = false;
     for (size_t k = 0; k < series.x.size() && k < series.y.size(); ++k) {
-      if (!std::isfinite(series.x[k]) || !Usable(series.y[k], panel.log_y)) {
+      if (!std::isfinite(series.x[k]) || !Usable(series.y[k], log_y)) {
         pen_down = false;
         continue;
       }
@@ -209,19 +302,22 @@ void RenderPanel(const PlotPanel& panel,
               Number(py(series.y[k]));
       pen_down = true;
     }
-    if (!path.empty()) {
+    if (series.line && !path.empty()) {
       *svg << "<path d=\"" << path << "\" fill=\"none\" stroke=\"" << color
            << "\" stroke-width=\"1.8\""
            << (series.dashed ? " stroke-dasharray=\"6 3\"" : "") << "/>\n";
     }
     if (series.markers) {
       for (size_t k = 0; k < series.x.size() && k < series.y.size(); ++k) {
-        if (!std::isfinite(series.x[k]) || !Usable(series.y[k], panel.log_y)) {
+        if (!std::isfinite(series.x[k]) || !Usable(series.y[k], log_y)) {
           continue;
         }
-        *svg << "<circle cx=\"" << Number(px(series.x[k])) << "\" cy=\""
-             << Number(py(series.y[k])) << "\" r=\"2.5\" fill=\"" << color
-             << "\"/>\n";
+        DrawMarker(series.marker_shape,
+                   px(series.x[k]),
+                   py(series.y[k]),
+                   series.marker_radius_px,
+                   color,
+                   svg);
       }
     }
   }
@@ -266,21 +362,36 @@ std::vector<double> AxisTicks(double min,
     }
     return ticks;
   }
-  const double step = NiceStep(max - min, target_count);
-  const double start = std::ceil(min / step - 1e-9) * step;
-  for (double value = start; value <= max + 1e-9 * step; value += step) {
-    ticks.push_back(std::abs(value) < 1e-12 * step ? 0.0 : value);
+  return TicksWithStep(min, max, NiceStep(max - min, target_count));
+}
+
+double TextWidthUpperBoundPx(const std::string& text, double font_size_px) {
+  // Em fractions above the widest glyph of each class in the three fonts.
+  double ems = 0.0;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if ((byte & 0xC0) == 0x80) continue;  // UTF-8 continuation byte
+    if (byte >= 0x80) {
+      ems += 1.0;  // any other script or symbol: up to an em
+    } else if (std::strchr("mwMW@%", c) != nullptr) {
+      ems += 1.0;
+    } else if (std::isupper(byte)) {
+      ems += 0.8;
+    } else {
+      ems += 0.62;
+    }
   }
-  return ticks;
+  return ems * font_size_px;
 }
 
 std::string RenderSvg(const PlotFigure& figure) {
   const int num_panels = static_cast<int>(figure.panels.size());
   const int columns = std::max(1, std::min(figure.num_columns, num_panels));
   const int rows = num_panels == 0 ? 0 : (num_panels + columns - 1) / columns;
-  // One colour per distinct label, in order of first appearance.
+  // One colour per distinct label, in order of first appearance; the legend
+  // draws each label's first series.
   std::vector<std::string> labels, colors;
-  std::vector<bool> label_dashed;
+  std::vector<const PlotSeries*> legend_series;
   std::vector<std::vector<int>> color_index(num_panels);
   for (int p = 0; p < num_panels; ++p) {
     for (const PlotSeries& series : figure.panels[p].series) {
@@ -290,18 +401,49 @@ std::string RenderSvg(const PlotFigure& figure) {
         labels.push_back(series.label);
         colors.push_back(series.color.empty() ? DefaultSeriesColor(index)
                                               : series.color);
-        label_dashed.push_back(series.dashed);
+        legend_series.push_back(&series);
       }
       color_index[p].push_back(index);
     }
   }
   const double width = columns * figure.panel_width_px;
   const double title_height = figure.title.empty() ? 0.0 : kFigureTitleHeight;
-  const int per_row = std::max(1, static_cast<int>(width / kLegendEntryWidth));
-  const int legend_rows =
-      figure.legend && !labels.empty()
-          ? (static_cast<int>(labels.size()) + per_row - 1) / per_row
-          : 0;
+
+  // Legend layout: [title] swatch label, swatch label, ... wrapped to the
+  // width; continuation rows start under the first entry.
+  struct Placement {
+    double x = 0.0;
+    int row = 0;
+  };
+  std::vector<Placement> placements;
+  int legend_rows = 0;
+  if (figure.legend && !labels.empty()) {
+    std::vector<double> entry_widths;
+    double widest = 0.0;
+    for (const std::string& label : labels) {
+      entry_widths.push_back(kSwatchWidth + kSwatchGap +
+                             TextWidthUpperBoundPx(label, kLegendFontPx));
+      widest = std::max(widest, entry_widths.back());
+    }
+    double first_x = kLegendLeft;
+    if (!figure.legend_title.empty()) {
+      first_x +=
+          TextWidthUpperBoundPx(figure.legend_title, kLegendFontPx) + 10.0;
+      // Entries under the title when one would not fit beside it.
+      if (first_x + widest > width - 10.0) first_x = kLegendLeft;
+    }
+    double x = first_x;
+    int row = first_x == kLegendLeft && !figure.legend_title.empty() ? 1 : 0;
+    for (const double entry_width : entry_widths) {
+      if (x > first_x && x + entry_width > width - 10.0) {
+        x = first_x;
+        ++row;
+      }
+      placements.push_back({x, row});
+      x += entry_width + kEntryGap;
+    }
+    legend_rows = row + 1;
+  }
   const double grid_height = rows * figure.panel_height_px;
   const double height =
       title_height + grid_height + legend_rows * kLegendRowHeight + 10.0;
@@ -329,15 +471,36 @@ std::string RenderSvg(const PlotFigure& figure) {
   }
   if (legend_rows > 0) {
     const double legend_top = title_height + grid_height;
+    if (!figure.legend_title.empty()) {
+      svg << "<text class=\"legend-title\" x=\"" << Number(kLegendLeft)
+          << "\" y=\"" << Number(legend_top + 12.0) << "\" font-size=\""
+          << Number(kLegendFontPx) << "\" font-weight=\"bold\">"
+          << Escape(figure.legend_title) << "</text>\n";
+    }
     for (size_t k = 0; k < labels.size(); ++k) {
-      const double x = 20.0 + (k % per_row) * kLegendEntryWidth;
-      const double y = legend_top + (k / per_row) * kLegendRowHeight + 12.0;
-      svg << "<line x1=\"" << Number(x) << "\" y1=\"" << Number(y - 4)
-          << "\" x2=\"" << Number(x + 26) << "\" y2=\"" << Number(y - 4)
-          << "\" stroke=\"" << colors[k] << "\" stroke-width=\"2\""
-          << (label_dashed[k] ? " stroke-dasharray=\"6 3\"" : "") << "/>\n";
-      svg << "<text x=\"" << Number(x + 32) << "\" y=\"" << Number(y)
-          << "\" font-size=\"12\">" << Escape(labels[k]) << "</text>\n";
+      const PlotSeries& series = *legend_series[k];
+      const double x = placements[k].x;
+      const double y = legend_top + placements[k].row * kLegendRowHeight + 12.0;
+      svg << "<g class=\"legend-entry\">\n";
+      if (series.line) {
+        svg << "<line x1=\"" << Number(x) << "\" y1=\"" << Number(y - 4)
+            << "\" x2=\"" << Number(x + kSwatchWidth) << "\" y2=\""
+            << Number(y - 4) << "\" stroke=\"" << colors[k]
+            << "\" stroke-width=\"2\""
+            << (series.dashed ? " stroke-dasharray=\"6 3\"" : "") << "/>\n";
+      }
+      if (series.markers) {
+        DrawMarker(series.marker_shape,
+                   x + kSwatchWidth / 2,
+                   y - 4,
+                   std::min(std::max(series.marker_radius_px, 3.0), 5.0),
+                   colors[k],
+                   &svg);
+      }
+      svg << "<text class=\"legend-label\" x=\""
+          << Number(x + kSwatchWidth + kSwatchGap) << "\" y=\"" << Number(y)
+          << "\" font-size=\"" << Number(kLegendFontPx) << "\">"
+          << Escape(labels[k]) << "</text>\n</g>\n";
     }
   }
   svg << "</svg>\n";

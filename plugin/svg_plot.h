@@ -1,6 +1,7 @@
 // A small, dependency-free SVG line-plot writer: a figure is a grid of
-// panels, each with axes (ticks, labels, optional log-y) and line series; one
-// legend lists every series label of the figure. The output is a
+// panels, each with axes (ticks, labels, optional log-y or equal aspect) and
+// series drawn as lines and/or markers; one legend (with an optional title)
+// lists every series label of the figure. The output is a
 // self-contained SVG document (also embeddable inline in HTML). No I/O: the
 // caller writes the string.
 //
@@ -21,13 +22,18 @@
 
 namespace odomcal {
 
+enum class MarkerShape { kCircle, kSquare, kTriangle, kDiamond };
+
 struct PlotSeries {
   std::string label;
   std::vector<double> x;
   std::vector<double> y;
   std::string color;    // CSS colour; empty: DefaultSeriesColor(index)
   bool dashed = false;  // e.g. batch-refined variants
-  bool markers = true;  // a dot per point
+  bool markers = true;  // a marker per point
+  bool line = true;     // points joined by a line
+  MarkerShape marker_shape = MarkerShape::kCircle;
+  double marker_radius_px = 2.5;
 };
 
 struct PlotPanel {
@@ -35,6 +41,9 @@ struct PlotPanel {
   std::string x_label;
   std::string y_label;
   bool log_y = false;
+  // The same pixels per unit on x and y (a map): the shorter data range is
+  // padded about its centre, never stretched. Ignores log_y.
+  bool equal_aspect = false;
   std::vector<PlotSeries> series;
 };
 
@@ -45,6 +54,7 @@ struct PlotFigure {
   double panel_width_px = 440.0;
   double panel_height_px = 300.0;
   bool legend = true;
+  std::string legend_title;  // e.g. "Pair in the calibration:"
 };
 
 // The SVG document.
@@ -52,6 +62,11 @@ std::string RenderSvg(const PlotFigure& figure);
 
 // A qualitative palette, repeating after 10 colours.
 std::string DefaultSeriesColor(int index);
+
+// An upper bound of the width `text` (UTF-8) takes at font_size_px in
+// Helvetica, Arial or Liberation Sans: for laying out legends without
+// overlaps whatever font the viewer picks among these.
+double TextWidthUpperBoundPx(const std::string& text, double font_size_px);
 
 // "Nice" tick positions covering [min, max] (about target_count of them, at
 // 1, 2 or 5 times a power of ten); with log_scale, powers of ten (plus 2 and

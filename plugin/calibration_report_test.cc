@@ -1,0 +1,122 @@
+#include "odomcal/plugin/calibration_report.h"
+
+#include "odomcal/plugin/report_testing.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace odomcal {
+namespace {
+
+using nlohmann::json;
+
+Eigen::Matrix4d MatrixOf(const json& rows) {
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) m(r, c) = rows.at(r).at(c).get<double>();
+  }
+  return m;
+}
+
+TEST(CalibrationToJson, ASuccessGivesTheEstimateConsistentlyInEveryForm) {
+  const CalibrationRun run =
+      SimulatedCalibrationRun(3, /*straight_only=*/false);
+  ASSERT_TRUE(run.result.IsSuccess()) << run.result.message;
+  const json out = CalibrationToJson(run.result, run.context);
+  EXPECT_EQ(out["schema"], "odomcal.calibration");
+  EXPECT_EQ(out["schema_version"], kResultSchemaVersion);
+  EXPECT_EQ(out["status"], "success");
+
+  const json& transform = out["odom_from_cam"];
+  const json& q = transform["quaternion_wxyz"];
+  const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
+  EXPECT_NEAR(rotation.norm(), 1.0, 1e-12);
+  EXPECT_GE(q[0].get<double>(), 0.0);  // the sign is fixed: w >= 0
+  const Eigen::Matrix4d m = MatrixOf(transform["matrix"]);
+  const Eigen::Matrix3d rotation_block = m.topLeftCorner(3, 3);
+  EXPECT_TRUE(rotation_block.isApprox(rotation.toRotationMatrix(), 1e-12));
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_DOUBLE_EQ(m(k, 3), transform["translation_m"][k].get<double>());
+  }
+  EXPECT_EQ(m.row(3), Eigen::RowVector4d(0.0, 0.0, 0.0, 1.0));
+  EXPECT_DOUBLE_EQ(transform["translation_m"][2].get<double>(),
+                   0.4);  // fixed z
+  // roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll), degrees.
+  const json& rpy = transform["roll_pitch_yaw_deg"];
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  const Eigen::Matrix3d from_rpy =
+      (Eigen::AngleAxisd(rpy[2].get<double>() * kDegToRad,
+                         Eigen::Vector3d::UnitZ()) *
+       Eigen::AngleAxisd(rpy[1].get<double>() * kDegToRad,
+                         Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(rpy[0].get<double>() * kDegToRad,
+                         Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  EXPECT_TRUE(from_rpy.isApprox(rotation.toRotationMatrix(), 1e-9));
+  EXPECT_TRUE((MatrixOf(out["cam_from_odom"]["matrix"]) * m)
+                  .isApprox(Eigen::Matrix4d::Identity(), 1e-12));
+
+  ASSERT_EQ(out["metric_scales"].size(), 1u);
+  EXPECT_EQ(out["metric_scale"], out["metric_scales"][0]);
+  EXPECT_GT(out["stddev"]["translation_x_m"].get<double>(), 0.0);
+  const json& covariance = out["covariance"];
+  EXPECT_EQ(covariance["order"], json({"rx", "ry", "rz", "tx", "ty", "s_0"}));
+  ASSERT_EQ(covariance["matrix"].size(), 6u);
+  for (const json& row : covariance["matrix"]) EXPECT_EQ(row.size(), 6u);
+  const json& d = out["diagnostics"];
+  EXPECT_EQ(d["inlier_mask"].size(), d["num_pairs_in"].get<size_t>());
+  EXPECT_EQ(d["num_pairs_in"].get<size_t>(),
+            run.context.association.pairs.size());
+  EXPECT_EQ(out["inputs"]["command"], "odomcal calibrate");
+}
+
+// A quantity named in `unobservable` is null wherever it appears, and the
+// inverse transform, which depends on all of them, is null too.
+TEST(CalibrationToJson, UnobservableQuantitiesAreNullNeverNumbers) {
+  CalibrationRun run = SimulatedCalibrationRun(3, /*straight_only=*/false);
+  ASSERT_TRUE(run.result.has_estimate);
+  run.result.unobservable = {"translation_y", "metric_scale"};
+  const json out = CalibrationToJson(run.result, run.context);
+  const json& t = out["odom_from_cam"]["translation_m"];
+  EXPECT_TRUE(t[0].is_number());
+  EXPECT_TRUE(t[1].is_null());
+  EXPECT_TRUE(t[2].is_number());  // fixed, not estimated
+  EXPECT_TRUE(out["odom_from_cam"]["quaternion_wxyz"].is_array());
+  EXPECT_TRUE(out["cam_from_odom"].is_null());
+  EXPECT_TRUE(out["metric_scales"][0].is_null());
+  EXPECT_TRUE(out["metric_scale"].is_null());
+  EXPECT_TRUE(out["stddev"]["translation_y_m"].is_null());
+  EXPECT_TRUE(out["stddev"]["metric_scales_rel"][0].is_null());
+  EXPECT_TRUE(
+      out["diagnostics"]["closed_form"]["odom_from_cam"]["translation_m"][1]
+          .is_null());
+
+  run.result.unobservable = {"rotation"};
+  const json no_rotation = CalibrationToJson(run.result, run.context);
+  for (const char* key : {"matrix", "quaternion_wxyz", "roll_pitch_yaw_deg"}) {
+    EXPECT_TRUE(no_rotation["odom_from_cam"][key].is_null()) << key;
+  }
+  EXPECT_TRUE(no_rotation["stddev"]["yaw_deg"].is_null());
+}
+
+TEST(CalibrationToJson, AStraightDriveHasNoEstimateAndSaysWhatIsUndetermined) {
+  const CalibrationRun run = SimulatedCalibrationRun(3, /*straight_only=*/true);
+  ASSERT_FALSE(run.result.IsSuccess());
+  const json out = CalibrationToJson(run.result, run.context);
+  EXPECT_EQ(out["status"], ToString(run.result.status));
+  EXPECT_FALSE(out["message"].get<std::string>().empty());
+  if (!run.result.has_estimate) {
+    EXPECT_TRUE(out["odom_from_cam"].is_null());
+    EXPECT_TRUE(out["cam_from_odom"].is_null());
+  }
+  EXPECT_FALSE(out["unobservable"].empty());
+  for (const json& scale : out["metric_scales"]) {
+    EXPECT_TRUE(scale.is_null() || run.result.has_estimate);
+  }
+}
+
+}  // namespace
+}  // namespace odomcal

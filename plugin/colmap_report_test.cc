@@ -1,0 +1,259 @@
+#include "odomcal/plugin/colmap_report.h"
+
+#include "odomcal/plugin/report_testing.h"
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Each <tag ...>...</tag> (not nested in itself), in order. By hand:
+// std::regex recurses per character and overflows the stack on an SVG.
+std::vector<std::string> Elements(const std::string& html,
+                                  const std::string& tag) {
+  std::vector<std::string> elements;
+  const std::string open = "<" + tag, close = "</" + tag + ">";
+  for (size_t begin = html.find(open); begin != std::string::npos;
+       begin = html.find(open, begin + 1)) {
+    const char next = html[begin + open.size()];
+    if (next != ' ' && next != '>') continue;  // e.g. <th> when looking for <t
+    const size_t end = html.find(close, begin);
+    if (end == std::string::npos) break;
+    elements.push_back(html.substr(begin, end + close.size() - begin));
+  }
+  return elements;
+}
+
+std::string TextOf(const std::string& html) {
+  return std::regex_replace(std::regex_replace(html, std::regex("<[^>]*>"), ""),
+                            std::regex("^\\s+|\\s+$"),
+                            "");
+}
+
+// One folder per process: ctest runs each test in its own process, in
+// parallel.
+fs::path ProcessDir() {
+  return fs::path(::testing::TempDir()) /
+         ("colmap_report_test_" + std::to_string(::getpid()));
+}
+
+// A real `odomcal colmap` run on a simulated project with a folded stretch,
+// plus what only `odomcal run` fills in (mapper attempts) and a warning with
+// markup characters.
+class ColmapReport : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const fs::path dir = ProcessDir();
+    fs::remove_all(dir);
+    SimulatedColmapProjectOptions options;
+    options.fold = true;
+    run_ = new ColmapCalibrationRun(CalibrateColmapProject(
+        WriteSimulatedColmapProject((dir / "project").string(), options),
+        "odomcal colmap"));
+    MapperAttempt first;
+    first.random_seed = 1;
+    first.produced_model = true;
+    first.status = CalibrationStatus::kSuccess;
+    first.num_sub_models = 1;
+    first.num_registered_images = 400;
+    first.num_pairs = 100;
+    first.num_pairs_used = 90;
+    first.num_contradicting_pairs = 10;
+    MapperAttempt second = first;
+    second.random_seed = 2;
+    second.num_contradicting_pairs = 0;
+    MapperAttempt none;
+    none.matching_round = 1;
+    run_->mapper_attempts = {first, second, none};
+    run_->chosen_mapper_attempt = 1;
+    run_->check.result.warnings.push_back(
+        "a <b>bold</b> & \"quoted\" warning that goes on and on without a "
+        "single space: " +
+        std::string(300, 'x'));
+    html_ = new std::string(ColmapReportHtml(*run_));
+    fs::create_directories(dir / "out");
+    WriteColmapCalibrationOutputs(*run_, (dir / "out").string());  // for a look
+  }
+  static void TearDownTestSuite() {
+    // ODOMCAL_KEEP_TEST_FILES keeps out/report.html
+    // (scripts/report_screenshot.sh).
+    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) {
+      fs::remove_all(ProcessDir());
+    }
+    delete run_;
+    delete html_;
+  }
+  static ColmapCalibrationRun* run_;
+  static std::string* html_;
+};
+ColmapCalibrationRun* ColmapReport::run_ = nullptr;
+std::string* ColmapReport::html_ = nullptr;
+
+TEST_F(ColmapReport, TheRunHasWhatTheReportShows) {
+  ASSERT_TRUE(run_->check.result.IsSuccess()) << run_->check.result.message;
+  ASSERT_FALSE(run_->check.stretches.empty());
+  ASSERT_FALSE(run_->metric_models.empty());
+}
+
+TEST_F(ColmapReport, TagsAreBalanced) {
+  std::vector<std::string> open;
+  const std::regex tag("<(/?)([a-zA-Z][a-zA-Z0-9]*)[^>]*?(/?)>");
+  const std::string& html = *html_;
+  for (std::sregex_iterator it(html.begin(), html.end(), tag), end; it != end;
+       ++it) {
+    const std::string name = (*it)[2];
+    if ((*it)[3] == "/" || name == "meta" || name == "br") continue;
+    if ((*it)[1] == "") {
+      open.push_back(name);
+      continue;
+    }
+    ASSERT_FALSE(open.empty()) << "</" << name << "> closes nothing";
+    ASSERT_EQ(open.back(), name) << "at offset " << it->position();
+    open.pop_back();
+  }
+  EXPECT_TRUE(open.empty())
+      << open.size() << " tags left open, first " << open.front();
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+}
+
+TEST_F(ColmapReport, EveryTableColumnIsHeadedAndEveryRowHasAllColumns) {
+  const std::vector<std::string> tables = Elements(*html_, "table");
+  ASSERT_EQ(tables.size(), 1u);  // the mapper runs
+  for (const std::string& table : tables) {
+    const std::vector<std::string> rows = Elements(table, "tr");
+    ASSERT_EQ(rows.size(), 1u + run_->mapper_attempts.size());
+    const std::vector<std::string> headers = Elements(rows[0], "th");
+    ASSERT_EQ(headers.size(), 8u);
+    for (const std::string& header : headers)
+      EXPECT_FALSE(TextOf(header).empty()) << header;
+    for (size_t r = 1; r < rows.size(); ++r) {
+      EXPECT_TRUE(Elements(rows[r], "th").empty());
+      const std::vector<std::string> cells = Elements(rows[r], "td");
+      EXPECT_EQ(cells.size(), headers.size()) << rows[r];
+      for (const std::string& cell : cells)
+        EXPECT_FALSE(TextOf(cell).empty()) << rows[r];
+    }
+  }
+  EXPECT_TRUE(Contains(*html_, "<td>yes</td></tr>"));  // the chosen attempt
+}
+
+TEST_F(ColmapReport, EveryFigureHasACaptionDefiningItsQuantities) {
+  const std::vector<std::string> figures = Elements(*html_, "figure");
+  ASSERT_EQ(figures.size(), 3u);
+  for (const std::string& figure : figures) {
+    EXPECT_EQ(Elements(figure, "svg").size(), 1u);
+    const std::vector<std::string> captions = Elements(figure, "figcaption");
+    ASSERT_EQ(captions.size(), 1u);
+    EXPECT_GT(TextOf(captions[0]).size(), 100u) << captions[0];
+  }
+  // Each plotted quantity named in the caption of its figure.
+  EXPECT_TRUE(
+      Contains(figures[0], "Black square: the first odometry pose (start)"));
+  EXPECT_TRUE(Contains(figures[0], "same scale"));
+  for (const char* quantity : {"Rotation residual",
+                               "translation residual",
+                               "Odometry yaw change",
+                               "motion pair"}) {
+    EXPECT_TRUE(Contains(figures[1], quantity)) << quantity;
+  }
+  for (const char* quantity : {"Rotation angle difference</em> | |&theta;_cam| "
+                               "&minus; |&theta;_odom| |",
+                               "&theta;_cam is the angle the camera rotated",
+                               "&theta;_odom the angle the robot",
+                               "Step length ratio"}) {
+    EXPECT_TRUE(Contains(figures[2], quantity)) << quantity;
+  }
+  EXPECT_FALSE(Contains(*html_, "angle A"));
+}
+
+// Used / not used and consistent / rejected are two meanings: two figures,
+// two legends with titles, four colours.
+TEST_F(ColmapReport, OneLegendPerMeaning) {
+  const std::vector<std::string> svgs = Elements(*html_, "svg");
+  ASSERT_EQ(svgs.size(), 3u);
+  auto labels = [](const std::string& svg) {
+    std::vector<std::string> out;
+    const std::regex label("class=\"legend-label\"[^>]*>([^<]*)<");
+    for (std::sregex_iterator it(svg.begin(), svg.end(), label), end; it != end;
+         ++it) {
+      out.push_back((*it)[1]);
+    }
+    return out;
+  };
+  const std::vector<std::string> top = labels(svgs[0]);
+  EXPECT_EQ(top.size(), 2u + run_->metric_models.size() + 1u);  // + start, end
+  EXPECT_EQ(top[top.size() - 2], "start");
+  EXPECT_EQ(top.back(), "end");
+  EXPECT_EQ(
+      labels(svgs[1]),
+      (std::vector<std::string>{"used", "not used (outlier or left out)"}));
+  EXPECT_TRUE(Contains(svgs[1], ">Pair in the calibration:<"));
+  EXPECT_EQ(labels(svgs[2]),
+            (std::vector<std::string>{
+                "consistent", "in a stretch rejected as contradicting"}));
+  EXPECT_TRUE(Contains(svgs[2], ">Pair according to the odometry:<"));
+  for (const char* color : {"#2ca02c", "#d62728"}) {
+    EXPECT_FALSE(Contains(svgs[1], color)) << color;
+    EXPECT_TRUE(Contains(svgs[2], color)) << color;
+  }
+  // The rejected stretch is drawn: red markers exist.
+  EXPECT_TRUE(Contains(svgs[2], "fill=\"#d62728\""));
+}
+
+TEST_F(ColmapReport, WarningsAppearVerbatimEscapedAndWrap) {
+  EXPECT_TRUE(Contains(
+      *html_,
+      "<li class=\"warning\">a &lt;b&gt;bold&lt;/b&gt; &amp; "
+      "&quot;quoted&quot; warning that goes on and on without a single "
+      "space: " +
+          std::string(300, 'x') + "</li>"));
+  EXPECT_FALSE(Contains(*html_, "<b>bold"));
+  for (const std::string& warning : run_->check.result.warnings) {
+    if (warning[0] != 'a') {
+      EXPECT_TRUE(Contains(*html_, ">" + warning + "</li>")) << warning;
+    }
+  }
+  // Long lines wrap instead of being clipped or scrolled.
+  EXPECT_TRUE(
+      Contains(*html_,
+               "pre{background:#f6f6f6;padding:1em;white-space:pre-wrap;"
+               "overflow-wrap:anywhere}"));
+  EXPECT_TRUE(Contains(*html_, "li,p,td,figcaption{overflow-wrap:anywhere}"));
+  EXPECT_FALSE(Contains(*html_, "overflow-x"));
+}
+
+TEST_F(ColmapReport, JsonHasTheColmapSectionOfTheRun) {
+  const nlohmann::json json = ColmapCalibrationToJson(*run_);
+  EXPECT_EQ(json["schema"], "odomcal.calibration");
+  EXPECT_EQ(json["status"], "success");
+  const nlohmann::json& colmap = json["colmap"];
+  ASSERT_EQ(colmap["sub_models"].size(), 1u);
+  EXPECT_EQ(colmap["sub_models"][0]["name"], "0");
+  EXPECT_TRUE(colmap["num_database_images"].is_null());  // no database given
+  ASSERT_FALSE(colmap["inconsistent_stretches"].empty());
+  for (const nlohmann::json& stretch : colmap["inconsistent_stretches"]) {
+    EXPECT_EQ(stretch["segment"].is_null(), stretch["verdict"] == "rejected")
+        << stretch;
+  }
+  ASSERT_EQ(colmap["mapper_attempts"].size(), 3u);
+  EXPECT_TRUE(colmap["mapper_attempts"][1]["chosen"].get<bool>());
+  EXPECT_TRUE(colmap["mapper_attempts"][2]["status"].is_null());  // no model
+  EXPECT_EQ(json["warnings"].back(), run_->check.result.warnings.back());
+}
+
+}  // namespace
+}  // namespace odomcal

@@ -1,0 +1,90 @@
+#include "odomcal/plugin/report_testing.h"
+
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/solver/calibrate.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace odomcal {
+
+namespace fs = std::filesystem;
+
+ColmapCalibrationInputs WriteSimulatedColmapProject(
+    const std::string& dir, const SimulatedColmapProjectOptions& options) {
+  DriveSimulatorOptions drive_options;
+  drive_options.seed = options.seed;
+  drive_options.duration_s = options.duration_s;
+  drive_options.camera_rotation_noise_deg = 0.01;
+  drive_options.camera_position_noise = 0.0005;
+  const SimulatedDrive drive = SimulateDrive(drive_options);
+
+  const fs::path root(dir);
+  fs::create_directories(root / "sparse" / "0");
+  WriteOdometryCsv(drive.odometry, (root / "odometry.csv").string());
+  std::ofstream stamps(root / "image_timestamps.csv");
+  stamps << "image_name,timestamp\n";
+  ColmapModel model;
+  model.cameras[1] = MakeColmapCamera(
+      1, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120});
+  for (size_t i = 0; i < drive.camera.poses.size(); ++i) {
+    Rigid3d world_from_cam = drive.camera.poses[i].world_from_sensor;
+    if (options.fold && i >= 100 && i < 130) {
+      world_from_cam.translation +=
+          Eigen::Vector3d(0.0, 0.0, 0.05 * (static_cast<double>(i) - 100.0));
+      world_from_cam.rotation =
+          world_from_cam.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
+                                        0.02 * (static_cast<double>(i) - 100.0),
+                                        Eigen::Vector3d::UnitX()));
+    }
+    ColmapImage image;
+    image.image_id = static_cast<uint32_t>(i + 1);
+    image.camera_id = 1;
+    char name[32];
+    std::snprintf(name, sizeof(name), "frames/%06zu.png", i);
+    image.name = name;
+    image.cam_from_world = Inverse(world_from_cam);
+    model.images[image.image_id] = image;
+    stamps << image.name << ","
+           << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns) << "\n";
+  }
+  WriteColmapModel(
+      model, (root / "sparse" / "0").string(), ColmapFormat::kBinary);
+
+  ColmapCalibrationInputs inputs;
+  inputs.model_path = (root / "sparse").string();
+  inputs.odometry_path = (root / "odometry.csv").string();
+  inputs.image_timestamps_path = (root / "image_timestamps.csv").string();
+  inputs.calibration.fixed_translation_z_m = 0.4;
+  return inputs;
+}
+
+CalibrationRun SimulatedCalibrationRun(uint64_t seed, bool straight_only) {
+  DriveSimulatorOptions drive_options;
+  drive_options.seed = seed;
+  drive_options.duration_s = 40.0;
+  drive_options.straight_only = straight_only;
+  drive_options.camera_rotation_noise_deg = 0.01;
+  drive_options.camera_position_noise = 0.0005;
+  const SimulatedDrive drive = SimulateDrive(drive_options);
+  CalibrationRun run;
+  ReportContext& context = run.context;
+  context.command = "odomcal calibrate";
+  context.camera_paths = {"camera.tum"};
+  context.odometry_path = "odometry.csv";
+  context.camera_time_unit = "s";
+  context.odometry_time_unit = "s";
+  context.calibration_options.fixed_translation_z_m = 0.4;
+  context.association = AssociateCameraWithOdometry(
+      {drive.camera}, drive.odometry, context.association_options);
+  run.result =
+      CalibrateOdomCam(context.association.pairs, context.calibration_options);
+  return run;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,34 @@
+// Test-only: real runs of both calibrations on simulated drives, so that the
+// report writers' tests check the outputs of real calibrations.
+//   - WriteSimulatedColmapProject: a COLMAP project (one binary sub-model,
+//     image times in image_timestamps.csv, an odometry CSV) for
+//     CalibrateColmapProject, as `odomcal colmap` would read it;
+//   - SimulatedCalibrationRun: what `odomcal calibrate` computes for a drive.
+#pragma once
+
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/colmap_calibration.h"
+
+#include <cstdint>
+#include <string>
+
+namespace odomcal {
+
+struct SimulatedColmapProjectOptions {
+  uint64_t seed = 1;
+  double duration_s = 40.0;
+  // Images 100..129 of the sub-model bent out of the drive's path, as when
+  // COLMAP folds a stretch: the odometry contradicts them.
+  bool fold = false;
+};
+
+// Writes the project under `dir` (created) and returns the inputs of
+// CalibrateColmapProject for it (fixed translation z: 0.4 m, the truth).
+ColmapCalibrationInputs WriteSimulatedColmapProject(
+    const std::string& dir, const SimulatedColmapProjectOptions& options);
+
+// `odomcal calibrate` on a simulated drive, in memory; straight_only gives a
+// drive that determines neither rotation nor x/y (status unobservable).
+CalibrationRun SimulatedCalibrationRun(uint64_t seed, bool straight_only);
+
+}  // namespace odomcal

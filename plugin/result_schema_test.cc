@@ -1,0 +1,239 @@
+// The real outputs of both result writers (`odomcal calibrate`'s
+// CalibrationToJson, `odomcal colmap`/`run`'s ColmapCalibrationToJson) against
+// docs/result_schema.json, with a small checker for the JSON Schema subset
+// that file uses: type (a name or a list of names; "null" in the list makes a
+// value nullable), required, properties, items, enum, minItems, maxItems and
+// "$ref": "#/definitions/<name>". The checker is strict where a schema is
+// not: a key the schema does not document is an error, so the documentation
+// cannot fall behind the writers.
+
+#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/report_testing.h"
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+bool HasType(const json& value, const std::string& type) {
+  if (type == "object") return value.is_object();
+  if (type == "array") return value.is_array();
+  if (type == "string") return value.is_string();
+  if (type == "number") return value.is_number();
+  if (type == "integer") return value.is_number_integer();
+  if (type == "boolean") return value.is_boolean();
+  if (type == "null") return value.is_null();
+  ADD_FAILURE() << "unknown type in the schema: " << type;
+  return false;
+}
+
+class SchemaChecker {
+ public:
+  explicit SchemaChecker(json root) : root_(std::move(root)) {}
+
+  // One line per violation, each naming the JSON pointer of the value.
+  std::vector<std::string> Check(const json& value) const {
+    std::vector<std::string> errors;
+    Check(value, root_, "", &errors);
+    return errors;
+  }
+
+ private:
+  const json& Resolve(const json& schema) const {
+    if (!schema.contains("$ref")) return schema;
+    const std::string ref = schema["$ref"];
+    const std::string prefix = "#/definitions/";
+    if (ref.rfind(prefix, 0) != 0 ||
+        !root_["definitions"].contains(ref.substr(prefix.size()))) {
+      throw std::runtime_error("unresolvable $ref " + ref);
+    }
+    return Resolve(root_["definitions"][ref.substr(prefix.size())]);
+  }
+
+  void Check(const json& value,
+             const json& schema_or_ref,
+             const std::string& where,
+             std::vector<std::string>* errors) const {
+    const json& schema = Resolve(schema_or_ref);
+    const std::string at = where.empty() ? "/" : where;
+    if (schema.contains("type")) {
+      const json types = schema["type"].is_array()
+                             ? schema["type"]
+                             : json::array({schema["type"]});
+      bool ok = false;
+      for (const json& type : types)
+        ok |= HasType(value, type.get<std::string>());
+      if (!ok) {
+        errors->push_back(at + ": " + std::string(value.type_name()) +
+                          ", schema says " + types.dump());
+        return;
+      }
+    }
+    if (schema.contains("enum")) {
+      bool found = false;
+      for (const json& allowed : schema["enum"]) found |= allowed == value;
+      if (!found)
+        errors->push_back(at + ": " + value.dump() + " not in " +
+                          schema["enum"].dump());
+    }
+    if (value.is_object()) {
+      for (const json& key : schema.value("required", json::array())) {
+        if (!value.contains(key.get<std::string>())) {
+          errors->push_back(at + ": required key \"" + key.get<std::string>() +
+                            "\" missing");
+        }
+      }
+      const json properties = schema.value("properties", json::object());
+      for (const auto& [key, item] : value.items()) {
+        if (!properties.contains(key)) {
+          errors->push_back(at + ": key \"" + key +
+                            "\" not documented in the schema");
+          continue;
+        }
+        Check(item, properties[key], where + "/" + key, errors);
+      }
+    }
+    if (value.is_array()) {
+      if (schema.contains("minItems") &&
+          value.size() < schema["minItems"].get<size_t>()) {
+        errors->push_back(at + ": fewer than " + schema["minItems"].dump() +
+                          " items");
+      }
+      if (schema.contains("maxItems") &&
+          value.size() > schema["maxItems"].get<size_t>()) {
+        errors->push_back(at + ": more than " + schema["maxItems"].dump() +
+                          " items");
+      }
+      if (schema.contains("items")) {
+        for (size_t k = 0; k < value.size(); ++k) {
+          Check(value[k],
+                schema["items"],
+                where + "/" + std::to_string(k),
+                errors);
+        }
+      }
+    }
+  }
+
+  json root_;
+};
+
+json ReadSchema() {
+  std::ifstream file(ODOMCAL_RESULT_SCHEMA_PATH);
+  EXPECT_TRUE(file.good()) << ODOMCAL_RESULT_SCHEMA_PATH;
+  return json::parse(file);
+}
+
+std::string Lines(const std::vector<std::string>& errors) {
+  std::string out;
+  for (const std::string& error : errors) out += error + "\n";
+  return out;
+}
+
+TEST(ResultSchema, IsDraft07AndDescribesEveryTopLevelKey) {
+  const json schema = ReadSchema();
+  EXPECT_EQ(schema["$schema"], "http://json-schema.org/draft-07/schema#");
+  for (const auto& [key, property] : schema["properties"].items()) {
+    EXPECT_TRUE(property.contains("description") || property.contains("$ref"))
+        << key;
+  }
+}
+
+TEST(ResultSchema, CalibrateOutputsConform) {
+  const SchemaChecker checker(ReadSchema());
+  const CalibrationRun success =
+      SimulatedCalibrationRun(3, /*straight_only=*/false);
+  ASSERT_TRUE(success.result.IsSuccess());
+  const json out = CalibrationToJson(success.result, success.context);
+  EXPECT_EQ(Lines(checker.Check(out)), "");
+  EXPECT_FALSE(out.contains("colmap"));
+
+  CalibrationRun partly = success;
+  partly.result.unobservable = {"translation_y", "metric_scale"};
+  EXPECT_EQ(
+      Lines(checker.Check(CalibrationToJson(partly.result, partly.context))),
+      "");
+  partly.result.unobservable = {"rotation"};
+  EXPECT_EQ(
+      Lines(checker.Check(CalibrationToJson(partly.result, partly.context))),
+      "");
+
+  const CalibrationRun straight =
+      SimulatedCalibrationRun(3, /*straight_only=*/true);
+  ASSERT_FALSE(straight.result.IsSuccess());
+  EXPECT_EQ(Lines(checker.Check(
+                CalibrationToJson(straight.result, straight.context))),
+            "");
+}
+
+TEST(ResultSchema, ColmapOutputConforms) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("result_schema_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  SimulatedColmapProjectOptions options;
+  options.fold = true;
+  ColmapCalibrationRun run = CalibrateColmapProject(
+      WriteSimulatedColmapProject((dir / "project").string(), options),
+      "odomcal colmap");
+  ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
+  ASSERT_FALSE(run.check.stretches.empty());
+  MapperAttempt with_model;
+  with_model.produced_model = true;
+  with_model.status = CalibrationStatus::kSuccess;
+  run.mapper_attempts = {with_model,
+                         MapperAttempt()};  // as `odomcal run` fills it
+  run.chosen_mapper_attempt = 0;
+  const SchemaChecker checker(ReadSchema());
+  const json out = ColmapCalibrationToJson(run);
+  EXPECT_EQ(Lines(checker.Check(out)), "");
+  EXPECT_TRUE(out.contains("colmap"));
+  fs::remove_all(dir);
+}
+
+// The checker itself finds what it is there to find.
+TEST(ResultSchema,
+     CheckerReportsWrongTypesMissingAndUndocumentedKeysAndBadEnums) {
+  const SchemaChecker checker(ReadSchema());
+  const CalibrationRun run =
+      SimulatedCalibrationRun(3, /*straight_only=*/false);
+  const json good = CalibrationToJson(run.result, run.context);
+
+  json wrong_type = good;
+  wrong_type["odom_from_cam"]["quaternion_wxyz"][0] = "1";
+  EXPECT_EQ(
+      Lines(checker.Check(wrong_type)),
+      "/odom_from_cam/quaternion_wxyz/0: string, schema says [\"number\"]\n");
+  json missing = good;
+  missing.erase("status");
+  EXPECT_EQ(Lines(checker.Check(missing)),
+            "/: required key \"status\" missing\n");
+  json undocumented = good;
+  undocumented["diagnostics"]["new_key"] = 1;
+  EXPECT_EQ(Lines(checker.Check(undocumented)),
+            "/diagnostics: key \"new_key\" not documented in the schema\n");
+  json bad_enum = good;
+  bad_enum["status"] = "fine";
+  EXPECT_EQ(
+      Lines(checker.Check(bad_enum)).rfind("/status: \"fine\" not in [", 0),
+      0u);
+  json short_quaternion = good;
+  short_quaternion["odom_from_cam"]["quaternion_wxyz"].erase(3);
+  EXPECT_EQ(Lines(checker.Check(short_quaternion)),
+            "/odom_from_cam/quaternion_wxyz: fewer than 4 items\n");
+}
+
+}  // namespace
+}  // namespace odomcal
