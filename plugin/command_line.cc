@@ -1,5 +1,7 @@
 #include "odomcal/plugin/command_line.h"
 
+#include "odomcal/plugin/colmap_runner.h"
+
 #include <iostream>
 #include <stdexcept>
 
@@ -21,11 +23,15 @@ std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv) {
 int RunReportingErrors(const std::string& command, const std::function<int()>& body) {
   try {
     return body();
+  } catch (const ColmapError& error) {
+    std::cout << std::flush;
+    std::cerr << command << ": error: " << error.what() << "\n";
+    return kExitColmapFailed;
   } catch (const std::invalid_argument& error) {
     std::cout << std::flush;
     std::cerr << command << ": error: " << error.what() << "\n";
   } catch (const std::runtime_error& error) {
-    // FormatError, OutputError, ColmapError and rendering I/O errors.
+    // FormatError, OutputError and rendering I/O errors.
     std::cout << std::flush;
     std::cerr << command << ": error: " << error.what() << "\n";
   }

@@ -27,6 +27,10 @@ struct RunSettings {
   int sequential_overlap = 10;
   int mapper_attempts = 3;  // at most, per matching; see mapper_attempts.h
   bool rematch = true;      // match again when the seeds do not help
+  // Run COLMAP even when the odometry at the image times cannot determine
+  // the calibration (excitation_precheck.h); otherwise that is refused
+  // before any COLMAP stage, with the solver's status.
+  bool force = false;
   FrameSelectionOptions frames;
 };
 
