@@ -1,5 +1,7 @@
-// Stages, each timed and printed: [1] frame selection (odometry), [2]
-// feature extraction, [3] position priors + matching, [4] mapping, repeated
+// Stages, each timed and printed: [1] frame selection (odometry), then the
+// excitation check (excitation_precheck.h; a drive the odometry cannot
+// calibrate stops here, before COLMAP, unless --force), [2] feature
+// extraction, [3] position priors + matching, [4] mapping, repeated
 // with other random seeds while the odometry contradicts the model (see
 // mapper_attempts.h), [5] calibration and outputs. COLMAP runs headless on
 // the CPU; intrinsics are kept fixed in the mapper when given, because

@@ -1,5 +1,6 @@
 // `odomcal run`: from an image folder and an odometry log to a calibration.
-// Selects frames with the odometry, runs COLMAP (feature_extractor,
+// Selects frames with the odometry, refuses a drive whose odometry cannot
+// determine the calibration (no or too few turns) before COLMAP, runs COLMAP (feature_extractor,
 // odometry-guided spatial or sequential matching, mapper, run again with
 // another random seed while the odometry contradicts its model, matching
 // again when that does not help) in a workspace,
