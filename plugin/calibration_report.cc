@@ -313,8 +313,16 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
 std::string CalibrationSummary(const CalibrationResult& result,
                                const ReportContext& context) {
   std::ostringstream out;
-  out << context.command << ": " << ToString(result.status) << " - "
-      << result.message << "\n";
+  // A refusal must not read like a result: it says so first, and whatever
+  // it estimated is labelled as not a calibration.
+  const bool calibrated = result.IsSuccess();
+  if (calibrated) {
+    out << context.command << ": " << ToString(result.status) << " - "
+        << result.message << "\n";
+  } else {
+    out << context.command << ": not a calibration (" << ToString(result.status)
+        << "): " << result.message << "\n";
+  }
   const AssociationResult& a = context.association;
   out << "  input: " << a.num_camera_poses << " camera poses, "
       << a.num_usable_camera_poses << " inside the odometry, "
@@ -328,7 +336,14 @@ std::string CalibrationSummary(const CalibrationResult& result,
     const auto& u = result.unobservable;
     const bool sigma = result.covariance.has_value();
     const bool rotation = !Has(u, "rotation");
-    out << "  odom_from_cam (x_in_odom = odom_from_cam * x_in_cam):\n";
+    if (calibrated) {
+      out << "  odom_from_cam (x_in_odom = odom_from_cam * x_in_cam):\n";
+    } else {
+      out << "  undetermined:";
+      for (const std::string& name : u) out << " " << name;
+      out << "\n  partial estimate, NOT a calibration (do not use it; "
+             "odom_from_cam, x_in_odom = odom_from_cam * x_in_cam):\n";
+    }
     if (rotation) {
       const Eigen::Vector3d rpy = RollPitchYaw(result.odom_from_cam.rotation) * kRadToDeg;
       const char* names[3] = {"roll ", "pitch", "yaw  "};

@@ -297,17 +297,23 @@ std::vector<std::string> ColmapCalibrationOutputEntries() {
           "camera_in_odom.tum", "camera_in_odom.tum.tmp", "report.html"};
 }
 
-void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
-                                   const std::string& output_dir) {
+std::vector<std::string> WriteColmapCalibrationOutputs(
+    const ColmapCalibrationRun& run, const std::string& output_dir) {
   const fs::path root(output_dir);
   WriteFileAtomically((root / "calibration.json").string(),
                       ColmapCalibrationToJson(run).dump(2) + "\n");
   WriteFileAtomically((root / "calibration.yaml").string(),
                       CalibrationToYaml(run.check.result));
+  std::vector<std::string> entries = {"calibration.json", "calibration.yaml"};
 
-  // sparse_metric/<name>: written to a temporary folder, then renamed.
+  // sparse_metric/<name>: written to a temporary folder, then renamed. An
+  // earlier run's sub-models go first: they are not this calibration's.
   const fs::path metric_root = root / "sparse_metric";
-  fs::create_directories(metric_root);
+  RemoveOwnedOutput(output_dir, "sparse_metric");
+  if (!run.metric_models.empty()) {
+    fs::create_directories(metric_root);
+    entries.push_back("sparse_metric/");
+  }
   for (const MetricSubModel& metric : run.metric_models) {
     const fs::path target = metric_root / metric.name;
     const fs::path temporary = metric_root / (metric.name + ".tmp");
@@ -343,10 +349,16 @@ void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
             });
   const std::string tum_path = (root / "camera_in_odom.tum").string();
   const std::string tum_temporary = tum_path + ".tmp";
-  WriteTumTrajectory(cameras, tum_temporary);
-  fs::rename(tum_temporary, tum_path);
+  RemoveOwnedOutput(output_dir, "camera_in_odom.tum");
+  if (!cameras.poses.empty()) {
+    WriteTumTrajectory(cameras, tum_temporary);
+    fs::rename(tum_temporary, tum_path);
+    entries.push_back("camera_in_odom.tum");
+  }
 
   WriteFileAtomically((root / "report.html").string(), ColmapReportHtml(run));
+  entries.push_back("report.html");
+  return entries;
 }
 
 }  // namespace odomcal

@@ -64,6 +64,9 @@ struct ColmapCalibrationRun {
   // `odomcal run` only: every mapper run and the one calibrated here.
   std::vector<MapperAttempt> mapper_attempts;
   int chosen_mapper_attempt = -1;
+  // What was written in the output folder, as listed to the user
+  // ("calibration.json", "sparse_metric/", ...): only entries with content.
+  std::vector<std::string> written_outputs;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).
@@ -77,7 +80,13 @@ std::vector<std::string> ColmapCalibrationOutputEntries();
 // Writes into `output_dir` (which must exist and be claimed for the entries
 // above): calibration.json/.yaml, sparse_metric/<sub-model>/ (COLMAP binary),
 // camera_in_odom.tum and report.html. Every file is written atomically.
-void WriteColmapCalibrationOutputs(const ColmapCalibrationRun& run,
-                                   const std::string& output_dir);
+// sparse_metric/ and camera_in_odom.tum are written only when they hold a
+// model or a pose (without an extrinsic there is nothing to put in metres:
+// an empty folder or a header-only file would read as a result); an earlier
+// run's are removed. Returns what it wrote: "calibration.json",
+// "calibration.yaml", ["sparse_metric/", "camera_in_odom.tum",]
+// "report.html".
+std::vector<std::string> WriteColmapCalibrationOutputs(
+    const ColmapCalibrationRun& run, const std::string& output_dir);
 
 }  // namespace odomcal

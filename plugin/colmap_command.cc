@@ -57,12 +57,14 @@ int RunColmap(int argc, char** argv) {
                         overwrite ? ExistingOutputs::kReplaceOwn
                                   : ExistingOutputs::kRefuseNonEmptyFolder);
     const ColmapCalibrationRun run = CalibrateColmapProject(inputs, "odomcal colmap");
-    WriteColmapCalibrationOutputs(run, output_path);
+    const std::vector<std::string> written =
+        WriteColmapCalibrationOutputs(run, output_path);
     if (!quiet) {
       std::cout << CalibrationSummary(run.check.result, run.context);
-      std::cout << "  wrote " << output_path
-                << "/{calibration.json, calibration.yaml, sparse_metric/, "
-                   "camera_in_odom.tum, report.html}\n";
+      std::string names;
+      for (const std::string& name : written)
+        names += (names.empty() ? "" : ", ") + name;
+      std::cout << "  wrote " << output_path << "/{" << names << "}\n";
     }
     return ExitCodeFor(run.check.result);
   });

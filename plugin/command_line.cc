@@ -6,6 +6,7 @@
 // ("Could not convert: ...") or print C++ limits.
 #include "odomcal/plugin/command_line.h"
 
+#include "odomcal/plugin/colmap_runner.h"
 #include "odomcal/solver/format_number.h"
 
 #include <algorithm>
@@ -270,12 +271,16 @@ int RunReportingErrors(const CLI::App& app, const std::function<int()>& body) {
   const std::string& command = app.get_name();
   try {
     return body();
+  } catch (const ColmapError& error) {
+    std::cout << std::flush;
+    std::cerr << command << ": error: " << error.what() << "\n";
+    return kExitColmapFailed;
   } catch (const std::invalid_argument& error) {
     std::cout << std::flush;
     std::cerr << command << ": error: " << WithFlagNames(app, error.what())
               << "\n";
   } catch (const std::runtime_error& error) {
-    // FormatError, OutputError, ColmapError and rendering I/O errors.
+    // FormatError, OutputError and rendering I/O errors.
     std::cout << std::flush;
     std::cerr << command << ": error: " << error.what() << "\n";
   }

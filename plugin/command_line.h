@@ -20,6 +20,7 @@ constexpr int kExitSuccess = 0;
 constexpr int kExitInternalError = 1;
 constexpr int kExitBadInput = 2;       // arguments, files, outputs
 constexpr int kExitNotCalibrated = 3;  // the data do not determine it
+constexpr int kExitColmapFailed = 4;  // COLMAP missing, failed or gave no model
 
 // Parses argv. Returns nothing when the command should go on, otherwise its
 // exit code: 0 after printing --help, kExitBadInput after one line
@@ -29,12 +30,12 @@ constexpr int kExitNotCalibrated = 3;  // the data do not determine it
 std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv);
 
 // Runs `body` and returns its exit code; FormatError, OutputError,
-// ColmapError, std::invalid_argument and other std::runtime_errors (the
-// library's ways of rejecting input) become one line
-// "odomcal <command>: error: <what>" and kExitBadInput. In the messages of
-// std::invalid_argument (options' Check()), option names that are flags of
-// `app` are written as flags: "max_odometry_gap_s must be ..." becomes
-// "--max_odometry_gap_s must be ...".
+// std::invalid_argument and other std::runtime_errors (the library's ways of
+// rejecting input) become one line "odomcal <command>: error: <what>" and
+// kExitBadInput; a ColmapError the same line and kExitColmapFailed. In the
+// messages of std::invalid_argument (options' Check()), option names that
+// are flags of `app` are written as flags: "max_odometry_gap_s must be ..."
+// becomes "--max_odometry_gap_s must be ...".
 int RunReportingErrors(const CLI::App& app, const std::function<int()>& body);
 
 // The flag among `flags` (each "--name") that the user most likely meant by

@@ -1,6 +1,7 @@
 // odomcal command-line tool: a table of subcommands, each with its own flags
 // (`odomcal <command> --help`). Exit codes: 0 success, 1 internal error,
-// 2 bad arguments or files, 3 the data do not determine the calibration.
+// 2 bad arguments or files, 3 the data do not determine the calibration,
+// 4 COLMAP missing, failed or gave no model (`run`, `demo`).
 
 #include <cstring>
 #include <exception>

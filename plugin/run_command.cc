@@ -1,5 +1,7 @@
-// Stages, each timed and printed: [1] frame selection (odometry), [2]
-// feature extraction, [3] position priors + matching, [4] mapping, repeated
+// Stages, each timed and printed: [1] frame selection (odometry), then the
+// excitation check (excitation_precheck.h; a drive the odometry cannot
+// calibrate stops here, before COLMAP, unless --force), [2] feature
+// extraction, [3] position priors + matching, [4] mapping, repeated
 // with other random seeds while the odometry contradicts the model (see
 // mapper_attempts.h), [5] calibration and outputs. COLMAP runs headless on
 // the CPU; intrinsics are kept fixed in the mapper when given, because
@@ -22,6 +24,7 @@
 
 #include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_database_priors.h"
+#include "odomcal/adapters/excitation_precheck.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/adapters/image_timestamps.h"
@@ -29,6 +32,7 @@
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/colmap_runner.h"
 #include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/plugin/output_file.h"
@@ -327,6 +331,72 @@ void ReplaceWithCopy(const fs::path& source,
   fs::rename(temporary, fs::path(workspace) / entry);
 }
 
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string joined;
+  for (const std::string& name : names)
+    joined += (joined.empty() ? "" : ", ") + name;
+  return joined;
+}
+
+// "excitation (odometry at the 57 image times): 56 motion pairs, 0 left and
+// 0 right turns above 2 deg: the calibration cannot be determined
+// (unobservable); no COLMAP stage is run (--force runs them anyway)".
+std::string ExcitationLine(const ExcitationPrecheck& precheck,
+                           const CalibrationOptions& options,
+                           bool force) {
+  const CalibrationDiagnostics& d = precheck.verdict.diagnostics;
+  std::ostringstream line;
+  line << "excitation (odometry at the "
+       << precheck.association.num_camera_poses
+       << " image times): " << precheck.association.pairs.size()
+       << " motion pairs, " << d.num_left_turns << " left and "
+       << d.num_right_turns << " right turns above " << options.min_rotation_deg
+       << " deg: ";
+  if (precheck.determinable) {
+    line << "enough to calibrate\n";
+  } else {
+    line << "the calibration cannot be determined ("
+         << ToString(precheck.verdict.status) << "); "
+         << (force ? "running COLMAP anyway (--force)"
+                   : "no COLMAP stage is run (--force runs them anyway)")
+         << "\n";
+  }
+  return line.str();
+}
+
+// The refusal before COLMAP: calibration.json with the solver's status and
+// `unobservable` (no estimate), and no other output of an earlier run left
+// beside it to be mistaken for this one's.
+ColmapCalibrationRun RefuseBeforeColmap(const ExcitationPrecheck& precheck,
+                                        const ColmapCalibrationInputs& inputs,
+                                        const std::string& workspace,
+                                        const std::string& command) {
+  ColmapCalibrationRun refused;
+  refused.check.result = precheck.verdict;
+  refused.check.result.message +=
+      " (seen in the odometry at the image times, before COLMAP; --force runs "
+      "it anyway)";
+  ReportContext& context = refused.context;
+  context.command = command;
+  context.odometry_path = inputs.odometry_path;
+  context.camera_time_unit = inputs.image_timestamps_path.empty()
+                                 ? "from image file names"
+                                 : TimeUnitName(inputs.image_time_unit);
+  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  context.association_options = inputs.association;
+  context.association = precheck.association;
+  context.calibration_options = inputs.calibration;
+  for (const std::string& entry : ColmapCalibrationOutputEntries()) {
+    if (entry != "calibration.json") RemoveOwnedOutput(workspace, entry);
+  }
+  WriteFileAtomically((fs::path(workspace) / "calibration.json").string(),
+                      ColmapCalibrationToJson(refused).dump(2) + "\n");
+  refused.written_outputs = {"calibration.json"};
+  std::cout << "wrote " << (fs::path(workspace) / "calibration.json").string()
+            << " (the status only)\n";
+  return refused;
+}
+
 // Everything `odomcal run` writes in its workspace, COLMAP's files included.
 std::vector<std::string> RunWorkspaceEntries() {
   std::vector<std::string> entries = ColmapCalibrationOutputEntries();
@@ -348,12 +418,8 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                       {{run.image_path, "--image_path"},
                        {inputs.odometry_path, "--odometry"},
                        {inputs.image_timestamps_path, "--image_timestamps"}},
-                      RunWorkspaceEntries(), ExistingOutputs::kReplaceOwn);
-  ColmapRunner::Options runner_options;
-  runner_options.executable = run.colmap_path;
-  runner_options.workspace = run.workspace_path;
-  ColmapRunner colmap(runner_options);
-  const ColmapVersion& version = colmap.Version();
+                      RunWorkspaceEntries(),
+                      ExistingOutputs::kReplaceOwn);
   constexpr int kStages = 5;
 
   // [1] Frame selection.
@@ -420,6 +486,24 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                std::to_string(selection.num_outside_odometry) +
                " outside the odometry)");
   }
+
+  // Before COLMAP: whether the odometry between the image times can
+  // determine the calibration at all (excitation_precheck.h).
+  std::vector<int64_t> image_stamps;
+  for (const TimedImage& image : images) image_stamps.push_back(image.stamp_ns);
+  const ExcitationPrecheck precheck = PrecheckExcitation(
+      image_stamps, odometry, inputs.association, inputs.calibration);
+  std::cout << ExcitationLine(precheck, inputs.calibration, run.force)
+            << std::flush;
+  if (!precheck.determinable && !run.force) {
+    return RefuseBeforeColmap(precheck, inputs, run.workspace_path, command);
+  }
+
+  ColmapRunner::Options runner_options;
+  runner_options.executable = run.colmap_path;
+  runner_options.workspace = run.workspace_path;
+  ColmapRunner colmap(runner_options);
+  const ColmapVersion& version = colmap.Version();
 
   // [2] Features.
   const std::string database = (workspace / "database.db").string();
@@ -513,9 +597,11 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     calibration.check.result.warnings.push_back(
         MapperContradictionWarning(attempts, chosen, mapped));
   }
-  WriteColmapCalibrationOutputs(calibration, run.workspace_path);
-  clock.Done("wrote calibration.json, sparse/, sparse_metric/, camera_in_odom.tum, "
-             "report.html");
+  calibration.written_outputs =
+      WriteColmapCalibrationOutputs(calibration, run.workspace_path);
+  calibration.written_outputs.insert(calibration.written_outputs.begin() + 2,
+                                     "sparse/");
+  clock.Done("wrote " + JoinNames(calibration.written_outputs));
   return calibration;
 }
 
@@ -582,6 +668,10 @@ int RunRun(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
       ->capture_default_str();
+  app.add_flag("--force",
+               run.force,
+               "run COLMAP even when the odometry at the image times cannot "
+               "determine the calibration (no or too few turns)");
   AddProjectFlags(&app, &inputs, &flags);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
@@ -593,8 +683,13 @@ int RunRun(int argc, char** argv) {
     const ColmapCalibrationRun calibration =
         RunReconstructionPipeline(run, inputs, "odomcal run");
     std::cout << CalibrationSummary(calibration.check.result, calibration.context);
-    std::cout << "  report: "
-              << (fs::path(run.workspace_path) / "report.html").string() << "\n";
+    const auto& written = calibration.written_outputs;
+    if (std::find(written.begin(), written.end(), "report.html") !=
+        written.end()) {
+      std::cout << "  report: "
+                << (fs::path(run.workspace_path) / "report.html").string()
+                << "\n";
+    }
     return ExitCodeFor(calibration.check.result);
   });
 }

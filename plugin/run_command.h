@@ -1,5 +1,6 @@
 // `odomcal run`: from an image folder and an odometry log to a calibration.
-// Selects frames with the odometry, runs COLMAP (feature_extractor,
+// Selects frames with the odometry, refuses a drive whose odometry cannot
+// determine the calibration (no or too few turns) before COLMAP, runs COLMAP (feature_extractor,
 // odometry-guided spatial or sequential matching, mapper, run again with
 // another random seed while the odometry contradicts its model, matching
 // again when that does not help) in a workspace,
@@ -27,6 +28,10 @@ struct RunSettings {
   int sequential_overlap = 10;
   int mapper_attempts = 3;  // at most, per matching; see mapper_attempts.h
   bool rematch = true;      // match again when the seeds do not help
+  // Run COLMAP even when the odometry at the image times cannot determine
+  // the calibration (excitation_precheck.h); otherwise that is refused
+  // before any COLMAP stage, with the solver's status.
+  bool force = false;
   FrameSelectionOptions frames;
 };
 

@@ -6,22 +6,23 @@
 // 0.3 % for the clean presets; see the `hard` test for its own. Seed 1 by
 // default; ODOMCAL_TEST_SEED renders other scenes (the tolerances must hold).
 
-#include <cmath>
-#include <cstdlib>
-#include <iostream>
-#include <filesystem>
-#include <fstream>
-#include <map>
-#include <sstream>
-#include <string>
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/solver/rigid3.h"
+#include "odomcal/tests/test_files.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "odomcal/adapters/colmap_model.h"
-#include "odomcal/solver/rigid3.h"
-#include "odomcal/tests/test_seed.h"
-#include "odomcal/tests/test_files.h"
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
 
 namespace odomcal {
 namespace {
@@ -42,6 +43,7 @@ struct PresetRun {
   json truth;
   fs::path workspace;
   bool inputs_unchanged = false;  // images, odometry, timestamps
+  double run_seconds = 0.0;       // of `odomcal run` alone
 };
 
 class RenderedEndToEnd : public ::testing::Test {
@@ -92,6 +94,7 @@ class RenderedEndToEnd : public ::testing::Test {
     z.precision(17);
     z << run.truth["odom_from_cam"]["translation_m"][2].get<double>();
     const auto inputs_before = Snapshot(data);
+    const auto start = std::chrono::steady_clock::now();
     run.exit_code = Run(
         "run --image_path " + (data / "images").string() + " --odometry " +
             (data / "odometry.csv").string() + " --image_timestamps " +
@@ -100,6 +103,9 @@ class RenderedEndToEnd : public ::testing::Test {
             params + " --fixed_translation_z_m " + z.str() + " --workspace_path " +
             run.workspace.string() + " " + extra_run_flags,
         &run.log);
+    run.run_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
     run.inputs_unchanged = Snapshot(data) == inputs_before;
     if (fs::exists(run.workspace / "calibration.json")) {
       run.result = json::parse(ReadFile(run.workspace / "calibration.json"));
@@ -256,11 +262,16 @@ TEST_F(RenderedEndToEnd, StraightDrivingIsUnobservable) {
   EXPECT_EQ(run.exit_code, 3) << run.log;
   ASSERT_TRUE(run.result.is_object()) << run.log;
   EXPECT_EQ(run.result["status"], "unobservable");
-  const auto& unobservable = run.result["unobservable"];
-  EXPECT_NE(std::find(unobservable.begin(), unobservable.end(), "translation_x"),
-            unobservable.end());
-  // The drive decides this, not the model: no second mapper run.
-  EXPECT_EQ(run.result["colmap"]["mapper_attempts"].size(), 1u) << run.log;
+  EXPECT_EQ(
+      run.result["unobservable"],
+      json::array(
+          {"rotation", "translation_x", "translation_y", "translation_z"}));
+  // The odometry alone shows it: refused within seconds, before any COLMAP
+  // stage (no database, no command run, no mapper).
+  EXPECT_LT(run.run_seconds, 60.0) << run.log;
+  EXPECT_FALSE(fs::exists(run.workspace / "database.db")) << run.log;
+  EXPECT_FALSE(fs::exists(run.workspace / "commands.txt")) << run.log;
+  EXPECT_TRUE(run.result["colmap"]["mapper_attempts"].empty()) << run.log;
 }
 
 }  // namespace

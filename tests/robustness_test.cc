@@ -66,6 +66,13 @@ void ExpectNoNonFiniteText(const std::string& text) {
   }
 }
 
+// Exit code 4 (COLMAP missing, failed or gave no model) and exactly `line`
+// on stderr.
+void ExpectColmapFailure(const CommandResult& run, const std::string& line) {
+  EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
+  EXPECT_EQ(run.err, line + "\n");
+}
+
 // "000042.png": the name of test image `index`.
 std::string ImageName(size_t index) {
   char name[32];
@@ -659,7 +666,7 @@ TEST_F(Robustness, FiniteInputsWhoseMotionsOverflow) {
 
 TEST_F(Robustness, ColmapMissingFromPath) {
   WriteImageFolder(5, "x");
-  ExpectBadInput(
+  ExpectColmapFailure(
       RunOdomcal(RunCommand(), {{"PATH=" + Path("empty_bin")}}),
       std::string(kRunError) +
           "COLMAP not found: 'colmap' is not an executable on PATH (install "
@@ -682,11 +689,13 @@ TEST_F(Robustness, ColmapAbortsMidRun) {
       "exit 0\n");
   const CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
                                        {{"PATH=" + bin + ":/usr/bin:/bin"}});
-  ExpectBadInput(run, std::string(kRunError) +
-                          "COLMAP mapper failed with exit code 134 (COLMAP aborted on a "
-                          "failed CHECK); see " +
-                          Path("ws/logs/mapper_seed_0.log") +
-                          " (last line: F0101 mapper.cc:1] Check failed: reconstruction)");
+  ExpectColmapFailure(
+      run,
+      std::string(kRunError) +
+          "COLMAP mapper failed with exit code 134 (COLMAP aborted on a "
+          "failed CHECK); see " +
+          Path("ws/logs/mapper_seed_0.log") +
+          " (last line: F0101 mapper.cc:1] Check failed: reconstruction)");
 }
 
 // COLMAP exits 0 but writes nothing: caught after the first stage; and a
@@ -696,7 +705,9 @@ TEST_F(Robustness, ColmapProducesNoModel) {
   std::string bin = WriteFakeColmap("exit 0\n");
   CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
                                  {{"PATH=" + bin + ":/usr/bin:/bin"}});
-  ExpectBadInput(run, std::string(kRunError) + "COLMAP feature_extractor wrote no database " +
+  ExpectColmapFailure(run,
+                      std::string(kRunError) +
+                          "COLMAP feature_extractor wrote no database " +
                           Path("ws/database.db") + " (see " +
                           Path("ws/logs/feature_extractor.log") + ")");
 
@@ -704,9 +715,12 @@ TEST_F(Robustness, ColmapProducesNoModel) {
                         WritePreparedDatabase() + " \"$3\"; fi\nexit 0\n");
   run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
                    {{"PATH=" + bin + ":/usr/bin:/bin"}});
-  ExpectBadInput(run, std::string(kRunError) + "COLMAP mapper produced no model in 3 runs (see " +
-                          Path("ws/logs/mapper_seed_0.log") +
-                          "): too little texture or overlap, or wrong intrinsics");
+  ExpectColmapFailure(
+      run,
+      std::string(kRunError) +
+          "COLMAP mapper produced no model in 3 runs (see " +
+          Path("ws/logs/mapper_seed_0.log") +
+          "): too little texture or overlap, or wrong intrinsics");
 }
 
 // COLMAP's mapper returns, for one random seed, no model, for another a model
@@ -939,10 +953,11 @@ TEST_F(Robustness, UnreadableImagesWithRealColmap) {
   }
   WriteImageFolder(5, "this is not a PNG file\n");
   const CommandResult run = RunOdomcal(RunCommand());
-  ExpectBadInput(run, std::string(kRunError) + "COLMAP could read none of the 5 images in " +
-                          Path("images") + " (see " +
-                          Path("ws/logs/feature_extractor.log") +
-                          ": ERROR: Failed to read image file format.)");
+  ExpectColmapFailure(
+      run,
+      std::string(kRunError) + "COLMAP could read none of the 5 images in " +
+          Path("images") + " (see " + Path("ws/logs/feature_extractor.log") +
+          ": ERROR: Failed to read image file format.)");
 }
 
 // ---------------------------------------------------------------------------

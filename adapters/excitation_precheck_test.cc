@@ -1,0 +1,179 @@
+#include "odomcal/adapters/excitation_precheck.h"
+
+#include "odomcal/solver/calibrate.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int64_t kBaseNs = 1700000000000000000;
+constexpr int64_t kOdometryStepNs = 20000000;  // 50 Hz
+constexpr int64_t kImageStepNs = 500000000;    // 2 Hz
+
+// A planar odometry log integrated from speed (m/s) and yaw rate (rad/s)
+// at time t, and image times every 0.5 s over it.
+struct Drive {
+  Trajectory odometry;
+  std::vector<int64_t> image_stamps_ns;
+};
+
+Drive Integrate(
+    const std::function<Eigen::Vector2d(double)>& speed_and_yaw_rate,
+    double duration_s) {
+  Drive drive;
+  drive.odometry.planar = true;
+  double x = 0.0, y = 0.0, yaw = 0.0;
+  const double step_s = kOdometryStepNs / 1e9;
+  const int num_steps = static_cast<int>(std::lround(duration_s / step_s));
+  for (int k = 0; k <= num_steps; ++k) {
+    const int64_t stamp = kBaseNs + k * kOdometryStepNs;
+    drive.odometry.poses.push_back(
+        {stamp, Rigid3d(YawRotation(yaw), Eigen::Vector3d(x, y, 0.0))});
+    if ((stamp - kBaseNs) % kImageStepNs == 0)
+      drive.image_stamps_ns.push_back(stamp);
+    const Eigen::Vector2d v_w = speed_and_yaw_rate(k * step_s);
+    const double mid_yaw = yaw + 0.5 * v_w(1) * step_s;
+    x += v_w(0) * step_s * std::cos(mid_yaw);
+    y += v_w(0) * step_s * std::sin(mid_yaw);
+    yaw += v_w(1) * step_s;
+  }
+  return drive;
+}
+
+// What CalibrateOdomCam says after a perfect reconstruction of the drive
+// by another camera (another mount, 0.37 m per unit): the pre-check must
+// say the same from the odometry alone.
+CalibrationResult SolverOnReconstruction(const Drive& drive) {
+  const Rigid3d odom_from_cam(
+      Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5).normalized() *
+          Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX())),
+      Eigen::Vector3d(0.25, -0.1, 0.4));
+  Trajectory camera;
+  for (const int64_t stamp : drive.image_stamps_ns) {
+    InterpolationFailure why;
+    Rigid3d world_from_cam =
+        *InterpolateOdometry(drive.odometry, stamp, 0.25, &why) * odom_from_cam;
+    world_from_cam.translation /= 0.37;
+    camera.poses.push_back({stamp, world_from_cam});
+  }
+  const AssociationResult association = AssociateCameraWithOdometry(
+      {camera}, drive.odometry, AssociationOptions());
+  return CalibrateOdomCam(association.pairs, CalibrationOptions());
+}
+
+ExcitationPrecheck Precheck(const Drive& drive) {
+  return PrecheckExcitation(drive.image_stamps_ns,
+                            drive.odometry,
+                            AssociationOptions(),
+                            CalibrationOptions());
+}
+
+TEST(PrecheckExcitation, StraightDriveDeterminesNeitherRotationNorLeverArm) {
+  const Drive drive =
+      Integrate([](double) { return Eigen::Vector2d(0.3, 0.0); }, 60.0);
+  const ExcitationPrecheck precheck = Precheck(drive);
+  EXPECT_FALSE(precheck.determinable);
+  EXPECT_EQ(precheck.verdict.status, CalibrationStatus::kUnobservable);
+  // The solver's rule: no turn leaves the rotation and the x/y lever arm
+  // free (the scale is the ratio of the step lengths, but no calibration
+  // comes of it).
+  EXPECT_EQ(
+      precheck.verdict.unobservable,
+      (std::vector<std::string>{
+          "rotation", "translation_x", "translation_y", "translation_z"}));
+  EXPECT_EQ(precheck.verdict.message,
+            "no motion pair rotates by more than 2 deg (straight driving or no "
+            "motion): the "
+            "rotation and the x/y translation of the extrinsic cannot be "
+            "determined; drive "
+            "turns in both directions");
+  EXPECT_FALSE(precheck.verdict.has_estimate);
+  EXPECT_EQ(precheck.verdict.diagnostics.num_rotating_pairs, 0);
+  EXPECT_GT(precheck.association.pairs.size(), 100u);
+  const CalibrationResult solver = SolverOnReconstruction(drive);
+  EXPECT_EQ(solver.status, precheck.verdict.status);
+  EXPECT_EQ(solver.unobservable, precheck.verdict.unobservable);
+}
+
+TEST(PrecheckExcitation, OneTurnIsTooFewRotatingPairs) {
+  // Straight, but for a 6 deg turn within one image interval.
+  const Drive drive = Integrate(
+      [](double t) {
+        return Eigen::Vector2d(
+            0.3, t >= 20.0 && t < 20.5 ? 6.0 * kPi / 180.0 / 0.5 : 0.0);
+      },
+      40.0);
+  const ExcitationPrecheck precheck = Precheck(drive);
+  EXPECT_FALSE(precheck.determinable);
+  EXPECT_EQ(precheck.verdict.status, CalibrationStatus::kNotEnoughMotion);
+  EXPECT_EQ(precheck.verdict.message,
+            "only 1 motion pairs rotate by more than 2 deg; 2 are needed");
+  EXPECT_EQ(SolverOnReconstruction(drive).status,
+            CalibrationStatus::kNotEnoughMotion);
+}
+
+// Circles of one radius, all to the left: every motion pair is the same, so
+// the lever arm and the scale trade off. The pre-check says what the
+// solver says after SfM.
+TEST(PrecheckExcitation, TurnsOfOneSizeInOneDirectionAsTheSolverSays) {
+  const Drive drive =
+      Integrate([](double) { return Eigen::Vector2d(0.3, 0.3); }, 60.0);
+  const ExcitationPrecheck precheck = Precheck(drive);
+  const CalibrationResult solver = SolverOnReconstruction(drive);
+  EXPECT_EQ(precheck.verdict.status, solver.status) << solver.message;
+  EXPECT_EQ(precheck.verdict.unobservable, solver.unobservable);
+  EXPECT_EQ(precheck.verdict.message, solver.message);
+  EXPECT_FALSE(precheck.determinable) << precheck.verdict.message;
+  EXPECT_EQ(precheck.verdict.status, CalibrationStatus::kUnobservable);
+  EXPECT_FALSE(precheck.verdict.has_estimate)
+      << "the nominal mount is no estimate";
+}
+
+// Left turns of changing size determine everything the solver estimates.
+TEST(PrecheckExcitation, TurnsOfDifferentSizesInOneDirectionAsTheSolverSays) {
+  const Drive drive = Integrate(
+      [](double t) {
+        return Eigen::Vector2d(0.3, 0.2 + 0.2 * std::sin(0.3 * t));
+      },
+      60.0);
+  const ExcitationPrecheck precheck = Precheck(drive);
+  const CalibrationResult solver = SolverOnReconstruction(drive);
+  EXPECT_EQ(precheck.verdict.status, solver.status) << solver.message;
+  EXPECT_EQ(precheck.verdict.unobservable, solver.unobservable);
+  EXPECT_EQ(precheck.determinable,
+            solver.status == CalibrationStatus::kSuccess);
+}
+
+TEST(PrecheckExcitation, DriveWithTurnsBothWaysPasses) {
+  const Drive drive = Integrate(
+      [](double t) { return Eigen::Vector2d(0.3, 0.5 * std::sin(0.4 * t)); },
+      60.0);
+  const ExcitationPrecheck precheck = Precheck(drive);
+  EXPECT_TRUE(precheck.determinable) << precheck.verdict.message;
+  EXPECT_EQ(precheck.verdict.status, CalibrationStatus::kSuccess);
+  EXPECT_GT(precheck.verdict.diagnostics.num_left_turns, 0);
+  EXPECT_GT(precheck.verdict.diagnostics.num_right_turns, 0);
+  EXPECT_EQ(SolverOnReconstruction(drive).status, CalibrationStatus::kSuccess);
+}
+
+// Images outside the odometry take part in no pair; none at all: too few.
+TEST(PrecheckExcitation, ImagesOutsideTheOdometryGiveNoPairs) {
+  Drive drive = Integrate(
+      [](double t) { return Eigen::Vector2d(0.3, 0.5 * std::sin(0.4 * t)); },
+      60.0);
+  for (int64_t& stamp : drive.image_stamps_ns) stamp += 3600LL * 1000000000LL;
+  const ExcitationPrecheck precheck = Precheck(drive);
+  EXPECT_FALSE(precheck.determinable);
+  EXPECT_EQ(precheck.verdict.status, CalibrationStatus::kNotEnoughMotion);
+  EXPECT_EQ(precheck.association.num_usable_camera_poses, 0);
+}
+
+}  // namespace
+}  // namespace odomcal

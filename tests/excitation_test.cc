@@ -1,0 +1,435 @@
+// Weak excitation and honest exits (docs/robustness.md, "Weak excitation and
+// honest exits"): `odomcal run` refuses a drive whose odometry cannot
+// determine the calibration before any COLMAP stage; a COLMAP failure exits
+// 4; a refused calibration is printed as not a calibration; outputs without
+// content are neither written nor listed.
+//
+// COLMAP is a fake `colmap` script on PATH that records every call.
+
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/odomcal_process.h"
+#include "odomcal/tests/test_files.h"
+
+#include <sys/stat.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sqlite3.h>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr int kImages = 50;
+
+std::string ImageName(int index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06d.png", index);
+  return name;
+}
+
+class Excitation : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(::testing::TempDir()) /
+           (std::string("odomcal_excitation_") + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
+  }
+
+  std::string Path(const std::string& name) const {
+    return (dir_ / name).string();
+  }
+
+  // A 60 s simulated drive (straight only, or with turns both ways):
+  // odometry.csv, camera.tum, and images/ with kImages files at the camera
+  // times every 1 s, image_timestamps.csv.
+  SimulatedDrive WriteDrive(bool straight) const {
+    DriveSimulatorOptions options;
+    options.seed = 3;
+    options.straight_only = straight;
+    const SimulatedDrive drive = SimulateDrive(options);
+    WriteOdometryCsv(drive.odometry, Path("odometry.csv"));
+    WriteTumTrajectory(drive.camera, Path("camera.tum"));
+    fs::create_directories(dir_ / "images");
+    std::string stamps;
+    for (int i = 0; i < kImages; ++i) {
+      WriteFile(dir_ / "images" / ImageName(i), "x");
+      stamps +=
+          ImageName(i) + "," +
+          FormatTimestampSeconds(drive.camera.poses[10 * i + 10].stamp_ns) +
+          "\n";
+    }
+    WriteFile(Path("image_timestamps.csv"), stamps);
+    return drive;
+  }
+
+  // bin/colmap: records each call's arguments in colmap_calls.txt, prints
+  // COLMAP 3.8's banner for `help`, and runs `body` (sh) for a subcommand.
+  std::string WriteFakeColmap(const std::string& body) const {
+    fs::create_directories(dir_ / "bin");
+    const fs::path script = dir_ / "bin" / "colmap";
+    WriteFile(script,
+              "#!/bin/sh\n"
+              "echo \"$*\" >> " +
+                  Path("colmap_calls.txt") +
+                  "\n"
+                  "if [ \"$1\" = help ]; then\n"
+                  "  echo 'COLMAP 3.8 -- Structure-from-Motion and Multi-View "
+                  "Stereo'\n"
+                  "  exit 0\n"
+                  "fi\n" +
+                  body);
+    ::chmod(script.c_str(), 0755);
+    return "PATH=" + (dir_ / "bin").string() + ":/usr/bin:/bin";
+  }
+
+  // prepared.db: COLMAP 3.8's cameras and images tables holding every image
+  // of images/, as feature_extractor would leave them.
+  std::string WritePreparedDatabase() const {
+    const std::string path = Path("prepared.db");
+    sqlite3* db = nullptr;
+    EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    std::string sql =
+        "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT "
+        "NULL, "
+        "name TEXT NOT NULL UNIQUE, camera_id INTEGER NOT NULL, prior_qw REAL, "
+        "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty "
+        "REAL, "
+        "prior_tz REAL);"
+        "CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT "
+        "NULL, "
+        "model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT "
+        "NULL, "
+        "params BLOB, prior_focal_length INTEGER NOT NULL);"
+        "INSERT INTO cameras VALUES (1, 1, 320, 240, "
+        "X'0000000000407040000000000040704000000000000064400000000000005e40', "
+        "1);";
+    for (int i = 0; i < kImages; ++i) {
+      sql += "INSERT INTO images (image_id, name, camera_id) VALUES (" +
+             std::to_string(i + 1) + ", '" + ImageName(i) + "', 1);";
+    }
+    EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr),
+              SQLITE_OK)
+        << sqlite3_errmsg(db);
+    sqlite3_close(db);
+    return path;
+  }
+
+  // model/: the drive's camera poses of every image, as the mapper would
+  // register them (no points).
+  std::string WriteModel(const SimulatedDrive& drive) const {
+    ColmapModel model;
+    model.cameras[1] = MakeColmapCamera(
+        1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
+    for (int i = 0; i < kImages; ++i) {
+      ColmapImage image;
+      image.image_id = static_cast<uint32_t>(i + 1);
+      image.camera_id = 1;
+      image.name = ImageName(i);
+      image.cam_from_world =
+          Inverse(drive.camera.poses[10 * i + 10].world_from_sensor);
+      model.images[image.image_id] = image;
+    }
+    fs::create_directories(dir_ / "model");
+    WriteColmapModel(model, Path("model"), ColmapFormat::kBinary);
+    return Path("model");
+  }
+
+  std::vector<std::string> RunCommand(
+      const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> arguments = {"run",
+                                          "--image_path",
+                                          Path("images"),
+                                          "--odometry",
+                                          Path("odometry.csv"),
+                                          "--image_timestamps",
+                                          Path("image_timestamps.csv"),
+                                          "--camera_model",
+                                          "PINHOLE",
+                                          "--camera_params",
+                                          "260,260,160,120",
+                                          "--matcher",
+                                          "sequential",
+                                          "--workspace_path",
+                                          Path("ws"),
+                                          "--num_threads",
+                                          "1"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return arguments;
+  }
+
+  fs::path dir_;
+};
+
+constexpr char kStraightMessage[] =
+    "no motion pair rotates by more than 2 deg (straight driving or no "
+    "motion): the rotation "
+    "and the x/y translation of the extrinsic cannot be determined; drive "
+    "turns in both "
+    "directions";
+
+// The user's straight drive: refused within seconds from the odometry, exit
+// 3, calibration.json with the solver's status, and COLMAP never called.
+TEST_F(Excitation, StraightDriveIsRefusedBeforeColmap) {
+  WriteDrive(/*straight=*/true);
+  const std::string path = WriteFakeColmap("exit 1\n");
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult run = RunOdomcal(RunCommand(), {{path}});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_LT(seconds, 10.0);
+  EXPECT_EQ(run.err, "");
+  EXPECT_FALSE(fs::exists(Path("colmap_calls.txt")))
+      << ReadFile(Path("colmap_calls.txt"));
+  for (const char* entry : {"database.db",
+                            "commands.txt",
+                            "logs",
+                            "stages",
+                            "sparse",
+                            "sparse_metric",
+                            "camera_in_odom.tum",
+                            "report.html",
+                            "calibration.yaml"}) {
+    EXPECT_FALSE(fs::exists(dir_ / "ws" / entry)) << entry;
+  }
+  EXPECT_NE(
+      run.out.find(
+          "excitation (odometry at the " + std::to_string(kImages) +
+          " image times): " + std::to_string(kImages - 1) +
+          " motion pairs, 0 left and 0 right turns above 2 deg: the "
+          "calibration cannot be determined (unobservable); no COLMAP stage "
+          "is run (--force runs them anyway)\n"),
+      std::string::npos)
+      << run.out;
+  const std::string message =
+      std::string(kStraightMessage) +
+      " (seen in the odometry at the image times, before COLMAP; "
+      "--force runs it anyway)";
+  EXPECT_NE(run.out.find("wrote " + Path("ws/calibration.json") +
+                         " (the status only)\n"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("odomcal run: not a calibration (unobservable): " +
+                         message + "\n"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(
+      run.out.find(
+          "  no estimate; undetermined: rotation translation_x translation_y "
+          "translation_z\n"),
+      std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("report:"), std::string::npos) << run.out;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "unobservable");
+  EXPECT_EQ(result["message"], message);
+  EXPECT_EQ(
+      result["unobservable"],
+      json::array(
+          {"rotation", "translation_x", "translation_y", "translation_z"}));
+  EXPECT_TRUE(result["odom_from_cam"].is_null());
+  EXPECT_TRUE(result["colmap"]["mapper_attempts"].empty());
+}
+
+// --force: COLMAP runs anyway (here it fails at once: exit 4).
+TEST_F(Excitation, ForceRunsColmapAnyway) {
+  WriteDrive(/*straight=*/true);
+  const std::string path =
+      WriteFakeColmap("echo 'no GPU, no luck' >&2\nexit 1\n");
+  const CommandResult run = RunOdomcal(RunCommand({"--force"}), {{path}});
+  EXPECT_NE(run.out.find(
+                "the calibration cannot be determined (unobservable); running "
+                "COLMAP anyway (--force)\n"),
+            std::string::npos)
+      << run.out;
+  EXPECT_EQ(
+      ReadFile(Path("colmap_calls.txt")).rfind("help\nfeature_extractor ", 0),
+      0u)
+      << ReadFile(Path("colmap_calls.txt"));
+  EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
+}
+
+// A COLMAP failure has its own exit code, 4 (2 is for bad arguments).
+TEST_F(Excitation, ColmapFailureExitsFour) {
+  WriteDrive(/*straight=*/false);
+  const std::string path =
+      WriteFakeColmap("echo 'no GPU, no luck' >&2\nexit 1\n");
+  const CommandResult run = RunOdomcal(RunCommand(), {{path}});
+  EXPECT_EQ(run.exit_code, 4) << run.out << run.err;
+  EXPECT_EQ(
+      run.err,
+      "odomcal run: error: COLMAP feature_extractor failed with exit code 1; "
+      "see " +
+          Path("ws/logs/feature_extractor.log") +
+          " (last line: no GPU, no luck)\n");
+  EXPECT_NE(run.out.find("turns above 2 deg: enough to calibrate\n"),
+            std::string::npos)
+      << run.out;
+  // COLMAP missing: exit 4 too.
+  const CommandResult missing =
+      RunOdomcal(RunCommand(), {{"PATH=" + Path("empty_bin")}});
+  EXPECT_EQ(missing.exit_code, 4) << missing.out << missing.err;
+  EXPECT_EQ(missing.err,
+            "odomcal run: error: COLMAP not found: 'colmap' is not an "
+            "executable on PATH "
+            "(install Debian's colmap package or pass --colmap_path)\n");
+}
+
+// `calibrate` refuses a straight drive: no number is printed.
+TEST_F(Excitation, RefusedCalibrationIsPrintedAsNotACalibration) {
+  WriteDrive(/*straight=*/true);
+  const CommandResult run = RunOdomcal({"calibrate",
+                                        "--camera_poses",
+                                        Path("camera.tum"),
+                                        "--odometry",
+                                        Path("odometry.csv"),
+                                        "--output",
+                                        Path("result.json")});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_EQ(
+      run.out.rfind("odomcal calibrate: not a calibration (unobservable): " +
+                        std::string(kStraightMessage) + "\n",
+                    0),
+      0u)
+      << run.out;
+  for (const char* number :
+       {"odom_from_cam (", "roll", "quaternion", " cm", "m/unit"}) {
+    EXPECT_EQ(run.out.find(number), std::string::npos) << number << "\n"
+                                                       << run.out;
+  }
+}
+
+// Circles of one size: the solver has a closed-form estimate but refuses
+// it; the summary labels it as not a calibration.
+TEST_F(Excitation, PartialEstimateIsLabelledNotACalibration) {
+  DriveSimulatorOptions options;
+  options.max_yaw_rate_radps = 0.0;
+  Trajectory odometry, camera;
+  odometry.planar = true;
+  const Rigid3d odom_from_cam = options.odom_from_cam;
+  double x = 0.0, y = 0.0, yaw = 0.0;
+  for (int k = 0; k <= 3000; ++k) {
+    const int64_t stamp = options.start_stamp_ns + k * 20000000LL;
+    const Rigid3d pose(YawRotation(yaw), Eigen::Vector3d(x, y, 0.0));
+    odometry.poses.push_back({stamp, pose});
+    if (k % 5 == 0) {
+      Rigid3d world_from_cam = pose * odom_from_cam;
+      world_from_cam.translation /= 0.37;
+      camera.poses.push_back({stamp, world_from_cam});
+    }
+    const double mid_yaw = yaw + 0.5 * 0.3 * 0.02;
+    x += 0.3 * 0.02 * std::cos(mid_yaw);
+    y += 0.3 * 0.02 * std::sin(mid_yaw);
+    yaw += 0.3 * 0.02;
+  }
+  WriteOdometryCsv(odometry, Path("odometry.csv"));
+  WriteTumTrajectory(camera, Path("camera.tum"));
+  const CommandResult run = RunOdomcal({"calibrate",
+                                        "--camera_poses",
+                                        Path("camera.tum"),
+                                        "--odometry",
+                                        Path("odometry.csv"),
+                                        "--output",
+                                        Path("result.json")});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_EQ(
+      run.out.rfind(
+          "odomcal calibrate: not a calibration (unobservable): the motion "
+          "does not determine: ",
+          0),
+      0u)
+      << run.out;
+  EXPECT_NE(
+      run.out.find(
+          "\n  undetermined: translation_z rotation translation_x "
+          "translation_y metric_scale\n  partial estimate, NOT a calibration "
+          "(do not use it; odom_from_cam, x_in_odom = odom_from_cam * "
+          "x_in_cam):\n"),
+      std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("\n  odom_from_cam ("), std::string::npos) << run.out;
+}
+
+// `colmap` on a reconstruction of the straight drive: no extrinsic, so no
+// metric model and no camera trajectory in metres; neither is written nor
+// listed (and an earlier run's are removed).
+TEST_F(Excitation, ColmapListsOnlyOutputsWithContent) {
+  const SimulatedDrive drive = WriteDrive(/*straight=*/true);
+  const std::string model = WriteModel(drive);
+  fs::create_directories(dir_ / "out" / "sparse_metric" / "0");
+  WriteFile(Path("out/camera_in_odom.tum"), "# an earlier run's\n");
+  WriteFile(Path("out/.odomcal_outputs"),
+            "sparse_metric\ncamera_in_odom.tum\n");
+  const CommandResult run = RunOdomcal({"colmap",
+                                        "--model_path",
+                                        model,
+                                        "--odometry",
+                                        Path("odometry.csv"),
+                                        "--image_timestamps",
+                                        Path("image_timestamps.csv"),
+                                        "--output_path",
+                                        Path("out"),
+                                        "--overwrite"});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(
+      run.out.find("  wrote " + Path("out") +
+                   "/{calibration.json, calibration.yaml, report.html}\n"),
+      std::string::npos)
+      << run.out;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "sparse_metric"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "camera_in_odom.tum"));
+}
+
+// `run --force` through a (fake) COLMAP that reconstructs the straight
+// drive: the stage lists what it wrote, without the empty outputs.
+TEST_F(Excitation, RunListsOnlyOutputsWithContent) {
+  const SimulatedDrive drive = WriteDrive(/*straight=*/true);
+  const std::string model = WriteModel(drive);
+  const std::string path = WriteFakeColmap(
+      "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
+      " \"$3\"; fi\n"
+      "if [ \"$1\" = mapper ]; then\n"
+      "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && out=\"$2\"; "
+      "shift; done\n"
+      "  mkdir -p \"$out/0\" && cp " +
+      model +
+      "/* \"$out/0/\"\n"
+      "fi\n"
+      "exit 0\n");
+  const CommandResult run = RunOdomcal(RunCommand({"--force"}), {{path}});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(run.out.find(" ... wrote calibration.json, calibration.yaml, "
+                         "sparse/, report.html ("),
+            std::string::npos)
+      << run.out;
+  EXPECT_TRUE(fs::exists(dir_ / "ws" / "sparse" / "0" / "images.bin"));
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "sparse_metric"));
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "camera_in_odom.tum"));
+  EXPECT_NE(run.out.find("odomcal run: not a calibration (unobservable): "),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("  report: " + Path("ws/report.html") + "\n"),
+            std::string::npos)
+      << run.out;
+}
+
+}  // namespace
+}  // namespace odomcal
