@@ -1,5 +1,5 @@
 // The calibration's outputs: result JSON (the public schema documented in
-// README.md, "Result JSON"), an OpenCV FileStorage YAML with the same core
+// docs/result_schema.md), an OpenCV FileStorage YAML with the same core
 // numbers, and the human summary printed by the CLI.
 #pragma once
 

@@ -1,5 +1,5 @@
-// Calibration flags shared by the commands that calibrate (calibrate, demo).
-// Flag names are public interface: keep them stable (README, "Flags").
+// Calibration flags shared by the commands that calibrate (calibrate, colmap,
+// run, demo). Flag names are public interface: keep them stable (docs/cli.md).
 #pragma once
 
 #include <string>
