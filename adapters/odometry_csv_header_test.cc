@@ -79,7 +79,8 @@ TEST(ParseOdometryCsvHeader, LengthAndAngleSuffixesGiveFactors) {
 }
 
 TEST(ParseOdometryCsvHeader, RefusesUnknownNamesAndSuffixes) {
-  const std::string accepted = std::string("; accepted: ") + kOdometryCsvHeaderGrammar;
+  const std::string accepted =
+      std::string("; accepted: ") + kOdometryCsvHeaderGrammar;
   EXPECT_EQ(ErrorOf({"time", "x", "y", "heading"}),
             "header column 'heading' is not an odometry column" + accepted);
   EXPECT_EQ(ErrorOf({"time", "x_km", "y", "yaw"}),
@@ -94,9 +95,11 @@ TEST(ParseOdometryCsvHeader, RefusesUnknownNamesAndSuffixes) {
 }
 
 TEST(ParseOdometryCsvHeader, RefusesDuplicateAndMissingColumns) {
-  const std::string accepted = std::string("; accepted: ") + kOdometryCsvHeaderGrammar;
+  const std::string accepted =
+      std::string("; accepted: ") + kOdometryCsvHeaderGrammar;
   EXPECT_EQ(ErrorOf({"time", "timestamp_ns", "x", "y"}),
-            "header names the time column twice ('time' and 'timestamp_ns')" + accepted);
+            "header names the time column twice ('time' and 'timestamp_ns')" +
+                accepted);
   EXPECT_EQ(ErrorOf({"time", "x", "x_cm", "yaw"}),
             "header names the x column twice ('x' and 'x_cm')" + accepted);
   EXPECT_EQ(ErrorOf({"time", "x", "y"}), "header has no yaw column" + accepted);

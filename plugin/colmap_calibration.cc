@@ -105,6 +105,20 @@ bool HasUsableExtrinsic(const CalibrationResult& result) {
 
 }  // namespace
 
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const std::string& command) {
+  ReportContext context;
+  context.command = command;
+  context.odometry_path = inputs.odometry_path;
+  context.camera_time_unit = inputs.image_timestamps_path.empty()
+                                 ? "from image file names"
+                                 : TimeUnitName(inputs.image_time_unit);
+  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  context.association_options = inputs.association;
+  context.calibration_options = inputs.calibration;
+  return context;
+}
+
 ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
                                             const std::string& command) {
   inputs.association.Check();
@@ -141,18 +155,11 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
     CheckImageTimesAreNotFrameNumbers(image_stamps_ns, inputs.model_path,
                                       timestamps.how_read());
   }
+  run.context = ProjectReportContext(inputs, command);
   ReportContext& context = run.context;
-  context.command = command;
   for (const ColmapSegment& segment : run.segments) {
     context.camera_paths.push_back(segment.model_path);
   }
-  context.odometry_path = inputs.odometry_path;
-  context.camera_time_unit = inputs.image_timestamps_path.empty()
-                                 ? "from image file names"
-                                 : TimeUnitName(inputs.image_time_unit);
-  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
-  context.association_options = inputs.association;
-  context.calibration_options = inputs.calibration;
   context.association =
       AssociateCameraWithOdometry(cameras, run.odometry, inputs.association);
   if (context.association.num_usable_camera_poses == 0) {

@@ -69,6 +69,11 @@ struct ColmapCalibrationRun {
   std::vector<std::string> written_outputs;
 };
 
+// The report's account of the inputs and options of a project calibration
+// (no camera paths, no association: the caller adds what it has).
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const std::string& command);
+
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).
 ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
                                             const std::string& command);

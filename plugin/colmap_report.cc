@@ -22,28 +22,6 @@ json Sim3ToJson(const Sim3d& sim3) {
            {sim3.translation.x(), sim3.translation.y(), sim3.translation.z()}}};
 }
 
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -364,10 +342,10 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
        << "li.warning{color:#a05a00}</style></head><body>\n"
        << "<h1>odomcal calibration report</h1>\n"
        << "<p class=\"status " << (result.IsSuccess() ? "success" : "failure")
-       << "\">" << Escape(ToString(result.status)) << ": "
-       << Escape(result.message) << "</p>\n"
+       << "\">" << EscapeMarkup(ToString(result.status)) << ": "
+       << EscapeMarkup(result.message) << "</p>\n"
        << "<h2>Estimate (3-sigma bounds)</h2>\n<pre>"
-       << Escape(CalibrationSummary(result, run.context)) << "</pre>\n"
+       << EscapeMarkup(CalibrationSummary(result, run.context)) << "</pre>\n"
        << "<p>odom_from_cam maps camera coordinates to odometry (robot base) "
           "coordinates; "
           "roll, pitch, yaw in degrees; x, y, z in cm; the bounds are three "
@@ -380,7 +358,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
   html << "<h2>Warnings</h2>\n<ul>";
   if (result.warnings.empty()) html << "<li>none</li>";
   for (const std::string& warning : result.warnings) {
-    html << "<li class=\"warning\">" << Escape(warning) << "</li>";
+    html << "<li class=\"warning\">" << EscapeMarkup(warning) << "</li>";
   }
   html << "</ul>\n<h2>Trajectories</h2>\n"
        << figure_html(top,
@@ -437,7 +415,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
                   "calibration.");
   html << "<h2>COLMAP sub-models</h2>\n<ul>";
   for (const ColmapSegment& segment : run.segments) {
-    html << "<li>" << Escape(segment.model_path) << ": "
+    html << "<li>" << EscapeMarkup(segment.model_path) << ": "
          << segment.num_registered_images << " registered images</li>";
   }
   html << "</ul>\n";
@@ -461,7 +439,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
       html << "<tr><td>" << attempt.matching_round << "</td><td>"
            << attempt.random_seed << "</td><td>" << attempt.num_sub_models
            << "</td><td>" << attempt.num_registered_images << "</td><td>"
-           << (attempt.produced_model ? Escape(ToString(attempt.status))
+           << (attempt.produced_model ? EscapeMarkup(ToString(attempt.status))
                                       : "no model")
            << "</td><td>" << attempt.num_pairs_used << " of "
            << attempt.num_pairs << "</td><td>"

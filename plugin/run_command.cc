@@ -376,16 +376,8 @@ ColmapCalibrationRun RefuseBeforeColmap(const ExcitationPrecheck& precheck,
   refused.check.result.message +=
       " (seen in the odometry at the image times, before COLMAP; --force runs "
       "it anyway)";
-  ReportContext& context = refused.context;
-  context.command = command;
-  context.odometry_path = inputs.odometry_path;
-  context.camera_time_unit = inputs.image_timestamps_path.empty()
-                                 ? "from image file names"
-                                 : TimeUnitName(inputs.image_time_unit);
-  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
-  context.association_options = inputs.association;
-  context.association = precheck.association;
-  context.calibration_options = inputs.calibration;
+  refused.context = ProjectReportContext(inputs, command);
+  refused.context.association = precheck.association;
   for (const std::string& entry : ColmapCalibrationOutputEntries()) {
     if (entry != "calibration.json") RemoveOwnedOutput(workspace, entry);
   }

@@ -22,22 +22,8 @@
 #include <utility>
 
 namespace odomcal {
-namespace {
 
-constexpr double kMarginLeft = 62.0;
-constexpr double kMarginRight = 14.0;
-constexpr double kMarginTop = 28.0;
-constexpr double kMarginBottom = 44.0;
-constexpr double kFigureTitleHeight = 30.0;
-constexpr double kLegendRowHeight = 20.0;
-constexpr double kLegendFontPx = 12.0;
-constexpr double kLegendLeft = 20.0;
-constexpr double kSwatchWidth = 26.0;
-constexpr double kSwatchGap = 6.0;  // swatch to its label
-constexpr double kEntryGap = 22.0;  // label to the next swatch
-constexpr int kTargetTicks = 6;
-
-std::string Escape(const std::string& text) {
+std::string EscapeMarkup(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
@@ -59,6 +45,21 @@ std::string Escape(const std::string& text) {
   }
   return out;
 }
+
+namespace {
+
+constexpr double kMarginLeft = 62.0;
+constexpr double kMarginRight = 14.0;
+constexpr double kMarginTop = 28.0;
+constexpr double kMarginBottom = 44.0;
+constexpr double kFigureTitleHeight = 30.0;
+constexpr double kLegendRowHeight = 20.0;
+constexpr double kLegendFontPx = 12.0;
+constexpr double kLegendLeft = 20.0;
+constexpr double kSwatchWidth = 26.0;
+constexpr double kSwatchGap = 6.0;  // swatch to its label
+constexpr double kEntryGap = 22.0;  // label to the next swatch
+constexpr int kTargetTicks = 6;
 
 std::string Number(double value) {
   char buffer[32];
@@ -249,7 +250,7 @@ void RenderPanel(const PlotPanel& panel,
   *svg << "<g>\n";
   *svg << "<text x=\"" << Number(left + plot_width / 2) << "\" y=\""
        << Number(y0 + 18) << "\" text-anchor=\"middle\" font-size=\"13\" "
-       << "font-weight=\"bold\">" << Escape(panel.title) << "</text>\n";
+       << "font-weight=\"bold\">" << EscapeMarkup(panel.title) << "</text>\n";
   *svg << "<rect x=\"" << Number(left) << "\" y=\"" << Number(top)
        << "\" width=\"" << Number(plot_width) << "\" height=\""
        << Number(plot_height) << "\" fill=\"none\" stroke=\"#333\"/>\n";
@@ -280,13 +281,13 @@ void RenderPanel(const PlotPanel& panel,
   }
   *svg << "<text x=\"" << Number(left + plot_width / 2) << "\" y=\""
        << Number(y0 + height - 8) << "\" text-anchor=\"middle\" "
-       << "font-size=\"12\">" << Escape(panel.x_label) << "</text>\n";
+       << "font-size=\"12\">" << EscapeMarkup(panel.x_label) << "</text>\n";
   const double label_x = x0 + 14;
   const double label_y = top + plot_height / 2;
   *svg << "<text x=\"" << Number(label_x) << "\" y=\"" << Number(label_y)
        << "\" text-anchor=\"middle\" font-size=\"12\" transform=\"rotate(-90 "
        << Number(label_x) << " " << Number(label_y) << ")\">"
-       << Escape(panel.y_label + (log_y ? " (log)" : "")) << "</text>\n";
+       << EscapeMarkup(panel.y_label + (log_y ? " (log)" : "")) << "</text>\n";
 
   for (size_t s = 0; s < panel.series.size(); ++s) {
     const PlotSeries& series = panel.series[s];
@@ -457,7 +458,7 @@ std::string RenderSvg(const PlotFigure& figure) {
   if (!figure.title.empty()) {
     svg << "<text x=\"" << Number(width / 2)
         << "\" y=\"20\" text-anchor=\"middle\" font-size=\"15\" "
-        << "font-weight=\"bold\">" << Escape(figure.title) << "</text>\n";
+        << "font-weight=\"bold\">" << EscapeMarkup(figure.title) << "</text>\n";
   }
   for (int p = 0; p < num_panels; ++p) {
     RenderPanel(figure.panels[p],
@@ -475,7 +476,7 @@ std::string RenderSvg(const PlotFigure& figure) {
       svg << "<text class=\"legend-title\" x=\"" << Number(kLegendLeft)
           << "\" y=\"" << Number(legend_top + 12.0) << "\" font-size=\""
           << Number(kLegendFontPx) << "\" font-weight=\"bold\">"
-          << Escape(figure.legend_title) << "</text>\n";
+          << EscapeMarkup(figure.legend_title) << "</text>\n";
     }
     for (size_t k = 0; k < labels.size(); ++k) {
       const PlotSeries& series = *legend_series[k];
@@ -500,7 +501,7 @@ std::string RenderSvg(const PlotFigure& figure) {
       svg << "<text class=\"legend-label\" x=\""
           << Number(x + kSwatchWidth + kSwatchGap) << "\" y=\"" << Number(y)
           << "\" font-size=\"" << Number(kLegendFontPx) << "\">"
-          << Escape(labels[k]) << "</text>\n</g>\n";
+          << EscapeMarkup(labels[k]) << "</text>\n</g>\n";
     }
   }
   svg << "</svg>\n";

@@ -60,6 +60,10 @@ struct PlotFigure {
 // The SVG document.
 std::string RenderSvg(const PlotFigure& figure);
 
+// `text` with & < > " written as entities, for SVG and HTML text and
+// attribute values.
+std::string EscapeMarkup(const std::string& text);
+
 // A qualitative palette, repeating after 10 colours.
 std::string DefaultSeriesColor(int index);
 
