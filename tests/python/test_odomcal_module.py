@@ -52,6 +52,12 @@ def yaw_matrix(yaw):
     return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
+def with_value(array, row, col, value):
+    changed = array.copy()
+    changed[row, col] = value
+    return changed
+
+
 def rotation_error_deg(r_a, r_b):
     e = r_a.T @ r_b
     sine = np.linalg.norm([e[2, 1] - e[1, 2], e[0, 2] - e[2, 0], e[1, 0] - e[0, 1]]) / 2
@@ -189,6 +195,21 @@ class CalibrateTest(unittest.TestCase):
             (dict(camera_poses=np.vstack([camera[:3], camera[1:2]]), odometry=odometry),
              "camera_poses row 3: time not increasing (100.100000000 s after "
              "100.200000000 s in row 2)"),
+            (dict(camera_poses=camera[:0], odometry=odometry),
+             "camera_poses: the array has no rows"),
+            (dict(camera_poses=[], odometry=odometry), "camera_poses: the list is empty"),
+            (dict(camera_poses=camera, odometry=with_value(odometry, 4, 3, np.nan)),
+             "odometry row 4: column 'yaw' is not finite (NaN or Inf)"),
+            (dict(camera_poses=camera, odometry=with_value(odometry, 7, 3, 45.0)),
+             "odometry row 7: yaw jumps from %.6g to 45 rad, more than pi and not a 2 pi "
+             "wrap (yaw must be in radians)" % odometry[6, 3]),
+            (dict(camera_poses=with_value(camera, 0, 0, 1.7e18), odometry=odometry),
+             "camera_poses row 0: time 1.7e+18 s is beyond the int64 nanosecond range "
+             "(about 292 years); check the time unit"),
+            (dict(camera_poses=with_value(camera, 2, slice(4, 8), [0, 0, 0.3, 0.4]),
+                  odometry=odometry),
+             "camera_poses row 2: quaternion (qx qy qz qw) has norm 0.5, more than 0.01 "
+             "away from 1"),
             (dict(camera_poses=camera, odometry="/nonexistent/odometry.csv"),
              "/nonexistent/odometry.csv: cannot open for reading: No such file or directory"),
         ]
@@ -197,10 +218,20 @@ class CalibrateTest(unittest.TestCase):
                 with self.assertRaises(ValueError) as raised:
                     odomcal.calibrate(**arguments)
                 self.assertEqual(str(raised.exception), message)
-        with self.assertRaises(TypeError) as raised:
-            odomcal.calibrate(camera_poses=camera.tolist(), odometry=odometry)
-        self.assertEqual(str(raised.exception),
-                         "camera_poses[0]: expected a file path or a numpy array, got list")
+        type_cases = [
+            (dict(camera_poses=camera.tolist(), odometry=odometry),
+             "camera_poses[0]: expected a file path or a numpy array, got list"),
+            (dict(camera_poses=camera.astype(str), odometry=odometry),
+             "camera_poses: expected an array of real numbers, got dtype %s" %
+             camera.astype(str).dtype),
+            (dict(camera_poses=camera, odometry=odometry, ransac=["on"]),
+             "ransac takes a number or a string, got list"),
+        ]
+        for arguments, message in type_cases:
+            with self.subTest(message=message):
+                with self.assertRaises(TypeError) as raised:
+                    odomcal.calibrate(**arguments)
+                self.assertEqual(str(raised.exception), message)
 
     def test_version(self):
         self.assertRegex(odomcal.__version__, r"^\d+\.\d+\.\d+$")
