@@ -6,8 +6,8 @@
 #include "odomcal/solver/rigid3.h"
 
 #include <cmath>
-#include <cstdio>
-#include <limits>
+#include <optional>
+#include <string>
 
 namespace odomcal {
 namespace {
