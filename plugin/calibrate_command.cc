@@ -28,13 +28,24 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
                                            inputs.odometry_format,
                                            inputs.odometry_time_unit,
                                            inputs.odometry_time_unit_given);
+  return CalibrateTrajectories(cameras, odometry, inputs, command);
+}
+
+CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
+                                     const Trajectory& odometry,
+                                     const CalibrateInputs& inputs,
+                                     const std::string& command) {
+  inputs.association.Check();
+  inputs.calibration.Check();
   CheckOdometrySpeed(odometry);
 
   CalibrationRun run;
   ReportContext& context = run.context;
   context.command = command;
-  context.camera_paths = inputs.camera_paths;
-  context.odometry_path = inputs.odometry_path;
+  for (const Trajectory& camera : cameras) {
+    context.camera_paths.push_back(camera.source);
+  }
+  context.odometry_path = odometry.source;
   context.camera_time_unit = TimeUnitName(inputs.camera_time_unit);
   context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
   context.association_options = inputs.association;

@@ -37,6 +37,15 @@ struct CalibrationRun {
 CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
                                       const std::string& command);
 
+// The pipeline after reading: checks, association, calibration and warnings,
+// on trajectories read or built elsewhere (the Python module's arrays).
+// Uses inputs' options and time units, not its paths: the report names each
+// trajectory by its `source`. Throws like RunCalibrationPipeline.
+CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
+                                     const Trajectory& odometry,
+                                     const CalibrateInputs& inputs,
+                                     const std::string& command);
+
 // Checks <output>.json and the <output>.yaml beside it before any work: apart
 // from the inputs and from each other (output_guard.h), and replaceable
 // (CheckOutputPath). Throws OutputError.

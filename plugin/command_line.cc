@@ -241,14 +241,13 @@ CLI::Validator InRange(double min, double max) {
       limits);  // --help: "--threads INT:[1, 256]=2"
 }
 
-std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv) {
+std::string FlagError(CLI::App* app, int argc, const char* const* argv) {
   app->allow_extras();
   std::string error;
   try {
     app->parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
-    std::cout << app->help();
-    return kExitSuccess;
+    throw;
   } catch (const CLI::ConversionError& parse_error) {
     error = ConversionMessage(*app, parse_error);
   } catch (const CLI::ArgumentMismatch& parse_error) {
@@ -261,7 +260,17 @@ std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv) {
   // Also after a parse error: CLI11 collects unknown arguments before it
   // checks values and required flags.
   const std::string left_over = LeftOverError(*app);
-  if (!left_over.empty()) error = left_over;
+  return left_over.empty() ? error : left_over;
+}
+
+std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv) {
+  std::string error;
+  try {
+    error = FlagError(app, argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app->help();
+    return kExitSuccess;
+  }
   if (error.empty()) return std::nullopt;
   std::cerr << app->get_name() << ": error: " << error << "\n";
   return kExitBadInput;

@@ -29,6 +29,12 @@ constexpr int kExitColmapFailed = 4;  // COLMAP missing, failed or gave no model
 // may just be the misspelt one), with the nearest valid flag.
 std::optional<int> ParseFlags(CLI::App* app, int argc, char** argv);
 
+// ParseFlags without printing: the error line's <what> (e.g. "unknown flag
+// --output_path (did you mean --output?)"), or "" when argv parsed. --help
+// throws CLI::CallForHelp. For callers that report errors their own way
+// (the Python module raises them).
+std::string FlagError(CLI::App* app, int argc, const char* const* argv);
+
 // Runs `body` and returns its exit code; FormatError, OutputError,
 // std::invalid_argument and other std::runtime_errors (the library's ways of
 // rejecting input) become one line "odomcal <command>: error: <what>" and

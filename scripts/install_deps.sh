@@ -9,6 +9,7 @@ PACKAGES=(
   libceres-dev libeigen3-dev libopencv-dev libsqlite3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev
+  python3-dev python3-numpy pybind11-dev  # the Python module (docs/python.md)
   clang libclang-rt-14-dev  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
 )
 
