@@ -7,10 +7,10 @@
 // with a clear error).
 #pragma once
 
+#include <Eigen/Core>
+
 #include <map>
 #include <string>
-
-#include <Eigen/Core>
 
 namespace odomcal {
 

@@ -1,11 +1,11 @@
 #include "odomcal/adapters/colmap_database_priors.h"
 
-#include <filesystem>
+#include "odomcal/adapters/format_error.h"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
-#include "odomcal/adapters/format_error.h"
+#include <filesystem>
 
 namespace odomcal {
 namespace {
@@ -30,7 +30,8 @@ std::string MakeDatabase(const std::string& schema) {
   fs::remove(path);
   sqlite3* db = nullptr;
   EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  EXPECT_EQ(sqlite3_exec(db, schema.c_str(), nullptr, nullptr, nullptr), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(db, schema.c_str(), nullptr, nullptr, nullptr),
+            SQLITE_OK);
   sqlite3_close(db);
   return path.string();
 }
@@ -38,8 +39,9 @@ std::string MakeDatabase(const std::string& schema) {
 TEST(WriteColmapDatabasePositionPriors, SetsPriorsByImageName) {
   const std::string path = MakeDatabase(kImages38);
   const int updated = WriteColmapDatabasePositionPriors(
-      path, {{"a/2.png", Eigen::Vector3d(1.5, -2.0, 0.0)},
-             {"missing.png", Eigen::Vector3d(9, 9, 9)}});
+      path,
+      {{"a/2.png", Eigen::Vector3d(1.5, -2.0, 0.0)},
+       {"missing.png", Eigen::Vector3d(9, 9, 9)}});
   EXPECT_EQ(updated, 1);
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
@@ -47,7 +49,9 @@ TEST(WriteColmapDatabasePositionPriors, SetsPriorsByImageName) {
   ASSERT_EQ(sqlite3_prepare_v2(db,
                                "SELECT image_id, prior_tx, prior_ty, prior_tz "
                                "FROM images WHERE name = 'a/2.png'",
-                               -1, &statement, nullptr),
+                               -1,
+                               &statement,
+                               nullptr),
             SQLITE_OK);
   ASSERT_EQ(sqlite3_step(statement), SQLITE_ROW);
   EXPECT_EQ(sqlite3_column_int(statement, 0), 2);

@@ -1,7 +1,7 @@
 #include "odomcal/adapters/colmap_database.h"
-#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/test_support.h"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>

@@ -16,7 +16,8 @@ ColmapModel ColmapModelSubset(const ColmapModel& model,
     ColmapPoint3D kept = point;
     kept.track.clear();
     for (const ColmapTrackElement& element : point.track) {
-      if (subset.images.count(element.image_id) != 0) kept.track.push_back(element);
+      if (subset.images.count(element.image_id) != 0)
+        kept.track.push_back(element);
     }
     if (static_cast<int>(kept.track.size()) >= min_track_length) {
       subset.points3D.emplace(id, std::move(kept));
@@ -24,7 +25,8 @@ ColmapModel ColmapModelSubset(const ColmapModel& model,
   }
   for (auto& [id, image] : subset.images) {
     for (ColmapPoint2D& point : image.points2D) {
-      if (point.point3D_id != kColmapNoPoint3D && subset.points3D.count(point.point3D_id) == 0) {
+      if (point.point3D_id != kColmapNoPoint3D &&
+          subset.points3D.count(point.point3D_id) == 0) {
         point.point3D_id = kColmapNoPoint3D;
       }
     }

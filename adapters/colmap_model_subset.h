@@ -3,10 +3,10 @@
 // stretch, a part at another scale) must not be carried along.
 #pragma once
 
+#include "odomcal/adapters/colmap_model.h"
+
 #include <cstdint>
 #include <set>
-
-#include "odomcal/adapters/colmap_model.h"
 
 namespace odomcal {
 

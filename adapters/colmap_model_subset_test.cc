@@ -9,8 +9,10 @@ namespace {
 // images 2 and 3, point 12 by images 1 and 2.
 ColmapModel ThreeImageModel() {
   ColmapModel model;
-  model.cameras[1] = {1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120}};
-  model.cameras[2] = {2, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120}};
+  model.cameras[1] = {
+      1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120}};
+  model.cameras[2] = {
+      2, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120}};
   for (uint32_t id = 1; id <= 3; ++id) {
     ColmapImage image;
     image.image_id = id;
@@ -37,7 +39,7 @@ ColmapModel ThreeImageModel() {
 TEST(ColmapModelSubset, KeepsImagesTheirCamerasAndPointsTheyStillTriangulate) {
   const ColmapModel subset = ColmapModelSubset(ThreeImageModel(), {1, 2, 99});
   ASSERT_EQ(subset.images.size(), 2u);
-  EXPECT_EQ(subset.cameras.size(), 1u);  // camera 2 only served image 3
+  EXPECT_EQ(subset.cameras.size(), 1u);   // camera 2 only served image 3
   ASSERT_EQ(subset.points3D.size(), 2u);  // 11 keeps one observation: dropped
   EXPECT_EQ(subset.points3D.at(10).track.size(), 2u);
   EXPECT_EQ(subset.points3D.count(11), 0u);
@@ -46,7 +48,9 @@ TEST(ColmapModelSubset, KeepsImagesTheirCamerasAndPointsTheyStillTriangulate) {
   // Every remaining link goes both ways.
   for (const auto& [id, point] : subset.points3D) {
     for (const ColmapTrackElement& element : point.track) {
-      EXPECT_EQ(subset.images.at(element.image_id).points2D.at(element.point2D_idx).point3D_id,
+      EXPECT_EQ(subset.images.at(element.image_id)
+                    .points2D.at(element.point2D_idx)
+                    .point3D_id,
                 id);
     }
   }

@@ -1,7 +1,7 @@
 #include "odomcal/adapters/colmap_model.h"
-#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -64,10 +64,14 @@ Rigid3d Pose(double qw,
 // without points2D.
 ColmapModel MakeModel() {
   ColmapModel model;
-  model.cameras[1] = MakeColmapCamera(1, ColmapCameraModel::kPinhole, 640, 480,
-                                      {500.25, 501.5, 320.1, 239.9});
-  model.cameras[7] = MakeColmapCamera(7, ColmapCameraModel::kOpenCV, 1280, 720,
-                                      {900.0, 901.0, 640.5, 360.5, -0.1, 0.01, 1e-4, -2e-5});
+  model.cameras[1] = MakeColmapCamera(
+      1, ColmapCameraModel::kPinhole, 640, 480, {500.25, 501.5, 320.1, 239.9});
+  model.cameras[7] =
+      MakeColmapCamera(7,
+                       ColmapCameraModel::kOpenCV,
+                       1280,
+                       720,
+                       {900.0, 901.0, 640.5, 360.5, -0.1, 0.01, 1e-4, -2e-5});
 
   ColmapImage a;
   a.image_id = 3;

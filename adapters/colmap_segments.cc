@@ -154,7 +154,8 @@ std::vector<ColmapSegment> ReadColmapSegments(
   return segments;
 }
 
-std::vector<DuplicateSegment> RemoveDuplicateSegments(std::vector<ColmapSegment>* segments) {
+std::vector<DuplicateSegment> RemoveDuplicateSegments(
+    std::vector<ColmapSegment>* segments) {
   std::vector<std::set<std::string>> names;
   for (const ColmapSegment& segment : *segments) {
     names.emplace_back(segment.image_names.begin(), segment.image_names.end());
@@ -167,14 +168,17 @@ std::vector<DuplicateSegment> RemoveDuplicateSegments(std::vector<ColmapSegment>
       const bool larger = names[other].size() > names[k].size() ||
                           (names[other].size() == names[k].size() && other < k);
       if (other != k && larger &&
-          std::includes(names[other].begin(), names[other].end(), names[k].begin(),
+          std::includes(names[other].begin(),
+                        names[other].end(),
+                        names[k].begin(),
                         names[k].end())) {
         holder[k] = static_cast<int>(other);
       }
     }
   }
   std::vector<std::string> sub_models;
-  for (const ColmapSegment& segment : *segments) sub_models.push_back(segment.sub_model);
+  for (const ColmapSegment& segment : *segments)
+    sub_models.push_back(segment.sub_model);
   std::vector<DuplicateSegment> duplicates;
   std::vector<ColmapSegment> kept;
   for (size_t k = 0; k < segments->size(); ++k) {

@@ -89,6 +89,7 @@ struct DuplicateSegment {
 // Moves out of `segments` every non-empty segment whose image names are all
 // in one segment with more images (of equal ones, the later is moved out),
 // keeping the order of the others.
-std::vector<DuplicateSegment> RemoveDuplicateSegments(std::vector<ColmapSegment>* segments);
+std::vector<DuplicateSegment> RemoveDuplicateSegments(
+    std::vector<ColmapSegment>* segments);
 
 }  // namespace odomcal

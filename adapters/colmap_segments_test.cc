@@ -1,8 +1,8 @@
 #include "odomcal/adapters/colmap_segments.h"
-#include "odomcal/adapters/test_support.h"
 
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/test_support.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <gtest/gtest.h>
@@ -39,7 +39,8 @@ Rigid3d PoseNumber(int k) {
 ColmapModel MakeModel(
     const std::vector<std::tuple<uint32_t, std::string, Rigid3d>>& images) {
   ColmapModel model;
-  model.cameras[1] = MakeColmapCamera(1, ColmapCameraModel::kSimplePinhole, 64, 48, {50, 32, 24});
+  model.cameras[1] = MakeColmapCamera(
+      1, ColmapCameraModel::kSimplePinhole, 64, 48, {50, 32, 24});
   for (const auto& [id, name, pose] : images) {
     ColmapImage image;
     image.image_id = id;
@@ -206,7 +207,8 @@ TEST(ReadColmapSegments, EqualStampsInOneSegmentAreRefused) {
       << error;
 }
 
-ColmapSegment SegmentOf(const std::string& sub_model, const std::vector<int>& images) {
+ColmapSegment SegmentOf(const std::string& sub_model,
+                        const std::vector<int>& images) {
   ColmapSegment segment;
   segment.sub_model = sub_model;
   for (const int k : images) segment.image_names.push_back(Name(k));
@@ -216,17 +218,20 @@ ColmapSegment SegmentOf(const std::string& sub_model, const std::vector<int>& im
 
 std::vector<std::string> SubModels(const std::vector<ColmapSegment>& segments) {
   std::vector<std::string> names;
-  for (const ColmapSegment& segment : segments) names.push_back(segment.sub_model);
+  for (const ColmapSegment& segment : segments)
+    names.push_back(segment.sub_model);
   return names;
 }
 
 TEST(RemoveDuplicateSegments, MovesOutSubModelsALargerOneHoldsWhole) {
   // As COLMAP left the small preset: sub-model 0 a second copy of images
   // 6-9, which sub-model 1 holds among others; 2 shares only image 9.
-  std::vector<ColmapSegment> segments = {SegmentOf("0", {6, 7, 8, 9}),
-                                         SegmentOf("1", {1, 2, 3, 4, 5, 6, 7, 8, 9}),
-                                         SegmentOf("2", {9, 10, 11})};
-  const std::vector<DuplicateSegment> duplicates = RemoveDuplicateSegments(&segments);
+  std::vector<ColmapSegment> segments = {
+      SegmentOf("0", {6, 7, 8, 9}),
+      SegmentOf("1", {1, 2, 3, 4, 5, 6, 7, 8, 9}),
+      SegmentOf("2", {9, 10, 11})};
+  const std::vector<DuplicateSegment> duplicates =
+      RemoveDuplicateSegments(&segments);
   EXPECT_EQ(SubModels(segments), (std::vector<std::string>{"1", "2"}));
   ASSERT_EQ(duplicates.size(), 1u);
   EXPECT_EQ(duplicates[0].segment.sub_model, "0");
@@ -235,10 +240,13 @@ TEST(RemoveDuplicateSegments, MovesOutSubModelsALargerOneHoldsWhole) {
 }
 
 TEST(RemoveDuplicateSegments, KeepsTheFirstOfEqualsAndFollowsChains) {
-  std::vector<ColmapSegment> segments = {SegmentOf("0", {1, 2}), SegmentOf("1", {1, 2, 3}),
-                                         SegmentOf("2", {1, 2, 3}), SegmentOf("3", {}),
+  std::vector<ColmapSegment> segments = {SegmentOf("0", {1, 2}),
+                                         SegmentOf("1", {1, 2, 3}),
+                                         SegmentOf("2", {1, 2, 3}),
+                                         SegmentOf("3", {}),
                                          SegmentOf("4", {1, 2, 3, 4})};
-  const std::vector<DuplicateSegment> duplicates = RemoveDuplicateSegments(&segments);
+  const std::vector<DuplicateSegment> duplicates =
+      RemoveDuplicateSegments(&segments);
   // An empty segment duplicates nothing: it stays.
   EXPECT_EQ(SubModels(segments), (std::vector<std::string>{"3", "4"}));
   ASSERT_EQ(duplicates.size(), 3u);
@@ -246,13 +254,15 @@ TEST(RemoveDuplicateSegments, KeepsTheFirstOfEqualsAndFollowsChains) {
     EXPECT_EQ(duplicate.duplicate_of, "4") << duplicate.segment.sub_model;
   }
 
-  std::vector<ColmapSegment> equal = {SegmentOf("0", {1, 2}), SegmentOf("1", {1, 2})};
+  std::vector<ColmapSegment> equal = {SegmentOf("0", {1, 2}),
+                                      SegmentOf("1", {1, 2})};
   const std::vector<DuplicateSegment> second = RemoveDuplicateSegments(&equal);
   EXPECT_EQ(SubModels(equal), (std::vector<std::string>{"0"}));
   ASSERT_EQ(second.size(), 1u);
   EXPECT_EQ(second[0].duplicate_of, "0");
 
-  std::vector<ColmapSegment> disjoint = {SegmentOf("0", {1, 2}), SegmentOf("1", {3, 4})};
+  std::vector<ColmapSegment> disjoint = {SegmentOf("0", {1, 2}),
+                                         SegmentOf("1", {3, 4})};
   EXPECT_TRUE(RemoveDuplicateSegments(&disjoint).empty());
   EXPECT_EQ(disjoint.size(), 2u);
 }

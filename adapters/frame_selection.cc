@@ -1,11 +1,11 @@
 #include "odomcal/adapters/frame_selection.h"
 
+#include "odomcal/adapters/association.h"
+#include "odomcal/solver/format_number.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include "odomcal/adapters/association.h"
-#include "odomcal/solver/format_number.h"
 
 namespace odomcal {
 
@@ -28,7 +28,8 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
                             const Trajectory& odometry,
                             const FrameSelectionOptions& options) {
   options.Check();
-  std::stable_sort(images.begin(), images.end(),
+  std::stable_sort(images.begin(),
+                   images.end(),
                    [](const TimedImage& a, const TimedImage& b) {
                      return a.stamp_ns < b.stamp_ns;
                    });
@@ -39,9 +40,11 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
   Rigid3d last;
   for (const TimedImage& image : images) {
     InterpolationFailure why;
-    const auto pose = InterpolateOdometry(
-        odometry, image.stamp_ns + options.camera_time_offset_ns,
-        options.max_odometry_gap_s, &why);
+    const auto pose =
+        InterpolateOdometry(odometry,
+                            image.stamp_ns + options.camera_time_offset_ns,
+                            options.max_odometry_gap_s,
+                            &why);
     if (!pose) {
       ++selection.num_outside_odometry;
       continue;
@@ -49,7 +52,8 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
     if (have_last) {
       const Rigid3d motion = Inverse(last) * *pose;
       if (motion.translation.norm() < options.min_translation_m &&
-          RotationAngle(motion.rotation) < options.min_rotation_deg * kDegToRad) {
+          RotationAngle(motion.rotation) <
+              options.min_rotation_deg * kDegToRad) {
         ++selection.num_dropped_still_or_close;
         continue;
       }

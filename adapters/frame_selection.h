@@ -5,11 +5,11 @@
 // outside its span, or in a gap) cannot be calibrated and are dropped too.
 #pragma once
 
+#include "odomcal/adapters/trajectory.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include "odomcal/adapters/trajectory.h"
 
 namespace odomcal {
 

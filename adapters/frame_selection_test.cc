@@ -29,18 +29,21 @@ TEST(SelectFrames, DropsStandingStillAndOutsideTheOdometry) {
   FrameSelectionOptions options;
   options.min_translation_m = 0.15;
   options.min_rotation_deg = 10.0;
-  const FrameSelection selection = SelectFrames(images, MakeOdometry(), options);
+  const FrameSelection selection =
+      SelectFrames(images, MakeOdometry(), options);
   EXPECT_EQ(selection.num_images, 61);
   EXPECT_EQ(selection.num_outside_odometry, 10);
   // Driving 2 m: one image per 0.2 m (the 0.1 m step of 5 Hz frames is too
   // short); turning 1.5 rad: one per 0.2 rad; none while standing.
   int kept_while_still = 0;
   for (const TimedImage& image : selection.kept) {
-    kept_while_still += image.stamp_ns > 4200000000LL && image.stamp_ns < 7000000000LL;
+    kept_while_still +=
+        image.stamp_ns > 4200000000LL && image.stamp_ns < 7000000000LL;
   }
   EXPECT_EQ(kept_while_still, 0);
   EXPECT_EQ(selection.num_images,
-            static_cast<int>(selection.kept.size()) + selection.num_outside_odometry +
+            static_cast<int>(selection.kept.size()) +
+                selection.num_outside_odometry +
                 selection.num_dropped_still_or_close);
   for (size_t i = 1; i < selection.kept.size(); ++i) {
     EXPECT_LT(selection.kept[i - 1].stamp_ns, selection.kept[i].stamp_ns);
@@ -52,7 +55,8 @@ TEST(SelectFrames, DropsStandingStillAndOutsideTheOdometry) {
 TEST(SelectFrames, RejectsBadThresholds) {
   FrameSelectionOptions options;
   options.min_translation_m = -1.0;
-  EXPECT_THROW(SelectFrames({}, MakeOdometry(), options), std::invalid_argument);
+  EXPECT_THROW(SelectFrames({}, MakeOdometry(), options),
+               std::invalid_argument);
   options = FrameSelectionOptions();
   options.max_odometry_gap_s = 0.0;
   try {

@@ -1,16 +1,16 @@
 // Helpers shared by the adapters' unit tests and tests/ (not installed).
 #pragma once
 
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/format_error.h"
+
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <gtest/gtest.h>
-
-#include "odomcal/adapters/colmap_model.h"
-#include "odomcal/adapters/format_error.h"
 
 namespace odomcal {
 

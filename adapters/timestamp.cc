@@ -112,9 +112,10 @@ std::optional<int64_t> ParseTimestampNs(std::string_view text,
   // seconds) was declared wrongly, which rounding would hide.
   if (unit == TimeUnit::kNanoseconds &&
       fraction_digits.find_first_not_of('0') != std::string_view::npos) {
-    Fail(error, "timestamp " + quoted +
-                    " has a fractional part but the time unit is ns; pass "
-                    "the time unit flag");
+    Fail(error,
+         "timestamp " + quoted +
+             " has a fractional part but the time unit is ns; pass "
+             "the time unit flag");
     return std::nullopt;
   }
   if (pos < text.size() && (text[pos] == 'e' || text[pos] == 'E') &&

@@ -1,4 +1,5 @@
 #include "odomcal/adapters/timestamp.h"
+
 #include "odomcal/adapters/test_support.h"
 
 #include <gtest/gtest.h>
@@ -91,8 +92,8 @@ TEST(ParseTimestampNs, RoundsExtraFractionDigitsHalfAwayFromZero) {
 
 // Seconds read as nanoseconds would otherwise round to duplicates.
 TEST(ParseTimestampNs, RejectsFractionalNanoseconds) {
-  EXPECT_TRUE(Contains(ErrorOf("1700000000.1", TimeUnit::kNanoseconds),
-                       "time unit"));
+  EXPECT_TRUE(
+      Contains(ErrorOf("1700000000.1", TimeUnit::kNanoseconds), "time unit"));
   EXPECT_EQ(ParseOrFail("42.000", TimeUnit::kNanoseconds), 42);
 }
 

@@ -1,4 +1,5 @@
 #include "odomcal/adapters/trajectory_io.h"
+
 #include "odomcal/adapters/test_support.h"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
-// Timings of the solver on simulated motion pairs (datasets/motion_simulator.h):
-// the closed form (ALSP and ALS, hand_eye_linear.h), the Ceres refinement
-// from the closed-form estimate (hand_eye_refine.h), RANSAC with 30 %
-// outliers (hand_eye_ransac.h) and the whole pipeline (calibrate.h), each at
-// 10, 100, 1000 and 10 000 motion pairs; and, as in PoseLib's benchmark, the
-// rate at which the closed form finds the ground truth of noise-free random
-// problems.
+// Timings of the solver on simulated motion pairs
+// (datasets/motion_simulator.h): the closed form (ALSP and ALS,
+// hand_eye_linear.h), the Ceres refinement from the closed-form estimate
+// (hand_eye_refine.h), RANSAC with 30 % outliers (hand_eye_ransac.h) and the
+// whole pipeline (calibrate.h), each at 10, 100, 1000 and 10 000 motion pairs;
+// and, as in PoseLib's benchmark, the rate at which the closed form finds the
+// ground truth of noise-free random problems.
 //
 // Every problem is simulated before the timing loop from a fixed seed, with
 // one SfM segment and the default NoiseModel unless stated otherwise.
@@ -12,15 +12,6 @@
 // The project's target: 10 000 pairs through the closed form in < 10 ms on
 // one core. Run pinned to one core, e.g.
 //   taskset -c 0 solver_benchmark --benchmark_min_time=0.2
-
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <numeric>
-#include <random>
-#include <vector>
-
-#include <benchmark/benchmark.h>
 
 #include "odomcal/datasets/motion_simulator.h"
 #include "odomcal/solver/calibrate.h"
@@ -30,6 +21,15 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 #include "odomcal/solver/hand_eye_refine.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <random>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -205,10 +205,10 @@ void BM_Calibrate(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(state.iterations() * num_pairs);
-  state.counters["ransac_iterations"] = result.diagnostics.ransac_num_iterations;
+  state.counters["ransac_iterations"] =
+      result.diagnostics.ransac_num_iterations;
   state.counters["pairs_used"] = result.diagnostics.num_pairs_used;
-  SetAccuracyCounters(
-      state, problem, result.IsSuccess(), result.odom_from_cam);
+  SetAccuracyCounters(state, problem, result.IsSuccess(), result.odom_from_cam);
 }
 
 bool FoundGroundTruth(const SimulatedMotions& truth,

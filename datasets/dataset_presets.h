@@ -2,8 +2,9 @@
 //
 //   small     CI: 40 images 320x240 at 2.5 Hz, forward camera, one 8 x 6 m room
 //   default   the demo: 64 images 320x240 at 2.5 Hz, forward camera (26 s)
-//   tilted    40 images 320x240, camera pitched 20 deg down, rolled 90 deg, 0.7 m up
-//   hard      two rooms joined by a featureless corridor (the reconstruction
+//   tilted    40 images 320x240, camera pitched 20 deg down, rolled 90 deg, 0.7
+//   m up hard      two rooms joined by a featureless corridor (the
+//   reconstruction
 //             splits in two), 1-1.5 % wheel errors, slip, yaw drift, 25 ms
 //             time offset and 2 ms jitter; 130 images 320x240 at 2.5 Hz
 //   straight  straight driving only (rotation unobservable), 40 images

@@ -147,10 +147,12 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
       const Eigen::Vector3d rotation_noise(gauss(rng), gauss(rng), gauss(rng));
       const Eigen::Vector3d position_noise(gauss(rng), gauss(rng), gauss(rng));
       world_from_cam.rotation =
-          (ExpRotation(rotation_noise * options.camera_rotation_noise_deg * deg) *
+          (ExpRotation(rotation_noise * options.camera_rotation_noise_deg *
+                       deg) *
            world_from_cam.rotation)
               .normalized();
-      world_from_cam.translation += position_noise * options.camera_position_noise;
+      world_from_cam.translation +=
+          position_noise * options.camera_position_noise;
       drive.camera.poses.push_back({stamp_ns, world_from_cam});
     }
     // Advance both the truth and the wheel-odometry estimate by one period.

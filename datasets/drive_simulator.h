@@ -10,10 +10,10 @@
 // independent pose noise. Deterministic for a given seed.
 #pragma once
 
-#include <cstdint>
-
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <cstdint>
 
 namespace odomcal {
 
@@ -21,7 +21,7 @@ struct DriveSimulatorOptions {
   uint64_t seed = 0;
   double duration_s = 60.0;
   double odometry_rate_hz = 50.0;
-  double camera_rate_hz = 10.0;  // must divide odometry_rate_hz
+  double camera_rate_hz = 10.0;                  // must divide odometry_rate_hz
   int64_t start_stamp_ns = 1700000000000000000;  // realistic epoch stamps
 
   // Default mount: camera looking forward (z_cam = x_odom, x_cam = -y_odom,

@@ -92,19 +92,20 @@ SimulatedMotions SimulateMotions(const MotionSimulatorOptions& options,
       const double cam_r_sigma = noise.cam_rotation_sigma_deg * kDegToRad;
       const double cam_t_sigma =
           noise.cam_translation_sigma_rel * cam_motion.translation.norm();
-      pair.cam_i_from_cam_j = PerturbMotion(cam_motion,
-                                            Eigen::Vector3d::Constant(cam_r_sigma),
-                                            Eigen::Vector3d::Constant(cam_t_sigma),
-                                            rng);
+      pair.cam_i_from_cam_j =
+          PerturbMotion(cam_motion,
+                        Eigen::Vector3d::Constant(cam_r_sigma),
+                        Eigen::Vector3d::Constant(cam_t_sigma),
+                        rng);
     }
     const bool outlier = uniform(*rng) < options.outlier_fraction;
     if (outlier) {
       // A plausible-looking but wrong camera motion: random rotation of up to
       // 90 degrees and a random direction of the same length.
-      const Eigen::Vector3d axis = Eigen::Vector3d(uniform(*rng) - 0.5,
-                                                   uniform(*rng) - 0.5,
-                                                   uniform(*rng) - 0.5)
-                                       .normalized();
+      const Eigen::Vector3d axis =
+          Eigen::Vector3d(
+              uniform(*rng) - 0.5, uniform(*rng) - 0.5, uniform(*rng) - 0.5)
+              .normalized();
       const double angle = (0.2 + 0.8 * uniform(*rng)) * kPi / 2.0;
       Eigen::Vector3d direction(
           uniform(*rng) - 0.5, uniform(*rng) - 0.5, uniform(*rng) - 0.5);

@@ -10,12 +10,12 @@
 // motion's length. Deterministic for a given std::mt19937_64 state.
 #pragma once
 
-#include <random>
-#include <vector>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <random>
+#include <vector>
 
 namespace odomcal {
 

@@ -1,18 +1,18 @@
 #include "odomcal/plugin/calibrate_command.h"
 
-#include <cmath>
-#include <iostream>
-#include <sstream>
-#include <stdexcept>
-
-#include <CLI/CLI.hpp>
-
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_guard.h"
 #include "odomcal/solver/calibrate.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
 
 namespace odomcal {
 
@@ -94,7 +94,8 @@ void CheckCalibrationOutputs(const CalibrateInputs& inputs,
     paths.inputs.push_back({camera_path, "--camera_poses"});
   }
   paths.inputs.push_back({inputs.odometry_path, "--odometry"});
-  paths.output_files = {{json_path, "--output"}, {yaml_path, "the YAML beside --output"}};
+  paths.output_files = {{json_path, "--output"},
+                        {yaml_path, "the YAML beside --output"}};
   CheckOutputsApartFromInputs(paths);
   CheckOutputPath(json_path, overwrite);
   CheckOutputPath(yaml_path, overwrite);
@@ -125,18 +126,21 @@ int RunCalibrate(int argc, char** argv) {
   std::string output_path;
   bool overwrite = false;
   bool quiet = false;
-  app.add_option("--camera_poses", inputs.camera_paths,
+  app.add_option("--camera_poses",
+                 inputs.camera_paths,
                  "camera trajectory, TUM 'timestamp tx ty tz qx qy qz qw', "
                  "world_from_cam; repeat for SfM segments with their own "
                  "scale")
       ->required()
       ->check(CLI::ExistingFile);
-  app.add_option("--odometry", inputs.odometry_path,
+  app.add_option("--odometry",
+                 inputs.odometry_path,
                  "wheel odometry: CSV 'timestamp,x,y,yaw' (m, rad) or TUM "
                  "origin_from_odom")
       ->required()
       ->check(CLI::ExistingFile);
-  app.add_option("--output", output_path,
+  app.add_option("--output",
+                 output_path,
                  "result JSON; a YAML file is written beside it")
       ->required();
   app.add_flag("--overwrite", overwrite, "replace existing output files");

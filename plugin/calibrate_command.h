@@ -3,9 +3,6 @@
 // CSV timestamp,x,y,yaw).
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
@@ -13,6 +10,9 @@
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
+
+#include <string>
+#include <vector>
 
 namespace odomcal {
 

@@ -4,14 +4,14 @@
 
 #include "odomcal/plugin/calibration_report.h"
 
+#include "odomcal/solver/rigid3.h"
+
+#include <opencv2/core.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
-
-#include <opencv2/core.hpp>
-
-#include "odomcal/solver/rigid3.h"
 
 namespace odomcal {
 namespace {
@@ -24,9 +24,10 @@ bool Has(const std::vector<std::string>& names, const std::string& name) {
 }
 
 bool ScaleDetermined(const CalibrationResult& result, size_t segment) {
-  const std::string name = result.metric_scales.size() == 1
-                               ? "metric_scale"
-                               : "metric_scale[" + std::to_string(segment) + "]";
+  const std::string name =
+      result.metric_scales.size() == 1
+          ? "metric_scale"
+          : "metric_scale[" + std::to_string(segment) + "]";
   return result.has_estimate && !Has(result.unobservable, name) &&
          std::isfinite(result.metric_scales[segment]);
 }
@@ -57,9 +58,10 @@ json TransformToJson(const Rigid3d& transform,
     const Eigen::Vector3d rpy = RollPitchYaw(q) * kRadToDeg;
     out["roll_pitch_yaw_deg"] = {rpy.x(), rpy.y(), rpy.z()};
   }
-  out["translation_m"] = {NumberOrNull(transform.translation.x(), x_determined),
-                          NumberOrNull(transform.translation.y(), y_determined),
-                          NumberOrNull(transform.translation.z(), z_determined)};
+  out["translation_m"] = {
+      NumberOrNull(transform.translation.x(), x_determined),
+      NumberOrNull(transform.translation.y(), y_determined),
+      NumberOrNull(transform.translation.z(), z_determined)};
   return out;
 }
 
@@ -85,8 +87,10 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
   };
   out["conditioning"] = {
       {"rotation_step_eigenvalues",
-       {d.rotation_step_eigenvalues(0), d.rotation_step_eigenvalues(1),
-        d.rotation_step_eigenvalues(2), d.rotation_step_eigenvalues(3)}},
+       {d.rotation_step_eigenvalues(0),
+        d.rotation_step_eigenvalues(1),
+        d.rotation_step_eigenvalues(2),
+        d.rotation_step_eigenvalues(3)}},
       {"rotation_step_ratio", d.rotation_step_ratio},
       {"rotation_step_gimbal", d.rotation_step_gimbal},
       {"translation_step_condition_number",
@@ -168,8 +172,8 @@ json CalibrationToJson(const CalibrationResult& result,
     // observable parts are determined (z is the fixed value).
     out["cam_from_odom"] =
         rotation && x && y
-            ? TransformToJson(Inverse(result.odom_from_cam), true, true, true,
-                              true)
+            ? TransformToJson(
+                  Inverse(result.odom_from_cam), true, true, true, true)
             : json(nullptr);
   } else {
     out["odom_from_cam"] = nullptr;
@@ -177,31 +181,37 @@ json CalibrationToJson(const CalibrationResult& result,
   }
   json scales = json::array();
   for (size_t k = 0; k < result.metric_scales.size(); ++k) {
-    scales.push_back(NumberOrNull(result.metric_scales[k], ScaleDetermined(result, k)));
+    scales.push_back(
+        NumberOrNull(result.metric_scales[k], ScaleDetermined(result, k)));
   }
   out["metric_scales"] = scales;
   out["metric_scale"] = scales.size() == 1 ? scales[0] : json(nullptr);
   out["unobservable"] = unobservable;
-  out["fixed"] = {{"translation_z_m",
-                   context.calibration_options.fixed_translation_z_m}};
+  out["fixed"] = {
+      {"translation_z_m", context.calibration_options.fixed_translation_z_m}};
 
   if (result.covariance) {
     const Eigen::MatrixXd& c = *result.covariance;
     json stddev_scales = json::array();
     for (size_t k = 0; k < result.stddev_metric_scales_rel.size(); ++k) {
-      stddev_scales.push_back(
-          NumberOrNull(result.stddev_metric_scales_rel[k], ScaleDetermined(result, k)));
+      stddev_scales.push_back(NumberOrNull(result.stddev_metric_scales_rel[k],
+                                           ScaleDetermined(result, k)));
     }
     out["stddev"] = {
-        {"roll_deg", NumberOrNull(result.stddev_roll_pitch_yaw_deg.x(), rotation)},
-        {"pitch_deg", NumberOrNull(result.stddev_roll_pitch_yaw_deg.y(), rotation)},
-        {"yaw_deg", NumberOrNull(result.stddev_roll_pitch_yaw_deg.z(), rotation)},
+        {"roll_deg",
+         NumberOrNull(result.stddev_roll_pitch_yaw_deg.x(), rotation)},
+        {"pitch_deg",
+         NumberOrNull(result.stddev_roll_pitch_yaw_deg.y(), rotation)},
+        {"yaw_deg",
+         NumberOrNull(result.stddev_roll_pitch_yaw_deg.z(), rotation)},
         {"rotation_axes_deg",
          {NumberOrNull(result.stddev_rotation_axes_deg.x(), rotation),
           NumberOrNull(result.stddev_rotation_axes_deg.y(), rotation),
           NumberOrNull(result.stddev_rotation_axes_deg.z(), rotation)}},
-        {"translation_x_m", NumberOrNull(result.stddev_translation_xy_m.x(), x)},
-        {"translation_y_m", NumberOrNull(result.stddev_translation_xy_m.y(), y)},
+        {"translation_x_m",
+         NumberOrNull(result.stddev_translation_xy_m.x(), x)},
+        {"translation_y_m",
+         NumberOrNull(result.stddev_translation_xy_m.y(), y)},
         {"metric_scales_rel", stddev_scales},
     };
     json order = {"rx", "ry", "rz", "tx", "ty"};
@@ -241,9 +251,11 @@ json CalibrationToJson(const CalibrationResult& result,
   if (result.has_estimate) {
     const CalibrationDiagnostics& d = result.diagnostics;
     json linear_scales = json::array();
-    for (const double s : d.linear_metric_scales) linear_scales.push_back(NumberOrNull(s, true));
+    for (const double s : d.linear_metric_scales)
+      linear_scales.push_back(NumberOrNull(s, true));
     diagnostics["closed_form"] = {
-        {"odom_from_cam", TransformToJson(d.linear_odom_from_cam, rotation, x, y, true)},
+        {"odom_from_cam",
+         TransformToJson(d.linear_odom_from_cam, rotation, x, y, true)},
         {"metric_scales", linear_scales},
     };
   }
@@ -252,11 +264,13 @@ json CalibrationToJson(const CalibrationResult& result,
   out["inputs"] = {
       {"command", context.command},
       {"camera_poses", context.camera_paths},
-      {"camera_pose_convention", "TUM: timestamp tx ty tz qx qy qz qw, world_from_cam"},
+      {"camera_pose_convention",
+       "TUM: timestamp tx ty tz qx qy qz qw, world_from_cam"},
       {"odometry", context.odometry_path},
       {"camera_time_unit", context.camera_time_unit},
       {"odometry_time_unit", context.odometry_time_unit},
-      {"camera_time_offset_s", 1e-9 * static_cast<double>(ao.camera_time_offset_ns)},
+      {"camera_time_offset_s",
+       1e-9 * static_cast<double>(ao.camera_time_offset_ns)},
       {"max_odometry_gap_s", ao.max_odometry_gap_s},
       {"keyframe_min_rotation_deg", ao.keyframe_min_rotation_deg},
       {"keyframe_min_translation_m", ao.keyframe_min_translation_m},
@@ -269,9 +283,12 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
   cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   fs << "status" << ToString(result.status);
   fs << "message" << result.message;
-  const bool rotation = result.has_estimate && !Has(result.unobservable, "rotation");
-  const bool x = result.has_estimate && !Has(result.unobservable, "translation_x");
-  const bool y = result.has_estimate && !Has(result.unobservable, "translation_y");
+  const bool rotation =
+      result.has_estimate && !Has(result.unobservable, "rotation");
+  const bool x =
+      result.has_estimate && !Has(result.unobservable, "translation_x");
+  const bool y =
+      result.has_estimate && !Has(result.unobservable, "translation_y");
   if (rotation && x && y) {
     const Eigen::Matrix4d m = result.odom_from_cam.ToMatrix();
     cv::Mat matrix(4, 4, CV_64F);
@@ -279,7 +296,8 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
       for (int c = 0; c < 4; ++c) matrix.at<double>(r, c) = m(r, c);
     }
     fs << "odom_from_cam" << matrix;
-    const Eigen::Quaterniond q = WithPositiveScalar(result.odom_from_cam.rotation);
+    const Eigen::Quaterniond q =
+        WithPositiveScalar(result.odom_from_cam.rotation);
     fs << "quaternion_wxyz" << std::vector<double>{q.w(), q.x(), q.y(), q.z()};
     const Eigen::Vector3d& t = result.odom_from_cam.translation;
     fs << "translation_m" << std::vector<double>{t.x(), t.y(), t.z()};
@@ -293,19 +311,22 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
     scales.push_back(result.metric_scales[k]);
   }
   if (!scales.empty()) fs << "metric_scales" << scales;
-  fs << "unobservable" << "[";
+  fs << "unobservable"
+     << "[";
   for (const std::string& name : result.unobservable) fs << name;
   fs << "]";
   if (result.covariance && rotation && x && y) {
     const Eigen::MatrixXd& c = *result.covariance;
-    cv::Mat covariance(static_cast<int>(c.rows()), static_cast<int>(c.cols()), CV_64F);
+    cv::Mat covariance(
+        static_cast<int>(c.rows()), static_cast<int>(c.cols()), CV_64F);
     for (int r = 0; r < c.rows(); ++r) {
       for (int col = 0; col < c.cols(); ++col) {
         covariance.at<double>(r, col) = c(r, col);
       }
     }
     fs << "covariance" << covariance;
-    fs << "covariance_order" << "rx ry rz (left perturbation, rad) tx ty (m) s_k";
+    fs << "covariance_order"
+       << "rx ry rz (left perturbation, rad) tx ty (m) s_k";
   }
   return fs.releaseAndGetString();
 }
@@ -345,7 +366,8 @@ std::string CalibrationSummary(const CalibrationResult& result,
              "odom_from_cam, x_in_odom = odom_from_cam * x_in_cam):\n";
     }
     if (rotation) {
-      const Eigen::Vector3d rpy = RollPitchYaw(result.odom_from_cam.rotation) * kRadToDeg;
+      const Eigen::Vector3d rpy =
+          RollPitchYaw(result.odom_from_cam.rotation) * kRadToDeg;
       const char* names[3] = {"roll ", "pitch", "yaw  "};
       for (int k = 0; k < 3; ++k) {
         out << "    " << names[k] << " " << Format("%10.4f deg", rpy(k));
@@ -355,7 +377,8 @@ std::string CalibrationSummary(const CalibrationResult& result,
         }
         out << "\n";
       }
-      const Eigen::Quaterniond q = WithPositiveScalar(result.odom_from_cam.rotation);
+      const Eigen::Quaterniond q =
+          WithPositiveScalar(result.odom_from_cam.rotation);
       out << "    quaternion wxyz [" << Format("%.6f", q.w()) << ", "
           << Format("%.6f", q.x()) << ", " << Format("%.6f", q.y()) << ", "
           << Format("%.6f", q.z()) << "]\n";
@@ -377,8 +400,10 @@ std::string CalibrationSummary(const CalibrationResult& result,
       }
       out << "\n";
     }
-    out << "    z     " << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation.z())
-        << "   fixed (unobservable under planar motion; --fixed_translation_z_m)\n";
+    out << "    z     "
+        << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation.z())
+        << "   fixed (unobservable under planar motion; "
+           "--fixed_translation_z_m)\n";
     for (size_t k = 0; k < result.metric_scales.size(); ++k) {
       out << "  metric scale";
       if (result.metric_scales.size() > 1) out << " [segment " << k << "]";

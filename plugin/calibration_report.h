@@ -3,14 +3,14 @@
 // numbers, and the human summary printed by the CLI.
 #pragma once
 
-#include <string>
-#include <vector>
-
-#include <nlohmann/json.hpp>
-
 #include "odomcal/adapters/association.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
 
 namespace odomcal {
 

@@ -2,11 +2,11 @@
 // run, demo). Flag names are public interface: keep them stable (docs/cli.md).
 #pragma once
 
-#include <string>
+#include "odomcal/plugin/calibrate_command.h"
 
 #include <CLI/CLI.hpp>
 
-#include "odomcal/plugin/calibrate_command.h"
+#include <string>
 
 namespace odomcal {
 

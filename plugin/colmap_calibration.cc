@@ -5,13 +5,6 @@
 
 #include "odomcal/plugin/colmap_calibration.h"
 
-#include <algorithm>
-#include <cstdio>
-#include <filesystem>
-#include <limits>
-#include <map>
-#include <set>
-
 #include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
@@ -19,6 +12,13 @@
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <set>
 
 namespace odomcal {
 namespace {
@@ -31,7 +31,9 @@ std::string SignedPercent(double fraction) {
   return text;
 }
 
-bool InDroppedStretch(const StretchCheckResult& check, int input_segment, int64_t stamp_ns) {
+bool InDroppedStretch(const StretchCheckResult& check,
+                      int input_segment,
+                      int64_t stamp_ns) {
   for (const InconsistentStretch& run : check.stretches) {
     if (!run.kept_as_segment && run.input_segment == input_segment &&
         stamp_ns > run.first_stamp_ns && stamp_ns < run.last_stamp_ns) {
@@ -45,10 +47,11 @@ bool InDroppedStretch(const StretchCheckResult& check, int input_segment, int64_
 // (odometry clock) belongs to: those whose motion pairs span it, else the
 // nearest in time (images before the first or after the last keyframe);
 // none inside a dropped stretch.
-std::vector<int> OutputSegmentsOfImage(const StretchCheckResult& check,
-                                       const std::vector<std::pair<int64_t, int64_t>>& spans,
-                                       int input,
-                                       int64_t stamp_ns) {
+std::vector<int> OutputSegmentsOfImage(
+    const StretchCheckResult& check,
+    const std::vector<std::pair<int64_t, int64_t>>& spans,
+    int input,
+    int64_t stamp_ns) {
   if (InDroppedStretch(check, input, stamp_ns)) return {};
   std::vector<int> inside;
   int nearest = -1;
@@ -57,8 +60,10 @@ std::vector<int> OutputSegmentsOfImage(const StretchCheckResult& check,
     if (check.input_segment_of_output_segment[output] != input) continue;
     const auto [first, last] = spans[output];
     if (first > last) continue;  // no pairs
-    if (stamp_ns >= first && stamp_ns <= last) inside.push_back(static_cast<int>(output));
-    const int64_t distance = stamp_ns < first ? first - stamp_ns : stamp_ns - last;
+    if (stamp_ns >= first && stamp_ns <= last)
+      inside.push_back(static_cast<int>(output));
+    const int64_t distance =
+        stamp_ns < first ? first - stamp_ns : stamp_ns - last;
     if (distance < nearest_distance) {
       nearest_distance = distance;
       nearest = static_cast<int>(output);
@@ -69,10 +74,12 @@ std::vector<int> OutputSegmentsOfImage(const StretchCheckResult& check,
 }
 
 // Time span (odometry clock) of each output segment's motion pairs.
-std::vector<std::pair<int64_t, int64_t>> SegmentSpans(const StretchCheckResult& check) {
+std::vector<std::pair<int64_t, int64_t>> SegmentSpans(
+    const StretchCheckResult& check) {
   std::vector<std::pair<int64_t, int64_t>> spans(
       check.input_segment_of_output_segment.size(),
-      {std::numeric_limits<int64_t>::max(), std::numeric_limits<int64_t>::min()});
+      {std::numeric_limits<int64_t>::max(),
+       std::numeric_limits<int64_t>::min()});
   for (const MotionPair& pair : check.pairs) {
     auto& [first, last] = spans.at(pair.segment);
     first = std::min(first, pair.stamp_i_ns);
@@ -81,7 +88,8 @@ std::vector<std::pair<int64_t, int64_t>> SegmentSpans(const StretchCheckResult& 
   return spans;
 }
 
-ColmapModel TransformModel(const ColmapModel& model, const Sim3d& origin_from_sfm) {
+ColmapModel TransformModel(const ColmapModel& model,
+                           const Sim3d& origin_from_sfm) {
   ColmapModel metric = model;
   for (auto& [id, image] : metric.images) {
     image.cam_from_world = CamFromOrigin(image.cam_from_world, origin_from_sfm);
@@ -95,8 +103,9 @@ ColmapModel TransformModel(const ColmapModel& model, const Sim3d& origin_from_sf
 bool HasUsableExtrinsic(const CalibrationResult& result) {
   if (!result.has_estimate) return false;
   for (const char* name : {"rotation", "translation_x", "translation_y"}) {
-    if (std::find(result.unobservable.begin(), result.unobservable.end(), name) !=
-        result.unobservable.end()) {
+    if (std::find(result.unobservable.begin(),
+                  result.unobservable.end(),
+                  name) != result.unobservable.end()) {
       return false;
     }
   }
@@ -119,8 +128,8 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   return context;
 }
 
-ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
-                                            const std::string& command) {
+ColmapCalibrationRun CalibrateColmapProject(
+    const ColmapCalibrationInputs& inputs, const std::string& command) {
   inputs.association.Check();
   inputs.calibration.Check();
   const ImageTimestamps timestamps =
@@ -138,7 +147,8 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
     run.num_database_images =
         static_cast<int>(ReadColmapDatabaseImages(inputs.database_path).size());
   }
-  run.odometry = ReadOdometry(inputs.odometry_path, inputs.odometry_format,
+  run.odometry = ReadOdometry(inputs.odometry_path,
+                              inputs.odometry_format,
                               inputs.odometry_time_unit,
                               inputs.odometry_time_unit_given);
   CheckOdometrySpeed(run.odometry);
@@ -152,8 +162,8 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
     }
   }
   if (inputs.image_timestamps_path.empty()) {
-    CheckImageTimesAreNotFrameNumbers(image_stamps_ns, inputs.model_path,
-                                      timestamps.how_read());
+    CheckImageTimesAreNotFrameNumbers(
+        image_stamps_ns, inputs.model_path, timestamps.how_read());
   }
   run.context = ProjectReportContext(inputs, command);
   ReportContext& context = run.context;
@@ -164,21 +174,25 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
       AssociateCameraWithOdometry(cameras, run.odometry, inputs.association);
   if (context.association.num_usable_camera_poses == 0) {
     throw FormatError(
-        inputs.model_path + ": no registered image time falls inside the "
-        "odometry " + inputs.odometry_path + " (" +
+        inputs.model_path +
+        ": no registered image time falls inside the "
+        "odometry " +
+        inputs.odometry_path + " (" +
         std::to_string(context.association.num_outside_odometry_span) +
         " outside its span, " +
         std::to_string(context.association.num_in_odometry_gaps) +
         " in gaps): " +
-        TimeSpansText(cameras, timestamps.how_read(),
-                      inputs.association.camera_time_offset_ns, run.odometry) +
+        TimeSpansText(cameras,
+                      timestamps.how_read(),
+                      inputs.association.camera_time_offset_ns,
+                      run.odometry) +
         "; check the image timestamps, their unit and "
         "--camera_time_offset_s");
   }
   CheckRotationAngleUnits(context.association.pairs, run.odometry.source);
 
-  run.check = CalibrateWithStretchCheck(context.association.pairs,
-                                        inputs.calibration, inputs.stretch);
+  run.check = CalibrateWithStretchCheck(
+      context.association.pairs, inputs.calibration, inputs.stretch);
   CalibrationResult& result = run.check.result;
   if (result.status == CalibrationStatus::kSuccess) {
     if (const auto warning = ExtrinsicDistanceWarning(result.odom_from_cam)) {
@@ -199,8 +213,9 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
         " motion pairs (" + FormatTimestampSeconds(stretch.first_stamp_ns) +
         " .. " + FormatTimestampSeconds(stretch.last_stamp_ns) +
         " s) contradicts the odometry: " +
-        (stretch.kept_as_segment ? "kept as a separate segment with its own scale"
-                                 : "left out (COLMAP likely folded it)"));
+        (stretch.kept_as_segment
+             ? "kept as a separate segment with its own scale"
+             : "left out (COLMAP likely folded it)"));
   }
   for (const ScaleChangeCut& cut : run.check.scale_changes) {
     result.warnings.push_back(
@@ -212,7 +227,8 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
         "calibrated as segments with scales of their own");
   }
   if (context.association.num_outside_odometry_span +
-          context.association.num_in_odometry_gaps > 0) {
+          context.association.num_in_odometry_gaps >
+      0) {
     result.warnings.push_back(
         std::to_string(context.association.num_outside_odometry_span +
                        context.association.num_in_odometry_gaps) +
@@ -225,9 +241,11 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
   // Metric models in the odometry origin frame, one per output segment: the
   // images of its sub-model within its time span (a folded stretch left out
   // and a part at another scale are not carried along).
-  const std::vector<std::pair<int64_t, int64_t>> spans = SegmentSpans(run.check);
+  const std::vector<std::pair<int64_t, int64_t>> spans =
+      SegmentSpans(run.check);
   std::map<int, int> num_parts;
-  for (const int input : run.check.input_segment_of_output_segment) ++num_parts[input];
+  for (const int input : run.check.input_segment_of_output_segment)
+    ++num_parts[input];
   std::map<int, int> next_part;
   std::map<int, ColmapModel> models;  // read once per sub-model
   // (output segment, stamp) of the images in a used pair, and in a rejected
@@ -253,9 +271,12 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
     std::vector<std::string> left_out;
     for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
       const StampedPose& pose = segment.trajectory.poses[i];
-      const int64_t stamp = pose.stamp_ns + inputs.association.camera_time_offset_ns;
-      const std::vector<int> owners = OutputSegmentsOfImage(run.check, spans, k, stamp);
-      if (std::find(owners.begin(), owners.end(), static_cast<int>(output)) == owners.end()) {
+      const int64_t stamp =
+          pose.stamp_ns + inputs.association.camera_time_offset_ns;
+      const std::vector<int> owners =
+          OutputSegmentsOfImage(run.check, spans, k, stamp);
+      if (std::find(owners.begin(), owners.end(), static_cast<int>(output)) ==
+          owners.end()) {
         continue;
       }
       const std::pair<int, int64_t> key(static_cast<int>(output), stamp);
@@ -272,27 +293,31 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
       names.insert(segment.image_names.at(i));
     }
     if (origin_from_cam.empty()) continue;
-    if (models.count(k) == 0) models.emplace(k, ReadColmapModel(segment.model_path));
+    if (models.count(k) == 0)
+      models.emplace(k, ReadColmapModel(segment.model_path));
     const ColmapModel& model = models.at(k);
     std::set<uint32_t> image_ids;
     for (const auto& [id, image] : model.images) {
       if (names.count(image.name) != 0) image_ids.insert(id);
     }
     MetricSubModel metric;
-    metric.name = segment.sub_model.empty() ? std::to_string(k) : segment.sub_model;
+    metric.name =
+        segment.sub_model.empty() ? std::to_string(k) : segment.sub_model;
     if (num_parts[k] > 1) metric.name += "_" + std::to_string(part);
     metric.output_segment = static_cast<int>(output);
-    metric.origin_from_sfm =
-        AlignSfmToOrigin(origin_from_cam, sfm_from_cam, result.metric_scales[output]);
-    metric.model = TransformModel(ColmapModelSubset(model, image_ids), metric.origin_from_sfm);
+    metric.origin_from_sfm = AlignSfmToOrigin(
+        origin_from_cam, sfm_from_cam, result.metric_scales[output]);
+    metric.model = TransformModel(ColmapModelSubset(model, image_ids),
+                                  metric.origin_from_sfm);
     if (!left_out.empty()) {
       std::string list;
-      for (const std::string& name : left_out) list += (list.empty() ? "" : ", ") + name;
-      result.warnings.push_back("sparse_metric/" + metric.name + ": left out " +
-                                std::to_string(left_out.size()) +
-                                (left_out.size() == 1 ? " image" : " images") +
-                                " whose every motion pair the odometry contradicts (" +
-                                list + ")");
+      for (const std::string& name : left_out)
+        list += (list.empty() ? "" : ", ") + name;
+      result.warnings.push_back(
+          "sparse_metric/" + metric.name + ": left out " +
+          std::to_string(left_out.size()) +
+          (left_out.size() == 1 ? " image" : " images") +
+          " whose every motion pair the odometry contradicts (" + list + ")");
     }
     run.metric_models.push_back(std::move(metric));
   }
@@ -300,8 +325,12 @@ ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& input
 }
 
 std::vector<std::string> ColmapCalibrationOutputEntries() {
-  return {"calibration.json",   "calibration.yaml",       "sparse_metric",
-          "camera_in_odom.tum", "camera_in_odom.tum.tmp", "report.html"};
+  return {"calibration.json",
+          "calibration.yaml",
+          "sparse_metric",
+          "camera_in_odom.tum",
+          "camera_in_odom.tum.tmp",
+          "report.html"};
 }
 
 std::vector<std::string> WriteColmapCalibrationOutputs(
@@ -346,11 +375,13 @@ std::vector<std::string> WriteColmapCalibrationOutputs(
   for (const MetricSubModel& metric : run.metric_models) {
     for (const auto& [id, image] : metric.model.images) {
       const auto stamp = stamp_of.find(image.name);
-      if (stamp == stamp_of.end() || !written.insert(image.name).second) continue;
+      if (stamp == stamp_of.end() || !written.insert(image.name).second)
+        continue;
       cameras.poses.push_back({stamp->second, Inverse(image.cam_from_world)});
     }
   }
-  std::sort(cameras.poses.begin(), cameras.poses.end(),
+  std::sort(cameras.poses.begin(),
+            cameras.poses.end(),
             [](const StampedPose& a, const StampedPose& b) {
               return a.stamp_ns < b.stamp_ns;
             });

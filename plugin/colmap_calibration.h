@@ -9,10 +9,6 @@
 // (solver/similarity_alignment.h).
 #pragma once
 
-#include <optional>
-#include <string>
-#include <vector>
-
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_segments.h"
@@ -26,11 +22,15 @@
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
 
+#include <optional>
+#include <string>
+#include <vector>
+
 namespace odomcal {
 
 struct ColmapCalibrationInputs {
-  std::string model_path;      // a model folder or the mapper's sparse root
-  std::string database_path;   // optional: counts unregistered images
+  std::string model_path;     // a model folder or the mapper's sparse root
+  std::string database_path;  // optional: counts unregistered images
   std::string odometry_path;
   OdometryFormat odometry_format = OdometryFormat::kAuto;
   TimeUnit odometry_time_unit = TimeUnit::kSeconds;
@@ -75,8 +75,8 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
                                    const std::string& command);
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).
-ColmapCalibrationRun CalibrateColmapProject(const ColmapCalibrationInputs& inputs,
-                                            const std::string& command);
+ColmapCalibrationRun CalibrateColmapProject(
+    const ColmapCalibrationInputs& inputs, const std::string& command);
 
 // The entries WriteColmapCalibrationOutputs writes in its folder (for
 // ClaimOutputFolder, output_folder.h).

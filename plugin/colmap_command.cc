@@ -1,16 +1,16 @@
 #include "odomcal/plugin/colmap_command.h"
 
-#include <filesystem>
-#include <iostream>
-#include <stdexcept>
-
-#include <CLI/CLI.hpp>
-
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/project_flags.h"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
 
 namespace odomcal {
 
@@ -25,19 +25,23 @@ int RunColmap(int argc, char** argv) {
   std::string output_path;
   bool overwrite = false;
   bool quiet = false;
-  app.add_option("--model_path", inputs.model_path,
+  app.add_option("--model_path",
+                 inputs.model_path,
                  "COLMAP sparse model folder, or the mapper's output folder "
                  "with sub-models 0, 1, ...")
       ->required()
       ->check(CLI::ExistingDirectory);
-  app.add_option("--database_path", inputs.database_path,
+  app.add_option("--database_path",
+                 inputs.database_path,
                  "the project's database.db (read-only; counts unregistered "
                  "images)")
       ->check(CLI::ExistingFile);
-  app.add_option("--output_path", output_path,
+  app.add_option("--output_path",
+                 output_path,
                  "output folder (created; must not be inside the project)")
       ->required();
-  app.add_flag("--overwrite", overwrite, "replace odomcal's files in --output_path");
+  app.add_flag(
+      "--overwrite", overwrite, "replace odomcal's files in --output_path");
   app.add_flag("--quiet", quiet, "print only errors");
   AddProjectFlags(&app, &inputs, &flags);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
@@ -56,7 +60,8 @@ int RunColmap(int argc, char** argv) {
                         ColmapCalibrationOutputEntries(),
                         overwrite ? ExistingOutputs::kReplaceOwn
                                   : ExistingOutputs::kRefuseNonEmptyFolder);
-    const ColmapCalibrationRun run = CalibrateColmapProject(inputs, "odomcal colmap");
+    const ColmapCalibrationRun run =
+        CalibrateColmapProject(inputs, "odomcal colmap");
     const std::vector<std::string> written =
         WriteColmapCalibrationOutputs(run, output_path);
     if (!quiet) {

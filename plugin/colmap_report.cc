@@ -22,7 +22,6 @@ json Sim3ToJson(const Sim3d& sim3) {
            {sim3.translation.x(), sim3.translation.y(), sim3.translation.z()}}};
 }
 
-
 }  // namespace
 
 json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {

@@ -3,11 +3,11 @@
 // report with inline SVG plots.
 #pragma once
 
-#include <string>
+#include "odomcal/plugin/colmap_calibration.h"
 
 #include <nlohmann/json.hpp>
 
-#include "odomcal/plugin/colmap_calibration.h"
+#include <string>
 
 namespace odomcal {
 

@@ -5,6 +5,11 @@
 
 #include "odomcal/plugin/colmap_runner.h"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -13,11 +18,6 @@
 #include <fstream>
 #include <regex>
 #include <sstream>
-
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 extern char** environ;
 
@@ -73,8 +73,8 @@ int Spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, log_fd, STDOUT_FILENO);
   posix_spawn_file_actions_adddup2(&actions, log_fd, STDERR_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null",
-                                   O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(
+      &actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
 
   std::vector<std::string> environment;
   for (char** entry = environ; *entry != nullptr; ++entry) {
@@ -88,12 +88,17 @@ int Spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
   env_pointers.push_back(nullptr);
   std::vector<std::string> argv_copy = argv;
   std::vector<char*> argv_pointers;
-  for (std::string& argument : argv_copy) argv_pointers.push_back(argument.data());
+  for (std::string& argument : argv_copy)
+    argv_pointers.push_back(argument.data());
   argv_pointers.push_back(nullptr);
 
   pid_t pid = 0;
-  const int spawn_error = posix_spawnp(&pid, argv_pointers[0], &actions, nullptr,
-                                       argv_pointers.data(), env_pointers.data());
+  const int spawn_error = posix_spawnp(&pid,
+                                       argv_pointers[0],
+                                       &actions,
+                                       nullptr,
+                                       argv_pointers.data(),
+                                       env_pointers.data());
   posix_spawn_file_actions_destroy(&actions);
   ::close(log_fd);
   if (spawn_error != 0) {
@@ -141,8 +146,9 @@ std::string FeatureMatchingPrefix(const ColmapVersion& version) {
 
 std::string ShellQuote(const std::string& argument) {
   if (!argument.empty() &&
-      argument.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                 "0123456789_-./=:,+") == std::string::npos) {
+      argument.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+          "0123456789_-./=:,+") == std::string::npos) {
     return argument;
   }
   std::string quoted = "'";
@@ -160,14 +166,16 @@ ColmapRunner::ColmapRunner(Options options) : options_(std::move(options)) {
   fs::create_directories(fs::path(options_.workspace) / "logs", error);
   fs::create_directories(fs::path(options_.workspace) / "stages", error);
   if (error) {
-    throw ColmapError(options_.workspace + ": cannot create logs/ and stages/ (" +
-                      error.message() + ")");
+    throw ColmapError(options_.workspace +
+                      ": cannot create logs/ and stages/ (" + error.message() +
+                      ")");
   }
 }
 
 const ColmapVersion& ColmapRunner::Version() {
   if (version_known_) return version_;
-  const fs::path log = fs::path(options_.workspace) / "logs" / "colmap_help.log";
+  const fs::path log =
+      fs::path(options_.workspace) / "logs" / "colmap_help.log";
   std::error_code error;
   fs::remove(log, error);
   const int code = Spawn({options_.executable, "help"}, log);
@@ -184,7 +192,8 @@ const ColmapVersion& ColmapRunner::Version() {
   return version_;
 }
 
-std::string ColmapRunner::CommandLine(const std::vector<std::string>& arguments) const {
+std::string ColmapRunner::CommandLine(
+    const std::vector<std::string>& arguments) const {
   std::vector<std::string> argv = {options_.executable};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   return JoinQuoted(argv);
@@ -193,18 +202,23 @@ std::string ColmapRunner::CommandLine(const std::vector<std::string>& arguments)
 bool ColmapRunner::WillReuse(const std::string& stage,
                              const std::vector<std::string>& arguments,
                              const std::vector<std::string>& outputs) const {
-  const fs::path marker = fs::path(options_.workspace) / "stages" / (stage + ".done");
-  if (!options_.reuse_finished_stages || !reuse_allowed_ || !fs::exists(marker) ||
+  const fs::path marker =
+      fs::path(options_.workspace) / "stages" / (stage + ".done");
+  if (!options_.reuse_finished_stages || !reuse_allowed_ ||
+      !fs::exists(marker) ||
       ReadWholeFile(marker) != CommandLine(arguments) + "\n") {
     return false;
   }
-  return std::all_of(outputs.begin(), outputs.end(),
-                     [](const std::string& output) { return fs::exists(output); });
+  return std::all_of(
+      outputs.begin(), outputs.end(), [](const std::string& output) {
+        return fs::exists(output);
+      });
 }
 
-ColmapStageResult ColmapRunner::RunStage(const std::string& stage,
-                                         const std::vector<std::string>& arguments,
-                                         const std::vector<std::string>& outputs) {
+ColmapStageResult ColmapRunner::RunStage(
+    const std::string& stage,
+    const std::vector<std::string>& arguments,
+    const std::vector<std::string>& outputs) {
   std::vector<std::string> argv = {options_.executable};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   const std::string command_line = JoinQuoted(argv);
@@ -226,9 +240,9 @@ ColmapStageResult ColmapRunner::RunStage(const std::string& stage,
   }
   const auto start = std::chrono::steady_clock::now();
   const int code = Spawn(argv, result.log_path);
-  result.seconds = std::chrono::duration<double>(
-                       std::chrono::steady_clock::now() - start)
-                       .count();
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
   if (code == kExitNotFound) {
     throw ColmapError("COLMAP not found: '" + options_.executable +
                       "' is not an executable on PATH (install Debian's colmap "

@@ -1,12 +1,12 @@
 #include "odomcal/plugin/colmap_runner.h"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include <sys/stat.h>
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace odomcal {
 namespace {
@@ -26,7 +26,8 @@ class ColmapRunnerTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) / (std::string("runner_") + info->name());
+    dir_ = fs::path(::testing::TempDir()) /
+           (std::string("runner_") + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "ws");
     WriteFake("3.8", 0);
@@ -39,8 +40,8 @@ class ColmapRunnerTest : public ::testing::Test {
     script << "#!/bin/sh\n"
            << "if [ \"$1\" = help ]; then echo 'COLMAP " << version
            << " -- Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
-           << "for a in \"$@\"; do echo \"$a\" >> " << (dir_ / "args.txt").string()
-           << "; done\n"
+           << "for a in \"$@\"; do echo \"$a\" >> "
+           << (dir_ / "args.txt").string() << "; done\n"
            << "echo \"glog_to_stderr=$GLOG_logtostderr\"\n"
            << "echo 'Check failed: something' >&2\n"
            << "exit " << exit_code << "\n";
@@ -60,8 +61,8 @@ class ColmapRunnerTest : public ::testing::Test {
 };
 
 TEST(ParseColmapVersion, ReadsBannersAndMapsRenamedOptions) {
-  const ColmapVersion v38 =
-      ParseColmapVersion("COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo");
+  const ColmapVersion v38 = ParseColmapVersion(
+      "COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo");
   EXPECT_EQ(v38.major, 3);
   EXPECT_EQ(v38.minor, 8);
   EXPECT_EQ(FeatureExtractionPrefix(v38), "SiftExtraction");
@@ -88,8 +89,8 @@ TEST_F(ColmapRunnerTest, DetectsTheVersion) {
 TEST_F(ColmapRunnerTest, PassesArgumentsVerbatimAndLogsEverything) {
   ColmapRunner runner = Runner();
   const std::string tricky = "images; rm -rf / $(echo x) 'q'";
-  const ColmapStageResult result =
-      runner.RunStage("extract", {"feature_extractor", "--image_path", tricky}, {});
+  const ColmapStageResult result = runner.RunStage(
+      "extract", {"feature_extractor", "--image_path", tricky}, {});
   EXPECT_FALSE(result.reused);
   EXPECT_EQ(Read(dir_ / "args.txt"),
             "feature_extractor\n--image_path\n" + tricky + "\n");
@@ -104,13 +105,27 @@ TEST_F(ColmapRunnerTest, ReusesFinishedStagesOnlyWithTheSameArguments) {
   // One runner per program run: reuse is across runs on one workspace.
   const std::string output = (dir_ / "ws" / "database.db").string();
   std::ofstream(output) << "x";
-  EXPECT_FALSE(Runner().RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
-  EXPECT_TRUE(Runner().WillReuse("extract", {"feature_extractor", "--a", "1"}, {output}));
-  EXPECT_TRUE(Runner().RunStage("extract", {"feature_extractor", "--a", "1"}, {output}).reused);
-  EXPECT_FALSE(Runner().RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+  EXPECT_FALSE(
+      Runner()
+          .RunStage("extract", {"feature_extractor", "--a", "1"}, {output})
+          .reused);
+  EXPECT_TRUE(Runner().WillReuse(
+      "extract", {"feature_extractor", "--a", "1"}, {output}));
+  EXPECT_TRUE(
+      Runner()
+          .RunStage("extract", {"feature_extractor", "--a", "1"}, {output})
+          .reused);
+  EXPECT_FALSE(
+      Runner()
+          .RunStage("extract", {"feature_extractor", "--a", "2"}, {output})
+          .reused);
   fs::remove(output);
-  EXPECT_FALSE(Runner().WillReuse("extract", {"feature_extractor", "--a", "2"}, {output}));
-  EXPECT_FALSE(Runner().RunStage("extract", {"feature_extractor", "--a", "2"}, {output}).reused);
+  EXPECT_FALSE(Runner().WillReuse(
+      "extract", {"feature_extractor", "--a", "2"}, {output}));
+  EXPECT_FALSE(
+      Runner()
+          .RunStage("extract", {"feature_extractor", "--a", "2"}, {output})
+          .reused);
 }
 
 TEST_F(ColmapRunnerTest, AStageRunAnewMakesEveryLaterStageRunAnew) {
@@ -122,7 +137,8 @@ TEST_F(ColmapRunnerTest, AStageRunAnewMakesEveryLaterStageRunAnew) {
   }
   ColmapRunner second = Runner();
   EXPECT_TRUE(second.RunStage("extract", {"feature_extractor"}, {}).reused);
-  EXPECT_FALSE(second.RunStage("match", {"spatial_matcher", "--changed"}, {}).reused);
+  EXPECT_FALSE(
+      second.RunStage("match", {"spatial_matcher", "--changed"}, {}).reused);
   // Same arguments as before, but its input (the matches) changed.
   EXPECT_FALSE(second.WillReuse("map", {"mapper"}, {}));
   EXPECT_FALSE(second.RunStage("map", {"mapper"}, {}).reused);
@@ -144,7 +160,8 @@ TEST_F(ColmapRunnerTest, ExplainsAnAbort) {
     EXPECT_NE(message.find("134"), std::string::npos) << message;
     EXPECT_NE(message.find("CHECK"), std::string::npos) << message;
     EXPECT_NE(message.find("map.log"), std::string::npos) << message;
-    EXPECT_NE(message.find("Check failed: something"), std::string::npos) << message;
+    EXPECT_NE(message.find("Check failed: something"), std::string::npos)
+        << message;
   }
   // A failed stage is not marked finished.
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "stages" / "map.done"));

@@ -1,5 +1,19 @@
 #include "odomcal/plugin/demo_command.h"
 
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/datasets/dataset_presets.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/run_command.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -8,27 +22,13 @@
 #include <map>
 #include <sstream>
 
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
-
-#include "odomcal/adapters/format_error.h"
-#include "odomcal/datasets/dataset_presets.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/datasets/rendered_dataset.h"
-#include "odomcal/plugin/colmap_runner.h"
-#include "odomcal/plugin/run_command.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
-
 namespace odomcal {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
-                               const DriveSimulatorOptions& options) {
+                                        const DriveSimulatorOptions& options) {
   const Eigen::Quaterniond& q = drive.odom_from_cam.rotation;
   const Eigen::Vector3d& t = drive.odom_from_cam.translation;
   return {
@@ -55,7 +55,10 @@ int RunSimulatedDemo(const std::string& workspace,
                      CalibrateInputs inputs) {
   // Every run replaces the demo's own files (and only those).
   ClaimOutputFolder(workspace,
-                    {"camera.tum", "odometry.csv", "ground_truth.json", "calibration.json",
+                    {"camera.tum",
+                     "odometry.csv",
+                     "ground_truth.json",
+                     "calibration.json",
                      "calibration.yaml"},
                     ExistingOutputs::kReplaceOwn);
   const std::filesystem::path root(workspace);
@@ -67,17 +70,18 @@ int RunSimulatedDemo(const std::string& workspace,
   const std::string truth_path = (root / "ground_truth.json").string();
   WriteTumTrajectory(drive.camera, camera_path);
   WriteOdometryCsv(drive.odometry, odometry_path);
-  WriteFileAtomically(truth_path,
-                      SimulatedGroundTruthJson(drive, simulation).dump(2) + "\n");
-  std::cout << "      wrote " << camera_path << " (" << drive.camera.poses.size()
-            << " poses), " << odometry_path << " ("
+  WriteFileAtomically(
+      truth_path, SimulatedGroundTruthJson(drive, simulation).dump(2) + "\n");
+  std::cout << "      wrote " << camera_path << " ("
+            << drive.camera.poses.size() << " poses), " << odometry_path << " ("
             << drive.odometry.poses.size() << " samples), " << truth_path
             << "\n";
 
   std::cout << "[2/3] calibrating from the written files\n";
   inputs.camera_paths = {camera_path};
   inputs.odometry_path = odometry_path;
-  inputs.calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  inputs.calibration.fixed_translation_z_m =
+      drive.odom_from_cam.translation.z();
   const CalibrationRun run = RunCalibrationPipeline(inputs, "odomcal demo");
   const std::string result_path = (root / "calibration.json").string();
   WriteCalibrationOutputs(run, result_path, /*overwrite=*/true);
@@ -97,11 +101,11 @@ int RunSimulatedDemo(const std::string& workspace,
       kRadToDeg;
   const Eigen::Vector3d translation_error =
       result.odom_from_cam.translation - drive.odom_from_cam.translation;
-  const double scale_error =
-      result.metric_scales[0] / drive.metric_scale - 1.0;
+  const double scale_error = result.metric_scales[0] / drive.metric_scale - 1.0;
   std::printf("      rotation error     %8.4f deg\n", rotation_error_deg);
   std::printf("      translation error  x %+7.2f mm, y %+7.2f mm (z fixed)\n",
-              1000.0 * translation_error.x(), 1000.0 * translation_error.y());
+              1000.0 * translation_error.x(),
+              1000.0 * translation_error.y());
   std::printf("      scale error        %+8.4f %%\n", 100.0 * scale_error);
   return ExitCodeFor(result);
 }
@@ -137,21 +141,25 @@ int RunRenderedDemo(const std::string& workspace,
   const fs::path root(workspace);
   const fs::path dataset_dir = root / "dataset";
   // Every run replaces the demo's own dataset/ and run/ (and only those).
-  ClaimOutputFolder(workspace, {"dataset", "run"}, ExistingOutputs::kReplaceOwn);
+  ClaimOutputFolder(
+      workspace, {"dataset", "run"}, ExistingOutputs::kReplaceOwn);
   std::cout << "[demo] rendering preset '" << preset << "' (seed " << seed
             << ") into " << dataset_dir.string() << std::endl;
   const RenderedDataset dataset =
       SimulateRenderedDataset(MakeDatasetPreset(preset, seed));
   const std::string truth_json = GroundTruthJson(dataset);
-  if (ReadTextFile((dataset_dir / "ground_truth.json").string()) == truth_json) {
+  if (ReadTextFile((dataset_dir / "ground_truth.json").string()) ==
+      truth_json) {
     std::cout << "       already rendered; reusing it" << std::endl;
   } else {
     RemoveOwnedOutput(workspace, "dataset");
-    WriteRenderedDataset(dataset, dataset_dir.string(), [](size_t done, size_t total) {
-      if (done == total || done % 10 == 0) {
-        std::cout << "       rendered " << done << "/" << total << " images" << std::endl;
-      }
-    });
+    WriteRenderedDataset(
+        dataset, dataset_dir.string(), [](size_t done, size_t total) {
+          if (done == total || done % 10 == 0) {
+            std::cout << "       rendered " << done << "/" << total << " images"
+                      << std::endl;
+          }
+        });
   }
 
   RunSettings settings;
@@ -166,7 +174,8 @@ int RunRenderedDemo(const std::string& workspace,
   }
   ColmapCalibrationInputs inputs;
   inputs.odometry_path = (dataset_dir / "odometry.csv").string();
-  inputs.image_timestamps_path = (dataset_dir / "image_timestamps.csv").string();
+  inputs.image_timestamps_path =
+      (dataset_dir / "image_timestamps.csv").string();
   inputs.association = calibrate.association;
   inputs.calibration = calibrate.calibration;
   // z is unobservable from planar motion: the demo holds it at the true
@@ -176,8 +185,9 @@ int RunRenderedDemo(const std::string& workspace,
   std::cout << "[demo] odomcal run --image_path " << settings.image_path
             << " --odometry " << inputs.odometry_path << " --image_timestamps "
             << inputs.image_timestamps_path << " --camera_model "
-            << settings.camera_model << " --camera_params " << settings.camera_params
-            << " --workspace_path " << settings.workspace_path << std::endl;
+            << settings.camera_model << " --camera_params "
+            << settings.camera_params << " --workspace_path "
+            << settings.workspace_path << std::endl;
   const ColmapCalibrationRun run =
       RunReconstructionPipeline(settings, inputs, "odomcal demo");
   const CalibrationResult& result = run.check.result;
@@ -190,7 +200,8 @@ int RunRenderedDemo(const std::string& workspace,
   }
   const Rigid3d& truth = dataset.options.odom_from_cam;
   const double rotation_error_deg =
-      RotationAngle(result.odom_from_cam.rotation.conjugate() * truth.rotation) *
+      RotationAngle(result.odom_from_cam.rotation.conjugate() *
+                    truth.rotation) *
       kRadToDeg;
   const Eigen::Vector3d translation_error =
       result.odom_from_cam.translation - truth.translation;
@@ -198,7 +209,8 @@ int RunRenderedDemo(const std::string& workspace,
   std::printf(
       "       translation error  x %+7.2f mm, y %+7.2f mm (z held at the true "
       "%.3f m)\n",
-      1000.0 * translation_error.x(), 1000.0 * translation_error.y(),
+      1000.0 * translation_error.x(),
+      1000.0 * translation_error.y(),
       truth.translation.z());
   // The metric model against the true camera positions.
   std::map<std::string, Eigen::Vector3d> true_position;
@@ -214,11 +226,13 @@ int RunRenderedDemo(const std::string& workspace,
       expected.push_back(it->second);
     }
   }
-  std::printf("       metric model scale %+8.4f %% (over %zu registered images)\n",
-              100.0 * (RelativeModelScale(estimated, expected) - 1.0),
-              estimated.size());
+  std::printf(
+      "       metric model scale %+8.4f %% (over %zu registered images)\n",
+      100.0 * (RelativeModelScale(estimated, expected) - 1.0),
+      estimated.size());
   std::cout << "       report: "
-            << (fs::path(settings.workspace_path) / "report.html").string() << "\n";
+            << (fs::path(settings.workspace_path) / "report.html").string()
+            << "\n";
   return ExitCodeFor(result);
 }
 
@@ -241,19 +255,24 @@ int RunDemo(int argc, char** argv) {
   simulation.yaw_rate_bias_radps = 0.002;
   simulation.camera_rotation_noise_deg = 0.02;
   simulation.camera_position_noise = 0.002;
-  app.add_option("--workspace_path", workspace,
+  app.add_option("--workspace_path",
+                 workspace,
                  "folder for the demo's inputs and outputs (its files are "
                  "replaced on every run; finished COLMAP stages are reused)")
       ->capture_default_str();
-  app.add_option("--preset", preset, "rendered scene preset (see odomcal render --help)")
+  app.add_option("--preset",
+                 preset,
+                 "rendered scene preset (see odomcal render --help)")
       ->capture_default_str();
   app.add_option("--seed", seed, "scene / simulation seed")
       ->check(AtLeast(0))
       ->capture_default_str();
-  app.add_flag("--simulated", simulated,
+  app.add_flag("--simulated",
+               simulated,
                "calibrate a simulated trajectory pair instead (no images, no "
                "COLMAP; about a second)");
-  app.add_option("--duration_s", simulation.duration_s, "--simulated: drive duration")
+  app.add_option(
+         "--duration_s", simulation.duration_s, "--simulated: drive duration")
       ->check(InRange(5, 3600))
       ->capture_default_str();
   CalibrateInputs inputs;

@@ -3,17 +3,17 @@
 // 2 bad arguments or files, 3 the data do not determine the calibration,
 // 4 COLMAP missing, failed or gave no model (`run`, `demo`).
 
+#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/colmap_command.h"
+#include "odomcal/plugin/demo_command.h"
+#include "odomcal/plugin/render_command.h"
+#include "odomcal/plugin/run_command.h"
+#include "odomcal/plugin/simulate_command.h"
+
 #include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
-
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_command.h"
-#include "odomcal/plugin/demo_command.h"
-#include "odomcal/plugin/run_command.h"
-#include "odomcal/plugin/render_command.h"
-#include "odomcal/plugin/simulate_command.h"
 
 namespace {
 
@@ -50,8 +50,9 @@ void PrintUsage(std::ostream& out) {
          "usage: odomcal <command> [flags]   (odomcal help <command>)\n"
          "commands:\n";
   for (const Command& command : kCommands) {
-    out << "  " << command.name << std::string(12 - std::strlen(command.name), ' ')
-        << command.summary << "\n";
+    out << "  " << command.name
+        << std::string(12 - std::strlen(command.name), ' ') << command.summary
+        << "\n";
   }
   out << "  version     print the version\n";
 }

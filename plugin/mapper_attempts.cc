@@ -9,12 +9,18 @@ namespace {
 // Lower is better: how much of an answer the calibration gave.
 int StatusRank(CalibrationStatus status) {
   switch (status) {
-    case CalibrationStatus::kSuccess: return 0;
-    case CalibrationStatus::kUnobservable: return 1;
-    case CalibrationStatus::kRefinementFailed: return 2;
-    case CalibrationStatus::kInconsistentData: return 3;
-    case CalibrationStatus::kNotEnoughMotion: return 4;
-    case CalibrationStatus::kNotRun: return 5;
+    case CalibrationStatus::kSuccess:
+      return 0;
+    case CalibrationStatus::kUnobservable:
+      return 1;
+    case CalibrationStatus::kRefinementFailed:
+      return 2;
+    case CalibrationStatus::kInconsistentData:
+      return 3;
+    case CalibrationStatus::kNotEnoughMotion:
+      return 4;
+    case CalibrationStatus::kNotRun:
+      return 5;
   }
   return 5;
 }
@@ -38,15 +44,17 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   for (const InconsistentStretch& stretch : check.stretches) {
     if (stretch.kept_as_segment) continue;
     num_left_out += stretch.num_pairs;
-    attempt.contradicted_spans.emplace_back(stretch.first_stamp_ns, stretch.last_stamp_ns);
+    attempt.contradicted_spans.emplace_back(stretch.first_stamp_ns,
+                                            stretch.last_stamp_ns);
   }
   // A refusal for too little motion (straight driving, too few pairs)
   // judged no pair, so the odometry contradicts none (a straight drive stays
   // straight in every model). Any other refusal without an estimate (RANSAC
   // found no consistent set) explains no pair.
-  attempt.pairs_tested = check.result.has_estimate ||
-                         (check.result.status != CalibrationStatus::kUnobservable &&
-                          check.result.status != CalibrationStatus::kNotEnoughMotion);
+  attempt.pairs_tested =
+      check.result.has_estimate ||
+      (check.result.status != CalibrationStatus::kUnobservable &&
+       check.result.status != CalibrationStatus::kNotEnoughMotion);
   for (const MotionPair& pair : check.pairs) {
     attempt.pair_spans.emplace_back(pair.stamp_i_ns, pair.stamp_j_ns);
   }
@@ -58,10 +66,12 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
     attempt.contradicted_spans.emplace_back(check.pairs[k].stamp_i_ns,
                                             check.pairs[k].stamp_j_ns);
   }
-  std::sort(attempt.contradicted_spans.begin(), attempt.contradicted_spans.end());
+  std::sort(attempt.contradicted_spans.begin(),
+            attempt.contradicted_spans.end());
   const int num_calibrated = static_cast<int>(check.pairs.size());
   attempt.num_pairs = num_calibrated + num_left_out;
-  attempt.num_pairs_used = attempt.pairs_tested ? num_calibrated - num_unused : 0;
+  attempt.num_pairs_used =
+      attempt.pairs_tested ? num_calibrated - num_unused : 0;
   attempt.num_contradicting_pairs = num_unused + num_left_out;
   attempt.num_pairs_left_out = num_left_out;
   return attempt;
@@ -72,15 +82,18 @@ bool OdometryAcceptsModel(const MapperAttempt& attempt) {
          attempt.num_contradicting_pairs == 0;
 }
 
-bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier) {
+bool RepeatsContradictions(const MapperAttempt& later,
+                           const MapperAttempt& earlier) {
   return later.produced_model && earlier.produced_model &&
          !later.contradicted_spans.empty() &&
          later.contradicted_spans == earlier.contradicted_spans;
 }
 
-bool RepeatsUntestedPairs(const MapperAttempt& later, const MapperAttempt& earlier) {
-  return later.produced_model && earlier.produced_model && !later.pairs_tested &&
-         !earlier.pairs_tested && later.pair_spans == earlier.pair_spans;
+bool RepeatsUntestedPairs(const MapperAttempt& later,
+                          const MapperAttempt& earlier) {
+  return later.produced_model && earlier.produced_model &&
+         !later.pairs_tested && !earlier.pairs_tested &&
+         later.pair_spans == earlier.pair_spans;
 }
 
 bool ShouldMatchAgain(const std::vector<MapperAttempt>& round) {
@@ -95,8 +108,10 @@ bool ShouldMatchAgain(const std::vector<MapperAttempt>& round) {
 bool IsBetterMapperAttempt(const MapperAttempt& a, const MapperAttempt& b) {
   // Tuples compare lexicographically; negated counts: more is better.
   const auto key = [](const MapperAttempt& attempt) {
-    return std::make_tuple(!attempt.produced_model, StatusRank(attempt.status),
-                           attempt.num_contradicting_pairs, -attempt.num_pairs_used,
+    return std::make_tuple(!attempt.produced_model,
+                           StatusRank(attempt.status),
+                           attempt.num_contradicting_pairs,
+                           -attempt.num_pairs_used,
                            -attempt.num_registered_images);
   };
   return key(a) < key(b);

@@ -15,14 +15,14 @@
 // matches again and maps the new matches; see ShouldMatchAgain.
 #pragma once
 
+#include "odomcal/adapters/colmap_segments.h"
+#include "odomcal/solver/calibration_result.h"
+#include "odomcal/solver/stretch_consistency.h"
+
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "odomcal/adapters/colmap_segments.h"
-#include "odomcal/solver/calibration_result.h"
-#include "odomcal/solver/stretch_consistency.h"
 
 namespace odomcal {
 
@@ -32,7 +32,7 @@ struct MapperAttempt {
   std::string model_path;  // the mapper's output root (sub-models 0, 1, ...)
   bool produced_model = false;
   int num_sub_models = 0;
-  int num_registered_images = 0;  // over all sub-models
+  int num_registered_images = 0;                          // over all sub-models
   CalibrationStatus status = CalibrationStatus::kNotRun;  // on this model
   int num_pairs = 0;       // motion pairs the model gives
   int num_pairs_used = 0;  // in the final fit
@@ -62,12 +62,14 @@ bool OdometryAcceptsModel(const MapperAttempt& attempt);
 // True when `later` is contradicted exactly where `earlier` was: another
 // seed changed nothing there, so a further seed would not help; on new
 // matches (ShouldMatchAgain), neither would further matching.
-bool RepeatsContradictions(const MapperAttempt& later, const MapperAttempt& earlier);
+bool RepeatsContradictions(const MapperAttempt& later,
+                           const MapperAttempt& earlier);
 
 // True when neither model's pairs could be tested (too little motion) and
 // `later` gives the same motion pairs as `earlier`: a further seed would
 // give the same refusal.
-bool RepeatsUntestedPairs(const MapperAttempt& later, const MapperAttempt& earlier);
+bool RepeatsUntestedPairs(const MapperAttempt& later,
+                          const MapperAttempt& earlier);
 
 // Whether to match again after the mapper runs `round` of one matching: yes
 // when models came out but the odometry accepted none. Seeds that repeat

@@ -1,11 +1,11 @@
 #include "odomcal/plugin/mapper_attempts.h"
 
-#include <cmath>
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/tests/test_seed.h"
+#include <cmath>
 
 namespace odomcal {
 namespace {
@@ -35,7 +35,8 @@ class MapperAttemptsTest : public ::testing::Test {
     return CalibrateWithStretchCheck(pairs, options_, StretchOptions());
   }
 
-  MotionPairs WithMisregisteredImages(const std::vector<int>& broken_pairs = {11, 27}) const {
+  MotionPairs WithMisregisteredImages(const std::vector<int>& broken_pairs = {
+                                          11, 27}) const {
     MotionPairs pairs = truth_.pairs;
     const double two_deg = 2.0 * M_PI / 180.0;
     for (const int i : broken_pairs) {
@@ -67,7 +68,8 @@ class MapperAttemptsTest : public ::testing::Test {
 TEST_F(MapperAttemptsTest, AcceptsAModelTheOdometryAgreesWith) {
   const StretchCheckResult check = Calibrate(truth_.pairs);
   ASSERT_TRUE(check.result.IsSuccess()) << check.result.message;
-  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  const MapperAttempt attempt =
+      SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
   EXPECT_TRUE(attempt.produced_model);
   EXPECT_EQ(attempt.num_sub_models, 1);
   EXPECT_EQ(attempt.num_registered_images, 41);
@@ -80,7 +82,8 @@ TEST_F(MapperAttemptsTest, AcceptsAModelTheOdometryAgreesWith) {
 TEST_F(MapperAttemptsTest, CountsPairsTheOdometryContradicts) {
   const StretchCheckResult check = Calibrate(WithMisregisteredImages());
   ASSERT_TRUE(check.result.IsSuccess()) << check.result.message;
-  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  const MapperAttempt attempt =
+      SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
   EXPECT_EQ(attempt.num_pairs, 40);
   EXPECT_EQ(attempt.num_pairs_used, 38);
   EXPECT_EQ(attempt.num_contradicting_pairs, 2);
@@ -88,10 +91,10 @@ TEST_F(MapperAttemptsTest, CountsPairsTheOdometryContradicts) {
 }
 
 TEST_F(MapperAttemptsTest, PrefersTheCleanModelWhicheverSeedMadeIt) {
-  const MapperAttempt broken =
-      SummarizeMapperAttempt(0, "a/0", OneSubModel(41), Calibrate(WithMisregisteredImages()));
-  const MapperAttempt clean =
-      SummarizeMapperAttempt(1, "a/1", OneSubModel(41), Calibrate(truth_.pairs));
+  const MapperAttempt broken = SummarizeMapperAttempt(
+      0, "a/0", OneSubModel(41), Calibrate(WithMisregisteredImages()));
+  const MapperAttempt clean = SummarizeMapperAttempt(
+      1, "a/1", OneSubModel(41), Calibrate(truth_.pairs));
   EXPECT_TRUE(IsBetterMapperAttempt(clean, broken));
   EXPECT_FALSE(IsBetterMapperAttempt(broken, clean));
   EXPECT_EQ(BestMapperAttempt({broken, clean}), 1);
@@ -103,7 +106,8 @@ TEST_F(MapperAttemptsTest, CountsAStretchLeftOutAsContradicting) {
   InconsistentStretch folded;
   folded.num_pairs = 5;
   check.stretches.push_back(folded);
-  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(46), check);
+  const MapperAttempt attempt =
+      SummarizeMapperAttempt(0, "sparse", OneSubModel(46), check);
   EXPECT_EQ(attempt.num_pairs, 45);
   EXPECT_EQ(attempt.num_contradicting_pairs, 5);
   EXPECT_EQ(attempt.num_pairs_left_out, 5);
@@ -120,11 +124,15 @@ TEST_F(MapperAttemptsTest, SeesTheSameContradictionsAgain) {
   };
   const MapperAttempt first = attempt(0, WithMisregisteredImages({11, 27}));
   ASSERT_EQ(first.contradicted_spans.size(), 2u);
-  EXPECT_EQ(first.contradicted_spans[0],
-            std::make_pair(truth_.pairs[11].stamp_i_ns, truth_.pairs[11].stamp_j_ns));
-  EXPECT_TRUE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11, 27})), first));
-  EXPECT_FALSE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11, 30})), first));
-  EXPECT_FALSE(RepeatsContradictions(attempt(1, WithMisregisteredImages({11})), first));
+  EXPECT_EQ(
+      first.contradicted_spans[0],
+      std::make_pair(truth_.pairs[11].stamp_i_ns, truth_.pairs[11].stamp_j_ns));
+  EXPECT_TRUE(RepeatsContradictions(
+      attempt(1, WithMisregisteredImages({11, 27})), first));
+  EXPECT_FALSE(RepeatsContradictions(
+      attempt(1, WithMisregisteredImages({11, 30})), first));
+  EXPECT_FALSE(
+      RepeatsContradictions(attempt(1, WithMisregisteredImages({11})), first));
   const MapperAttempt clean = attempt(1, truth_.pairs);
   EXPECT_FALSE(RepeatsContradictions(clean, clean));
 }
@@ -132,8 +140,8 @@ TEST_F(MapperAttemptsTest, SeesTheSameContradictionsAgain) {
 TEST_F(MapperAttemptsTest, MatchesAgainWhileNoModelIsAccepted) {
   const MapperAttempt clean =
       SummarizeMapperAttempt(0, "a", OneSubModel(41), Calibrate(truth_.pairs));
-  const MapperAttempt outliers =
-      SummarizeMapperAttempt(1, "b", OneSubModel(41), Calibrate(WithMisregisteredImages()));
+  const MapperAttempt outliers = SummarizeMapperAttempt(
+      1, "b", OneSubModel(41), Calibrate(WithMisregisteredImages()));
   MapperAttempt no_model;
 
   // An accepted model needs nothing more, whatever came before it.
@@ -153,9 +161,11 @@ TEST_F(MapperAttemptsTest, MatchesAgainWhileNoModelIsAccepted) {
 // matching, and a warning blamed the odometry.
 TEST_F(MapperAttemptsTest, StraightDrivingContradictsNothing) {
   const StretchCheckResult check = Calibrate(Straightened(truth_.pairs));
-  ASSERT_EQ(check.result.status, CalibrationStatus::kUnobservable) << check.result.message;
+  ASSERT_EQ(check.result.status, CalibrationStatus::kUnobservable)
+      << check.result.message;
   ASSERT_FALSE(check.result.has_estimate);
-  const MapperAttempt attempt = SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  const MapperAttempt attempt =
+      SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
   EXPECT_FALSE(attempt.pairs_tested);
   EXPECT_EQ(attempt.num_pairs, 40);
   EXPECT_EQ(attempt.num_pairs_used, 0);  // no fit
@@ -172,15 +182,18 @@ TEST_F(MapperAttemptsTest, TooLittleMotionRepeatedStopsTheSeeds) {
   MotionPairs pairs = Straightened(truth_.pairs);
   pairs[5] = truth_.pairs[5];
   const StretchCheckResult check = Calibrate(pairs);
-  ASSERT_EQ(check.result.status, CalibrationStatus::kNotEnoughMotion) << check.result.message;
-  const MapperAttempt first = SummarizeMapperAttempt(0, "a", OneSubModel(41), check);
+  ASSERT_EQ(check.result.status, CalibrationStatus::kNotEnoughMotion)
+      << check.result.message;
+  const MapperAttempt first =
+      SummarizeMapperAttempt(0, "a", OneSubModel(41), check);
   EXPECT_FALSE(first.pairs_tested);
   EXPECT_EQ(first.num_contradicting_pairs, 0);
   EXPECT_FALSE(OdometryAcceptsModel(first));
   EXPECT_FALSE(RepeatsContradictions(first, first));
   EXPECT_TRUE(RepeatsUntestedPairs(first, first));
   pairs.pop_back();  // a model with one image fewer
-  const MapperAttempt fewer = SummarizeMapperAttempt(1, "b", OneSubModel(40), Calibrate(pairs));
+  const MapperAttempt fewer =
+      SummarizeMapperAttempt(1, "b", OneSubModel(40), Calibrate(pairs));
   EXPECT_FALSE(RepeatsUntestedPairs(fewer, first));
   // Tested models never repeat as untested ones.
   const MapperAttempt clean =

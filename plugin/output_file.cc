@@ -1,17 +1,17 @@
 #include "odomcal/plugin/output_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace odomcal {
 
@@ -29,9 +29,10 @@ void CheckOutputPath(const std::string& path, bool overwrite) {
     throw OutputError(path + ": is a directory");
   }
   if (fs::exists(target, error) && !IsOdomcalResultFile(path)) {
-    throw OutputError(path +
-                      ": exists and is not an odomcal result; --overwrite replaces only "
-                      "odomcal's own files");
+    throw OutputError(
+        path +
+        ": exists and is not an odomcal result; --overwrite replaces only "
+        "odomcal's own files");
   }
   const fs::path parent =
       target.has_parent_path() ? target.parent_path() : fs::path(".");
@@ -47,7 +48,8 @@ bool IsOdomcalResultFile(const std::string& path) {
   namespace fs = std::filesystem;
   constexpr uintmax_t kMaxResultBytes = 64 << 20;  // results are kilobytes
   std::error_code error;
-  if (!fs::is_regular_file(path, error) || fs::file_size(path, error) > kMaxResultBytes) {
+  if (!fs::is_regular_file(path, error) ||
+      fs::file_size(path, error) > kMaxResultBytes) {
     return false;
   }
   std::ifstream file(path, std::ios::binary);
@@ -57,8 +59,10 @@ bool IsOdomcalResultFile(const std::string& path) {
   if (text.rfind("%YAML:1.0\n---\nstatus: ", 0) == 0) {
     return text.find("\nunobservable:") != std::string::npos;
   }
-  const nlohmann::json json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  return json.is_object() && json.contains("schema") && json["schema"].is_string() &&
+  const nlohmann::json json =
+      nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  return json.is_object() && json.contains("schema") &&
+         json["schema"].is_string() &&
          json["schema"].get<std::string>().rfind("odomcal.", 0) == 0;
 }
 

@@ -5,21 +5,25 @@ namespace odomcal {
 void AddProjectFlags(CLI::App* app,
                      ColmapCalibrationInputs* inputs,
                      ProjectFlags* flags) {
-  app->add_option("--odometry", inputs->odometry_path,
+  app->add_option("--odometry",
+                  inputs->odometry_path,
                   "wheel odometry: CSV 'timestamp,x,y,yaw' (m, rad) or TUM "
                   "origin_from_odom")
       ->required()
       ->check(CLI::ExistingFile);
-  app->add_option("--image_timestamps", inputs->image_timestamps_path,
+  app->add_option("--image_timestamps",
+                  inputs->image_timestamps_path,
                   "CSV 'image_name,timestamp' (unit: --camera_time_unit); "
                   "without it, times come from numeric image file names")
       ->check(CLI::ExistingFile);
-  app->add_option("--file_name_time_unit", flags->file_name_time_unit,
+  app->add_option("--file_name_time_unit",
+                  flags->file_name_time_unit,
                   "unit of numeric image file names; auto: integer stems are "
                   "ns, stems with a decimal point are s")
       ->check(CLI::IsMember({"auto", "s", "ms", "us", "ns"}))
       ->capture_default_str();
-  app->add_option("--min_inconsistent_run_pairs", inputs->stretch.min_run_pairs,
+  app->add_option("--min_inconsistent_run_pairs",
+                  inputs->stretch.min_run_pairs,
                   "consecutive motion pairs contradicting the odometry that "
                   "make a stretch to cut out or split off")
       ->check(AtLeast(1))
@@ -27,7 +31,8 @@ void AddProjectFlags(CLI::App* app,
   AddCalibrationFlags(app, &flags->calibrate, &flags->calibration);
 }
 
-void FinishProjectFlags(const ProjectFlags& flags, ColmapCalibrationInputs* inputs) {
+void FinishProjectFlags(const ProjectFlags& flags,
+                        ColmapCalibrationInputs* inputs) {
   CalibrateInputs calibrate = flags.calibrate;
   FinishCalibrationFlags(flags.calibration, &calibrate);
   inputs->odometry_format = calibrate.odometry_format;

@@ -2,15 +2,15 @@
 // (`odomcal colmap`, `odomcal run`), and the output-folder rules.
 #pragma once
 
-#include <string>
-#include <vector>
-
-#include <CLI/CLI.hpp>
-
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
 
 namespace odomcal {
 
@@ -27,7 +27,8 @@ void AddProjectFlags(CLI::App* app,
                      ProjectFlags* flags);
 
 // Converts the text flags into `inputs`; throws std::invalid_argument.
-void FinishProjectFlags(const ProjectFlags& flags, ColmapCalibrationInputs* inputs);
+void FinishProjectFlags(const ProjectFlags& flags,
+                        ColmapCalibrationInputs* inputs);
 
 // Checks the output folder `output` against `inputs` (output_guard.h), then
 // creates it if needed and claims `entries` in it (output_folder.h), before

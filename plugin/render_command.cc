@@ -27,8 +27,11 @@ namespace fs = std::filesystem;
 // images/ odomcal wrote: output_folder.h).
 void PrepareOutputFolder(const fs::path& dir, bool overwrite) {
   ClaimOutputFolder(dir.string(),
-                    {"images", "odometry.csv", "odometry_ground_truth.csv",
-                     "image_timestamps.csv", "ground_truth.json"},
+                    {"images",
+                     "odometry.csv",
+                     "odometry_ground_truth.csv",
+                     "image_timestamps.csv",
+                     "ground_truth.json"},
                     overwrite ? ExistingOutputs::kReplaceOwn
                               : ExistingOutputs::kRefuseNonEmptyFolder);
   std::error_code error;

@@ -9,19 +9,6 @@
 
 #include "odomcal/plugin/run_command.h"
 
-#include <algorithm>
-#include <chrono>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <map>
-#include <optional>
-#include <sstream>
-
-#include <CLI/CLI.hpp>
-#include <unistd.h>
-
 #include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_database_priors.h"
 #include "odomcal/adapters/excitation_precheck.h"
@@ -39,6 +26,20 @@
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/project_flags.h"
 
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+
 namespace odomcal {
 namespace {
 
@@ -46,7 +47,9 @@ namespace fs = std::filesystem;
 
 bool IsImageFile(const fs::path& path) {
   std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
+  std::transform(extension.begin(),
+                 extension.end(),
+                 extension.begin(),
                  [](unsigned char c) { return std::tolower(c); });
   return extension == ".png" || extension == ".jpg" || extension == ".jpeg" ||
          extension == ".bmp" || extension == ".tif" || extension == ".tiff";
@@ -71,7 +74,8 @@ class StageClock {
     start_ = std::chrono::steady_clock::now();
   }
   double Seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                         start_)
         .count();
   }
   // An exception between the title and Done() still ends the line.
@@ -91,11 +95,13 @@ class StageClock {
 };
 
 std::string Note(const ColmapStageResult& stage) {
-  return stage.reused ? "reused from an earlier run" : "done, log " + stage.log_path;
+  return stage.reused ? "reused from an earlier run"
+                      : "done, log " + stage.log_path;
 }
 
 // The first line of `log_path` that holds `word`, or "".
-std::string FirstLineWith(const std::string& log_path, const std::string& word) {
+std::string FirstLineWith(const std::string& log_path,
+                          const std::string& word) {
   std::ifstream log(log_path);
   std::string line;
   while (std::getline(log, line)) {
@@ -123,8 +129,9 @@ void CheckImagesWereRead(const std::string& database,
   if (ReadColmapDatabaseImages(database).empty()) {
     fs::remove(stage_marker, ignored);
     const std::string error = FirstLineWith(log_path, "ERROR");
-    throw ColmapError("COLMAP could read none of the " + std::to_string(num_images) +
-                      " images in " + image_path + " (see " + log_path +
+    throw ColmapError("COLMAP could read none of the " +
+                      std::to_string(num_images) + " images in " + image_path +
+                      " (see " + log_path +
                       (error.empty() ? "" : ": " + error) + ")");
   }
 }
@@ -138,11 +145,12 @@ std::string OdometryVerdict(const MapperAttempt& attempt) {
     verdict = "none of " + std::to_string(attempt.num_pairs) +
               " motion pairs could be tested against the odometry";
   } else if (attempt.num_contradicting_pairs == 0) {
-    verdict = "the odometry agrees with all " + std::to_string(attempt.num_pairs) +
-              " motion pairs";
+    verdict = "the odometry agrees with all " +
+              std::to_string(attempt.num_pairs) + " motion pairs";
   } else {
     verdict = std::to_string(attempt.num_contradicting_pairs) + " of " +
-              std::to_string(attempt.num_pairs) + " motion pairs contradict the odometry";
+              std::to_string(attempt.num_pairs) +
+              " motion pairs contradict the odometry";
   }
   if (attempt.status != CalibrationStatus::kSuccess) {
     verdict += " (calibration: " + ToString(attempt.status) + ")";
@@ -173,19 +181,27 @@ std::vector<std::string> MatcherArguments(const std::string& matcher,
                                           const RunSettings& run,
                                           const ColmapVersion& version) {
   const std::string matching = FeatureMatchingPrefix(version);
-  std::vector<std::string> arguments = {
-      matcher + "_matcher", "--database_path", round.database,
-      "--" + matching + ".use_gpu", "0", "--" + matching + ".num_threads",
-      std::to_string(run.num_threads)};
+  std::vector<std::string> arguments = {matcher + "_matcher",
+                                        "--database_path",
+                                        round.database,
+                                        "--" + matching + ".use_gpu",
+                                        "0",
+                                        "--" + matching + ".num_threads",
+                                        std::to_string(run.num_threads)};
   if (matcher == "spatial") {
     arguments.insert(arguments.end(),
-                     {"--SpatialMatching.is_gps", "0", "--SpatialMatching.ignore_z", "1",
+                     {"--SpatialMatching.is_gps",
+                      "0",
+                      "--SpatialMatching.ignore_z",
+                      "1",
                       "--SpatialMatching.max_num_neighbors",
                       std::to_string(run.spatial_neighbors),
-                      "--SpatialMatching.max_distance", "5"});
+                      "--SpatialMatching.max_distance",
+                      "5"});
   } else {
-    arguments.insert(arguments.end(), {"--SequentialMatching.overlap",
-                                       std::to_string(run.sequential_overlap)});
+    arguments.insert(arguments.end(),
+                     {"--SequentialMatching.overlap",
+                      std::to_string(run.sequential_overlap)});
   }
   return arguments;
 }
@@ -200,17 +216,23 @@ void MatchAgain(ColmapRunner* colmap,
                 const std::string& first_database,
                 const RunSettings& run,
                 int num_stages) {
-  StageClock clock(3, num_stages,
-                   "COLMAP " + matcher + " matching again, into a copy of the features");
-  const std::vector<std::string> cleaner = {"database_cleaner", "--type", "matches",
-                                            "--database_path", round.database};
+  StageClock clock(
+      3,
+      num_stages,
+      "COLMAP " + matcher + " matching again, into a copy of the features");
+  const std::vector<std::string> cleaner = {"database_cleaner",
+                                            "--type",
+                                            "matches",
+                                            "--database_path",
+                                            round.database};
   const std::vector<std::string> matching =
       MatcherArguments(matcher, round, run, colmap->Version());
   const std::string cleaner_stage = "database_cleaner_rematch";
   const std::string matcher_stage = matcher + "_matcher_rematch";
   if (!colmap->WillReuse(cleaner_stage, cleaner, {round.database}) ||
       !colmap->WillReuse(matcher_stage, matching, {round.database})) {
-    fs::copy_file(first_database, round.database, fs::copy_options::overwrite_existing);
+    fs::copy_file(
+        first_database, round.database, fs::copy_options::overwrite_existing);
     colmap->RunLaterStagesAnew();
   }
   colmap->RunStage(cleaner_stage, cleaner, {round.database});
@@ -237,31 +259,47 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
     MapperAttempt attempt;
     attempt.matching_round = round.index;
     attempt.random_seed = seed;
-    StageClock clock(4, num_stages,
+    StageClock clock(4,
+                     num_stages,
                      std::string("COLMAP mapping") +
                          (round.index == 0 ? "" : " the new matches") +
                          ", --random_seed " + std::to_string(seed));
-    const std::string stage_name = "mapper_" + prefix + "seed_" + std::to_string(seed);
-    const fs::path output =
-        workspace / "mapper_attempts" / (prefix + "seed_" + std::to_string(seed));
+    const std::string stage_name =
+        "mapper_" + prefix + "seed_" + std::to_string(seed);
+    const fs::path output = workspace / "mapper_attempts" /
+                            (prefix + "seed_" + std::to_string(seed));
     const bool fixed_intrinsics = !run.camera_params.empty();
     const std::vector<std::string> arguments = {
-        "mapper", "--database_path", round.database, "--image_path", run.image_path,
-        "--output_path", output.string(), "--image_list_path",
-        (workspace / "image_list.txt").string(), "--random_seed", std::to_string(seed),
-        "--Mapper.num_threads", std::to_string(run.num_threads),
-        "--Mapper.ba_refine_focal_length", fixed_intrinsics ? "0" : "1",
-        "--Mapper.ba_refine_principal_point", "0", "--Mapper.ba_refine_extra_params",
+        "mapper",
+        "--database_path",
+        round.database,
+        "--image_path",
+        run.image_path,
+        "--output_path",
+        output.string(),
+        "--image_list_path",
+        (workspace / "image_list.txt").string(),
+        "--random_seed",
+        std::to_string(seed),
+        "--Mapper.num_threads",
+        std::to_string(run.num_threads),
+        "--Mapper.ba_refine_focal_length",
+        fixed_intrinsics ? "0" : "1",
+        "--Mapper.ba_refine_principal_point",
+        "0",
+        "--Mapper.ba_refine_extra_params",
         fixed_intrinsics ? "0" : "1"};
     const std::vector<std::string> outputs = {(output / "0").string()};
     // A rerun must not mix new sub-models with stale ones.
     std::error_code error;
     if (!colmap->WillReuse(stage_name, arguments, outputs)) {
-      RemoveOwnedOutput(run.workspace_path,
-                        "mapper_attempts/" + prefix + "seed_" + std::to_string(seed));
+      RemoveOwnedOutput(
+          run.workspace_path,
+          "mapper_attempts/" + prefix + "seed_" + std::to_string(seed));
     }
     fs::create_directories(output, error);
-    const ColmapStageResult stage = colmap->RunStage(stage_name, arguments, outputs);
+    const ColmapStageResult stage =
+        colmap->RunStage(stage_name, arguments, outputs);
     attempt.model_path = output.string();
     if (!fs::exists(output / "0")) {
       mapped.attempts.push_back(attempt);
@@ -269,17 +307,20 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
       continue;
     }
     inputs->model_path = output.string();
-    const ColmapCalibrationRun calibration = CalibrateColmapProject(*inputs, command);
-    mapped.attempts.push_back(SummarizeMapperAttempt(seed, output.string(),
-                                                     calibration.segments, calibration.check));
+    const ColmapCalibrationRun calibration =
+        CalibrateColmapProject(*inputs, command);
+    mapped.attempts.push_back(SummarizeMapperAttempt(
+        seed, output.string(), calibration.segments, calibration.check));
     mapped.attempts.back().matching_round = round.index;
     const MapperAttempt& last = mapped.attempts.back();
     const bool accepted = OdometryAcceptsModel(last);
     std::vector<MapperAttempt> before = earlier;
-    before.insert(before.end(), mapped.attempts.begin(), mapped.attempts.end() - 1);
+    before.insert(
+        before.end(), mapped.attempts.begin(), mapped.attempts.end() - 1);
     for (const MapperAttempt& other : before) {
       if (!accepted && !mapped.repeated &&
-          (RepeatsContradictions(last, other) || RepeatsUntestedPairs(last, other))) {
+          (RepeatsContradictions(last, other) ||
+           RepeatsUntestedPairs(last, other))) {
         mapped.repeated = other;
       }
     }
@@ -296,25 +337,30 @@ MappedRound MapWithSeeds(ColmapRunner* colmap,
 }
 
 // Why the chosen model still has motion pairs the odometry contradicts.
-std::string MapperContradictionWarning(const std::vector<MapperAttempt>& attempts,
-                                       int chosen,
-                                       const MappedRound& last_round) {
+std::string MapperContradictionWarning(
+    const std::vector<MapperAttempt>& attempts,
+    int chosen,
+    const MappedRound& last_round) {
   const MapperAttempt& last = last_round.attempts.back();
   if (last_round.repeated) {
     const MapperAttempt& first = *last_round.repeated;
     const std::string runs =
         first.matching_round == last.matching_round
-            ? "COLMAP mapper runs with --random_seed " + std::to_string(first.random_seed) +
-                  " and " + std::to_string(last.random_seed) +
+            ? "COLMAP mapper runs with --random_seed " +
+                  std::to_string(first.random_seed) + " and " +
+                  std::to_string(last.random_seed) +
                   (last.matching_round == 0 ? "" : " on the new matches")
-            : "COLMAP mapper runs on two matchings (" + AttemptName(first) + ", " +
-                  AttemptName(last) + ")";
-    return runs + " gave the same " + std::to_string(last.num_contradicting_pairs) +
-           " motion pairs that contradict the odometry: the odometry or the images "
+            : "COLMAP mapper runs on two matchings (" + AttemptName(first) +
+                  ", " + AttemptName(last) + ")";
+    return runs + " gave the same " +
+           std::to_string(last.num_contradicting_pairs) +
+           " motion pairs that contradict the odometry: the odometry or the "
+           "images "
            "disagree there, not COLMAP's randomness";
   }
   return "every one of " + std::to_string(attempts.size()) +
-         " COLMAP mapper runs" + (last.matching_round == 0 ? "" : " on two matchings") +
+         " COLMAP mapper runs" +
+         (last.matching_round == 0 ? "" : " on two matchings") +
          " gave motion pairs that contradict the odometry; the model of " +
          AttemptName(attempts[chosen]) + " contradicts it least";
 }
@@ -393,16 +439,23 @@ ColmapCalibrationRun RefuseBeforeColmap(const ExcitationPrecheck& precheck,
 std::vector<std::string> RunWorkspaceEntries() {
   std::vector<std::string> entries = ColmapCalibrationOutputEntries();
   entries.insert(entries.end(),
-                 {"image_list.txt", "database.db", "database_rematched.db", "logs", "stages",
-                  "commands.txt", "mapper_attempts", "sparse", "sparse.tmp"});
+                 {"image_list.txt",
+                  "database.db",
+                  "database_rematched.db",
+                  "logs",
+                  "stages",
+                  "commands.txt",
+                  "mapper_attempts",
+                  "sparse",
+                  "sparse.tmp"});
   return entries;
 }
 
 }  // namespace
 
 ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
-                                             ColmapCalibrationInputs inputs,
-                                             const std::string& command) {
+                                               ColmapCalibrationInputs inputs,
+                                               const std::string& command) {
   RunSettings run = settings;
   const fs::path workspace(run.workspace_path);
   // Reruns reuse the workspace: odomcal's own entries in it are replaced.
@@ -430,8 +483,9 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
                                        inputs.image_time_unit);
     const std::vector<std::string> names = ListImages(run.image_path);
     if (names.empty()) {
-      throw FormatError(run.image_path + ": no images (.png, .jpg, .jpeg, "
-                                         ".bmp, .tif)");
+      throw FormatError(run.image_path +
+                        ": no images (.png, .jpg, .jpeg, "
+                        ".bmp, .tif)");
     }
     std::vector<TimedImage> all;
     for (const std::string& name : names) {
@@ -443,8 +497,8 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     if (inputs.image_timestamps_path.empty()) {
       std::vector<int64_t> stamps_ns;
       for (const TimedImage& image : all) stamps_ns.push_back(image.stamp_ns);
-      CheckImageTimesAreNotFrameNumbers(stamps_ns, run.image_path,
-                                        timestamps.how_read());
+      CheckImageTimesAreNotFrameNumbers(
+          stamps_ns, run.image_path, timestamps.how_read());
     }
     run.frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
     run.frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
@@ -503,13 +557,22 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   {
     StageClock clock(2, kStages, "COLMAP feature extraction");
     std::vector<std::string> arguments = {
-        "feature_extractor", "--database_path", database, "--image_path",
-        run.image_path, "--image_list_path",
+        "feature_extractor",
+        "--database_path",
+        database,
+        "--image_path",
+        run.image_path,
+        "--image_list_path",
         (workspace / "image_list.txt").string(),
-        "--ImageReader.single_camera", "1", "--ImageReader.camera_model",
-        run.camera_model, "--" + extraction + ".use_gpu", "0",
+        "--ImageReader.single_camera",
+        "1",
+        "--ImageReader.camera_model",
+        run.camera_model,
+        "--" + extraction + ".use_gpu",
+        "0",
         "--" + extraction + ".max_num_features",
-        std::to_string(run.max_num_features), "--" + extraction + ".num_threads",
+        std::to_string(run.max_num_features),
+        "--" + extraction + ".num_threads",
         std::to_string(run.num_threads)};
     if (!run.camera_params.empty()) {
       arguments.insert(arguments.end(),
@@ -517,7 +580,10 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     }
     const ColmapStageResult stage =
         colmap.RunStage("feature_extractor", arguments, {database});
-    CheckImagesWereRead(database, images.size(), run.image_path, stage.log_path,
+    CheckImagesWereRead(database,
+                        images.size(),
+                        run.image_path,
+                        stage.log_path,
                         workspace / "stages" / "feature_extractor.done");
     clock.Done(Note(stage));
   }
@@ -525,7 +591,8 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   // [3] Matching, guided by odometry positions.
   std::string matcher = run.matcher;
   if (matcher == "spatial" && version.AtLeast(3, 10)) {
-    std::cout << "(COLMAP >= 3.10 keeps priors elsewhere: sequential matching)\n";
+    std::cout
+        << "(COLMAP >= 3.10 keeps priors elsewhere: sequential matching)\n";
     matcher = "sequential";
   }
   if (matcher == "spatial") {
@@ -533,8 +600,10 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
     InterpolationFailure why;
     for (const TimedImage& image : images) {
       const auto pose = InterpolateOdometry(
-          odometry, image.stamp_ns + inputs.association.camera_time_offset_ns,
-          inputs.association.max_odometry_gap_s, &why);
+          odometry,
+          image.stamp_ns + inputs.association.camera_time_offset_ns,
+          inputs.association.max_odometry_gap_s,
+          &why);
       if (pose) positions[image.name] = pose->translation;
     }
     WriteColmapDatabasePositionPriors(database, positions);
@@ -543,23 +612,27 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
   first.database = database;
   {
     StageClock clock(3, kStages, "COLMAP " + matcher + " matching");
-    clock.Done(Note(colmap.RunStage(matcher + "_matcher",
-                                    MatcherArguments(matcher, first, run, version),
-                                    {database})));
+    clock.Done(
+        Note(colmap.RunStage(matcher + "_matcher",
+                             MatcherArguments(matcher, first, run, version),
+                             {database})));
   }
 
   // [4] Mapping, each model checked against the odometry; when the random
   // seeds do not help, [3] and [4] once more on new matches
   // (mapper_attempts.h).
-  MappedRound mapped = MapWithSeeds(&colmap, run, first, {}, kStages, command, &inputs);
+  MappedRound mapped =
+      MapWithSeeds(&colmap, run, first, {}, kStages, command, &inputs);
   std::vector<MapperAttempt> attempts = mapped.attempts;
   MatchingRound second;
   if (run.rematch && ShouldMatchAgain(mapped.attempts)) {
     second.index = 1;
     second.database = (workspace / "database_rematched.db").string();
     MatchAgain(&colmap, matcher, second, database, run, kStages);
-    mapped = MapWithSeeds(&colmap, run, second, attempts, kStages, command, &inputs);
-    attempts.insert(attempts.end(), mapped.attempts.begin(), mapped.attempts.end());
+    mapped =
+        MapWithSeeds(&colmap, run, second, attempts, kStages, command, &inputs);
+    attempts.insert(
+        attempts.end(), mapped.attempts.begin(), mapped.attempts.end());
   }
   const int chosen = BestMapperAttempt(attempts);
   if (chosen < 0) {
@@ -572,15 +645,17 @@ ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
 
   // [5] Calibration of the model the odometry contradicts least.
   const MapperAttempt& best = attempts[chosen];
-  StageClock clock(5, kStages,
-                   "calibrating against the odometry (model of " + AttemptName(best) +
-                       ")");
+  StageClock clock(
+      5,
+      kStages,
+      "calibrating against the odometry (model of " + AttemptName(best) + ")");
   const fs::path sparse = workspace / "sparse";
   ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
   // Calibrated again (a fraction of a second) so that every path in the
   // outputs names sparse/, the model a later `odomcal colmap` would read.
   inputs.model_path = sparse.string();
-  inputs.database_path = best.matching_round == 0 ? first.database : second.database;
+  inputs.database_path =
+      best.matching_round == 0 ? first.database : second.database;
   ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
   calibration.mapper_attempts = attempts;
   calibration.chosen_mapper_attempt = chosen;
@@ -605,55 +680,74 @@ int RunRun(int argc, char** argv) {
   RunSettings run;
   ColmapCalibrationInputs inputs;
   ProjectFlags flags;
-  app.add_option("--image_path", run.image_path, "folder of images (sub-folders too)")
+  app.add_option(
+         "--image_path", run.image_path, "folder of images (sub-folders too)")
       ->required()
       ->check(CLI::ExistingDirectory);
-  app.add_option("--workspace_path", run.workspace_path,
+  app.add_option("--workspace_path",
+                 run.workspace_path,
                  "COLMAP workspace and outputs (created; reused on reruns)")
       ->required();
   app.add_option("--camera_model", run.camera_model, "COLMAP camera model")
-      ->check(CLI::IsMember({"SIMPLE_PINHOLE", "PINHOLE", "SIMPLE_RADIAL", "RADIAL",
-                             "OPENCV", "OPENCV_FISHEYE", "FULL_OPENCV"}))
+      ->check(CLI::IsMember({"SIMPLE_PINHOLE",
+                             "PINHOLE",
+                             "SIMPLE_RADIAL",
+                             "RADIAL",
+                             "OPENCV",
+                             "OPENCV_FISHEYE",
+                             "FULL_OPENCV"}))
       ->capture_default_str();
-  app.add_option("--camera_params", run.camera_params,
+  app.add_option("--camera_params",
+                 run.camera_params,
                  "intrinsics in COLMAP's order, e.g. fx,fy,cx,cy; kept fixed "
                  "in the mapper (strongly recommended)");
-  app.add_option("--matcher", run.matcher,
+  app.add_option("--matcher",
+                 run.matcher,
                  "spatial: pairs by odometry position (COLMAP 3.8 priors); "
                  "sequential: by image name order")
       ->check(CLI::IsMember({"spatial", "sequential"}))
       ->capture_default_str();
-  app.add_option("--spatial_neighbors", run.spatial_neighbors,
+  app.add_option("--spatial_neighbors",
+                 run.spatial_neighbors,
                  "spatial matcher: neighbours per image")
       ->check(AtLeast(1))
       ->capture_default_str();
-  app.add_option("--sequential_overlap", run.sequential_overlap,
+  app.add_option("--sequential_overlap",
+                 run.sequential_overlap,
                  "sequential matcher: overlap")
       ->check(AtLeast(1))
       ->capture_default_str();
-  app.add_option("--max_num_features", run.max_num_features,
-                 "SIFT features per image (matching cost grows with its square)")
+  app.add_option(
+         "--max_num_features",
+         run.max_num_features,
+         "SIFT features per image (matching cost grows with its square)")
       ->check(AtLeast(1))
       ->capture_default_str();
   app.add_option("--num_threads", run.num_threads, "COLMAP threads")
       ->check(AtLeast(1))
       ->capture_default_str();
-  app.add_option("--frame_min_translation_m", run.frames.min_translation_m,
-                 "frame selection: keep an image once the robot moved this far...")
+  app.add_option(
+         "--frame_min_translation_m",
+         run.frames.min_translation_m,
+         "frame selection: keep an image once the robot moved this far...")
       ->check(AtLeast(0))
       ->capture_default_str();
-  app.add_option("--frame_min_rotation_deg", run.frames.min_rotation_deg,
+  app.add_option("--frame_min_rotation_deg",
+                 run.frames.min_rotation_deg,
                  "...or turned this much since the last kept image")
       ->check(AtLeast(0))
       ->capture_default_str();
-  app.add_option("--mapper_attempts", run.mapper_attempts,
-                 "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
-                 "contradicts motion pairs of the model; the model it contradicts "
-                 "least is kept; per matching")
+  app.add_option(
+         "--mapper_attempts",
+         run.mapper_attempts,
+         "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
+         "contradicts motion pairs of the model; the model it contradicts "
+         "least is kept; per matching")
       ->check(InRange(1, 20))
       ->capture_default_str();
   std::string rematch = "on";
-  app.add_option("--rematch", rematch,
+  app.add_option("--rematch",
+                 rematch,
                  "when the mapper's seeds do not give a model the odometry "
                  "accepts, match the images again and map the new matches too")
       ->check(CLI::IsMember({"on", "off"}))
@@ -674,7 +768,8 @@ int RunRun(int argc, char** argv) {
     run.rematch = rematch == "on";
     const ColmapCalibrationRun calibration =
         RunReconstructionPipeline(run, inputs, "odomcal run");
-    std::cout << CalibrationSummary(calibration.check.result, calibration.context);
+    std::cout << CalibrationSummary(calibration.check.result,
+                                    calibration.context);
     const auto& written = calibration.written_outputs;
     if (std::find(written.begin(), written.end(), "report.html") !=
         written.end()) {

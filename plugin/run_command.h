@@ -1,17 +1,17 @@
 // `odomcal run`: from an image folder and an odometry log to a calibration.
 // Selects frames with the odometry, refuses a drive whose odometry cannot
-// determine the calibration (no or too few turns) before COLMAP, runs COLMAP (feature_extractor,
-// odometry-guided spatial or sequential matching, mapper, run again with
-// another random seed while the odometry contradicts its model, matching
-// again when that does not help) in a workspace,
-// then calibrates the reconstruction as `odomcal colmap` does. Finished
-// COLMAP stages are reused when rerun on the same workspace.
+// determine the calibration (no or too few turns) before COLMAP, runs COLMAP
+// (feature_extractor, odometry-guided spatial or sequential matching, mapper,
+// run again with another random seed while the odometry contradicts its model,
+// matching again when that does not help) in a workspace, then calibrates the
+// reconstruction as `odomcal colmap` does. Finished COLMAP stages are reused
+// when rerun on the same workspace.
 #pragma once
-
-#include <string>
 
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/plugin/colmap_calibration.h"
+
+#include <string>
 
 namespace odomcal {
 

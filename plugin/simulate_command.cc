@@ -240,7 +240,8 @@ int RunSimulate(int argc, char** argv) {
       entries.push_back(sweep.name + ".csv");
       entries.push_back(sweep.name + ".svg");
     }
-    ClaimOutputFolder(output_path, entries,
+    ClaimOutputFolder(output_path,
+                      entries,
                       overwrite ? ExistingOutputs::kReplaceOwn
                                 : ExistingOutputs::kRefuseExistingEntry);
 

@@ -4,18 +4,18 @@
 
 #include "odomcal/solver/calibrate.h"
 
+#include "odomcal/solver/hand_eye_linear.h"
+#include "odomcal/solver/hand_eye_ransac.h"
+#include "odomcal/solver/hand_eye_refine.h"
+#include "odomcal/solver/hand_eye_residual.h"
+
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
-
-#include <Eigen/Dense>
-
-#include "odomcal/solver/hand_eye_linear.h"
-#include "odomcal/solver/hand_eye_ransac.h"
-#include "odomcal/solver/hand_eye_refine.h"
-#include "odomcal/solver/hand_eye_residual.h"
 
 namespace odomcal {
 namespace {
@@ -51,7 +51,8 @@ void ValidatePairs(const MotionPairs& pairs) {
   for (size_t i = 0; i < pairs.size(); ++i) {
     const MotionPair& pair = pairs[i];
     const std::string where = "motion pair " + std::to_string(i);
-    if (!IsFinite(pair.odom_i_from_odom_j) || !IsFinite(pair.cam_i_from_cam_j)) {
+    if (!IsFinite(pair.odom_i_from_odom_j) ||
+        !IsFinite(pair.cam_i_from_cam_j)) {
       throw std::invalid_argument(where + " has a non-finite value");
     }
     // Least squares squares the translations; beyond ~1e154 that overflows.
@@ -69,7 +70,8 @@ void ValidatePairs(const MotionPairs& pairs) {
       throw std::invalid_argument(where + " has a negative segment index " +
                                   std::to_string(pair.segment));
     }
-    for (const auto* covariance : {&pair.odom_covariance, &pair.cam_covariance}) {
+    for (const auto* covariance :
+         {&pair.odom_covariance, &pair.cam_covariance}) {
       if (*covariance && !(*covariance)->allFinite()) {
         throw std::invalid_argument(where + " has a non-finite covariance");
       }
@@ -92,8 +94,10 @@ void MeasureExcitation(const MotionPairs& pairs,
   std::vector<double> yaws;
   for (const MotionPair& pair : pairs) yaws.push_back(YawDeg(pair));
   if (yaws.empty()) return;
-  diagnostics->yaw_increment_min_deg = *std::min_element(yaws.begin(), yaws.end());
-  diagnostics->yaw_increment_max_deg = *std::max_element(yaws.begin(), yaws.end());
+  diagnostics->yaw_increment_min_deg =
+      *std::min_element(yaws.begin(), yaws.end());
+  diagnostics->yaw_increment_max_deg =
+      *std::max_element(yaws.begin(), yaws.end());
   const double mean =
       std::accumulate(yaws.begin(), yaws.end(), 0.0) / yaws.size();
   double variance = 0.0;
@@ -147,7 +151,8 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
     names.push_back(ScaleName(segment, num_segments));
   }
   auto add_unobservable = [&](const std::string& name) {
-    if (std::find(result->unobservable.begin(), result->unobservable.end(),
+    if (std::find(result->unobservable.begin(),
+                  result->unobservable.end(),
                   name) == result->unobservable.end()) {
       result->unobservable.push_back(name);
     }
@@ -181,8 +186,8 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
     return;
   }
   const Eigen::MatrixXd covariance =
-      inv_sqrt.asDiagonal() *
-      eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+      inv_sqrt.asDiagonal() * eig.eigenvectors() *
+      eig.eigenvalues().cwiseInverse().asDiagonal() *
       eig.eigenvectors().transpose() * inv_sqrt.asDiagonal();
   result->covariance = covariance;
   const Eigen::Matrix3d rotation_covariance = covariance.topLeftCorner<3, 3>();
@@ -232,7 +237,8 @@ void ComputeResiduals(const MotionPairs& pairs,
   for (size_t i = 0; i < pairs.size(); ++i) {
     const double scale = result->metric_scales[pairs[i].segment];
     if (!std::isfinite(scale)) continue;
-    const PairError error = EvaluatePair(pairs[i], result->odom_from_cam, scale);
+    const PairError error =
+        EvaluatePair(pairs[i], result->odom_from_cam, scale);
     d.rotation_residual_deg[i] = error.rotation_deg;
     d.translation_residual_m[i] = error.translation_m;
   }
@@ -286,16 +292,18 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   MeasureExcitation(pairs, options, &d);
 
   if (num_pairs < options.min_num_pairs) {
-    return Refuse(result, CalibrationStatus::kNotEnoughMotion,
+    return Refuse(result,
+                  CalibrationStatus::kNotEnoughMotion,
                   "only " + std::to_string(num_pairs) +
                       " motion pairs; at least " +
                       std::to_string(options.min_num_pairs) + " are needed");
   }
   if (d.num_rotating_pairs == 0) {
-    result.unobservable = {"rotation", "translation_x", "translation_y",
-                           "translation_z"};
+    result.unobservable = {
+        "rotation", "translation_x", "translation_y", "translation_z"};
     return Refuse(
-        result, CalibrationStatus::kUnobservable,
+        result,
+        CalibrationStatus::kUnobservable,
         "no motion pair rotates by more than " +
             FormatDouble(options.min_rotation_deg) +
             " deg (straight driving or no motion): the rotation and the x/y "
@@ -303,7 +311,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
             "in both directions");
   }
   if (d.num_rotating_pairs < options.min_num_rotating_pairs) {
-    return Refuse(result, CalibrationStatus::kNotEnoughMotion,
+    return Refuse(result,
+                  CalibrationStatus::kNotEnoughMotion,
                   "only " + std::to_string(d.num_rotating_pairs) +
                       " motion pairs rotate by more than " +
                       FormatDouble(options.min_rotation_deg) + " deg; " +
@@ -312,7 +321,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   }
   if (2 * d.num_angle_mismatches > num_pairs) {
     return Refuse(
-        result, CalibrationStatus::kInconsistentData,
+        result,
+        CalibrationStatus::kInconsistentData,
         std::to_string(d.num_angle_mismatches) + " of " +
             std::to_string(num_pairs) +
             " pairs have camera and odometry rotation angles differing by "
@@ -327,14 +337,16 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // RANSAC's minimal samples all fail, which would read as inconsistency).
   double max_step_m = 0.0;
   for (const MotionPair& pair : pairs) {
-    max_step_m = std::max(max_step_m, pair.odom_i_from_odom_j.translation.norm());
+    max_step_m =
+        std::max(max_step_m, pair.odom_i_from_odom_j.translation.norm());
   }
   if (max_step_m < kMinOdometryStepM) {
     result.unobservable = {"translation_x", "translation_y", "translation_z"};
     for (int k = 0; k < num_segments; ++k) {
       result.unobservable.push_back(ScaleName(k, num_segments));
     }
-    return Refuse(result, CalibrationStatus::kUnobservable,
+    return Refuse(result,
+                  CalibrationStatus::kUnobservable,
                   "the odometry never translates (largest step " +
                       FormatDouble(max_step_m) +
                       " m: rotation in place only): the metric scale and the "
@@ -350,7 +362,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     const RansacResult ransac = RansacOdomFromCam(pairs, all, options);
     d.ransac_num_iterations = ransac.num_iterations;
     if (!ransac.success || ransac.num_inliers < options.min_num_pairs) {
-      return Refuse(result, CalibrationStatus::kInconsistentData,
+      return Refuse(result,
+                    CalibrationStatus::kInconsistentData,
                     "RANSAC found no consistent set of at least " +
                         std::to_string(options.min_num_pairs) +
                         " motion pairs");
@@ -360,7 +373,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     }
     if (ransac.num_inliers < options.ransac_min_inlier_ratio * num_pairs) {
       for (const int i : used) d.inlier_mask[i] = 1;
-      return Refuse(result, CalibrationStatus::kInconsistentData,
+      return Refuse(result,
+                    CalibrationStatus::kInconsistentData,
                     "only " + std::to_string(ransac.num_inliers) + " of " +
                         std::to_string(num_pairs) +
                         " motion pairs agree on one extrinsic (RANSAC); "
@@ -381,11 +395,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   d.rotation_step_eigenvalues = linear.rotation_step_eigenvalues;
   d.rotation_step_ratio = linear.rotation_step_ratio;
   d.rotation_step_gimbal = linear.rotation_step_gimbal;
-  d.translation_step_condition_number = linear.translation_step_condition_number;
+  d.translation_step_condition_number =
+      linear.translation_step_condition_number;
   if (!linear.success) {
-    result.unobservable = {"rotation", "translation_x", "translation_y",
-                           "translation_z"};
-    return Refuse(result, CalibrationStatus::kUnobservable,
+    result.unobservable = {
+        "rotation", "translation_x", "translation_y", "translation_z"};
+    return Refuse(result,
+                  CalibrationStatus::kUnobservable,
                   "closed form failed: " + linear.failure);
   }
   // Finite inputs can still overflow inside the least squares: a closed form
@@ -397,12 +413,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                      std::isfinite(linear.metric_scales[segment]);
   }
   if (!linear_finite) {
-    result.unobservable = {"rotation", "translation_x", "translation_y",
-                           "translation_z"};
+    result.unobservable = {
+        "rotation", "translation_x", "translation_y", "translation_z"};
     for (int k = 0; k < num_segments; ++k) {
       result.unobservable.push_back(ScaleName(k, num_segments));
     }
-    return Refuse(result, CalibrationStatus::kUnobservable,
+    return Refuse(result,
+                  CalibrationStatus::kUnobservable,
                   "the closed form is not finite (numerical overflow): the "
                   "rotation, translation and metric scale cannot be "
                   "determined; check the units of the translations");
@@ -420,7 +437,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     if (d.num_pairs_per_segment[k] == 0) {
       result.unobservable.push_back(ScaleName(k, num_segments));
     } else if (!(result.metric_scales[k] > 0.0)) {
-      return Refuse(result, CalibrationStatus::kInconsistentData,
+      return Refuse(result,
+                    CalibrationStatus::kInconsistentData,
                     "segment " + std::to_string(k) +
                         " has a non-positive metric scale (" +
                         FormatDouble(result.metric_scales[k]) +
@@ -453,8 +471,11 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     }
   }
   if (information.size() == 0) {
-    information = HandEyeInformation(pairs, used, result.odom_from_cam,
-                                     result.metric_scales, options,
+    information = HandEyeInformation(pairs,
+                                     used,
+                                     result.odom_from_cam,
+                                     result.metric_scales,
+                                     options,
                                      &information_segments);
   }
   for (const int i : used) d.inlier_mask[i] = 1;
@@ -492,7 +513,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   if (d.relative_translation_residual >
       options.max_relative_translation_residual) {
     return Refuse(
-        result, CalibrationStatus::kInconsistentData,
+        result,
+        CalibrationStatus::kInconsistentData,
         "post-fit translation residuals are " +
             FormatDouble(100.0 * d.relative_translation_residual, 3) +
             " % of the odometry step lengths: the camera poses do not fit "
@@ -511,12 +533,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   }
   if (!segment_scales.empty() &&
       static_cast<int>(segment_scales.size()) == num_segments) {
-    essential.insert(essential.end(), segment_scales.begin(),
-                     segment_scales.end());
+    essential.insert(
+        essential.end(), segment_scales.begin(), segment_scales.end());
     segment_scales.clear();
   }
   if (!essential.empty()) {
-    return Refuse(result, CalibrationStatus::kUnobservable,
+    return Refuse(result,
+                  CalibrationStatus::kUnobservable,
                   "the motion does not determine: " + Join(essential) +
                       " (standard deviation above the limit or no "
                       "information; drive turns of different sizes in both "

@@ -1,13 +1,13 @@
 #include "odomcal/solver/calibrate.h"
 
-#include <algorithm>
-#include <cmath>
-#include <stdexcept>
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/tests/test_seed.h"
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 namespace odomcal {
 namespace {
@@ -43,11 +43,14 @@ TEST(CalibrateOdomCam, ExactWithoutNoiseThroughTheWholePipeline) {
     options.use_ransac = trial % 2 == 0;
     const CalibrationResult result = CalibrateOdomCam(truth.pairs, options);
     ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
-    EXPECT_LT(RotationErrorDeg(result.odom_from_cam, truth.odom_from_cam), 1e-6);
+    EXPECT_LT(RotationErrorDeg(result.odom_from_cam, truth.odom_from_cam),
+              1e-6);
     EXPECT_NEAR(result.odom_from_cam.translation.x(),
-                truth.odom_from_cam.translation.x(), 1e-9);
+                truth.odom_from_cam.translation.x(),
+                1e-9);
     EXPECT_NEAR(result.odom_from_cam.translation.y(),
-                truth.odom_from_cam.translation.y(), 1e-9);
+                truth.odom_from_cam.translation.y(),
+                1e-9);
     for (size_t k = 0; k < truth.metric_scales.size(); ++k) {
       EXPECT_NEAR(result.metric_scales[k] / truth.metric_scales[k], 1.0, 1e-9);
     }
@@ -82,8 +85,9 @@ TEST(CalibrateOdomCam, NoisyMonteCarloIsAccurateAndConsistent) {
     // Left perturbation: R_true = Exp(phi) R_est.
     error.head<3>() = LogRotation(truth.odom_from_cam.rotation *
                                   result.odom_from_cam.rotation.conjugate());
-    error.segment<2>(3) = (truth.odom_from_cam.translation -
-                           result.odom_from_cam.translation).head<2>();
+    error.segment<2>(3) =
+        (truth.odom_from_cam.translation - result.odom_from_cam.translation)
+            .head<2>();
     error(5) = truth.metric_scales[0] - result.metric_scales[0];
     sum_nees += error.dot(result.covariance->ldlt().solve(error));
     sum_rotation_error2 += error.head<3>().squaredNorm();
@@ -99,10 +103,11 @@ TEST(CalibrateOdomCam, NoisyMonteCarloIsAccurateAndConsistent) {
   // yaw, 0.05 deg camera, 1 % steps) over 60 pairs.
   const double rotation_rmse = std::sqrt(sum_rotation_error2 / kTrials);
   const double translation_rmse = std::sqrt(sum_translation_error2 / kTrials);
-  EXPECT_NEAR(rotation_rmse / std::sqrt(sum_rotation_variance / kTrials), 1.0,
-              0.15);
+  EXPECT_NEAR(
+      rotation_rmse / std::sqrt(sum_rotation_variance / kTrials), 1.0, 0.15);
   EXPECT_NEAR(translation_rmse / std::sqrt(sum_translation_variance / kTrials),
-              1.0, 0.15);
+              1.0,
+              0.15);
   EXPECT_LT(rotation_rmse * kRadToDeg, 0.3);
   EXPECT_LT(translation_rmse, 0.01);
 }
@@ -127,14 +132,17 @@ TEST(CalibrateOdomCam, RansacRejectsThirtyPercentOutliers) {
         std::sqrt(result.covariance->block<2, 2>(3, 3).trace());
     EXPECT_LT(RotationErrorDeg(result.odom_from_cam, truth.odom_from_cam),
               4.0 * rotation_sigma_deg);
-    EXPECT_LT((result.odom_from_cam.translation - truth.odom_from_cam.translation)
-                  .head<2>()
-                  .norm(),
-              4.0 * translation_sigma_m);
+    EXPECT_LT(
+        (result.odom_from_cam.translation - truth.odom_from_cam.translation)
+            .head<2>()
+            .norm(),
+        4.0 * translation_sigma_m);
     int missed_outliers = 0, rejected_inliers = 0;
     for (size_t i = 0; i < truth.pairs.size(); ++i) {
-      missed_outliers += truth.is_outlier[i] && result.diagnostics.inlier_mask[i];
-      rejected_inliers += !truth.is_outlier[i] && !result.diagnostics.inlier_mask[i];
+      missed_outliers +=
+          truth.is_outlier[i] && result.diagnostics.inlier_mask[i];
+      rejected_inliers +=
+          !truth.is_outlier[i] && !result.diagnostics.inlier_mask[i];
     }
     EXPECT_EQ(missed_outliers, 0);
     // Good pairs beyond the 99.9 % bound: about 0.2 % of 70.
@@ -186,11 +194,15 @@ TEST(CalibrateOdomCam, RepeatedIdenticalMotionIsUnobservable) {
   MotionPairs pairs;
   for (int i = 0; i < 40; ++i) {
     MotionPair pair;
-    pair.odom_i_from_odom_j = PerturbMotion(
-        step, Eigen::Vector3d(0, 0, 1e-3), Eigen::Vector3d::Constant(1e-3), &rng);
-    pair.cam_i_from_cam_j = PerturbMotion(
-        CameraMotionFromOdometryMotion(step, odom_from_cam, 0.5),
-        Eigen::Vector3d::Constant(1e-4), Eigen::Vector3d::Constant(1e-3), &rng);
+    pair.odom_i_from_odom_j = PerturbMotion(step,
+                                            Eigen::Vector3d(0, 0, 1e-3),
+                                            Eigen::Vector3d::Constant(1e-3),
+                                            &rng);
+    pair.cam_i_from_cam_j =
+        PerturbMotion(CameraMotionFromOdometryMotion(step, odom_from_cam, 0.5),
+                      Eigen::Vector3d::Constant(1e-4),
+                      Eigen::Vector3d::Constant(1e-3),
+                      &rng);
     pairs.push_back(pair);
   }
   CalibrationOptions options;
@@ -262,9 +274,10 @@ TEST(CalibrateOdomCam, PureRotationInPlaceLeavesTheScaleUnobservable) {
   for (int i = 0; i < 30; ++i) {
     const double yaw = (i % 2 == 0 ? 1.0 : -1.0) * (0.2 + 0.05 * (i % 7));
     MotionPair pair;
-    pair.odom_i_from_odom_j = Rigid3d(YawRotation(yaw), Eigen::Vector3d::Zero());
-    pair.cam_i_from_cam_j =
-        CameraMotionFromOdometryMotion(pair.odom_i_from_odom_j, odom_from_cam, 0.5);
+    pair.odom_i_from_odom_j =
+        Rigid3d(YawRotation(yaw), Eigen::Vector3d::Zero());
+    pair.cam_i_from_cam_j = CameraMotionFromOdometryMotion(
+        pair.odom_i_from_odom_j, odom_from_cam, 0.5);
     pairs.push_back(pair);
   }
   const CalibrationResult result = CalibrateOdomCam(pairs, {});
@@ -284,15 +297,20 @@ TEST(CalibrateOdomCam, SameYawInEveryMotionWithDifferentLengths) {
     // A unicycle arc of length 0.2 .. 1.6 m turning by `yaw`.
     const double length = 0.2 + 0.05 * i;
     const double radius = length / yaw;
-    const Rigid3d step(YawRotation(yaw),
-                       Eigen::Vector3d(radius * std::sin(yaw),
-                                       radius * (1.0 - std::cos(yaw)), 0.0));
+    const Rigid3d step(
+        YawRotation(yaw),
+        Eigen::Vector3d(
+            radius * std::sin(yaw), radius * (1.0 - std::cos(yaw)), 0.0));
     MotionPair pair;
-    pair.odom_i_from_odom_j = PerturbMotion(
-        step, Eigen::Vector3d(1e-4, 1e-4, 1e-3), Eigen::Vector3d::Constant(1e-3), &rng);
-    pair.cam_i_from_cam_j = PerturbMotion(
-        CameraMotionFromOdometryMotion(step, odom_from_cam, 0.5),
-        Eigen::Vector3d::Constant(1e-4), Eigen::Vector3d::Constant(1e-3), &rng);
+    pair.odom_i_from_odom_j = PerturbMotion(step,
+                                            Eigen::Vector3d(1e-4, 1e-4, 1e-3),
+                                            Eigen::Vector3d::Constant(1e-3),
+                                            &rng);
+    pair.cam_i_from_cam_j =
+        PerturbMotion(CameraMotionFromOdometryMotion(step, odom_from_cam, 0.5),
+                      Eigen::Vector3d::Constant(1e-4),
+                      Eigen::Vector3d::Constant(1e-3),
+                      &rng);
     pairs.push_back(pair);
   }
   CalibrationOptions options;
@@ -300,8 +318,10 @@ TEST(CalibrateOdomCam, SameYawInEveryMotionWithDifferentLengths) {
   const CalibrationResult result = CalibrateOdomCam(pairs, options);
   ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
   EXPECT_LT(RotationErrorDeg(result.odom_from_cam, odom_from_cam), 0.5);
-  EXPECT_TRUE(std::find(result.warnings.begin(), result.warnings.end(),
-                        "all turns are in one direction") != result.warnings.end());
+  EXPECT_TRUE(std::find(result.warnings.begin(),
+                        result.warnings.end(),
+                        "all turns are in one direction") !=
+              result.warnings.end());
 }
 
 // Finite inputs at the edge of double precision: either refused naming the
@@ -325,14 +345,16 @@ TEST(CalibrateOdomCam, HugeTranslationsNeverGiveNonFiniteEstimates) {
         result = CalibrateOdomCam(pairs, options);
       } catch (const std::invalid_argument& error) {
         EXPECT_GT(magnitude, 1e154);
-        EXPECT_NE(std::string(error.what()).find("too large"), std::string::npos);
+        EXPECT_NE(std::string(error.what()).find("too large"),
+                  std::string::npos);
         continue;
       }
       if (result.has_estimate) {
         EXPECT_TRUE(IsFinite(result.odom_from_cam)) << result.message;
       }
       if (result.status == CalibrationStatus::kSuccess) {
-        for (const double scale : result.metric_scales) EXPECT_TRUE(std::isfinite(scale));
+        for (const double scale : result.metric_scales)
+          EXPECT_TRUE(std::isfinite(scale));
         ASSERT_TRUE(result.covariance.has_value());
         EXPECT_TRUE(result.covariance->allFinite());
       }

@@ -1,9 +1,9 @@
 #include "odomcal/solver/calibration_options.h"
 
+#include "odomcal/solver/format_number.h"
+
 #include <cmath>
 #include <stdexcept>
-
-#include "odomcal/solver/format_number.h"
 
 namespace odomcal {
 namespace {
@@ -32,13 +32,11 @@ void NoiseModel::Check() const {
   CheckNonNegative(odom_tilt_sigma_deg, "odom_tilt_sigma_deg");
   // A zero constant part would make short odometry steps infinitely precise.
   CheckPositive(odom_translation_sigma_m, "odom_translation_sigma_m");
-  CheckNonNegative(odom_translation_sigma_rel,
-                   "odom_translation_sigma_rel");
+  CheckNonNegative(odom_translation_sigma_rel, "odom_translation_sigma_rel");
   // The camera rotation noise keeps the rotation residual covariance full
   // rank when the odometry reports no tilt noise.
   CheckPositive(cam_rotation_sigma_deg, "cam_rotation_sigma_deg");
-  CheckNonNegative(cam_translation_sigma_rel,
-                   "cam_translation_sigma_rel");
+  CheckNonNegative(cam_translation_sigma_rel, "cam_translation_sigma_rel");
   if (odom_yaw_sigma_deg == 0.0 && odom_yaw_sigma_rel == 0.0) {
     throw std::invalid_argument(
         "odom_yaw_sigma_deg and odom_yaw_sigma_rel are both 0 (the odometry "

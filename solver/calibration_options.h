@@ -32,10 +32,10 @@ enum class RobustLoss { kNone, kHuber, kCauchy };
 // Default per-motion noise, used where a MotionPair carries no covariance.
 // Standard deviations per relative motion (one keyframe pair).
 struct NoiseModel {
-  double odom_yaw_sigma_deg = 0.2;         // rotation about the odometry z axis
-  double odom_yaw_sigma_rel = 0.01;        // + this fraction of |yaw|
-  double odom_tilt_sigma_deg = 0.0;        // about x and y (0: planar log)
-  double odom_translation_sigma_m = 0.002; // per axis, constant part
+  double odom_yaw_sigma_deg = 0.2;   // rotation about the odometry z axis
+  double odom_yaw_sigma_rel = 0.01;  // + this fraction of |yaw|
+  double odom_tilt_sigma_deg = 0.0;  // about x and y (0: planar log)
+  double odom_translation_sigma_m = 0.002;   // per axis, constant part
   double odom_translation_sigma_rel = 0.01;  // + this fraction of the length
   double cam_rotation_sigma_deg = 0.05;      // per axis
   double cam_translation_sigma_rel = 0.01;   // per axis, fraction of length
@@ -70,7 +70,8 @@ struct CalibrationOptions {
   uint64_t ransac_seed = 0;
 
   // Excitation and refusal thresholds.
-  double min_rotation_deg = 2.0;  // a pair with |yaw| above this excites rotation
+  double min_rotation_deg =
+      2.0;  // a pair with |yaw| above this excites rotation
   int min_num_rotating_pairs = 2;
   int min_num_pairs = 2;
   // |angle(A_i)| and |angle(B_i)| agree for any extrinsic; a larger

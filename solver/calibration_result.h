@@ -1,24 +1,24 @@
 // Result of the odometer-camera calibration (see calibrate.h).
 #pragma once
 
+#include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "odomcal/solver/rigid3.h"
-
 namespace odomcal {
 
 enum class CalibrationStatus {
-  kNotRun,             // the solver was not called
-  kSuccess,            // every observable quantity is determined
-  kNotEnoughMotion,    // too few pairs or too little rotation to start
-  kUnobservable,       // some quantity is undetermined: see `unobservable`
-  kInconsistentData,   // the data contradict the model (association, pose
-                       // convention, negative scale, too many outliers)
-  kRefinementFailed,   // Ceres failed; the closed-form estimate is kept
+  kNotRun,            // the solver was not called
+  kSuccess,           // every observable quantity is determined
+  kNotEnoughMotion,   // too few pairs or too little rotation to start
+  kUnobservable,      // some quantity is undetermined: see `unobservable`
+  kInconsistentData,  // the data contradict the model (association, pose
+                      // convention, negative scale, too many outliers)
+  kRefinementFailed,  // Ceres failed; the closed-form estimate is kept
 };
 
 // "success", "not_enough_motion", ... (stable: part of the JSON schema).
@@ -55,7 +55,7 @@ struct CalibrationDiagnostics {
 
   // Post-fit residuals over the used pairs: rotation angle of
   // A_i^-1 X B_i X^-1 and norm of A_i X - X B_i translation.
-  std::vector<double> rotation_residual_deg;  // per input pair
+  std::vector<double> rotation_residual_deg;   // per input pair
   std::vector<double> translation_residual_m;  // per input pair
   double rms_rotation_residual_deg = 0.0;
   double max_rotation_residual_deg = 0.0;

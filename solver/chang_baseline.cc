@@ -1,12 +1,12 @@
 #include "odomcal/solver/chang_baseline.h"
 
+#include "odomcal/solver/hand_eye_linear.h"
+#include "odomcal/solver/hand_eye_ransac.h"
+
 #include <cmath>
 #include <limits>
 #include <map>
 #include <random>
-
-#include "odomcal/solver/hand_eye_linear.h"
-#include "odomcal/solver/hand_eye_ransac.h"
 
 namespace odomcal {
 namespace {
@@ -30,8 +30,8 @@ bool SolveChangMinimal(const MotionPair& axis_pair,
   }
   const Eigen::Vector3d target =
       (yaw > 0.0 ? 1.0 : -1.0) * Eigen::Vector3d::UnitZ();
-  const Eigen::Quaterniond q_yz =
-      Eigen::Quaterniond::FromTwoVectors(camera_axis_angle.normalized(), target);
+  const Eigen::Quaterniond q_yz = Eigen::Quaterniond::FromTwoVectors(
+      camera_axis_angle.normalized(), target);
 
   MotionPairs two = {first, second};
   two[0].segment = two[1].segment = 0;
@@ -91,8 +91,11 @@ ChangEstimate EstimateOdomFromCamChang(const MotionPairs& pairs,
     while (second == first) second = members[pick(rng)];
     Rigid3d odom_from_cam;
     double scale = 0.0;
-    if (!SolveChangMinimal(pairs[axis], pairs[first], pairs[second],
-                           options.fixed_translation_z_m, &odom_from_cam,
+    if (!SolveChangMinimal(pairs[axis],
+                           pairs[first],
+                           pairs[second],
+                           options.fixed_translation_z_m,
+                           &odom_from_cam,
                            &scale)) {
       continue;
     }

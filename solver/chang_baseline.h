@@ -23,12 +23,12 @@
 //    the comparison is about. Scales of other segments: medians, as in RANSAC.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <string>
+#include <vector>
 
 namespace odomcal {
 

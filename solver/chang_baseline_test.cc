@@ -1,9 +1,9 @@
 #include "odomcal/solver/chang_baseline.h"
 
-#include <gtest/gtest.h>
-
 #include "odomcal/datasets/motion_simulator.h"
 #include "odomcal/tests/test_seed.h"
+
+#include <gtest/gtest.h>
 
 namespace odomcal {
 namespace {
@@ -19,14 +19,18 @@ TEST(SolveChangMinimal, ExactOnNoiseFreeMinimalData) {
     const SimulatedMotions truth = SimulateMotions(options, &rng);
     Rigid3d estimate;
     double scale = 0.0;
-    if (!SolveChangMinimal(truth.pairs[0], truth.pairs[1], truth.pairs[2],
-                           truth.odom_from_cam.translation.z(), &estimate,
+    if (!SolveChangMinimal(truth.pairs[0],
+                           truth.pairs[1],
+                           truth.pairs[2],
+                           truth.odom_from_cam.translation.z(),
+                           &estimate,
                            &scale)) {
       continue;  // e.g. a yaw too small to give an axis
     }
     ++solved;
     EXPECT_LT(RotationAngle(estimate.rotation.conjugate() *
-                            truth.odom_from_cam.rotation) * kRadToDeg,
+                            truth.odom_from_cam.rotation) *
+                  kRadToDeg,
               1e-6);
     EXPECT_LT((estimate.translation - truth.odom_from_cam.translation).norm(),
               1e-9);
@@ -44,10 +48,12 @@ TEST(EstimateOdomFromCamChang, RecoversTheTruthWithOutliers) {
   CalibrationOptions calibration;
   calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
   calibration.ransac_max_iterations = 300;
-  const ChangEstimate estimate = EstimateOdomFromCamChang(truth.pairs, calibration);
+  const ChangEstimate estimate =
+      EstimateOdomFromCamChang(truth.pairs, calibration);
   ASSERT_TRUE(estimate.success) << estimate.failure;
   EXPECT_LT(RotationAngle(estimate.odom_from_cam.rotation.conjugate() *
-                          truth.odom_from_cam.rotation) * kRadToDeg,
+                          truth.odom_from_cam.rotation) *
+                kRadToDeg,
             1e-6);
   for (size_t i = 0; i < truth.pairs.size(); ++i) {
     EXPECT_EQ(estimate.inlier_mask[i] != 0, truth.is_outlier[i] == 0) << i;

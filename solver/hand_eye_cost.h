@@ -2,14 +2,13 @@
 // stay out of the public headers).
 #pragma once
 
-#include <ceres/autodiff_cost_function.h>
-#include <ceres/rotation.h>
+#include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/motion_pair.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
-#include "odomcal/solver/hand_eye_residual.h"
-#include "odomcal/solver/motion_pair.h"
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/rotation.h>
 
 namespace odomcal {
 
@@ -51,8 +50,8 @@ class HandEyeCost {
     const T error_wxyz[4] = {error.w(), error.x(), error.y(), error.z()};
     Eigen::Matrix<T, 6, 1> raw;
     ceres::QuaternionToAngleAxis(error_wxyz, raw.data());
-    raw.template tail<3>() = r_a_.cast<T>() * p + t_a_.cast<T>() -
-                             scale * (q * t_b_.cast<T>()) - p;
+    raw.template tail<3>() =
+        r_a_.cast<T>() * p + t_a_.cast<T>() - scale * (q * t_b_.cast<T>()) - p;
 
     Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
     out = sqrt_information_.cast<T>() * raw;

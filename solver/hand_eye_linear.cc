@@ -8,12 +8,12 @@
 
 #include "odomcal/solver/hand_eye_linear.h"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
-
-#include <Eigen/Dense>
 
 namespace odomcal {
 namespace {
@@ -69,8 +69,10 @@ std::vector<CompactMotion> Compact(const MotionPairs& pairs,
   for (const int index : indices) {
     const MotionPair& pair = pairs[index];
     CompactMotion motion;
-    motion.q_a = WithPositiveScalar(pair.odom_i_from_odom_j.rotation.normalized());
-    motion.q_b = WithPositiveScalar(pair.cam_i_from_cam_j.rotation.normalized());
+    motion.q_a =
+        WithPositiveScalar(pair.odom_i_from_odom_j.rotation.normalized());
+    motion.q_b =
+        WithPositiveScalar(pair.cam_i_from_cam_j.rotation.normalized());
     motion.t_a = pair.odom_i_from_odom_j.translation;
     motion.t_b = pair.cam_i_from_cam_j.translation;
     motion.segment = pair.segment;
@@ -291,16 +293,14 @@ Eigen::Matrix4d QuaternionRightMatrix(const Eigen::Quaterniond& q) {
 namespace {
 
 std::vector<Eigen::Quaterniond> SolveRotationYZ(
-    const std::vector<CompactMotion>& motions,
-    LinearEstimate* estimate) {
+    const std::vector<CompactMotion>& motions, LinearEstimate* estimate) {
   // Scalar parts of the same sign within a pair: both non-negative first.
   std::vector<double> q_b_signs(motions.size(), 1.0);
   auto eig = SolveNormalMatrix(motions, q_b_signs);
 
   // Near a rotation of pi, w ~ 0 and noise can give q_A and q_B opposite
   // signs; keep for q_B the sign that fits the first estimate of q_yz.
-  const Eigen::Quaterniond first_guess =
-      FromWFirst(eig.eigenvectors().col(0));
+  const Eigen::Quaterniond first_guess = FromWFirst(eig.eigenvectors().col(0));
   bool flipped = false;
   for (size_t n = 0; n < motions.size(); ++n) {
     const Eigen::Quaterniond& q_a = motions[n].q_a;
@@ -378,9 +378,8 @@ bool SolveYawTranslationScale(const std::vector<CompactMotion>& motions,
     }
     const auto qr = design.colPivHouseholderQr();
     if (qr.rank() < 4) {
-      estimate->failure =
-          "the translation step is rank deficient (rank " +
-          std::to_string(qr.rank()) + " of 4)";
+      estimate->failure = "the translation step is rank deficient (rank " +
+                          std::to_string(qr.rank()) + " of 4)";
       return false;
     }
     const Eigen::Vector4d m = qr.solve(rhs);
@@ -415,8 +414,7 @@ bool SolveYawTranslationScale(const std::vector<CompactMotion>& motions,
     return false;
   }
 
-  estimate->odom_from_cam.rotation =
-      (YawRotation(alpha) * q_yz).normalized();
+  estimate->odom_from_cam.rotation = (YawRotation(alpha) * q_yz).normalized();
   estimate->odom_from_cam.translation =
       Eigen::Vector3d(y(0), y(1), options.fixed_translation_z_m);
   const int num_all_segments = local_of_segment.rbegin()->first + 1;

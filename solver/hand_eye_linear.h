@@ -31,14 +31,14 @@
 // residuals, which makes it exact to machine precision.
 #pragma once
 
-#include <string>
-#include <vector>
-
-#include <Eigen/Core>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
 
 namespace odomcal {
 

@@ -1,11 +1,11 @@
 #include "odomcal/solver/hand_eye_linear.h"
 
-#include <cmath>
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/tests/test_seed.h"
+#include <cmath>
 
 namespace odomcal {
 namespace {
@@ -96,19 +96,24 @@ TEST(EstimateOdomFromCamLinear, ExactForSpecialMounts) {
       {"identity", Eigen::Quaterniond::Identity()},
       // Looking straight down / up: camera z parallel to odometry z, the
       // gimbal case where the constraint of eq. (19) vanishes.
-      {"down", Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()))},
-      {"up", Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))},
+      {"down",
+       Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()))},
+      {"up",
+       Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))},
       {"forward",  // x_cam = -y_odom, y_cam = -z_odom, z_cam = x_odom
        Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5)},
       {"forward_rolled_90",
        Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5) *
-           Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ()))},
-      {"near_pi", Eigen::Quaterniond(Eigen::AngleAxisd(
-                      kPi - 1e-7, Eigen::Vector3d(1, 2, 3).normalized()))},
+           Eigen::Quaterniond(
+               Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ()))},
+      {"near_pi",
+       Eigen::Quaterniond(Eigen::AngleAxisd(
+           kPi - 1e-7, Eigen::Vector3d(1, 2, 3).normalized()))},
       {"exactly_pi_about_y",
        Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()))},
-      {"tiny", Eigen::Quaterniond(Eigen::AngleAxisd(
-                   1e-5, Eigen::Vector3d(0, 1, 1).normalized()))},
+      {"tiny",
+       Eigen::Quaterniond(
+           Eigen::AngleAxisd(1e-5, Eigen::Vector3d(0, 1, 1).normalized()))},
   };
   for (const auto& [name, rotation] : mounts) {
     SCOPED_TRACE(name);
@@ -124,8 +129,9 @@ TEST(EstimateOdomFromCamLinear, GimbalCaseIsDetected) {
   auto rng = SeededRng(5);
   const SimulatedMotions truth = SimulateMotions(
       ExactOptions(10, 1),
-      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX())),
-              Eigen::Vector3d(0.1, 0.2, 0.0)),
+      Rigid3d(
+          Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX())),
+          Eigen::Vector3d(0.1, 0.2, 0.0)),
       {1.3},
       &rng);
   const LinearEstimate estimate = EstimateOdomFromCamLinear(truth.pairs, {});
@@ -165,12 +171,15 @@ TEST(SolveRotationYZ, BothRootsGiveTheSameExtrinsic) {
           LogRotation(roots[0] * roots[1].conjugate()).normalized();
       EXPECT_NEAR(std::abs(axis.z()), 1.0, 1e-6);
       LinearEstimate first = step1, second = step1;
-      ASSERT_TRUE(SolveYawTranslationScale(truth.pairs, all, roots[0], {}, &first));
-      ASSERT_TRUE(SolveYawTranslationScale(truth.pairs, all, roots[1], {}, &second));
+      ASSERT_TRUE(
+          SolveYawTranslationScale(truth.pairs, all, roots[0], {}, &first));
+      ASSERT_TRUE(
+          SolveYawTranslationScale(truth.pairs, all, roots[1], {}, &second));
       EXPECT_LT(RotationErrorDeg(first.odom_from_cam.rotation,
                                  second.odom_from_cam.rotation),
                 1e-9);
-      EXPECT_NEAR(first.step2_cost, second.step2_cost,
+      EXPECT_NEAR(first.step2_cost,
+                  second.step2_cost,
                   1e-12 * (1.0 + first.step2_cost));
     }
   }
@@ -193,8 +202,9 @@ TEST(EstimateOdomFromCamLinear, OrthogonalProjectionEqualsAls) {
   const LinearEstimate c =
       EstimateOdomFromCamLinear(truth.pairs, length_preserving);
   ASSERT_TRUE(a.success && b.success && c.success);
-  EXPECT_LT(RotationErrorDeg(a.odom_from_cam.rotation, b.odom_from_cam.rotation),
-            1e-12);
+  EXPECT_LT(
+      RotationErrorDeg(a.odom_from_cam.rotation, b.odom_from_cam.rotation),
+      1e-12);
   EXPECT_LT((a.odom_from_cam.translation - b.odom_from_cam.translation).norm(),
             1e-12);
   EXPECT_GT((a.odom_from_cam.translation - c.odom_from_cam.translation).norm(),

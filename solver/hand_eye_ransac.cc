@@ -1,13 +1,13 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 
+#include "odomcal/solver/hand_eye_linear.h"
+#include "odomcal/solver/hand_eye_residual.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <random>
-
-#include "odomcal/solver/hand_eye_linear.h"
-#include "odomcal/solver/hand_eye_residual.h"
 
 namespace odomcal {
 namespace {
@@ -33,7 +33,10 @@ void CompleteScales(const MotionPairs& pairs,
                     const std::vector<int>& indices,
                     int num_segments,
                     Hypothesis* hypothesis) {
-  CompleteMetricScales(pairs, indices, num_segments, hypothesis->odom_from_cam,
+  CompleteMetricScales(pairs,
+                       indices,
+                       num_segments,
+                       hypothesis->odom_from_cam,
                        &hypothesis->metric_scales);
 }
 
@@ -50,30 +53,29 @@ double NormalizedError(const MotionPair& pair,
   const Vector6d residual = HandEyeResidual(pair, odom_from_cam, metric_scale);
   double rotation = residual.head<3>().norm() * kRadToDeg /
                     options.ransac_max_rotation_error_deg;
-  double translation =
-      residual.tail<3>().norm() /
-      (options.ransac_max_translation_error_m +
-       options.ransac_max_translation_error_rel *
-           pair.odom_i_from_odom_j.translation.norm());
+  double translation = residual.tail<3>().norm() /
+                       (options.ransac_max_translation_error_m +
+                        options.ransac_max_translation_error_rel *
+                            pair.odom_i_from_odom_j.translation.norm());
   // The covariance is the expensive part: only needed when an absolute
   // threshold fails (then the pair may still be within the noise model).
   if (rotation >= 1.0 || translation >= 1.0) {
     const Matrix6d covariance = HandEyeResidualCovariance(
         pair, odom_from_cam, metric_scale, options.noise);
     if (rotation >= 1.0) {
-      rotation = std::min(
-          rotation,
-          std::sqrt(residual.head<3>().dot(covariance.topLeftCorner<3, 3>()
-                                               .ldlt()
-                                               .solve(residual.head<3>())) /
-                    kChiSquare3Dof999));
+      rotation =
+          std::min(rotation,
+                   std::sqrt(residual.head<3>().dot(
+                                 covariance.topLeftCorner<3, 3>().ldlt().solve(
+                                     residual.head<3>())) /
+                             kChiSquare3Dof999));
     }
     if (translation >= 1.0) {
       translation = std::min(
           translation,
-          std::sqrt(residual.tail<3>().dot(covariance.bottomRightCorner<3, 3>()
-                                               .ldlt()
-                                               .solve(residual.tail<3>())) /
+          std::sqrt(residual.tail<3>().dot(
+                        covariance.bottomRightCorner<3, 3>().ldlt().solve(
+                            residual.tail<3>())) /
                     kChiSquare3Dof999));
     }
   }
@@ -140,7 +142,8 @@ void CompleteMetricScales(const MotionPairs& pairs,
     const Eigen::Vector3d odom_side =
         pair.odom_i_from_odom_j.rotation * x.translation +
         pair.odom_i_from_odom_j.translation - x.translation;
-    const Eigen::Vector3d cam_side = x.rotation * pair.cam_i_from_cam_j.translation;
+    const Eigen::Vector3d cam_side =
+        x.rotation * pair.cam_i_from_cam_j.translation;
     const double norm2 = cam_side.squaredNorm();
     if (norm2 > 0.0) {
       per_segment[pair.segment].push_back(odom_side.dot(cam_side) / norm2);
@@ -175,10 +178,10 @@ PairError EvaluatePair(const MotionPair& pair,
   error.rotation_deg =
       RotationAngle(a.rotation.conjugate() * q * b.rotation * q.conjugate()) *
       kRadToDeg;
-  error.translation_m = (a.rotation * odom_from_cam.translation + a.translation -
-                         metric_scale * (q * b.translation) -
-                         odom_from_cam.translation)
-                            .norm();
+  error.translation_m =
+      (a.rotation * odom_from_cam.translation + a.translation -
+       metric_scale * (q * b.translation) - odom_from_cam.translation)
+          .norm();
   return error;
 }
 
@@ -227,8 +230,12 @@ RansacResult RansacOdomFromCam(const MotionPairs& pairs,
     int second = first;
     while (second == first) second = members[pick(rng)];
     Hypothesis hypothesis;
-    if (!FitHypothesis(
-            pairs, {first, second}, indices, num_segments, options, &hypothesis)) {
+    if (!FitHypothesis(pairs,
+                       {first, second},
+                       indices,
+                       num_segments,
+                       options,
+                       &hypothesis)) {
       continue;
     }
     double score = Score(pairs, indices, hypothesis, options, &inliers);
@@ -261,8 +268,8 @@ RansacResult RansacOdomFromCam(const MotionPairs& pairs,
     if (all_good >= 1.0) {
       max_iterations = options.ransac_min_iterations;
     } else if (all_good > 0.0) {
-      const double needed = std::log(1.0 - options.ransac_confidence) /
-                            std::log(1.0 - all_good);
+      const double needed =
+          std::log(1.0 - options.ransac_confidence) / std::log(1.0 - all_good);
       max_iterations = std::clamp(static_cast<int>(std::ceil(needed)),
                                   options.ransac_min_iterations,
                                   options.ransac_max_iterations);

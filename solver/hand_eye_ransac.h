@@ -10,11 +10,11 @@
 // of iterations adapts to the inlier ratio for the requested confidence.
 #pragma once
 
-#include <vector>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <vector>
 
 namespace odomcal {
 

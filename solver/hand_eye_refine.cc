@@ -10,15 +10,15 @@
 
 #include "odomcal/solver/hand_eye_refine.h"
 
+#include "odomcal/solver/hand_eye_cost.h"
+#include "odomcal/solver/hand_eye_residual.h"
+
+#include <ceres/ceres.h>
+
 #include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
-
-#include <ceres/ceres.h>
-
-#include "odomcal/solver/hand_eye_cost.h"
-#include "odomcal/solver/hand_eye_residual.h"
 
 namespace odomcal {
 namespace {
@@ -55,8 +55,8 @@ class HandEyeProblem {
         loss = new ceres::CauchyLoss(options.robust_loss_scale);
       }
       problem_->AddResidualBlock(
-          HandEyeCost::Create(pair, options.fixed_translation_z_m,
-                              sqrt_information),
+          HandEyeCost::Create(
+              pair, options.fixed_translation_z_m, sqrt_information),
           loss,
           quaternion_,
           p_xy_,
@@ -68,10 +68,11 @@ class HandEyeProblem {
   ceres::Problem& problem() { return *problem_; }
 
   Rigid3d OdomFromCam(double fixed_z) const {
-    return Rigid3d(Eigen::Quaterniond(quaternion_[3], quaternion_[0],
-                                      quaternion_[1], quaternion_[2])
-                       .normalized(),
-                   Eigen::Vector3d(p_xy_[0], p_xy_[1], fixed_z));
+    return Rigid3d(
+        Eigen::Quaterniond(
+            quaternion_[3], quaternion_[0], quaternion_[1], quaternion_[2])
+            .normalized(),
+        Eigen::Vector3d(p_xy_[0], p_xy_[1], fixed_z));
   }
 
   std::vector<double> Scales(size_t num_segments) const {

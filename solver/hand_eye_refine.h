@@ -8,15 +8,15 @@
 // initial estimate. rho is the identity or the robust loss of the options.
 #pragma once
 
-#include <optional>
-#include <string>
-#include <vector>
-
-#include <Eigen/Core>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace odomcal {
 

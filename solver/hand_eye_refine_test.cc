@@ -1,17 +1,17 @@
 #include "odomcal/solver/hand_eye_refine.h"
 
-#include <algorithm>
-#include <cmath>
-#include <memory>
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/solver/hand_eye_cost.h"
+#include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <ceres/gradient_checker.h>
 #include <ceres/manifold.h>
 #include <gtest/gtest.h>
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/solver/hand_eye_cost.h"
-#include "odomcal/solver/hand_eye_residual.h"
-#include "odomcal/tests/test_seed.h"
+#include <algorithm>
+#include <cmath>
+#include <memory>
 
 namespace odomcal {
 namespace {
@@ -52,18 +52,21 @@ TEST(HandEyeResidualCovariance, MatchesMonteCarlo) {
   constexpr int kSamples = 20000;
   Matrix6d sample = Matrix6d::Zero();
   const double deg = kPi / 180.0;
-  const double yaw = std::abs(LogRotation(exact.odom_i_from_odom_j.rotation).z());
+  const double yaw =
+      std::abs(LogRotation(exact.odom_i_from_odom_j.rotation).z());
   for (int n = 0; n < kSamples; ++n) {
     MotionPair noisy = exact;
-    noisy.odom_i_from_odom_j = PerturbMotion(
-        exact.odom_i_from_odom_j,
-        Eigen::Vector3d(0.1 * deg, 0.1 * deg,
-                        noise.odom_yaw_sigma_deg * deg + noise.odom_yaw_sigma_rel * yaw),
-        Eigen::Vector3d::Constant(
-            noise.odom_translation_sigma_m +
-            noise.odom_translation_sigma_rel *
-                exact.odom_i_from_odom_j.translation.norm()),
-        &rng);
+    noisy.odom_i_from_odom_j =
+        PerturbMotion(exact.odom_i_from_odom_j,
+                      Eigen::Vector3d(0.1 * deg,
+                                      0.1 * deg,
+                                      noise.odom_yaw_sigma_deg * deg +
+                                          noise.odom_yaw_sigma_rel * yaw),
+                      Eigen::Vector3d::Constant(
+                          noise.odom_translation_sigma_m +
+                          noise.odom_translation_sigma_rel *
+                              exact.odom_i_from_odom_j.translation.norm()),
+                      &rng);
     noisy.cam_i_from_cam_j = PerturbMotion(
         exact.cam_i_from_cam_j,
         Eigen::Vector3d::Constant(noise.cam_rotation_sigma_deg * deg),
@@ -95,14 +98,15 @@ TEST(HandEyeCost, GradientCheckerPasses) {
     std::unique_ptr<ceres::CostFunction> cost(
         HandEyeCost::Create(pair, 0.05, w));
     // Evaluate away from the truth so that no residual is trivially zero.
-    const Eigen::Quaterniond q =
-        ExpRotation(Eigen::Vector3d(0.1, -0.2, 0.3)) * truth.odom_from_cam.rotation;
+    const Eigen::Quaterniond q = ExpRotation(Eigen::Vector3d(0.1, -0.2, 0.3)) *
+                                 truth.odom_from_cam.rotation;
     double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
     double p_xy[2] = {0.3, -0.1};
     double log_scale[1] = {std::log(truth.metric_scales[0]) + 0.2};
     const double* parameters[] = {q_xyzw, p_xy, log_scale};
     ceres::NumericDiffOptions numeric_diff_options;
-    ceres::GradientChecker checker(cost.get(), &manifolds, numeric_diff_options);
+    ceres::GradientChecker checker(
+        cost.get(), &manifolds, numeric_diff_options);
     ceres::GradientChecker::ProbeResults results;
     checker.Probe(parameters, 1e-6, &results);
     ASSERT_EQ(results.local_jacobians.size(), 3u);
@@ -113,7 +117,8 @@ TEST(HandEyeCost, GradientCheckerPasses) {
       const auto& numeric = results.local_numeric_jacobians[block];
       const double scale = std::max(1.0, numeric.cwiseAbs().maxCoeff());
       EXPECT_LT((analytic - numeric).cwiseAbs().maxCoeff(), 1e-7 * scale)
-          << "block " << block << "\n" << results.error_log;
+          << "block " << block << "\n"
+          << results.error_log;
     }
   }
 }
@@ -125,17 +130,20 @@ TEST(RefineOdomFromCam, StaysAtTheTruthWithoutNoise) {
   const SimulatedMotions truth = SimulateMotions(options, &rng);
   CalibrationOptions calibration;
   calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
-  const RefinementResult refined =
-      RefineOdomFromCam(truth.pairs, AllIndices(truth.pairs),
-                        truth.odom_from_cam, truth.metric_scales, calibration);
+  const RefinementResult refined = RefineOdomFromCam(truth.pairs,
+                                                     AllIndices(truth.pairs),
+                                                     truth.odom_from_cam,
+                                                     truth.metric_scales,
+                                                     calibration);
   ASSERT_TRUE(refined.usable) << refined.report;
   EXPECT_LT(refined.final_cost, 1e-20);
   EXPECT_LT(RotationAngle(refined.odom_from_cam.rotation.conjugate() *
                           truth.odom_from_cam.rotation),
             1e-10);
-  EXPECT_LT((refined.odom_from_cam.translation - truth.odom_from_cam.translation)
-                .norm(),
-            1e-10);
+  EXPECT_LT(
+      (refined.odom_from_cam.translation - truth.odom_from_cam.translation)
+          .norm(),
+      1e-10);
 }
 
 TEST(RefineOdomFromCam, ConvergesFromAPerturbedStart) {
@@ -147,7 +155,8 @@ TEST(RefineOdomFromCam, ConvergesFromAPerturbedStart) {
     CalibrationOptions calibration;
     calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
     Rigid3d start = truth.odom_from_cam;
-    start.rotation = ExpRotation(Eigen::Vector3d(0.1, -0.08, 0.15)) * start.rotation;
+    start.rotation =
+        ExpRotation(Eigen::Vector3d(0.1, -0.08, 0.15)) * start.rotation;
     start.translation += Eigen::Vector3d(0.05, -0.04, 0.0);
     std::vector<double> scales = truth.metric_scales;
     for (double& s : scales) s *= 1.2;
@@ -155,7 +164,8 @@ TEST(RefineOdomFromCam, ConvergesFromAPerturbedStart) {
         truth.pairs, AllIndices(truth.pairs), start, scales, calibration);
     ASSERT_TRUE(refined.usable) << refined.report;
     EXPECT_LT(RotationAngle(refined.odom_from_cam.rotation.conjugate() *
-                            truth.odom_from_cam.rotation) * 180.0 / kPi,
+                            truth.odom_from_cam.rotation) *
+                  180.0 / kPi,
               1e-6);
     EXPECT_LT((refined.odom_from_cam.translation.head<2>() -
                truth.odom_from_cam.translation.head<2>())
@@ -179,15 +189,18 @@ TEST(HandEyeInformation, MatchesFiniteDifferenceJacobian) {
   calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
   const std::vector<int> all = AllIndices(truth.pairs);
   std::vector<int> segments;
-  const Eigen::MatrixXd information =
-      HandEyeInformation(truth.pairs, all, truth.odom_from_cam,
-                         truth.metric_scales, calibration, &segments);
+  const Eigen::MatrixXd information = HandEyeInformation(truth.pairs,
+                                                         all,
+                                                         truth.odom_from_cam,
+                                                         truth.metric_scales,
+                                                         calibration,
+                                                         &segments);
   ASSERT_EQ(information.rows(), 6);
   // Whitening fixed at the truth, as HandEyeInformation does.
   std::vector<Matrix6d> w;
   for (const MotionPair& pair : truth.pairs) {
-    w.push_back(HandEyeSqrtInformation(pair, truth.odom_from_cam,
-                                       truth.metric_scales[0], calibration.noise));
+    w.push_back(HandEyeSqrtInformation(
+        pair, truth.odom_from_cam, truth.metric_scales[0], calibration.noise));
   }
   auto residuals = [&](const Eigen::VectorXd& x) {
     Rigid3d estimate = truth.odom_from_cam;
@@ -196,7 +209,8 @@ TEST(HandEyeInformation, MatchesFiniteDifferenceJacobian) {
     const double scale = truth.metric_scales[0] + x(5);
     Eigen::VectorXd r(6 * truth.pairs.size());
     for (size_t i = 0; i < truth.pairs.size(); ++i) {
-      r.segment<6>(6 * i) = w[i] * HandEyeResidual(truth.pairs[i], estimate, scale);
+      r.segment<6>(6 * i) =
+          w[i] * HandEyeResidual(truth.pairs[i], estimate, scale);
     }
     return r;
   };

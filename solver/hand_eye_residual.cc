@@ -1,8 +1,8 @@
 #include "odomcal/solver/hand_eye_residual.h"
 
-#include <cmath>
-
 #include <Eigen/Cholesky>
+
+#include <cmath>
 
 namespace odomcal {
 namespace {
@@ -27,8 +27,8 @@ Vector6d HandEyeResidual(const MotionPair& pair,
   Vector6d residual;
   residual.head<3>() =
       LogRotation(a.rotation.conjugate() * q * b.rotation * q.conjugate());
-  residual.tail<3>() = a.rotation * p + a.translation -
-                       metric_scale * (q * b.translation) - p;
+  residual.tail<3>() =
+      a.rotation * p + a.translation - metric_scale * (q * b.translation) - p;
   return residual;
 }
 
@@ -37,14 +37,14 @@ MotionCovariance OdometryCovariance(const MotionPair& pair,
   if (pair.odom_covariance) {
     return *pair.odom_covariance;
   }
-  const double yaw = std::abs(LogRotation(pair.odom_i_from_odom_j.rotation).z());
+  const double yaw =
+      std::abs(LogRotation(pair.odom_i_from_odom_j.rotation).z());
   const double yaw_sigma =
       noise.odom_yaw_sigma_deg * kDegToRad + noise.odom_yaw_sigma_rel * yaw;
   const double tilt_sigma = noise.odom_tilt_sigma_deg * kDegToRad;
-  const double t_sigma =
-      noise.odom_translation_sigma_m +
-      noise.odom_translation_sigma_rel *
-          pair.odom_i_from_odom_j.translation.norm();
+  const double t_sigma = noise.odom_translation_sigma_m +
+                         noise.odom_translation_sigma_rel *
+                             pair.odom_i_from_odom_j.translation.norm();
   MotionCovariance covariance = MotionCovariance::Zero();
   covariance.diagonal() << tilt_sigma * tilt_sigma, tilt_sigma * tilt_sigma,
       yaw_sigma * yaw_sigma, t_sigma * t_sigma, t_sigma * t_sigma,
@@ -71,7 +71,8 @@ Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
                                    const Rigid3d& odom_from_cam,
                                    double metric_scale,
                                    const NoiseModel& noise) {
-  const Eigen::Matrix3d r_a = pair.odom_i_from_odom_j.rotation.toRotationMatrix();
+  const Eigen::Matrix3d r_a =
+      pair.odom_i_from_odom_j.rotation.toRotationMatrix();
   const Eigen::Matrix3d r = odom_from_cam.rotation.toRotationMatrix();
   Matrix6d f_a = Matrix6d::Zero();
   f_a.topLeftCorner<3, 3>() = -r_a.transpose();

@@ -15,11 +15,11 @@
 // and Cov(r) = F_A Sigma_A F_A^T + F_B Sigma_B F_B^T.
 #pragma once
 
-#include <Eigen/Core>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
 
 namespace odomcal {
 

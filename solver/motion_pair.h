@@ -6,13 +6,13 @@
 // s of the camera's segment (metres per reconstruction unit).
 #pragma once
 
-#include <cstdint>
-#include <optional>
-#include <vector>
+#include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
 
-#include "odomcal/solver/rigid3.h"
+#include <cstdint>
+#include <optional>
+#include <vector>
 
 namespace odomcal {
 

@@ -13,13 +13,15 @@ Eigen::Matrix4d Rigid3d::ToMatrix() const {
 }
 
 Rigid3d operator*(const Rigid3d& c_from_b, const Rigid3d& b_from_a) {
-  return Rigid3d((c_from_b.rotation * b_from_a.rotation).normalized(),
-                 c_from_b.rotation * b_from_a.translation + c_from_b.translation);
+  return Rigid3d(
+      (c_from_b.rotation * b_from_a.rotation).normalized(),
+      c_from_b.rotation * b_from_a.translation + c_from_b.translation);
 }
 
 Rigid3d Inverse(const Rigid3d& b_from_a) {
   const Eigen::Quaterniond a_from_b_rotation = b_from_a.rotation.conjugate();
-  return Rigid3d(a_from_b_rotation, -(a_from_b_rotation * b_from_a.translation));
+  return Rigid3d(a_from_b_rotation,
+                 -(a_from_b_rotation * b_from_a.translation));
 }
 
 double RotationAngle(const Eigen::Quaterniond& q) {

@@ -16,7 +16,8 @@ struct Rigid3d {
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
 
   Rigid3d() = default;
-  Rigid3d(const Eigen::Quaterniond& rotation, const Eigen::Vector3d& translation)
+  Rigid3d(const Eigen::Quaterniond& rotation,
+          const Eigen::Vector3d& translation)
       : rotation(rotation), translation(translation) {}
 
   // 4x4 homogeneous matrix [R t; 0 1].

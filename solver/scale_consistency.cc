@@ -1,13 +1,13 @@
 #include "odomcal/solver/scale_consistency.h"
 
+#include "odomcal/solver/hand_eye_residual.h"
+
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
-
-#include <Eigen/Cholesky>
-
-#include "odomcal/solver/hand_eye_residual.h"
 
 namespace odomcal {
 namespace {
@@ -18,7 +18,9 @@ struct PrefixSums {
   std::vector<double> w, ws, wss;  // size n + 1
 
   explicit PrefixSums(const std::vector<PairMetricScale>& values)
-      : w(values.size() + 1, 0.0), ws(values.size() + 1, 0.0), wss(values.size() + 1, 0.0) {
+      : w(values.size() + 1, 0.0),
+        ws(values.size() + 1, 0.0),
+        wss(values.size() + 1, 0.0) {
     for (size_t i = 0; i < values.size(); ++i) {
       const double weight = 1.0 / (values[i].stddev * values[i].stddev);
       w[i + 1] = w[i] + weight;
@@ -26,7 +28,9 @@ struct PrefixSums {
       wss[i + 1] = wss[i] + weight * values[i].scale * values[i].scale;
     }
   }
-  double Mean(int begin, int end) const { return (ws[end] - ws[begin]) / (w[end] - w[begin]); }
+  double Mean(int begin, int end) const {
+    return (ws[end] - ws[begin]) / (w[end] - w[begin]);
+  }
   double ChiSquare(int begin, int end) const {
     const double sw = w[end] - w[begin];
     const double sws = ws[end] - ws[begin];
@@ -54,8 +58,10 @@ Split BestSplit(const PrefixSums& sums, int begin, int end, int min_part) {
   }
   const double noise = best_chi_two / (n - 2);
   const double drop = chi_one - best_chi_two;
-  best.f_statistic = noise > 0.0 ? drop / noise
-                                 : (drop > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  best.f_statistic =
+      noise > 0.0
+          ? drop / noise
+          : (drop > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
   return best;
 }
 
@@ -70,7 +76,8 @@ void Segment(const PrefixSums& sums,
   if (split.at < 0 || !(split.f_statistic >= options.min_f_statistic)) return;
   const double before = sums.Mean(begin, split.at);
   const double after = sums.Mean(split.at, end);
-  const double relative = std::abs(after - before) / std::min(std::abs(before), std::abs(after));
+  const double relative =
+      std::abs(after - before) / std::min(std::abs(before), std::abs(after));
   if (!(relative >= options.min_relative_change)) return;
   cuts->emplace_back(split.at, split.f_statistic);
   Segment(sums, begin, split.at, options, cuts);
@@ -79,10 +86,11 @@ void Segment(const PrefixSums& sums,
 
 }  // namespace
 
-std::vector<PairMetricScale> PerPairMetricScales(const MotionPairs& pairs,
-                                                 const Rigid3d& odom_from_cam,
-                                                 const std::vector<double>& metric_scales,
-                                                 const NoiseModel& noise) {
+std::vector<PairMetricScale> PerPairMetricScales(
+    const MotionPairs& pairs,
+    const Rigid3d& odom_from_cam,
+    const std::vector<double>& metric_scales,
+    const NoiseModel& noise) {
   std::vector<PairMetricScale> result(pairs.size());
   const Eigen::Matrix3d R = odom_from_cam.rotation.toRotationMatrix();
   const Eigen::Vector3d& p = odom_from_cam.translation;
@@ -93,11 +101,13 @@ std::vector<PairMetricScale> PerPairMetricScales(const MotionPairs& pairs,
                               pair.odom_i_from_odom_j.translation - p;
     const Eigen::Vector3d u = R * pair.cam_i_from_cam_j.translation;
     const Eigen::Matrix3d cov =
-        HandEyeResidualCovariance(pair, odom_from_cam, s, noise).bottomRightCorner<3, 3>();
+        HandEyeResidualCovariance(pair, odom_from_cam, s, noise)
+            .bottomRightCorner<3, 3>();
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(cov);
     const Eigen::Vector3d w_u = ldlt.solve(u);
     const double information = u.dot(w_u);
-    if (ldlt.info() != Eigen::Success || !(information > 0.0) || !std::isfinite(information)) {
+    if (ldlt.info() != Eigen::Success || !(information > 0.0) ||
+        !std::isfinite(information)) {
       result[i] = {s, std::numeric_limits<double>::infinity()};
       continue;
     }
@@ -106,13 +116,16 @@ std::vector<PairMetricScale> PerPairMetricScales(const MotionPairs& pairs,
   return result;
 }
 
-std::vector<ScaleChange> FindScaleChanges(const MotionPairs& pairs,
-                                          const std::vector<PairMetricScale>& pair_scales,
-                                          const ScaleChangeOptions& options) {
-  std::map<int, std::vector<int>> members;  // usable pairs per segment, in time order
+std::vector<ScaleChange> FindScaleChanges(
+    const MotionPairs& pairs,
+    const std::vector<PairMetricScale>& pair_scales,
+    const ScaleChangeOptions& options) {
+  std::map<int, std::vector<int>>
+      members;  // usable pairs per segment, in time order
   for (size_t i = 0; i < pairs.size(); ++i) {
     const PairMetricScale& value = pair_scales.at(i);
-    if (std::isfinite(value.scale) && std::isfinite(value.stddev) && value.stddev > 0.0) {
+    if (std::isfinite(value.scale) && std::isfinite(value.stddev) &&
+        value.stddev > 0.0) {
       members[pairs[i].segment].push_back(static_cast<int>(i));
     }
   }
@@ -129,7 +142,8 @@ std::vector<ScaleChange> FindScaleChanges(const MotionPairs& pairs,
     std::sort(cuts.begin(), cuts.end());
     for (size_t c = 0; c < cuts.size(); ++c) {
       const int begin = c == 0 ? 0 : cuts[c - 1].first;
-      const int end = c + 1 < cuts.size() ? cuts[c + 1].first : static_cast<int>(values.size());
+      const int end = c + 1 < cuts.size() ? cuts[c + 1].first
+                                          : static_cast<int>(values.size());
       ScaleChange change;
       change.segment = segment;
       change.first_pair_after = indices[cuts[c].first];

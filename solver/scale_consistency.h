@@ -13,12 +13,12 @@
 // scatter is significant and the scale change is large enough to matter.
 #pragma once
 
-#include <cstdint>
-#include <vector>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
+
+#include <cstdint>
+#include <vector>
 
 namespace odomcal {
 
@@ -47,9 +47,10 @@ struct ScaleChangeOptions {
 };
 
 struct ScaleChange {
-  int segment = 0;          // of the input pairs
-  int first_pair_after = 0;  // index into the input pairs: first of the new part
-  int64_t stamp_ns = 0;      // stamp_i of that pair
+  int segment = 0;  // of the input pairs
+  int first_pair_after =
+      0;                 // index into the input pairs: first of the new part
+  int64_t stamp_ns = 0;  // stamp_i of that pair
   double scale_before = 0.0;  // weighted means of the per-pair scales
   double scale_after = 0.0;
   double f_statistic = 0.0;
@@ -58,8 +59,9 @@ struct ScaleChange {
 // Changes within each segment of `pairs` (time-ordered within a segment, as
 // association produces them), in segment and time order. `pair_scales` is
 // PerPairMetricScales() of the same pairs.
-std::vector<ScaleChange> FindScaleChanges(const MotionPairs& pairs,
-                                          const std::vector<PairMetricScale>& pair_scales,
-                                          const ScaleChangeOptions& options);
+std::vector<ScaleChange> FindScaleChanges(
+    const MotionPairs& pairs,
+    const std::vector<PairMetricScale>& pair_scales,
+    const ScaleChangeOptions& options);
 
 }  // namespace odomcal

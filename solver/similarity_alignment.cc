@@ -26,9 +26,10 @@ Sim3d AlignSfmToOrigin(const std::vector<Rigid3d>& origin_from_cam,
   for (size_t i = 0; i < n; ++i) {
     cross += origin_from_cam[i].rotation.toRotationMatrix() *
              sfm_from_cam[i].rotation.toRotationMatrix().transpose();
-    cross += position_weight_per_m2 *
-             (origin_from_cam[i].translation - mean_origin) *
-             (metric_scale * (sfm_from_cam[i].translation - mean_sfm)).transpose();
+    cross +=
+        position_weight_per_m2 *
+        (origin_from_cam[i].translation - mean_origin) *
+        (metric_scale * (sfm_from_cam[i].translation - mean_sfm)).transpose();
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(
       cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -43,11 +44,13 @@ Sim3d AlignSfmToOrigin(const std::vector<Rigid3d>& origin_from_cam,
   return result;
 }
 
-Rigid3d CamFromOrigin(const Rigid3d& cam_from_sfm, const Sim3d& origin_from_sfm) {
+Rigid3d CamFromOrigin(const Rigid3d& cam_from_sfm,
+                      const Sim3d& origin_from_sfm) {
   // x_sfm = R^T (x_o - t) / s, x_cam[m] = s (R_cs x_sfm + t_cs)
   //       = R_cs R^T x_o - R_cs R^T t + s t_cs.
   const Eigen::Quaterniond rotation =
-      (cam_from_sfm.rotation * origin_from_sfm.rotation.conjugate()).normalized();
+      (cam_from_sfm.rotation * origin_from_sfm.rotation.conjugate())
+          .normalized();
   return Rigid3d(rotation,
                  origin_from_sfm.scale * cam_from_sfm.translation -
                      rotation * origin_from_sfm.translation);

@@ -4,12 +4,12 @@
 // odometry's fixed frame.
 #pragma once
 
-#include <vector>
+#include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "odomcal/solver/rigid3.h"
+#include <vector>
 
 namespace odomcal {
 
@@ -40,6 +40,7 @@ Sim3d AlignSfmToOrigin(const std::vector<Rigid3d>& origin_from_cam,
 
 // cam_from_origin (metres) for a camera given as cam_from_sfm
 // (reconstruction units).
-Rigid3d CamFromOrigin(const Rigid3d& cam_from_sfm, const Sim3d& origin_from_sfm);
+Rigid3d CamFromOrigin(const Rigid3d& cam_from_sfm,
+                      const Sim3d& origin_from_sfm);
 
 }  // namespace odomcal

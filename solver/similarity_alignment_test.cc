@@ -1,11 +1,11 @@
 #include "odomcal/solver/similarity_alignment.h"
 
-#include <random>
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/tests/test_seed.h"
+#include <random>
 
 namespace odomcal {
 namespace {
@@ -21,11 +21,12 @@ TEST(AlignSfmToOrigin, RecoversAKnownSimilarity) {
     const Rigid3d sfm(RandomOdomFromCam(&rng).rotation,
                       Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)));
     sfm_from_cam.push_back(sfm);
-    origin_from_cam.push_back(Rigid3d(truth.rotation * sfm.rotation,
-                                      truth * sfm.translation));
+    origin_from_cam.push_back(
+        Rigid3d(truth.rotation * sfm.rotation, truth * sfm.translation));
   }
   const Sim3d estimate = AlignSfmToOrigin(origin_from_cam, sfm_from_cam, 0.37);
-  EXPECT_LT(RotationAngle(estimate.rotation.conjugate() * truth.rotation), 1e-12);
+  EXPECT_LT(RotationAngle(estimate.rotation.conjugate() * truth.rotation),
+            1e-12);
   EXPECT_LT((estimate.translation - truth.translation).norm(), 1e-12);
 
   // Camera poses mapped through CamFromOrigin agree with the metric poses.
@@ -33,9 +34,11 @@ TEST(AlignSfmToOrigin, RecoversAKnownSimilarity) {
     const Rigid3d cam_from_origin =
         CamFromOrigin(Inverse(sfm_from_cam[i]), estimate);
     const Rigid3d expected = Inverse(origin_from_cam[i]);
-    EXPECT_LT(RotationAngle(cam_from_origin.rotation.conjugate() * expected.rotation),
+    EXPECT_LT(
+        RotationAngle(cam_from_origin.rotation.conjugate() * expected.rotation),
+        1e-12);
+    EXPECT_LT((cam_from_origin.translation - expected.translation).norm(),
               1e-12);
-    EXPECT_LT((cam_from_origin.translation - expected.translation).norm(), 1e-12);
   }
 }
 

@@ -1,19 +1,20 @@
 #include "odomcal/solver/stretch_consistency.h"
 
+#include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/hand_eye_ransac.h"
+
 #include <algorithm>
 #include <limits>
 #include <map>
-
-#include "odomcal/solver/calibrate.h"
-#include "odomcal/solver/hand_eye_ransac.h"
 
 namespace odomcal {
 namespace {
 
 // Runs of consecutive outliers (by time) within each input segment.
-std::vector<InconsistentStretch> FindOutlierRuns(const MotionPairs& pairs,
-                                                 const std::vector<char>& inliers,
-                                                 int min_run_pairs) {
+std::vector<InconsistentStretch> FindOutlierRuns(
+    const MotionPairs& pairs,
+    const std::vector<char>& inliers,
+    int min_run_pairs) {
   std::map<int, std::vector<int>> by_segment;
   for (size_t i = 0; i < pairs.size(); ++i) {
     by_segment[pairs[i].segment].push_back(static_cast<int>(i));
@@ -121,9 +122,11 @@ void CutOutlierRuns(const MotionPairs& pairs,
   std::vector<int> run_of_pair(pairs.size(), -1);
   for (size_t r = 0; r < check->stretches.size(); ++r) {
     InconsistentStretch& run = check->stretches[r];
-    run.kept_as_segment =
-        RunIsSelfConsistent(pairs, run, check->result.odom_from_cam, options,
-                            stretch_options.min_inlier_ratio);
+    run.kept_as_segment = RunIsSelfConsistent(pairs,
+                                              run,
+                                              check->result.odom_from_cam,
+                                              options,
+                                              stretch_options.min_inlier_ratio);
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (pairs[i].segment == run.input_segment &&
           pairs[i].stamp_i_ns >= run.first_stamp_ns &&
@@ -181,7 +184,8 @@ void CutScaleChanges(const CalibrationOptions& options,
   }
   const std::vector<ScaleChange> changes = FindScaleChanges(
       inliers,
-      PerPairMetricScales(inliers, fit.odom_from_cam, fit.metric_scales, options.noise),
+      PerPairMetricScales(
+          inliers, fit.odom_from_cam, fit.metric_scales, options.noise),
       scale_options);
   if (changes.empty()) return;
 
@@ -192,7 +196,8 @@ void CutScaleChanges(const CalibrationOptions& options,
     const MotionPair& pair = check->pairs[i];
     int part = 0;
     for (const ScaleChange& change : changes) {
-      if (change.segment == pair.segment && pair.stamp_i_ns >= change.stamp_ns) ++part;
+      if (change.segment == pair.segment && pair.stamp_i_ns >= change.stamp_ns)
+        ++part;
     }
     part_of_pair[i] = {pair.segment, part};
     part_segment[part_of_pair[i]] = 0;
@@ -200,11 +205,13 @@ void CutScaleChanges(const CalibrationOptions& options,
   std::vector<int> input_segment_of_output;
   for (auto& [part, segment] : part_segment) {
     segment = static_cast<int>(input_segment_of_output.size());
-    input_segment_of_output.push_back(check->input_segment_of_output_segment.at(part.first));
+    input_segment_of_output.push_back(
+        check->input_segment_of_output_segment.at(part.first));
   }
   for (const ScaleChange& change : changes) {
     ScaleChangeCut cut;
-    cut.input_segment = check->input_segment_of_output_segment.at(change.segment);
+    cut.input_segment =
+        check->input_segment_of_output_segment.at(change.segment);
     cut.stamp_ns = change.stamp_ns;
     cut.scale_before = change.scale_before;
     cut.scale_after = change.scale_after;
@@ -215,7 +222,9 @@ void CutScaleChanges(const CalibrationOptions& options,
     if (!run.kept_as_segment) continue;
     int part = 0;
     for (const ScaleChange& change : changes) {
-      if (change.segment == run.output_segment && run.first_stamp_ns >= change.stamp_ns) ++part;
+      if (change.segment == run.output_segment &&
+          run.first_stamp_ns >= change.stamp_ns)
+        ++part;
     }
     run.output_segment = part_segment.at({run.output_segment, part});
   }
@@ -229,9 +238,10 @@ void CutScaleChanges(const CalibrationOptions& options,
 
 }  // namespace
 
-StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
-                                             const CalibrationOptions& options,
-                                             const StretchOptions& stretch_options) {
+StretchCheckResult CalibrateWithStretchCheck(
+    const MotionPairs& pairs,
+    const CalibrationOptions& options,
+    const StretchOptions& stretch_options) {
   StretchCheckResult check;
   check.pairs = pairs;
   for (size_t i = 0; i < pairs.size(); ++i) {
@@ -244,9 +254,11 @@ StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
   if (!check.result.has_estimate || !options.use_ransac) {
     return check;
   }
-  check.stretches = FindOutlierRuns(pairs, check.result.diagnostics.inlier_mask,
+  check.stretches = FindOutlierRuns(pairs,
+                                    check.result.diagnostics.inlier_mask,
                                     stretch_options.min_run_pairs);
-  if (!check.stretches.empty()) CutOutlierRuns(pairs, options, stretch_options, &check);
+  if (!check.stretches.empty())
+    CutOutlierRuns(pairs, options, stretch_options, &check);
   if (stretch_options.check_scale_changes && check.result.IsSuccess()) {
     CutScaleChanges(options, stretch_options.scale_change, &check);
   }

@@ -14,19 +14,20 @@
 // scale drift) into parts with scales of their own, and calibrates again.
 #pragma once
 
-#include <cstdint>
-#include <vector>
-
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/scale_consistency.h"
 
+#include <cstdint>
+#include <vector>
+
 namespace odomcal {
 
 struct StretchOptions {
-  int min_run_pairs = 3;      // shorter outlier runs are ordinary outliers
-  double min_inlier_ratio = 0.7;  // a run kept as its own segment fits this well
+  int min_run_pairs = 3;  // shorter outlier runs are ordinary outliers
+  double min_inlier_ratio =
+      0.7;  // a run kept as its own segment fits this well
   bool check_scale_changes = true;
   ScaleChangeOptions scale_change;
 };
@@ -52,18 +53,19 @@ struct InconsistentStretch {
 };
 
 struct StretchCheckResult {
-  CalibrationResult result;    // final calibration
-  MotionPairs pairs;           // the pairs it used, relabelled segments
+  CalibrationResult result;  // final calibration
+  MotionPairs pairs;         // the pairs it used, relabelled segments
   std::vector<int> input_pair_of_output;  // index of each output pair
   std::vector<int> input_segment_of_output_segment;
   std::vector<InconsistentStretch> stretches;
   std::vector<ScaleChangeCut> scale_changes;
-  bool split = false;          // whether segments were cut
+  bool split = false;  // whether segments were cut
 };
 
 // Pairs of one segment must be in time order (as association produces them).
-StretchCheckResult CalibrateWithStretchCheck(const MotionPairs& pairs,
-                                             const CalibrationOptions& options,
-                                             const StretchOptions& stretch_options);
+StretchCheckResult CalibrateWithStretchCheck(
+    const MotionPairs& pairs,
+    const CalibrationOptions& options,
+    const StretchOptions& stretch_options);
 
 }  // namespace odomcal

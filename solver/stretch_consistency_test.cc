@@ -1,11 +1,11 @@
 #include "odomcal/solver/stretch_consistency.h"
 
-#include <cmath>
+#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/tests/test_seed.h"
+#include <cmath>
 
 namespace odomcal {
 namespace {
@@ -44,9 +44,11 @@ TEST(CalibrateWithStretchCheck, DropsAFoldAndSplitsOffAPartAtAnotherScale) {
   EXPECT_LT(RotationAngle(check.result.odom_from_cam.rotation.conjugate() *
                           truth.odom_from_cam.rotation),
             4.0 * std::sqrt(covariance.topLeftCorner<3, 3>().trace()));
-  EXPECT_LT((check.result.odom_from_cam.translation -
-             truth.odom_from_cam.translation).head<2>().norm(),
-            4.0 * std::sqrt(covariance.block<2, 2>(3, 3).trace()));
+  EXPECT_LT(
+      (check.result.odom_from_cam.translation - truth.odom_from_cam.translation)
+          .head<2>()
+          .norm(),
+      4.0 * std::sqrt(covariance.block<2, 2>(3, 3).trace()));
   // The fold is found and dropped; the part at another scale is kept as its
   // own segment with the right scale.
   bool fold_dropped = false, part_kept = false;
@@ -58,13 +60,15 @@ TEST(CalibrateWithStretchCheck, DropsAFoldAndSplitsOffAPartAtAnotherScale) {
       part_kept = true;
       EXPECT_NEAR(check.result.metric_scales[run.output_segment] /
                       (1.6 * truth.metric_scales[0]),
-                  1.0, 0.02);
+                  1.0,
+                  0.02);
     }
   }
   EXPECT_TRUE(fold_dropped);
   EXPECT_TRUE(part_kept);
   for (const int input : check.input_pair_of_output) {
-    EXPECT_FALSE(input >= 30 && input < 40) << "folded pair " << input << " used";
+    EXPECT_FALSE(input >= 30 && input < 40)
+        << "folded pair " << input << " used";
   }
 }
 

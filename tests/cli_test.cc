@@ -2,20 +2,20 @@
 // accuracy against the simulator's ground truth, statuses and exit codes,
 // one-line errors on bad files, outputs that never clobber or touch inputs.
 
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/test_files.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-
-#include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -112,8 +112,8 @@ TEST_F(OdomcalCli, CalibratesSimulatedDriveAccurately) {
   EXPECT_NEAR(t[0].get<double>(), drive.odom_from_cam.translation.x(), 0.005);
   EXPECT_NEAR(t[1].get<double>(), drive.odom_from_cam.translation.y(), 0.005);
   EXPECT_DOUBLE_EQ(t[2].get<double>(), 0.4);
-  EXPECT_NEAR(result["metric_scale"].get<double>() / drive.metric_scale, 1.0,
-              0.005);
+  EXPECT_NEAR(
+      result["metric_scale"].get<double>() / drive.metric_scale, 1.0, 0.005);
   EXPECT_EQ(result["unobservable"], json::array({"translation_z"}));
   EXPECT_EQ(result["covariance"]["order"],
             json::array({"rx", "ry", "rz", "tx", "ty", "s_0"}));
@@ -151,19 +151,20 @@ TEST_F(OdomcalCli, AcceptsTumOdometryAndTwoSegments) {
   }
   WriteTumTrajectory(first, Path("camera_0.tum"));
   WriteTumTrajectory(second, Path("camera_1.tum"));
-  const CommandResult run = Run(
-      "calibrate --camera_poses " + Path("camera_0.tum") + " --camera_poses " +
-      Path("camera_1.tum") + " --odometry " + Path("odometry.tum") +
-      " --output " + Path("result.json"));
+  const CommandResult run =
+      Run("calibrate --camera_poses " + Path("camera_0.tum") +
+          " --camera_poses " + Path("camera_1.tum") + " --odometry " +
+          Path("odometry.tum") + " --output " + Path("result.json"));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("result.json")));
   ASSERT_EQ(result["metric_scales"].size(), 2u);
   EXPECT_TRUE(result["metric_scale"].is_null());
-  EXPECT_NEAR(result["metric_scales"][0].get<double>() / drive.metric_scale,
-              1.0, 0.01);
-  EXPECT_NEAR(result["metric_scales"][1].get<double>() /
-                  (drive.metric_scale / 2.5),
-              1.0, 0.01);
+  EXPECT_NEAR(
+      result["metric_scales"][0].get<double>() / drive.metric_scale, 1.0, 0.01);
+  EXPECT_NEAR(
+      result["metric_scales"][1].get<double>() / (drive.metric_scale / 2.5),
+      1.0,
+      0.01);
 }
 
 TEST_F(OdomcalCli, StraightDrivingReportsUnobservableNotNumbers) {
@@ -178,8 +179,9 @@ TEST_F(OdomcalCli, StraightDrivingReportsUnobservableNotNumbers) {
   EXPECT_EQ(result["status"], "unobservable");
   EXPECT_TRUE(result["odom_from_cam"].is_null());
   const auto& unobservable = result["unobservable"];
-  EXPECT_NE(std::find(unobservable.begin(), unobservable.end(), "translation_x"),
-            unobservable.end());
+  EXPECT_NE(
+      std::find(unobservable.begin(), unobservable.end(), "translation_x"),
+      unobservable.end());
 }
 
 TEST_F(OdomcalCli, CamFromWorldPosesAreRefused) {
@@ -259,14 +261,16 @@ TEST_F(OdomcalCli, NeverOverwritesWithoutFlagAndNeverTouchesInputs) {
 }
 
 TEST_F(OdomcalCli, DemoRunsAndMatchesGroundTruth) {
-  const CommandResult run = Run("demo --simulated --workspace_path " + Path("demo"));
+  const CommandResult run =
+      Run("demo --simulated --workspace_path " + Path("demo"));
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("demo/calibration.json")));
   const json truth = json::parse(ReadFile(Path("demo/ground_truth.json")));
   EXPECT_EQ(result["status"], "success");
   EXPECT_NEAR(result["metric_scale"].get<double>() /
                   truth["metric_scale"].get<double>(),
-              1.0, 0.005);
+              1.0,
+              0.005);
 }
 
 }  // namespace

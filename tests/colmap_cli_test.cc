@@ -3,6 +3,15 @@
 // the extrinsic, scale and metric model, detection of a folded stretch,
 // one-line errors, and an input project left byte-identical.
 
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/test_files.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,15 +19,6 @@
 #include <random>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
-#include "odomcal/adapters/colmap_model.h"
-#include "odomcal/adapters/test_support.h"
-#include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -37,7 +37,8 @@ class ColmapCli : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) / (std::string("colmap_cli_") + info->name());
+    dir_ = fs::path(::testing::TempDir()) /
+           (std::string("colmap_cli_") + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "project" / "sparse");
   }
@@ -47,8 +48,9 @@ class ColmapCli : public ::testing::Test {
 
   int Run(const std::string& arguments, std::string* err = nullptr) const {
     const fs::path out = dir_ / "stdout.txt", error = dir_ / "stderr.txt";
-    const std::string command = std::string(ODOMCAL_EXECUTABLE) + " " + arguments +
-                                " > " + out.string() + " 2> " + error.string();
+    const std::string command = std::string(ODOMCAL_EXECUTABLE) + " " +
+                                arguments + " > " + out.string() + " 2> " +
+                                error.string();
     const int status = std::system(command.c_str());
     if (err != nullptr) *err = ReadFile(error);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -73,37 +75,40 @@ class ColmapCli : public ::testing::Test {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> uniform(-5.0, 5.0);
     for (int i = 0; i < 200; ++i) {
-      project.points_in_origin.emplace_back(uniform(rng), uniform(rng),
-                                            0.5 * uniform(rng) + 2.0);
+      project.points_in_origin.emplace_back(
+          uniform(rng), uniform(rng), 0.5 * uniform(rng) + 2.0);
     }
     const size_t split = drive.camera.poses.size() * 2 / 3;
     std::ofstream stamps(dir_ / "project" / "image_timestamps.csv");
     stamps << "image_name,timestamp\n";
     for (int part = 0; part < 2; ++part) {
       ColmapModel model;
-      model.cameras[1] =
-          MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120});
+      model.cameras[1] = MakeColmapCamera(
+          1, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120});
       // Sub-model 1 lives in another frame and scale than the simulator's.
-      const Rigid3d frame = part == 0 ? Rigid3d()
-                                      : Rigid3d(Eigen::Quaterniond(0.8, 0.0, 0.6, 0.0),
-                                                Eigen::Vector3d(1.0, 2.0, 3.0));
+      const Rigid3d frame =
+          part == 0 ? Rigid3d()
+                    : Rigid3d(Eigen::Quaterniond(0.8, 0.0, 0.6, 0.0),
+                              Eigen::Vector3d(1.0, 2.0, 3.0));
       const double extra_scale = part == 0 ? 1.0 : 2.0;
       const size_t begin = part == 0 ? 0 : split - 5;  // 5 shared images
       const size_t end = part == 0 ? split : drive.camera.poses.size();
       for (size_t i = begin; i < end; ++i) {
-        Rigid3d world_from_cam = frame * drive.camera.poses[i].world_from_sensor;
+        Rigid3d world_from_cam =
+            frame * drive.camera.poses[i].world_from_sensor;
         world_from_cam.translation *= extra_scale;
         if (fold && part == 0 && i >= 200 && i < 230) {
           // A folded stretch: COLMAP mirrored the path's direction here.
-          world_from_cam.translation +=
-              Eigen::Vector3d(0.0, 0.0, 0.05 * (static_cast<double>(i) - 200.0));
+          world_from_cam.translation += Eigen::Vector3d(
+              0.0, 0.0, 0.05 * (static_cast<double>(i) - 200.0));
           world_from_cam.rotation =
               world_from_cam.rotation *
               Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * (i - 200.0),
                                                    Eigen::Vector3d::UnitX()));
         }
         ColmapImage image;
-        image.image_id = static_cast<uint32_t>(1000 - i);  // ids not in name order
+        image.image_id =
+            static_cast<uint32_t>(1000 - i);  // ids not in name order
         image.camera_id = 1;
         char name[32];
         std::snprintf(name, sizeof(name), "frames/%06zu.png", i);
@@ -112,7 +117,8 @@ class ColmapCli : public ::testing::Test {
         model.images[image.image_id] = image;
         if (part == 0 || i >= split) {
           stamps << image.name << ","
-                 << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns) << "\n";
+                 << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns)
+                 << "\n";
         }
       }
       // Points: origin frame -> the simulator's SfM frame -> this sub-model.
@@ -127,9 +133,11 @@ class ColmapCli : public ::testing::Test {
         point.error = 0.5;
         model.points3D[point.point3D_id] = point;
       }
-      const fs::path folder = dir_ / "project" / "sparse" / std::to_string(part);
+      const fs::path folder =
+          dir_ / "project" / "sparse" / std::to_string(part);
       fs::create_directories(folder);
-      WriteColmapModel(model, folder.string(),
+      WriteColmapModel(model,
+                       folder.string(),
                        part == 0 ? ColmapFormat::kBinary : ColmapFormat::kText);
     }
     return project;
@@ -159,15 +167,20 @@ TEST_F(ColmapCli, CalibratesTwoSubModelsAndExportsAMetricModel) {
   EXPECT_EQ(result["status"], "success");
   const auto& q = result["odom_from_cam"]["quaternion_wxyz"];
   const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
-  EXPECT_LT(RotationAngle(rotation.conjugate() * drive.odom_from_cam.rotation) * kRadToDeg,
+  EXPECT_LT(RotationAngle(rotation.conjugate() * drive.odom_from_cam.rotation) *
+                kRadToDeg,
             0.05);
   const auto& t = result["odom_from_cam"]["translation_m"];
   EXPECT_NEAR(t[0].get<double>(), drive.odom_from_cam.translation.x(), 0.003);
   EXPECT_NEAR(t[1].get<double>(), drive.odom_from_cam.translation.y(), 0.003);
   ASSERT_EQ(result["metric_scales"].size(), 2u);
-  EXPECT_NEAR(result["metric_scales"][0].get<double>() / drive.metric_scale, 1.0, 0.005);
-  EXPECT_NEAR(result["metric_scales"][1].get<double>() / (drive.metric_scale / 2.0),
-              1.0, 0.005);
+  EXPECT_NEAR(result["metric_scales"][0].get<double>() / drive.metric_scale,
+              1.0,
+              0.005);
+  EXPECT_NEAR(
+      result["metric_scales"][1].get<double>() / (drive.metric_scale / 2.0),
+      1.0,
+      0.005);
   EXPECT_TRUE(result["colmap"]["inconsistent_stretches"].empty());
 
   // The metric model: points back at their metric positions in the
@@ -177,13 +190,14 @@ TEST_F(ColmapCli, CalibratesTwoSubModelsAndExportsAMetricModel) {
         ReadColmapModel((dir_ / "out" / "sparse_metric" / part).string());
     double worst = 0.0;
     for (const auto& [id, point] : metric.points3D) {
-      worst = std::max(worst, (point.xyz - project.points_in_origin[id - 1]).norm());
+      worst = std::max(worst,
+                       (point.xyz - project.points_in_origin[id - 1]).norm());
     }
     // Scale and alignment errors of a few mm over points up to 7 m away.
     EXPECT_LT(worst, 0.05) << "sub-model " << part;
   }
-  const Trajectory cameras =
-      ReadTumTrajectory((dir_ / "out" / "camera_in_odom.tum").string(), TimeUnit::kSeconds);
+  const Trajectory cameras = ReadTumTrajectory(
+      (dir_ / "out" / "camera_in_odom.tum").string(), TimeUnit::kSeconds);
   EXPECT_EQ(cameras.poses.size(), drive.camera.poses.size());
   EXPECT_TRUE(fs::exists(dir_ / "out" / "report.html"));
 }
@@ -196,11 +210,13 @@ TEST_F(ColmapCli, AFoldedStretchIsDetectedAndLeftOut) {
   const auto& stretches = result["colmap"]["inconsistent_stretches"];
   ASSERT_FALSE(stretches.empty()) << result["warnings"];
   bool rejected = false;
-  for (const auto& stretch : stretches) rejected |= stretch["verdict"] == "rejected";
+  for (const auto& stretch : stretches)
+    rejected |= stretch["verdict"] == "rejected";
   EXPECT_TRUE(rejected) << stretches;
   const auto& q = result["odom_from_cam"]["quaternion_wxyz"];
   const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
-  EXPECT_LT(RotationAngle(rotation.conjugate() * project.drive.odom_from_cam.rotation) *
+  EXPECT_LT(RotationAngle(rotation.conjugate() *
+                          project.drive.odom_from_cam.rotation) *
                 kRadToDeg,
             0.05);
   EXPECT_NE(ReadFile(dir_ / "stdout.txt").find("contradicts the odometry"),
@@ -211,20 +227,23 @@ TEST_F(ColmapCli, BadInputsGiveOneLineAndExit2) {
   MakeProject(23);
   fs::create_directories(dir_ / "empty_sparse");
   std::ofstream(dir_ / "broken.db") << "not a database";
-  const std::string odometry = " --odometry " + (dir_ / "odometry.csv").string();
+  const std::string odometry =
+      " --odometry " + (dir_ / "odometry.csv").string();
   const std::string stamps =
-      " --image_timestamps " + (dir_ / "project" / "image_timestamps.csv").string();
+      " --image_timestamps " +
+      (dir_ / "project" / "image_timestamps.csv").string();
   const std::vector<std::string> cases = {
       "colmap --model_path " + (dir_ / "missing").string() + odometry + stamps +
           " --output_path " + (dir_ / "o1").string(),
-      "colmap --model_path " + (dir_ / "empty_sparse").string() + odometry + stamps +
-          " --output_path " + (dir_ / "o2").string(),
+      "colmap --model_path " + (dir_ / "empty_sparse").string() + odometry +
+          stamps + " --output_path " + (dir_ / "o2").string(),
       Arguments("o3") + " --database_path " + (dir_ / "broken.db").string(),
       // Images outside the odometry span: a clock offset of a day.
       Arguments("o4") + " --camera_time_offset_s 86400",
       // Output inside the input project.
-      "colmap --model_path " + (dir_ / "project" / "sparse").string() + odometry +
-          stamps + " --output_path " + (dir_ / "project" / "sparse" / "out").string(),
+      "colmap --model_path " + (dir_ / "project" / "sparse").string() +
+          odometry + stamps + " --output_path " +
+          (dir_ / "project" / "sparse" / "out").string(),
   };
   const auto before = Snapshot(dir_ / "project");
   for (const std::string& arguments : cases) {

@@ -51,7 +51,8 @@ class RenderedEndToEnd : public ::testing::Test {
   void SetUp() override {
     if (!ColmapInstalled()) GTEST_SKIP() << "colmap is not installed";
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) / (std::string("e2e_") + info->name());
+    dir_ =
+        fs::path(::testing::TempDir()) / (std::string("e2e_") + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -61,8 +62,8 @@ class RenderedEndToEnd : public ::testing::Test {
 
   int Run(const std::string& arguments, std::string* log) const {
     const fs::path out = dir_ / "log.txt";
-    const std::string command =
-        std::string(ODOMCAL_EXECUTABLE) + " " + arguments + " > " + out.string() + " 2>&1";
+    const std::string command = std::string(ODOMCAL_EXECUTABLE) + " " +
+                                arguments + " > " + out.string() + " 2>&1";
     const int status = std::system(command.c_str());
     *log += ReadFile(out);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -77,8 +78,8 @@ class RenderedEndToEnd : public ::testing::Test {
     const fs::path data = dir_ / "data";
     run.workspace = dir_ / "ws";
     const std::string seed_text = std::to_string(seed);
-    if (Run("render --preset " + preset + " --seed " + seed_text + " --output_path " +
-                data.string(),
+    if (Run("render --preset " + preset + " --seed " + seed_text +
+                " --output_path " + data.string(),
             &run.log) != 0) {
       return run;
     }
@@ -95,14 +96,15 @@ class RenderedEndToEnd : public ::testing::Test {
     z << run.truth["odom_from_cam"]["translation_m"][2].get<double>();
     const auto inputs_before = Snapshot(data);
     const auto start = std::chrono::steady_clock::now();
-    run.exit_code = Run(
-        "run --image_path " + (data / "images").string() + " --odometry " +
-            (data / "odometry.csv").string() + " --image_timestamps " +
-            (data / "image_timestamps.csv").string() + " --camera_model " +
-            run.truth["camera"]["model"].get<std::string>() + " --camera_params " +
-            params + " --fixed_translation_z_m " + z.str() + " --workspace_path " +
-            run.workspace.string() + " " + extra_run_flags,
-        &run.log);
+    run.exit_code =
+        Run("run --image_path " + (data / "images").string() + " --odometry " +
+                (data / "odometry.csv").string() + " --image_timestamps " +
+                (data / "image_timestamps.csv").string() + " --camera_model " +
+                run.truth["camera"]["model"].get<std::string>() +
+                " --camera_params " + params + " --fixed_translation_z_m " +
+                z.str() + " --workspace_path " + run.workspace.string() + " " +
+                extra_run_flags,
+            &run.log);
     run.run_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
             .count();
@@ -134,10 +136,12 @@ class RenderedEndToEnd : public ::testing::Test {
     std::map<std::string, Eigen::Vector3d> truth;
     for (const auto& image : run.truth["images"]) {
       const auto& t = image["world_from_cam"]["translation_m"];
-      truth[image["name"].get<std::string>()] = Eigen::Vector3d(t[0], t[1], t[2]);
+      truth[image["name"].get<std::string>()] =
+          Eigen::Vector3d(t[0], t[1], t[2]);
     }
     std::vector<double> errors;
-    for (const auto& entry : fs::directory_iterator(run.workspace / "sparse_metric")) {
+    for (const auto& entry :
+         fs::directory_iterator(run.workspace / "sparse_metric")) {
       const ColmapModel model = ReadColmapModel(entry.path().string());
       std::vector<Eigen::Vector3d> estimated, expected;
       for (const auto& [id, image] : model.images) {
@@ -178,7 +182,8 @@ class RenderedEndToEnd : public ::testing::Test {
     for (const auto& attempt : run.result["colmap"]["mapper_attempts"]) {
       if (attempt["matching_round"] != round) std::cout << " |";
       round = attempt["matching_round"];
-      std::cout << " " << attempt["num_contradicting_pairs"] << (attempt["chosen"] ? "*" : "");
+      std::cout << " " << attempt["num_contradicting_pairs"]
+                << (attempt["chosen"] ? "*" : "");
     }
     std::cout << std::endl;
     EXPECT_LT(std::abs(t.x()), translation_m) << run.log;
@@ -218,7 +223,8 @@ class RenderedEndToEnd : public ::testing::Test {
 // listed, so `hard` runs beside the others instead of after them.
 TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
   const PresetRun run = RunPreset(
-      "hard", TestSeed(1),
+      "hard",
+      TestSeed(1),
       "--matcher sequential --max_num_features 4096 --sequential_overlap 5 "
       "--mapper_attempts 1");
   ExpectAccurate(run, 0.5, 0.015, 0.025);
@@ -234,16 +240,19 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
   const fs::path data = dir_ / "data";
   const auto project_before = Snapshot(run.workspace);
   ASSERT_EQ(Run("colmap --model_path " + (run.workspace / "sparse").string() +
-                    " --database_path " + (run.workspace / "database.db").string() +
-                    " --odometry " + (data / "odometry.csv").string() +
-                    " --image_timestamps " + (data / "image_timestamps.csv").string() +
+                    " --database_path " +
+                    (run.workspace / "database.db").string() + " --odometry " +
+                    (data / "odometry.csv").string() + " --image_timestamps " +
+                    (data / "image_timestamps.csv").string() +
                     " --fixed_translation_z_m 0.4 --output_path " +
                     (dir_ / "colmap_out").string(),
                 &log),
             0)
       << log;
-  EXPECT_TRUE(Snapshot(run.workspace) == project_before) << "odomcal colmap modified its input";
-  const json again = json::parse(ReadFile(dir_ / "colmap_out" / "calibration.json"));
+  EXPECT_TRUE(Snapshot(run.workspace) == project_before)
+      << "odomcal colmap modified its input";
+  const json again =
+      json::parse(ReadFile(dir_ / "colmap_out" / "calibration.json"));
   EXPECT_EQ(again["odom_from_cam"]["quaternion_wxyz"],
             run.result["odom_from_cam"]["quaternion_wxyz"]);
   EXPECT_EQ(again["odom_from_cam"]["translation_m"],

@@ -6,6 +6,24 @@
 // The executable is started with fork/exec (no shell) so that a test can
 // change its PATH or limit the size of the files it may write.
 
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/tests/odomcal_process.h"
+#include "odomcal/tests/test_files.h"
+
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sqlite3.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -19,23 +37,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <poll.h>
-#include <sqlite3.h>
-#include <sys/resource.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include "odomcal/adapters/colmap_model.h"
-#include "odomcal/adapters/test_support.h"
-#include "odomcal/adapters/timestamp.h"
-#include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/tests/odomcal_process.h"
-#include "odomcal/tests/test_files.h"
 
 namespace odomcal {
 namespace {
@@ -51,16 +52,21 @@ constexpr char kRunError[] = "odomcal run: error: ";
 // No NaN or Inf written as a number (OpenCV's YAML spells them .nan, .inf).
 void ExpectNoNonFiniteText(const std::string& text) {
   std::string lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
+  std::transform(
+      lower.begin(), lower.end(), lower.begin(), [](unsigned char c) {
+        return std::tolower(c);
+      });
   for (const char* word : {"nan", "inf"}) {
     size_t pos = 0;
     while ((pos = lower.find(word, pos)) != std::string::npos) {
       // "inf" inside a word ("information") is text, not a number.
-      const bool alone = (pos == 0 || !std::isalpha(static_cast<unsigned char>(lower[pos - 1]))) &&
-                         (pos + 3 >= lower.size() ||
-                          !std::isalpha(static_cast<unsigned char>(lower[pos + 3])));
-      EXPECT_FALSE(alone) << "non-finite number at byte " << pos << ":\n" << text;
+      const bool alone =
+          (pos == 0 ||
+           !std::isalpha(static_cast<unsigned char>(lower[pos - 1]))) &&
+          (pos + 3 >= lower.size() ||
+           !std::isalpha(static_cast<unsigned char>(lower[pos + 3])));
+      EXPECT_FALSE(alone) << "non-finite number at byte " << pos << ":\n"
+                          << text;
       pos += 3;
     }
   }
@@ -81,7 +87,9 @@ std::string ImageName(size_t index) {
 }
 
 // Image ImageName(index) of camera 1 at `world_from_cam`.
-ColmapImage MakeColmapImage(uint32_t image_id, size_t index, const Rigid3d& world_from_cam) {
+ColmapImage MakeColmapImage(uint32_t image_id,
+                            size_t index,
+                            const Rigid3d& world_from_cam) {
   ColmapImage image;
   image.image_id = image_id;
   image.camera_id = 1;
@@ -95,7 +103,9 @@ bool ContainsName(const json& names, const std::string& name) {
 }
 
 // Replaces line `line_number` (1-based) of the text file at `path`.
-void ReplaceLine(const fs::path& path, int line_number, const std::string& text) {
+void ReplaceLine(const fs::path& path,
+                 int line_number,
+                 const std::string& text) {
   std::istringstream in(ReadFile(path));
   std::string line, result;
   for (int k = 1; std::getline(in, line); ++k) {
@@ -120,8 +130,9 @@ struct PathFiles {
   Trajectory odometry;
   Trajectory camera;
 };
-PathFiles IntegratePath(const std::function<Eigen::Vector2d(double)>& speed_and_yaw_rate,
-                        double duration_s) {
+PathFiles IntegratePath(
+    const std::function<Eigen::Vector2d(double)>& speed_and_yaw_rate,
+    double duration_s) {
   const Rigid3d odom_from_cam = DriveSimulatorOptions().odom_from_cam;
   constexpr double kStep = 0.02;
   constexpr int64_t kStart = 1700000000000000000;
@@ -154,7 +165,8 @@ class Robustness : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) / (std::string("odomcal_robust_") + info->name());
+    dir_ = fs::path(::testing::TempDir()) /
+           (std::string("odomcal_robust_") + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -162,7 +174,9 @@ class Robustness : public ::testing::Test {
     if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
   }
 
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string Path(const std::string& name) const {
+    return (dir_ / name).string();
+  }
 
   // camera.tum and odometry.csv of a 60 s simulated drive with turns.
   SimulatedDrive WriteDrive(uint64_t seed = 1) const {
@@ -181,9 +195,15 @@ class Robustness : public ::testing::Test {
     WriteOdometryCsv(files.odometry, Path("odometry.csv"));
   }
 
-  std::vector<std::string> Calibrate(const std::string& output = "result.json") const {
-    return {"calibrate", "--camera_poses", Path("camera.tum"), "--odometry",
-            Path("odometry.csv"), "--output", Path(output)};
+  std::vector<std::string> Calibrate(
+      const std::string& output = "result.json") const {
+    return {"calibrate",
+            "--camera_poses",
+            Path("camera.tum"),
+            "--odometry",
+            Path("odometry.csv"),
+            "--output",
+            Path(output)};
   }
 
   // project/sparse/0 (one binary sub-model of every second camera pose of a
@@ -191,18 +211,20 @@ class Robustness : public ::testing::Test {
   void WriteColmapProject(ColmapFormat format = ColmapFormat::kBinary) const {
     const SimulatedDrive drive = WriteDrive(2);
     ColmapModel model;
-    model.cameras[1] =
-        MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
+    model.cameras[1] = MakeColmapCamera(
+        1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
     fs::create_directories(dir_ / "project" / "sparse" / "0");
     std::ofstream stamps(dir_ / "project" / "image_timestamps.csv");
     stamps << "image_name,timestamp\n";
     for (size_t i = 0; i < drive.camera.poses.size(); i += 2) {
       const uint32_t id = static_cast<uint32_t>(i + 1);
-      model.images[id] = MakeColmapImage(id, i, drive.camera.poses[i].world_from_sensor);
-      stamps << ImageName(i) << "," << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns)
-             << "\n";
+      model.images[id] =
+          MakeColmapImage(id, i, drive.camera.poses[i].world_from_sensor);
+      stamps << ImageName(i) << ","
+             << FormatTimestampSeconds(drive.camera.poses[i].stamp_ns) << "\n";
     }
-    WriteColmapModel(model, (dir_ / "project" / "sparse" / "0").string(), format);
+    WriteColmapModel(
+        model, (dir_ / "project" / "sparse" / "0").string(), format);
   }
 
   std::string Model(const std::string& file) const {
@@ -210,16 +232,22 @@ class Robustness : public ::testing::Test {
   }
 
   std::vector<std::string> Colmap(const std::string& output = "out") const {
-    return {"colmap", "--model_path", (dir_ / "project" / "sparse").string(),
-            "--odometry", Path("odometry.csv"), "--image_timestamps",
-            (dir_ / "project" / "image_timestamps.csv").string(), "--output_path",
+    return {"colmap",
+            "--model_path",
+            (dir_ / "project" / "sparse").string(),
+            "--odometry",
+            Path("odometry.csv"),
+            "--image_timestamps",
+            (dir_ / "project" / "image_timestamps.csv").string(),
+            "--output_path",
             Path(output)};
   }
 
   // images/ with `count` files of the drive's camera times every 1 s,
   // image_timestamps.csv and odometry.csv, for `odomcal run`. The files hold
   // `contents` (not necessarily an image).
-  SimulatedDrive WriteImageFolder(int count, const std::string& contents) const {
+  SimulatedDrive WriteImageFolder(int count,
+                                  const std::string& contents) const {
     const SimulatedDrive drive = WriteDrive(3);
     fs::create_directories(dir_ / "images");
     std::ofstream stamps(Path("image_timestamps.csv"));
@@ -227,7 +255,8 @@ class Robustness : public ::testing::Test {
       const std::string name = ImageName(static_cast<size_t>(i));
       WriteFile(dir_ / "images" / name, contents);
       stamps << name << ","
-             << FormatTimestampSeconds(drive.camera.poses[10 * i + 10].stamp_ns) << "\n";
+             << FormatTimestampSeconds(drive.camera.poses[10 * i + 10].stamp_ns)
+             << "\n";
     }
     return drive;
   }
@@ -235,16 +264,22 @@ class Robustness : public ::testing::Test {
   // models/<name>/: the model COLMAP's mapper would make of WriteImageFolder's
   // images first .. count - 1 (the drive's camera poses, no points), with the
   // images `misregistered` 3 deg off about their own x axis.
-  void WriteMapperModel(const SimulatedDrive& drive, int count, const std::string& name,
-                        const std::vector<int>& misregistered = {}, int first = 0) const {
+  void WriteMapperModel(const SimulatedDrive& drive,
+                        int count,
+                        const std::string& name,
+                        const std::vector<int>& misregistered = {},
+                        int first = 0) const {
     ColmapModel model;
-    model.cameras[1] =
-        MakeColmapCamera(1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
+    model.cameras[1] = MakeColmapCamera(
+        1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
     for (int i = first; i < count; ++i) {
       const uint32_t id = static_cast<uint32_t>(i + 1);
-      ColmapImage image = MakeColmapImage(id, static_cast<size_t>(i),
-                                          drive.camera.poses[10 * i + 10].world_from_sensor);
-      if (std::find(misregistered.begin(), misregistered.end(), i) != misregistered.end()) {
+      ColmapImage image =
+          MakeColmapImage(id,
+                          static_cast<size_t>(i),
+                          drive.camera.poses[10 * i + 10].world_from_sensor);
+      if (std::find(misregistered.begin(), misregistered.end(), i) !=
+          misregistered.end()) {
         image.cam_from_world.rotation =
             Eigen::AngleAxisd(3.0 * kPi / 180.0, Eigen::Vector3d::UnitX()) *
             image.cam_from_world.rotation;
@@ -252,7 +287,8 @@ class Robustness : public ::testing::Test {
       model.images[id] = image;
     }
     fs::create_directories(dir_ / "models" / name);
-    WriteColmapModel(model, (dir_ / "models" / name).string(), ColmapFormat::kBinary);
+    WriteColmapModel(
+        model, (dir_ / "models" / name).string(), ColmapFormat::kBinary);
   }
 
   // bin/colmap whose mapper copies models/seed_<--random_seed>/ (on the
@@ -261,27 +297,44 @@ class Robustness : public ::testing::Test {
   // it has them), or writes nothing when there is no such model.
   std::string WriteFakeColmapWithMapperModels() const {
     return WriteFakeColmap(
-        "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
+        "if [ \"$1\" = feature_extractor ]; then cp " +
+        WritePreparedDatabase() +
         " \"$3\"; fi\n"
         "if [ \"$1\" = mapper ]; then\n"
         "  while [ $# -gt 0 ]; do\n"
-        "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) seed=\"$2\";;\n"
-        "      --database_path) case \"$2\" in *rematched.db) round=rematch_;; esac;; esac\n"
+        "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) "
+        "seed=\"$2\";;\n"
+        "      --database_path) case \"$2\" in *rematched.db) round=rematch_;; "
+        "esac;; esac\n"
         "    shift\n"
         "  done\n"
-        "  model=" + Path("models") + "/${round}seed_$seed\n"
+        "  model=" +
+        Path("models") +
+        "/${round}seed_$seed\n"
         "  if [ -d \"$model/0\" ]; then cp -r \"$model\"/* \"$out/\";\n"
-        "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* \"$out/0/\"; fi\n"
+        "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* "
+        "\"$out/0/\"; fi\n"
         "fi\n"
         "exit 0\n");
   }
 
-  std::vector<std::string> RunCommand(const std::vector<std::string>& extra = {}) const {
-    std::vector<std::string> arguments = {
-        "run", "--image_path", Path("images"), "--odometry", Path("odometry.csv"),
-        "--image_timestamps", Path("image_timestamps.csv"), "--camera_model",
-        "PINHOLE", "--camera_params", "260,260,160,120", "--workspace_path",
-        Path("ws"), "--num_threads", "1"};
+  std::vector<std::string> RunCommand(
+      const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> arguments = {"run",
+                                          "--image_path",
+                                          Path("images"),
+                                          "--odometry",
+                                          Path("odometry.csv"),
+                                          "--image_timestamps",
+                                          Path("image_timestamps.csv"),
+                                          "--camera_model",
+                                          "PINHOLE",
+                                          "--camera_params",
+                                          "260,260,160,120",
+                                          "--workspace_path",
+                                          Path("ws"),
+                                          "--num_threads",
+                                          "1"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     return arguments;
   }
@@ -291,13 +344,14 @@ class Robustness : public ::testing::Test {
   std::string WriteFakeColmap(const std::string& body) const {
     fs::create_directories(dir_ / "bin");
     const fs::path script = dir_ / "bin" / "colmap";
-    WriteFile(script,
-              "#!/bin/sh\n"
-              "if [ \"$1\" = help ]; then\n"
-              "  echo 'COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo'\n"
-              "  exit 0\n"
-              "fi\n" +
-                  body);
+    WriteFile(
+        script,
+        "#!/bin/sh\n"
+        "if [ \"$1\" = help ]; then\n"
+        "  echo 'COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo'\n"
+        "  exit 0\n"
+        "fi\n" +
+            body);
     ::chmod(script.c_str(), 0755);
     return (dir_ / "bin").string();
   }
@@ -310,22 +364,29 @@ class Robustness : public ::testing::Test {
     sqlite3* db = nullptr;
     EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
     std::string sql =
-        "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
+        "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT "
+        "NULL, "
         "name TEXT NOT NULL UNIQUE, camera_id INTEGER NOT NULL, prior_qw REAL, "
-        "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty REAL, "
+        "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty "
+        "REAL, "
         "prior_tz REAL);"
-        "CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
-        "model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL, "
+        "CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT "
+        "NULL, "
+        "model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT "
+        "NULL, "
         "params BLOB, prior_focal_length INTEGER NOT NULL);"
         // 260, 260, 160, 120 as little-endian float64.
         "INSERT INTO cameras VALUES (1, 1, 320, 240, "
-        "X'0000000000407040000000000040704000000000000064400000000000005e40', 1);";
+        "X'0000000000407040000000000040704000000000000064400000000000005e40', "
+        "1);";
     int id = 1;
     for (const auto& entry : fs::directory_iterator(dir_ / "images")) {
       sql += "INSERT INTO images (image_id, name, camera_id) VALUES (" +
-             std::to_string(id++) + ", '" + entry.path().filename().string() + "', 1);";
+             std::to_string(id++) + ", '" + entry.path().filename().string() +
+             "', 1);";
     }
-    EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK)
+    EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr),
+              SQLITE_OK)
         << sqlite3_errmsg(db);
     sqlite3_close(db);
     return path;
@@ -341,9 +402,10 @@ TEST_F(Robustness, MissingInputFile) {
   WriteDrive();
   std::vector<std::string> arguments = Calibrate();
   arguments[2] = Path("missing.tum");
-  ExpectBadInput(RunOdomcal(arguments),
-                 std::string(kCalibrateError) +
-                     "--camera_poses: File does not exist: " + Path("missing.tum"));
+  ExpectBadInput(
+      RunOdomcal(arguments),
+      std::string(kCalibrateError) +
+          "--camera_poses: File does not exist: " + Path("missing.tum"));
   EXPECT_FALSE(fs::exists(Path("result.json")));
 }
 
@@ -355,14 +417,14 @@ TEST_F(Robustness, UnreadableInputFile) {
   fs::create_directories(Path("folder.csv"));
   std::vector<std::string> arguments = Calibrate();
   arguments[4] = Path("folder.csv");
-  ExpectBadInput(RunOdomcal(arguments),
-                 std::string(kCalibrateError) +
-                     "--odometry: File is actually a directory: " + Path("folder.csv"));
+  ExpectBadInput(
+      RunOdomcal(arguments),
+      std::string(kCalibrateError) +
+          "--odometry: File is actually a directory: " + Path("folder.csv"));
 
   arguments[4] = "/proc/self/mem";
   ExpectBadInput(RunOdomcal(arguments),
-                 std::string(kCalibrateError) +
-                     "/proc/self/mem:1: read error");
+                 std::string(kCalibrateError) + "/proc/self/mem:1: read error");
 
   if (::geteuid() != 0) {
     ::chmod(Path("odometry.csv").c_str(), 0);
@@ -382,16 +444,18 @@ TEST_F(Robustness, TruncatedColmapBinary) {
   const std::string bytes = ReadFile(Model("images.bin"));
   // Cut early: the image count no longer fits in what is left.
   WriteFile(Model("images.bin"), bytes.substr(0, 100));
-  ExpectBadInput(RunOdomcal(Colmap()),
-                 std::string(kColmapError) + Model("images.bin") +
-                     ": byte 0: number of images is 301, but the 92 remaining bytes "
-                     "hold at most 1 (garbled or truncated file)");
+  ExpectBadInput(
+      RunOdomcal(Colmap()),
+      std::string(kColmapError) + Model("images.bin") +
+          ": byte 0: number of images is 301, but the 92 remaining bytes "
+          "hold at most 1 (garbled or truncated file)");
   // Cut inside the last record.
   WriteFile(Model("images.bin"), bytes.substr(0, bytes.size() - 3));
-  ExpectBadInputContaining(RunOdomcal(Colmap()),
-                           std::string(kColmapError) + Model("images.bin") + ": byte ",
-                           {": image 301 of 301 (image_id 601, '000600.png'): truncated: "
-                            "number of points2D needs 8 bytes, 5 remain"});
+  ExpectBadInputContaining(
+      RunOdomcal(Colmap()),
+      std::string(kColmapError) + Model("images.bin") + ": byte ",
+      {": image 301 of 301 (image_id 601, '000600.png'): truncated: "
+       "number of points2D needs 8 bytes, 5 remain"});
   EXPECT_FALSE(fs::exists(Path("out/calibration.json")));
 }
 
@@ -399,11 +463,14 @@ TEST_F(Robustness, ColmapBinaryCountLargerThanTheFile) {
   WriteColmapProject();
   std::string bytes = ReadFile(Model("images.bin"));
   const uint64_t huge = uint64_t{1} << 60;
-  bytes.replace(0, 8, reinterpret_cast<const char*>(&huge), 8);  // little-endian host
+  bytes.replace(
+      0, 8, reinterpret_cast<const char*>(&huge), 8);  // little-endian host
   WriteFile(Model("images.bin"), bytes);
   ExpectBadInputContaining(
-      RunOdomcal(Colmap()), std::string(kColmapError) + Model("images.bin") + ": byte 0: ",
-      {"number of images is 1152921504606846976", "remaining bytes hold at most"});
+      RunOdomcal(Colmap()),
+      std::string(kColmapError) + Model("images.bin") + ": byte 0: ",
+      {"number of images is 1152921504606846976",
+       "remaining bytes hold at most"});
 }
 
 TEST_F(Robustness, UnknownColmapCameraModelId) {
@@ -412,10 +479,11 @@ TEST_F(Robustness, UnknownColmapCameraModelId) {
   const uint32_t model_id = 99;
   bytes.replace(12, 4, reinterpret_cast<const char*>(&model_id), 4);
   WriteFile(Model("cameras.bin"), bytes);
-  ExpectBadInput(RunOdomcal(Colmap()),
-                 std::string(kColmapError) + Model("cameras.bin") +
-                     ": byte 12: camera 1 of 1 (camera_id 1): unknown camera model id 99 "
-                     "(COLMAP 3.8 models are 0 to 10)");
+  ExpectBadInput(
+      RunOdomcal(Colmap()),
+      std::string(kColmapError) + Model("cameras.bin") +
+          ": byte 12: camera 1 of 1 (camera_id 1): unknown camera model id 99 "
+          "(COLMAP 3.8 models are 0 to 10)");
 }
 
 TEST_F(Robustness, ColmapTextWrongColumnCount) {
@@ -429,9 +497,10 @@ TEST_F(Robustness, ColmapTextWrongColumnCount) {
                      "CAMERA_ID NAME; names cannot contain blanks), got 9");
   WriteColmapProject(ColmapFormat::kText);
   ReplaceLine(Model("cameras.txt"), 4, "1 PINHOLE 320");
-  ExpectBadInput(RunOdomcal(Colmap("out2")),
-                 std::string(kColmapError) + Model("cameras.txt") +
-                     ":4: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[], got 3 fields");
+  ExpectBadInput(
+      RunOdomcal(Colmap("out2")),
+      std::string(kColmapError) + Model("cameras.txt") +
+          ":4: expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS[], got 3 fields");
 }
 
 // ---------------------------------------------------------------------------
@@ -460,9 +529,10 @@ TEST_F(Robustness, NonNumericField) {
                      ":10: column 'yaw' is not a number: 'north'");
   WriteDrive();
   ReplaceLine(Path("camera.tum"), 3, "yesterday 0 0 0 0 0 0 1");
-  ExpectBadInput(RunOdomcal(Calibrate()),
-                 std::string(kCalibrateError) + Path("camera.tum") +
-                     ":3: column 'timestamp': 'yesterday' is not a decimal number");
+  ExpectBadInput(
+      RunOdomcal(Calibrate()),
+      std::string(kCalibrateError) + Path("camera.tum") +
+          ":3: column 'timestamp': 'yesterday' is not a decimal number");
 }
 
 TEST_F(Robustness, FewerColumns) {
@@ -473,9 +543,10 @@ TEST_F(Robustness, FewerColumns) {
                      ":10: expected 4 fields (timestamp,x,y,yaw), got 3");
   WriteDrive();
   ReplaceLine(Path("camera.tum"), 3, "1700000000.100000000 0 0 0 0 0 1");
-  ExpectBadInput(RunOdomcal(Calibrate()),
-                 std::string(kCalibrateError) + Path("camera.tum") +
-                     ":3: expected 8 fields (timestamp tx ty tz qx qy qz qw), got 7");
+  ExpectBadInput(
+      RunOdomcal(Calibrate()),
+      std::string(kCalibrateError) + Path("camera.tum") +
+          ":3: expected 8 fields (timestamp tx ty tz qx qy qz qw), got 7");
 }
 
 TEST_F(Robustness, UnsortedTimestamps) {
@@ -483,10 +554,11 @@ TEST_F(Robustness, UnsortedTimestamps) {
   const std::string line_10 = Line(Path("odometry.csv"), 10);
   ReplaceLine(Path("odometry.csv"), 10, Line(Path("odometry.csv"), 11));
   ReplaceLine(Path("odometry.csv"), 11, line_10);
-  ExpectBadInput(RunOdomcal(Calibrate()),
-                 std::string(kCalibrateError) + Path("odometry.csv") +
-                     ":11: timestamp not increasing: 1700000000.160000000 after "
-                     "1700000000.180000000 on line 10");
+  ExpectBadInput(
+      RunOdomcal(Calibrate()),
+      std::string(kCalibrateError) + Path("odometry.csv") +
+          ":11: timestamp not increasing: 1700000000.160000000 after "
+          "1700000000.180000000 on line 10");
 }
 
 TEST_F(Robustness, DuplicateTimestamps) {
@@ -503,19 +575,21 @@ TEST_F(Robustness, DuplicateTimestamps) {
 TEST_F(Robustness, TimestampsInAnotherUnit) {
   WriteDrive();
   ReplaceLine(Path("odometry.csv"), 2, "1700000000000000000,0,0,0");
-  ExpectBadInput(RunOdomcal(Calibrate()),
-                 std::string(kCalibrateError) + Path("odometry.csv") +
-                     ":2: column 'timestamp': timestamp 1700000000000000000 looks like "
-                     "nanoseconds or microseconds but the time unit is seconds; pass the "
-                     "time unit flag");
+  ExpectBadInput(
+      RunOdomcal(Calibrate()),
+      std::string(kCalibrateError) + Path("odometry.csv") +
+          ":2: column 'timestamp': timestamp 1700000000000000000 looks like "
+          "nanoseconds or microseconds but the time unit is seconds; pass the "
+          "time unit flag");
   // Seconds declared as nanoseconds.
   WriteDrive();
   std::vector<std::string> arguments = Calibrate();
   arguments.insert(arguments.end(), {"--camera_time_unit", "ns"});
-  ExpectBadInput(RunOdomcal(arguments),
-                 std::string(kCalibrateError) + Path("camera.tum") +
-                     ":3: column 'timestamp': timestamp '1700000000.100000000' has a "
-                     "fractional part but the time unit is ns; pass the time unit flag");
+  ExpectBadInput(
+      RunOdomcal(arguments),
+      std::string(kCalibrateError) + Path("camera.tum") +
+          ":3: column 'timestamp': timestamp '1700000000.100000000' has a "
+          "fractional part but the time unit is ns; pass the time unit flag");
 }
 
 // ---------------------------------------------------------------------------
@@ -530,9 +604,10 @@ TEST_F(Robustness, OdometryCoversOnlyPartOfTheImages) {
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("result.json")));
   EXPECT_EQ(result["status"], "success");
-  EXPECT_TRUE(ContainsName(result["warnings"],
-                           "301 camera poses were skipped: outside the odometry span "
-                           "or in gaps longer than 0.25 s"))
+  EXPECT_TRUE(
+      ContainsName(result["warnings"],
+                   "301 camera poses were skipped: outside the odometry span "
+                   "or in gaps longer than 0.25 s"))
       << result["warnings"];
 }
 
@@ -540,13 +615,14 @@ TEST_F(Robustness, NoTimeOverlap) {
   WriteDrive();
   std::vector<std::string> arguments = Calibrate();
   arguments.insert(arguments.end(), {"--camera_time_offset_s", "3600"});
-  ExpectBadInput(RunOdomcal(arguments),
-                 std::string(kCalibrateError) +
-                     "no camera timestamp falls inside the odometry (601 outside "
-                     "its span, 0 in gaps): camera times "
-                     "1700000000.000-1700000060.000 s (then shifted by 3600.000 s), "
-                     "odometry 1700000000.000-1700000060.000 s; check the time units "
-                     "and --camera_time_offset_s");
+  ExpectBadInput(
+      RunOdomcal(arguments),
+      std::string(kCalibrateError) +
+          "no camera timestamp falls inside the odometry (601 outside "
+          "its span, 0 in gaps): camera times "
+          "1700000000.000-1700000060.000 s (then shifted by 3600.000 s), "
+          "odometry 1700000000.000-1700000060.000 s; check the time units "
+          "and --camera_time_offset_s");
   EXPECT_FALSE(fs::exists(Path("result.json")));
 }
 
@@ -569,18 +645,21 @@ TEST_F(Robustness, SingleMotion) {
 
 // Turning on the spot at 0.4 rad/s for a minute.
 TEST_F(Robustness, PureRotationInPlace) {
-  WritePath(IntegratePath([](double) { return Eigen::Vector2d(0.0, 0.4); }, 60.0));
+  WritePath(
+      IntegratePath([](double) { return Eigen::Vector2d(0.0, 0.4); }, 60.0));
   const CommandResult run = RunOdomcal(Calibrate());
   EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("result.json")));
   EXPECT_EQ(result["status"], "unobservable");
-  EXPECT_EQ(result["message"],
-            "the odometry never translates (largest step 0 m: rotation in place "
-            "only): the metric scale and the x/y translation cannot be "
-            "determined; drive forward while turning");
-  EXPECT_EQ(result["unobservable"],
-            json::array({"translation_x", "translation_y", "translation_z",
-                         "metric_scale"}));
+  EXPECT_EQ(
+      result["message"],
+      "the odometry never translates (largest step 0 m: rotation in place "
+      "only): the metric scale and the x/y translation cannot be "
+      "determined; drive forward while turning");
+  EXPECT_EQ(
+      result["unobservable"],
+      json::array(
+          {"translation_x", "translation_y", "translation_z", "metric_scale"}));
   EXPECT_TRUE(result["metric_scale"].is_null());
   ExpectNoNonFiniteText(ReadFile(Path("result.yaml")));
 }
@@ -588,17 +667,22 @@ TEST_F(Robustness, PureRotationInPlace) {
 // A circle at constant speed: every keyframe pair is the same motion, with
 // the same yaw.
 TEST_F(Robustness, AllMotionsWithTheSameYaw) {
-  WritePath(IntegratePath([](double) { return Eigen::Vector2d(0.3, 0.3); }, 60.0));
+  WritePath(
+      IntegratePath([](double) { return Eigen::Vector2d(0.3, 0.3); }, 60.0));
   const CommandResult run = RunOdomcal(Calibrate());
   EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("result.json")));
   EXPECT_EQ(result["status"], "unobservable");
-  EXPECT_EQ(result["message"],
-            "the motion does not determine: rotation, translation_x, translation_y, "
-            "metric_scale (standard deviation above the limit or no information; "
-            "drive turns of different sizes in both directions)");
+  EXPECT_EQ(
+      result["message"],
+      "the motion does not determine: rotation, translation_x, translation_y, "
+      "metric_scale (standard deviation above the limit or no information; "
+      "drive turns of different sizes in both directions)");
   EXPECT_EQ(result["unobservable"],
-            json::array({"translation_z", "rotation", "translation_x", "translation_y",
+            json::array({"translation_z",
+                         "rotation",
+                         "translation_x",
+                         "translation_y",
                          "metric_scale"}));
   EXPECT_TRUE(result["metric_scale"].is_null());
   ExpectNoNonFiniteText(ReadFile(Path("result.json")));
@@ -614,27 +698,34 @@ TEST_F(Robustness, ThirtyPercentOutlierCameraMotions) {
   for (size_t i = 0; i < camera.poses.size(); ++i) {
     if (i % 10 == 4 || i % 10 == 5) {
       Rigid3d& pose = camera.poses[i].world_from_sensor;
-      pose.rotation = pose.rotation * ExpRotation(Eigen::Vector3d(0.2, -0.3, 0.1) *
-                                                  (i % 10 == 4 ? 1.0 : -1.0));
-      pose.translation += Eigen::Vector3d(0.5, 0.3, -0.2) * (i % 10 == 4 ? 1.0 : -1.0);
+      pose.rotation =
+          pose.rotation * ExpRotation(Eigen::Vector3d(0.2, -0.3, 0.1) *
+                                      (i % 10 == 4 ? 1.0 : -1.0));
+      pose.translation +=
+          Eigen::Vector3d(0.5, 0.3, -0.2) * (i % 10 == 4 ? 1.0 : -1.0);
     }
   }
   WriteTumTrajectory(camera, Path("camera.tum"));
   std::vector<std::string> arguments = Calibrate();
   // Every camera pose a keyframe, so that the outliers are 30 % of the pairs.
-  arguments.insert(arguments.end(), {"--keyframe_min_rotation_deg", "0",
-                                     "--keyframe_min_translation_m", "0"});
+  arguments.insert(arguments.end(),
+                   {"--keyframe_min_rotation_deg",
+                    "0",
+                    "--keyframe_min_translation_m",
+                    "0"});
   const CommandResult run = RunOdomcal(arguments);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("result.json")));
   EXPECT_EQ(result["status"], "success");
   EXPECT_EQ(result["message"], "calibrated from 420 of 600 motion pairs");
-  EXPECT_TRUE(ContainsName(result["warnings"], "180 of 600 motion pairs rejected as outliers"))
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "180 of 600 motion pairs rejected as outliers"))
       << result["warnings"];
   const auto& q = result["odom_from_cam"]["quaternion_wxyz"];
   const Eigen::Quaterniond rotation(q[0], q[1], q[2], q[3]);
   // The inliers carry 0.01 deg camera noise.
-  EXPECT_LT(RotationAngle(rotation.conjugate() * drive.odom_from_cam.rotation) * 180.0 / kPi,
+  EXPECT_LT(RotationAngle(rotation.conjugate() * drive.odom_from_cam.rotation) *
+                180.0 / kPi,
             0.1);
 }
 
@@ -644,20 +735,25 @@ TEST_F(Robustness, FiniteInputsWhoseMotionsOverflow) {
   const SimulatedDrive drive = WriteDrive();
   Trajectory camera = drive.camera;
   for (size_t i = 0; i < camera.poses.size(); ++i) {
-    camera.poses[i].world_from_sensor.translation.x() = (i % 2 == 0 ? 1.7e308 : -1.7e308);
+    camera.poses[i].world_from_sensor.translation.x() =
+        (i % 2 == 0 ? 1.7e308 : -1.7e308);
   }
   WriteTumTrajectory(camera, Path("camera.tum"));
   const CommandResult run = RunOdomcal(Calibrate());
-  ExpectBadInput(run, std::string(kCalibrateError) + "motion pair 0 has a non-finite value");
+  ExpectBadInput(
+      run,
+      std::string(kCalibrateError) + "motion pair 0 has a non-finite value");
   // Finite steps whose squares overflow.
   for (size_t i = 0; i < camera.poses.size(); ++i) {
-    camera.poses[i].world_from_sensor.translation.x() = (i % 2 == 0 ? 1e200 : -1e200);
+    camera.poses[i].world_from_sensor.translation.x() =
+        (i % 2 == 0 ? 1e200 : -1e200);
   }
   WriteTumTrajectory(camera, Path("camera.tum"));
-  ExpectBadInput(RunOdomcal(Calibrate()),
-                 std::string(kCalibrateError) +
-                     "motion pair 0 has a translation too large to square in double "
-                     "precision (check the units)");
+  ExpectBadInput(
+      RunOdomcal(Calibrate()),
+      std::string(kCalibrateError) +
+          "motion pair 0 has a translation too large to square in double "
+          "precision (check the units)");
   EXPECT_FALSE(fs::exists(Path("result.json")));
 }
 
@@ -683,7 +779,8 @@ TEST_F(Robustness, ColmapAbortsMidRun) {
       "if [ \"$1\" = mapper ]; then\n"
       "  echo 'F0101 mapper.cc:1] Check failed: reconstruction' >&2\n"
       "  echo '*** Check failure stack trace: ***' >&2\n"
-      "  echo '    @     0x55aebb39816f  colmap::IncrementalMapper::Run()' >&2\n"
+      "  echo '    @     0x55aebb39816f  colmap::IncrementalMapper::Run()' "
+      ">&2\n"
       "  exit 134\n"
       "fi\n"
       "exit 0\n");
@@ -736,8 +833,10 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
   const CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
                                        {{"PATH=" + bin + ":/usr/bin:/bin"}});
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
-  EXPECT_NE(run.out.find("--random_seed 1 ... done"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("contradict the odometry: mapping again"), std::string::npos)
+  EXPECT_NE(run.out.find("--random_seed 1 ... done"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("contradict the odometry: mapping again"),
+            std::string::npos)
       << run.out;
   const json result = json::parse(ReadFile(Path("ws/calibration.json")));
   EXPECT_EQ(result["status"], "success");
@@ -754,10 +853,11 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
   EXPECT_EQ(ReadFile(dir_ / "ws" / "sparse" / "0" / "images.bin"),
             ReadFile(dir_ / "models" / "seed_2" / "images.bin"));
   EXPECT_EQ(result["colmap"]["sub_models"][0]["path"], Path("ws/sparse/0"));
-  EXPECT_LT(RotationAngle(Eigen::Quaterniond(result["odom_from_cam"]["quaternion_wxyz"][0],
-                                             result["odom_from_cam"]["quaternion_wxyz"][1],
-                                             result["odom_from_cam"]["quaternion_wxyz"][2],
-                                             result["odom_from_cam"]["quaternion_wxyz"][3])
+  EXPECT_LT(RotationAngle(Eigen::Quaterniond(
+                              result["odom_from_cam"]["quaternion_wxyz"][0],
+                              result["odom_from_cam"]["quaternion_wxyz"][1],
+                              result["odom_from_cam"]["quaternion_wxyz"][2],
+                              result["odom_from_cam"]["quaternion_wxyz"][3])
                               .conjugate() *
                           drive.odom_from_cam.rotation),
             0.1 * kPi / 180.0);
@@ -788,9 +888,10 @@ TEST_F(Robustness, DuplicateSubModelIsLeftOut) {
   EXPECT_EQ(colmap["duplicate_sub_models"][0]["num_registered_images"], 10);
   ASSERT_EQ(colmap["mapper_attempts"].size(), 1u) << colmap.dump(2);
   EXPECT_EQ(colmap["mapper_attempts"][0]["num_contradicting_pairs"], 0);
-  EXPECT_TRUE(ContainsName(result["warnings"],
-                           "sub-model 0 (10 images) holds no image that sub-model 1 does "
-                           "not: left out as a second reconstruction of the same images"))
+  EXPECT_TRUE(ContainsName(
+      result["warnings"],
+      "sub-model 0 (10 images) holds no image that sub-model 1 does "
+      "not: left out as a second reconstruction of the same images"))
       << result["warnings"].dump(2);
   EXPECT_TRUE(fs::exists(dir_ / "ws" / "sparse_metric" / "1"));
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "sparse_metric" / "0"));
@@ -808,23 +909,27 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
   WriteMapperModel(drive, kImages, "seed_1", {12});
   WriteMapperModel(drive, kImages, "seed_2", {4, 15, 23});
   const std::string bin = WriteFakeColmapWithMapperModels();
-  const auto run_in_fresh_workspace = [&](const std::vector<std::string>& extra) {
-    fs::remove_all(dir_ / "ws");
-    std::vector<std::string> flags = {"--matcher", "sequential"};
-    flags.insert(flags.end(), extra.begin(), extra.end());
-    const CommandResult run = RunOdomcal(RunCommand(flags), {{"PATH=" + bin + ":/usr/bin:/bin"}});
-    EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
-    return json::parse(ReadFile(Path("ws/calibration.json")));
-  };
+  const auto run_in_fresh_workspace =
+      [&](const std::vector<std::string>& extra) {
+        fs::remove_all(dir_ / "ws");
+        std::vector<std::string> flags = {"--matcher", "sequential"};
+        flags.insert(flags.end(), extra.begin(), extra.end());
+        const CommandResult run =
+            RunOdomcal(RunCommand(flags), {{"PATH=" + bin + ":/usr/bin:/bin"}});
+        EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+        return json::parse(ReadFile(Path("ws/calibration.json")));
+      };
   json result = run_in_fresh_workspace({"--rematch", "off"});
   json attempts = result["colmap"]["mapper_attempts"];
   ASSERT_EQ(attempts.size(), 3u);
   EXPECT_TRUE(attempts[1]["chosen"]) << attempts.dump(2);
-  EXPECT_LT(attempts[1]["num_contradicting_pairs"], attempts[0]["num_contradicting_pairs"]);
-  EXPECT_TRUE(ContainsName(result["warnings"],
-                           "every one of 3 COLMAP mapper runs gave motion pairs that "
-                           "contradict the odometry; the model of --random_seed 1 "
-                           "contradicts it least"))
+  EXPECT_LT(attempts[1]["num_contradicting_pairs"],
+            attempts[0]["num_contradicting_pairs"]);
+  EXPECT_TRUE(
+      ContainsName(result["warnings"],
+                   "every one of 3 COLMAP mapper runs gave motion pairs that "
+                   "contradict the odometry; the model of --random_seed 1 "
+                   "contradicts it least"))
       << result["warnings"].dump(2);
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "database_rematched.db"));
 
@@ -838,7 +943,8 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
       result["warnings"],
       "COLMAP mapper runs with --random_seed 0 and 1 gave the same " +
           attempts[1]["num_contradicting_pairs"].dump() +
-          " motion pairs that contradict the odometry: the odometry or the images "
+          " motion pairs that contradict the odometry: the odometry or the "
+          "images "
           "disagree there, not COLMAP's randomness"))
       << result["warnings"].dump(2);
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "database_rematched.db"));
@@ -851,24 +957,27 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
   ASSERT_EQ(attempts.size(), 3u) << attempts.dump(2);
   EXPECT_TRUE(attempts[0]["chosen"]);
   EXPECT_EQ(attempts[2]["matching_round"], 1);
-  EXPECT_TRUE(ContainsName(
-      result["warnings"],
-      "COLMAP mapper runs on two matchings (--random_seed 0, --random_seed 0 on the new "
-      "matches) gave the same " +
-          attempts[2]["num_contradicting_pairs"].dump() +
-          " motion pairs that contradict the odometry: the odometry or the images "
-          "disagree there, not COLMAP's randomness"))
+  EXPECT_TRUE(ContainsName(result["warnings"],
+                           "COLMAP mapper runs on two matchings (--random_seed "
+                           "0, --random_seed 0 on the new "
+                           "matches) gave the same " +
+                               attempts[2]["num_contradicting_pairs"].dump() +
+                               " motion pairs that contradict the odometry: "
+                               "the odometry or the images "
+                               "disagree there, not COLMAP's randomness"))
       << result["warnings"].dump(2);
 
-  result = run_in_fresh_workspace({"--mapper_attempts", "1", "--rematch", "off"});
+  result =
+      run_in_fresh_workspace({"--mapper_attempts", "1", "--rematch", "off"});
   EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 1u);
 }
 
 // The seeds give three models contradicted each elsewhere: odomcal matches
 // again, into database_rematched.db (a copy, cleaned of matches, so that
-// database.db keeps the first matches), and maps that. Rerun on the same workspace, every stage is
-// reused. When the new matches are contradicted too, the least contradicted
-// model of either matching is calibrated, with a warning naming both.
+// database.db keeps the first matches), and maps that. Rerun on the same
+// workspace, every stage is reused. When the new matches are contradicted too,
+// the least contradicted model of either matching is calibrated, with a warning
+// naming both.
 TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
   constexpr int kImages = 30;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
@@ -879,14 +988,18 @@ TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
   WriteMapperModel(drive, kImages, "rematch_seed_1");
   const std::string bin = WriteFakeColmapWithMapperModels();
   const RunLimits environment = {{"PATH=" + bin + ":/usr/bin:/bin"}};
-  CommandResult run = RunOdomcal(RunCommand({"--matcher", "sequential"}), environment);
+  CommandResult run =
+      RunOdomcal(RunCommand({"--matcher", "sequential"}), environment);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
-  EXPECT_NE(run.out.find("COLMAP sequential matching again, into a copy of the features ... "
-                         "done"),
-            std::string::npos)
+  EXPECT_NE(
+      run.out.find(
+          "COLMAP sequential matching again, into a copy of the features ... "
+          "done"),
+      std::string::npos)
       << run.out;
-  EXPECT_NE(run.out.find("COLMAP mapping the new matches, --random_seed 1 ... done"),
-            std::string::npos)
+  EXPECT_NE(
+      run.out.find("COLMAP mapping the new matches, --random_seed 1 ... done"),
+      std::string::npos)
       << run.out;
   json result = json::parse(ReadFile(Path("ws/calibration.json")));
   EXPECT_EQ(result["status"], "success");
@@ -910,7 +1023,8 @@ TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
                           Path("ws/database_rematched.db")),
             std::string::npos)
       << commands;
-  EXPECT_NE(commands.find("mapper --database_path " + Path("ws/database_rematched.db")),
+  EXPECT_NE(commands.find("mapper --database_path " +
+                          Path("ws/database_rematched.db")),
             std::string::npos)
       << commands;
   EXPECT_TRUE(fs::exists(dir_ / "ws" / "database.db"));
@@ -929,20 +1043,24 @@ TEST_F(Robustness, MatchesAgainWhenTheSeedsDoNotHelp) {
   attempts = result["colmap"]["mapper_attempts"];
   ASSERT_EQ(attempts.size(), 6u) << attempts.dump(2);
   EXPECT_TRUE(attempts[4]["chosen"]) << attempts.dump(2);
-  EXPECT_TRUE(ContainsName(result["warnings"],
-                           "every one of 6 COLMAP mapper runs on two matchings gave motion "
-                           "pairs that contradict the odometry; the model of --random_seed 1 "
-                           "on the new matches contradicts it least"))
+  EXPECT_TRUE(ContainsName(
+      result["warnings"],
+      "every one of 6 COLMAP mapper runs on two matchings gave motion "
+      "pairs that contradict the odometry; the model of --random_seed 1 "
+      "on the new matches contradicts it least"))
       << result["warnings"].dump(2);
   // The misregistered last image is in no pair the odometry confirms: it is
   // left out of the metric model.
-  EXPECT_TRUE(ContainsName(result["warnings"],
-                           "sparse_metric/0: left out 1 image whose every motion pair the "
-                           "odometry contradicts (" + ImageName(kImages - 1) + ")"))
+  EXPECT_TRUE(ContainsName(
+      result["warnings"],
+      "sparse_metric/0: left out 1 image whose every motion pair the "
+      "odometry contradicts (" +
+          ImageName(kImages - 1) + ")"))
       << result["warnings"].dump(2);
   const ColmapModel metric = ReadColmapModel(Path("ws/sparse_metric/0"));
   EXPECT_EQ(metric.images.size(), static_cast<size_t>(kImages - 1));
-  for (const auto& [id, image] : metric.images) EXPECT_NE(image.name, ImageName(kImages - 1));
+  for (const auto& [id, image] : metric.images)
+    EXPECT_NE(image.name, ImageName(kImages - 1));
 }
 
 // Real COLMAP on files that are not images: feature_extractor skips every
@@ -974,9 +1092,10 @@ TEST_F(Robustness, OutputExists) {
   WriteColmapProject();
   fs::create_directories(Path("out"));
   WriteFile(Path("out/keep.txt"), "precious");
-  ExpectBadInput(RunOdomcal(Colmap()),
-                 std::string(kColmapError) + Path("out") +
-                     ": is not empty (pass --overwrite to replace odomcal's files in it)");
+  ExpectBadInput(
+      RunOdomcal(Colmap()),
+      std::string(kColmapError) + Path("out") +
+          ": is not empty (pass --overwrite to replace odomcal's files in it)");
   EXPECT_EQ(ReadFile(Path("out/keep.txt")), "precious");
 }
 
@@ -990,10 +1109,11 @@ TEST_F(Robustness, OutputNotWritable) {
                      ": " + Path("a_file") + " is not a folder");
   std::vector<std::string> arguments = Calibrate();
   arguments.back() = "/proc/odomcal_result.json";
-  ExpectBadInputContaining(RunOdomcal(arguments),
-                           std::string(kCalibrateError) +
-                               "/proc/odomcal_result.json: cannot create a temporary file (",
-                           {});
+  ExpectBadInputContaining(
+      RunOdomcal(arguments),
+      std::string(kCalibrateError) +
+          "/proc/odomcal_result.json: cannot create a temporary file (",
+      {});
 
   WriteColmapProject();
   ExpectBadInput(RunOdomcal(Colmap("a_file/out")),
@@ -1003,7 +1123,8 @@ TEST_F(Robustness, OutputNotWritable) {
 
 TEST_F(Robustness, OutputInsideTheInputProject) {
   WriteColmapProject();
-  const std::string inside = (dir_ / "project" / "sparse" / "0" / "out").string();
+  const std::string inside =
+      (dir_ / "project" / "sparse" / "0" / "out").string();
   ExpectBadInput(RunOdomcal(Colmap("project/sparse/0/out")),
                  std::string(kColmapError) + inside +
                      " (--output_path) is inside the input folder " +
@@ -1022,13 +1143,14 @@ TEST_F(Robustness, DiskFullDuringWrite) {
                  std::string(kCalibrateError) + Path("result.json") +
                      ": write failed (File too large)");
   for (const auto& entry : fs::directory_iterator(dir_)) {
-    EXPECT_EQ(entry.path().filename().string().find("result"), std::string::npos)
+    EXPECT_EQ(entry.path().filename().string().find("result"),
+              std::string::npos)
         << "left behind: " << entry.path();
   }
 
   WriteColmapProject();
-  ExpectBadInputContaining(RunOdomcal(Colmap(), limits), kColmapError,
-                           {"File too large"});
+  ExpectBadInputContaining(
+      RunOdomcal(Colmap(), limits), kColmapError, {"File too large"});
   EXPECT_FALSE(fs::exists(Path("out/calibration.json")) &&
                fs::file_size(Path("out/calibration.json")) == 0);
 }

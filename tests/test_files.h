@@ -18,10 +18,13 @@ inline std::string ReadFile(const std::filesystem::path& path) {
 }
 
 // Every regular file under `root`, by path, with its bytes.
-inline std::map<std::string, std::string> Snapshot(const std::filesystem::path& root) {
+inline std::map<std::string, std::string> Snapshot(
+    const std::filesystem::path& root) {
   std::map<std::string, std::string> files;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
-    if (entry.is_regular_file()) files[entry.path().string()] = ReadFile(entry.path());
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file())
+      files[entry.path().string()] = ReadFile(entry.path());
   }
   return files;
 }

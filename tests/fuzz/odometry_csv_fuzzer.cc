@@ -29,8 +29,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string unnamed_path =
       scratch.Write("odometry", odomcal::AsBytes(data, size));
   try {
-    odomcal::ReadOdometry(
-        unnamed_path, odomcal::OdometryFormat::kAuto, odomcal::TimeUnit::kSeconds);
+    odomcal::ReadOdometry(unnamed_path,
+                          odomcal::OdometryFormat::kAuto,
+                          odomcal::TimeUnit::kSeconds);
   } catch (const odomcal::FormatError&) {
   }
   return 0;

@@ -55,8 +55,8 @@ int main(int argc, char** argv) {
     }
     const std::vector<char> bytes((std::istreambuf_iterator<char>(stream)),
                                   std::istreambuf_iterator<char>());
-    std::cout << "replay " << file.string() << " (" << bytes.size()
-              << " bytes)" << std::endl;  // flushed: a crash may follow
+    std::cout << "replay " << file.string() << " (" << bytes.size() << " bytes)"
+              << std::endl;  // flushed: a crash may follow
     LLVMFuzzerTestOneInput(reinterpret_cast<const uint8_t*>(bytes.data()),
                            bytes.size());
   }
