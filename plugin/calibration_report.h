@@ -4,6 +4,7 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 
@@ -19,11 +20,17 @@ struct ReportContext {
   std::string command;  // e.g. "odomcal calibrate"
   std::vector<std::string> camera_paths;
   std::string odometry_path;
+  OdometryFormat odometry_format = OdometryFormat::kAuto;  // as given
   std::string camera_time_unit;
   std::string odometry_time_unit;
   AssociationOptions association_options;
   AssociationResult association;  // counts; pairs are not echoed
   CalibrationOptions calibration_options;
+  // The echo of the command's own flags (those of `odomcal colmap` and
+  // `odomcal run`, from their option tables), merged into `inputs` and
+  // `options`.
+  nlohmann::json command_inputs = nlohmann::json::object();
+  nlohmann::json command_options = nlohmann::json::object();
 };
 
 constexpr int kResultSchemaVersion = 1;

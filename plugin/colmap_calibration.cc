@@ -12,6 +12,7 @@
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/project_flags.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -119,12 +120,20 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   ReportContext context;
   context.command = command;
   context.odometry_path = inputs.odometry_path;
+  context.odometry_format = inputs.odometry_format;
   context.camera_time_unit = inputs.image_timestamps_path.empty()
                                  ? "from image file names"
                                  : TimeUnitName(inputs.image_time_unit);
   context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
+  EchoOptions(ColmapModelFlags(), inputs, &context.command_inputs);
+  EchoOptions(ProjectInputFlags(), inputs, &context.command_inputs);
+  EchoOptions(StretchFlags(), inputs.stretch, &context.command_options);
+  context.command_inputs.update(
+      inputs.command_echo.value("inputs", nlohmann::json::object()));
+  context.command_options.update(
+      inputs.command_echo.value("options", nlohmann::json::object()));
   return context;
 }
 

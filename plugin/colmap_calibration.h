@@ -41,6 +41,10 @@ struct ColmapCalibrationInputs {
   AssociationOptions association;
   CalibrationOptions calibration;
   StretchOptions stretch;
+  // The echo of the command's own flags (`odomcal run`'s, run_flags.h):
+  // {"inputs": {...}, "options": {...}}, merged into the result's by
+  // ProjectReportContext.
+  nlohmann::json command_echo = nlohmann::json::object();
 };
 
 // One sub-model in metres in the odometry's origin frame.

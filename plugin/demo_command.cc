@@ -276,13 +276,11 @@ int RunDemo(int argc, char** argv) {
       ->check(InRange(5, 3600))
       ->capture_default_str();
   CalibrateInputs inputs;
-  CalibrationFlags flags;
-  AddCalibrationFlags(&app, &inputs, &flags);
+  AddCalibrationFlags(&app, &inputs);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
   return RunReportingErrors(app, [&]() -> int {
-    FinishCalibrationFlags(flags, &inputs);
     if (simulated) {
       simulation.seed = seed;
       return RunSimulatedDemo(workspace, simulation, inputs);

@@ -25,6 +25,7 @@
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/project_flags.h"
+#include "odomcal/plugin/run_flags.h"
 
 #include <unistd.h>
 
@@ -680,84 +681,7 @@ int RunRun(int argc, char** argv) {
   RunSettings run;
   ColmapCalibrationInputs inputs;
   ProjectFlags flags;
-  app.add_option(
-         "--image_path", run.image_path, "folder of images (sub-folders too)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--workspace_path",
-                 run.workspace_path,
-                 "COLMAP workspace and outputs (created; reused on reruns)")
-      ->required();
-  app.add_option("--camera_model", run.camera_model, "COLMAP camera model")
-      ->check(CLI::IsMember({"SIMPLE_PINHOLE",
-                             "PINHOLE",
-                             "SIMPLE_RADIAL",
-                             "RADIAL",
-                             "OPENCV",
-                             "OPENCV_FISHEYE",
-                             "FULL_OPENCV"}))
-      ->capture_default_str();
-  app.add_option("--camera_params",
-                 run.camera_params,
-                 "intrinsics in COLMAP's order, e.g. fx,fy,cx,cy; kept fixed "
-                 "in the mapper (strongly recommended)");
-  app.add_option("--matcher",
-                 run.matcher,
-                 "spatial: pairs by odometry position (COLMAP 3.8 priors); "
-                 "sequential: by image name order")
-      ->check(CLI::IsMember({"spatial", "sequential"}))
-      ->capture_default_str();
-  app.add_option("--spatial_neighbors",
-                 run.spatial_neighbors,
-                 "spatial matcher: neighbours per image")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option("--sequential_overlap",
-                 run.sequential_overlap,
-                 "sequential matcher: overlap")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option(
-         "--max_num_features",
-         run.max_num_features,
-         "SIFT features per image (matching cost grows with its square)")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option("--num_threads", run.num_threads, "COLMAP threads")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option(
-         "--frame_min_translation_m",
-         run.frames.min_translation_m,
-         "frame selection: keep an image once the robot moved this far...")
-      ->check(AtLeast(0))
-      ->capture_default_str();
-  app.add_option("--frame_min_rotation_deg",
-                 run.frames.min_rotation_deg,
-                 "...or turned this much since the last kept image")
-      ->check(AtLeast(0))
-      ->capture_default_str();
-  app.add_option(
-         "--mapper_attempts",
-         run.mapper_attempts,
-         "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
-         "contradicts motion pairs of the model; the model it contradicts "
-         "least is kept; per matching")
-      ->check(InRange(1, 20))
-      ->capture_default_str();
-  std::string rematch = "on";
-  app.add_option("--rematch",
-                 rematch,
-                 "when the mapper's seeds do not give a model the odometry "
-                 "accepts, match the images again and map the new matches too")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->capture_default_str();
-  app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
-      ->capture_default_str();
-  app.add_flag("--force",
-               run.force,
-               "run COLMAP even when the odometry at the image times cannot "
-               "determine the calibration (no or too few turns)");
+  AddRunFlags(&app, &run);
   AddProjectFlags(&app, &inputs, &flags);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
@@ -765,7 +689,7 @@ int RunRun(int argc, char** argv) {
 
   return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &inputs);
-    run.rematch = rematch == "on";
+    inputs.command_echo = RunFlagsEcho(run);
     const ColmapCalibrationRun calibration =
         RunReconstructionPipeline(run, inputs, "odomcal run");
     std::cout << CalibrationSummary(calibration.check.result,
