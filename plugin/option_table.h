@@ -2,14 +2,15 @@
 // per struct, one row per flag. A row says the flag's name, its help text, its
 // check, the field it sets (whose value is the default shown by --help) and
 // the key under which the result JSON echoes the value. The CLI registers its
-// flags from these tables (cli_flags.cc, project_flags.cc), the report writes
-// its `inputs`/`options` echo from them (calibration_report.cc), and
-// tests/option_table_test.cc checks docs/cli.md and the echo against the CLI.
+// flags from these tables (cli_flags.cc, project_flags.cc, run_flags.cc), the
+// report writes its `inputs`/`options` echo from them (calibration_report.cc,
+// ProjectReportContext), and tests/flag_table_test.cc checks docs/cli.md and
+// the echo against the CLI.
 //
 // Field names are the flag names without "--" (CalibrationOptions::Check
 // names fields, and the CLI rewrites them into flags), so a row's name is
-// the field's, the flag's and, with a few compatible exceptions (the flag
-// --no_refine is echoed as "refine"), the echo's key.
+// the field's, the flag's and, but for --no_refine (echoed as "refine"), the
+// echo's key.
 #pragma once
 
 #include <CLI/CLI.hpp>
