@@ -1,5 +1,5 @@
-// Calibration of an existing COLMAP project against wheel odometry, and its
-// outputs: the shared core of `odomcal colmap` and `odomcal run`.
+// Calibration of an existing COLMAP project against wheel odometry: the
+// shared core of `odomcal colmap` and `odomcal run`.
 //
 // Steps: read every sub-model as a segment (adapters/colmap_segments.h),
 // leave out those that only repeat images of a larger one, associate with
