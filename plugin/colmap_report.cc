@@ -24,8 +24,28 @@ json Sim3ToJson(const Sim3d& sim3) {
 
 }  // namespace
 
-json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
-  json out = CalibrationToJson(run.check.result, run.context);
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const ColmapCalibrationRun& run,
+                                   const std::string& command) {
+  ReportContext context;
+  context.command = command;
+  for (const ColmapSegment& segment : run.segments) {
+    context.camera_paths.push_back(segment.model_path);
+  }
+  context.odometry_path = inputs.odometry_path;
+  context.camera_time_unit = inputs.image_timestamps_path.empty()
+                                 ? "from image file names"
+                                 : TimeUnitName(inputs.image_time_unit);
+  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  context.association_options = inputs.association;
+  context.association = run.association;
+  context.calibration_options = inputs.calibration;
+  return context;
+}
+
+json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
+                             const ReportContext& context) {
+  json out = CalibrationToJson(run.check.result, context);
   json sub_models = json::array();
   for (const ColmapSegment& segment : run.segments) {
     sub_models.push_back(
@@ -111,9 +131,10 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
   return out;
 }
 
-std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
+std::string ColmapReportHtml(const ColmapCalibrationRun& run,
+                             const ReportContext& context) {
   const CalibrationResult& result = run.check.result;
-  const MotionPairs& input_pairs = run.context.association.pairs;
+  const MotionPairs& input_pairs = run.association.pairs;
   const size_t num_input = input_pairs.size();
   const double nan = std::nan("");
 
@@ -344,7 +365,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
        << "\">" << EscapeMarkup(ToString(result.status)) << ": "
        << EscapeMarkup(result.message) << "</p>\n"
        << "<h2>Estimate (3-sigma bounds)</h2>\n<pre>"
-       << EscapeMarkup(CalibrationSummary(result, run.context)) << "</pre>\n"
+       << EscapeMarkup(CalibrationSummary(result, context)) << "</pre>\n"
        << "<p>odom_from_cam maps camera coordinates to odometry (robot base) "
           "coordinates; "
           "roll, pitch, yaw in degrees; x, y, z in cm; the bounds are three "

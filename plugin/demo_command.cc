@@ -162,7 +162,7 @@ int RunRenderedDemo(const std::string& workspace,
         });
   }
 
-  RunSettings settings;
+  ReconstructionOptions settings;
   settings.image_path = (dataset_dir / "images").string();
   settings.workspace_path = (root / "run").string();
   settings.camera_model = dataset.options.camera.ColmapModelName();
@@ -172,7 +172,7 @@ int RunRenderedDemo(const std::string& workspace,
     settings.camera_params +=
         (settings.camera_params.empty() ? "" : ",") + std::string(text);
   }
-  ColmapCalibrationInputs inputs;
+  ColmapCalibrationInputs& inputs = settings.project;
   inputs.odometry_path = (dataset_dir / "odometry.csv").string();
   inputs.image_timestamps_path =
       (dataset_dir / "image_timestamps.csv").string();
@@ -188,9 +188,8 @@ int RunRenderedDemo(const std::string& workspace,
             << settings.camera_model << " --camera_params "
             << settings.camera_params << " --workspace_path "
             << settings.workspace_path << std::endl;
-  const ColmapCalibrationRun run =
-      RunReconstructionPipeline(settings, inputs, "odomcal demo");
-  const CalibrationResult& result = run.check.result;
+  const RunOutcome run = RunAndWriteOutputs(settings, "odomcal demo");
+  const CalibrationResult& result = run.calibration.check.result;
   std::cout << CalibrationSummary(result, run.context);
 
   std::cout << "[demo] comparison with the ground truth\n";
@@ -218,7 +217,7 @@ int RunRenderedDemo(const std::string& workspace,
     true_position[frame.image_name] = frame.origin_from_cam.translation;
   }
   std::vector<Eigen::Vector3d> estimated, expected;
-  for (const MetricSubModel& metric : run.metric_models) {
+  for (const MetricSubModel& metric : run.calibration.metric_models) {
     for (const auto& [id, image] : metric.model.images) {
       const auto it = true_position.find(image.name);
       if (it == true_position.end()) continue;

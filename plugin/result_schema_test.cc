@@ -185,9 +185,9 @@ TEST(ResultSchema, ColmapOutputConforms) {
   fs::remove_all(dir);
   SimulatedColmapProjectOptions options;
   options.fold = true;
-  ColmapCalibrationRun run = CalibrateColmapProject(
-      WriteSimulatedColmapProject((dir / "project").string(), options),
-      "odomcal colmap");
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir / "project").string(), options);
+  ColmapCalibrationRun run = CalibrateColmapProject(inputs);
   ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
   ASSERT_FALSE(run.check.stretches.empty());
   MapperAttempt with_model;
@@ -197,7 +197,8 @@ TEST(ResultSchema, ColmapOutputConforms) {
                          MapperAttempt()};  // as `odomcal run` fills it
   run.chosen_mapper_attempt = 0;
   const SchemaChecker checker(ReadSchema());
-  const json out = ColmapCalibrationToJson(run);
+  const json out = ColmapCalibrationToJson(
+      run, ProjectReportContext(inputs, run, "odomcal colmap"));
   EXPECT_EQ(Lines(checker.Check(out)), "");
   EXPECT_TRUE(out.contains("colmap"));
   fs::remove_all(dir);
