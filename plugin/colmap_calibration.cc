@@ -98,15 +98,7 @@ ColmapModel TransformModel(const ColmapModel& model,
 }
 
 bool HasUsableExtrinsic(const CalibrationResult& result) {
-  if (!result.has_estimate) return false;
-  for (const char* name : {"rotation", "translation_x", "translation_y"}) {
-    if (std::find(result.unobservable.begin(),
-                  result.unobservable.end(),
-                  name) != result.unobservable.end()) {
-      return false;
-    }
-  }
-  return true;
+  return result.has_estimate && result.observability.ExtrinsicDetermined();
 }
 
 }  // namespace

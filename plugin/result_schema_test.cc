@@ -162,11 +162,13 @@ TEST(ResultSchema, CalibrateOutputsConform) {
   EXPECT_FALSE(out.contains("colmap"));
 
   CalibrationRun partly = success;
-  partly.result.unobservable = {"translation_y", "metric_scale"};
+  partly.result.observability.translation_y = Determination::kUndetermined;
+  partly.result.observability.metric_scales[0] = Determination::kUndetermined;
   EXPECT_EQ(
       Lines(checker.Check(CalibrationToJson(partly.result, partly.context))),
       "");
-  partly.result.unobservable = {"rotation"};
+  partly.result.observability = success.result.observability;
+  partly.result.observability.rotation = Determination::kUndetermined;
   EXPECT_EQ(
       Lines(checker.Check(CalibrationToJson(partly.result, partly.context))),
       "");
