@@ -48,6 +48,58 @@ Rigid3d ToRigid(const Pose2& pose) {
   return Rigid3d(YawRotation(pose.yaw), Eigen::Vector3d(pose.x, pose.y, 0.0));
 }
 
+// The rolling ground of DriveSimulatorOptions::ground_tilt_deg.
+struct Ground {
+  double amplitude_m = 0.0;  // a
+  double wavenumber = 0.0;   // k, radians per metre
+  Eigen::Vector2d u, v;      // orthogonal unit directions
+  double phase_u = 0.0, phase_v = 0.0;
+
+  double Height(const Eigen::Vector2d& p) const {
+    return amplitude_m * (std::sin(wavenumber * u.dot(p) + phase_u) +
+                          std::sin(wavenumber * v.dot(p) + phase_v));
+  }
+  Eigen::Vector2d Gradient(const Eigen::Vector2d& p) const {
+    const double ak = amplitude_m * wavenumber;
+    return ak * std::cos(wavenumber * u.dot(p) + phase_u) * u +
+           ak * std::cos(wavenumber * v.dot(p) + phase_v) * v;
+  }
+
+  // The body standing on the ground at the planar pose: z along the ground
+  // normal, x the heading lifted onto the ground (its ground-plane projection
+  // keeps the heading `yaw`).
+  Rigid3d BodyPose(const Pose2& pose) const {
+    const Eigen::Vector2d p(pose.x, pose.y);
+    const Eigen::Vector2d g = Gradient(p);
+    const Eigen::Vector2d heading(std::cos(pose.yaw), std::sin(pose.yaw));
+    const Eigen::Vector3d x =
+        Eigen::Vector3d(heading.x(), heading.y(), g.dot(heading)).normalized();
+    const Eigen::Vector3d z = Eigen::Vector3d(-g.x(), -g.y(), 1.0).normalized();
+    Eigen::Matrix3d rotation;
+    rotation << x, z.cross(x), z;
+    return Rigid3d(Eigen::Quaterniond(rotation).normalized(),
+                   Eigen::Vector3d(pose.x, pose.y, Height(p)));
+  }
+};
+
+// Drawn from a generator of its own so that a flat drive (tilt 0) is
+// bit-identical to one simulated before the option existed.
+Ground MakeGround(const DriveSimulatorOptions& options) {
+  constexpr double kDegToRad = kPi / 180.0;
+  Ground ground;
+  ground.wavenumber = 2.0 * kPi / options.ground_wavelength_m;
+  ground.amplitude_m =
+      std::tan(options.ground_tilt_deg * kDegToRad) / ground.wavenumber;
+  std::mt19937_64 rng(options.seed ^ 0x9e3779b97f4a7c15ULL);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi);
+  const double direction = angle(rng);
+  ground.u = Eigen::Vector2d(std::cos(direction), std::sin(direction));
+  ground.v = Eigen::Vector2d(-ground.u.y(), ground.u.x());
+  ground.phase_u = angle(rng);
+  ground.phase_v = angle(rng);
+  return ground;
+}
+
 std::vector<Manoeuvre> PlanManoeuvres(const DriveSimulatorOptions& options,
                                       std::mt19937_64* rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -104,6 +156,17 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
     throw std::invalid_argument(
         "SimulateDrive: camera_rate_hz must divide odometry_rate_hz");
   }
+  if (!(options.ground_tilt_deg >= 0.0 && options.ground_tilt_deg < 45.0) ||
+      !(options.ground_wavelength_m > 0.0)) {
+    throw std::invalid_argument(
+        "SimulateDrive: ground_tilt_deg must be in [0, 45) and "
+        "ground_wavelength_m > 0");
+  }
+  const bool tilted = options.ground_tilt_deg > 0.0;
+  const Ground ground = MakeGround(options);
+  auto true_pose = [&](const Pose2& pose) {
+    return tilted ? ground.BodyPose(pose) : ToRigid(pose);
+  };
   std::mt19937_64 rng(options.seed);
   const std::vector<Manoeuvre> plan = PlanManoeuvres(options, &rng);
 
@@ -112,7 +175,7 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   drive.metric_scale = options.metric_scale;
   drive.odometry.planar = true;
   drive.odometry.source = "simulated odometry";
-  drive.true_odometry.planar = true;
+  drive.true_odometry.planar = !tilted;
   drive.true_odometry.source = "simulated true odometry";
   drive.camera.source = "simulated camera";
 
@@ -136,10 +199,10 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   const double deg = kPi / 180.0;
   for (int64_t k = 0; k <= num_steps; ++k) {
     const int64_t stamp_ns = options.start_stamp_ns + k * period_ns;
-    drive.true_odometry.poses.push_back({stamp_ns, ToRigid(truth)});
+    drive.true_odometry.poses.push_back({stamp_ns, true_pose(truth)});
     drive.odometry.poses.push_back({stamp_ns, ToRigid(measured)});
     if (k % odometry_per_camera == 0) {
-      const Rigid3d origin_from_cam = ToRigid(truth) * options.odom_from_cam;
+      const Rigid3d origin_from_cam = true_pose(truth) * options.odom_from_cam;
       Rigid3d world_from_cam(
           sfm_rotation * origin_from_cam.rotation,
           (sfm_rotation * origin_from_cam.translation + sfm_translation) /

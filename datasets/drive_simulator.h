@@ -8,6 +8,13 @@
 // in place and stops. Odometry integrates wheel speeds measured with
 // per-wheel scale errors and a yaw-rate bias; camera poses receive small
 // independent pose noise. Deterministic for a given seed.
+//
+// Tilted ground (ground_tilt_deg > 0): the robot drives over a rolling
+// height field, so its true motion is 3-D (roll, pitch, height change) while
+// the wheel odometry stays planar: it is the ground-plane projection of the
+// true path (x, y, heading), blind to the tilt. The camera sees the 3-D
+// motion. This is the modelling error the planarity check
+// (solver/planarity_check.h) detects.
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
@@ -35,6 +42,14 @@ struct DriveSimulatorOptions {
   double max_yaw_rate_radps = 0.8;
   bool straight_only = false;  // no turns at all (an unobservable drive)
 
+  // Tilted ground: height h(x, y) = a (sin(k u.p + phi_u) + sin(k v.p +
+  // phi_v)) over two orthogonal random directions u, v, with a k =
+  // tan(ground_tilt_deg) and k = 2 pi / ground_wavelength_m: the slope along
+  // each of u and v varies smoothly within +-ground_tilt_deg along the drive.
+  // 0: flat ground (the drive is then identical to one without this option).
+  double ground_tilt_deg = 0.0;
+  double ground_wavelength_m = 8.0;
+
   // Odometry errors: wheel radius errors (fraction), wheel base 0.4 m, and a
   // constant yaw-rate bias.
   double wheel_scale_error_left = 0.0;
@@ -48,7 +63,7 @@ struct DriveSimulatorOptions {
 
 struct SimulatedDrive {
   Trajectory odometry;       // measured, planar, metres
-  Trajectory true_odometry;  // exact, same stamps
+  Trajectory true_odometry;  // exact, same stamps (3-D on tilted ground)
   Trajectory camera;         // world_from_cam in the SfM frame and units
   Rigid3d odom_from_cam;
   double metric_scale = 1.0;

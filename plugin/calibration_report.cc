@@ -5,6 +5,7 @@
 
 #include "odomcal/plugin/calibration_report.h"
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <opencv2/core.hpp>
@@ -62,6 +63,30 @@ json TransformToJson(const Rigid3d& transform,
   return out;
 }
 
+json PlanarityToJson(const PlanarityCheck& p) {
+  if (!p.checked) return {{"checked", false}};
+  return {
+      {"checked", true},
+      {"consistent", p.consistent},
+      {"tilt_deg", p.tilt_deg},
+      {"out_of_plane_m", p.out_of_plane_m},
+      {"tilt_rms_deg", p.tilt_rms_deg},
+      {"tilt_max_deg", p.tilt_max_deg},
+      {"out_of_plane_rms_m", p.out_of_plane_rms_m},
+      {"out_of_plane_max_m", p.out_of_plane_max_m},
+      {"chi_square", p.chi_square},
+      {"degrees_of_freedom", p.degrees_of_freedom},
+      {"chi_square_threshold", p.chi_square_threshold},
+      {"reduced_chi_square", p.reduced_chi_square},
+      {"correlation_length", p.correlation_length},
+      {"covariance_inflation", p.covariance_inflation},
+      {"worst_first_time_s", FormatTimestampSeconds(p.worst_first_stamp_ns)},
+      {"worst_last_time_s", FormatTimestampSeconds(p.worst_last_stamp_ns)},
+      {"worst_tilt_rms_deg", p.worst_tilt_rms_deg},
+      {"worst_out_of_plane_rms_m", p.worst_out_of_plane_rms_m},
+  };
+}
+
 json DiagnosticsToJson(const CalibrationDiagnostics& d) {
   json out;
   out["num_pairs_in"] = d.num_pairs_in;
@@ -103,6 +128,7 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
       {"relative_translation", d.relative_translation_residual},
       {"reduced_chi_square", d.reduced_chi_square},
   };
+  out["planarity"] = PlanarityToJson(d.planarity);
   out["ransac_num_iterations"] = d.ransac_num_iterations;
   out["refined"] = d.refined;
   out["refinement_num_iterations"] = d.refinement_num_iterations;

@@ -45,7 +45,9 @@ nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
         {"wheel_scale_error_right", options.wheel_scale_error_right},
         {"yaw_rate_bias_radps", options.yaw_rate_bias_radps},
         {"camera_rotation_noise_deg", options.camera_rotation_noise_deg},
-        {"camera_position_noise", options.camera_position_noise}}},
+        {"camera_position_noise", options.camera_position_noise},
+        {"ground_tilt_deg", options.ground_tilt_deg},
+        {"ground_wavelength_m", options.ground_wavelength_m}}},
   };
 }
 
@@ -273,6 +275,13 @@ int RunDemo(int argc, char** argv) {
   app.add_option(
          "--duration_s", simulation.duration_s, "--simulated: drive duration")
       ->check(InRange(5, 3600))
+      ->capture_default_str();
+  app.add_option("--ground_tilt_deg",
+                 simulation.ground_tilt_deg,
+                 "--simulated: slope of a rolling ground, degrees along each "
+                 "of two axes (the camera moves in 3-D, the wheel odometry "
+                 "stays planar)")
+      ->check(InRange(0, 30))
       ->capture_default_str();
   CalibrateInputs inputs;
   CalibrationFlags flags;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "odomcal/solver/observability.h"
+#include "odomcal/solver/planarity_check.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -65,6 +66,9 @@ struct CalibrationDiagnostics {
   double relative_translation_residual = 0.0;  // RMS residual / RMS step
   // Weighted cost per degree of freedom (about 1 when the noise model fits).
   double reduced_chi_square = 0.0;
+
+  // Out-of-plane motion under the estimate (planar odometry only).
+  PlanarityCheck planarity;
 
   // Closed-form estimate before refinement.
   Rigid3d linear_odom_from_cam;
