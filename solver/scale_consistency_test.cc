@@ -68,7 +68,7 @@ TEST(FindScaleChanges, FindsAThreePercentStepWhereItIs) {
   ASSERT_EQ(changes.size(), 1u);
   EXPECT_NEAR(changes[0].first_pair_after, 35, 2);
   EXPECT_NEAR(changes[0].scale_after / changes[0].scale_before, 1.03, 0.006);
-  EXPECT_GT(changes[0].f_statistic, ScaleChangeOptions().min_f_statistic);
+  EXPECT_GT(changes[0].f_statistic, changes[0].f_threshold);
 }
 
 // False alarms cut good segments and cost accuracy: none over 40 noisy
