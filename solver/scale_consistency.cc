@@ -90,7 +90,8 @@ class PrefixSums {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
     const double largest = eig.eigenvalues().maxCoeff();
     const Eigen::VectorXd scaled_rhs = inv_sqrt.asDiagonal() * rhs;
-    const Eigen::VectorXd projected = eig.eigenvectors().transpose() * scaled_rhs;
+    const Eigen::VectorXd projected =
+        eig.eigenvectors().transpose() * scaled_rhs;
     Eigen::VectorXd solution_in_eigenbasis = Eigen::VectorXd::Zero(n);
     PartitionFit fit;
     double explained = 0.0;
@@ -252,8 +253,7 @@ std::vector<ScaleChange> FindScaleChanges(
     const double centre = sum_ws / sum_w;  // keeps the sums well conditioned
     const PrefixSums sums(values, centre);
     std::vector<Cut> cuts;
-    Segment(
-        sums, 0, static_cast<int>(values.size()), centre, options, &cuts);
+    Segment(sums, 0, static_cast<int>(values.size()), centre, options, &cuts);
     if (cuts.empty()) continue;
     std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) {
       return a.at < b.at;

@@ -220,6 +220,7 @@ void CutScaleChanges(const CalibrationOptions& options,
     cut.scale_before = change.scale_before;
     cut.scale_after = change.scale_after;
     cut.f_statistic = change.f_statistic;
+    cut.f_threshold = change.f_threshold;
     check->scale_changes.push_back(cut);
   }
   for (InconsistentStretch& run : check->stretches) {
@@ -311,7 +312,8 @@ void MeasureScaleDrifts(const CalibrationOptions& options,
         stretch.first_stamp_ns = pair.stamp_i_ns;
         stretch.last_stamp_ns = pair.stamp_j_ns;
       }
-      stretch.first_stamp_ns = std::min(stretch.first_stamp_ns, pair.stamp_i_ns);
+      stretch.first_stamp_ns =
+          std::min(stretch.first_stamp_ns, pair.stamp_i_ns);
       stretch.last_stamp_ns = std::max(stretch.last_stamp_ns, pair.stamp_j_ns);
       drift.first_stamp_ns = std::min(drift.first_stamp_ns, pair.stamp_i_ns);
       drift.last_stamp_ns = std::max(drift.last_stamp_ns, pair.stamp_j_ns);
@@ -333,15 +335,16 @@ void MeasureScaleDrifts(const CalibrationOptions& options,
       const MotionPair& pair = check->pairs[i];
       values.push_back(scales[i]);
       times_s.push_back(
-          1e-9 * static_cast<double>((pair.stamp_i_ns - drift.first_stamp_ns) +
-                                     (pair.stamp_j_ns - drift.first_stamp_ns)) /
+          1e-9 *
+          static_cast<double>((pair.stamp_i_ns - drift.first_stamp_ns) +
+                              (pair.stamp_j_ns - drift.first_stamp_ns)) /
           2.0);
     }
-    MeasureDrift(values,
-                 times_s,
-                 1e-9 * static_cast<double>(drift.last_stamp_ns -
-                                            drift.first_stamp_ns),
-                 &drift);
+    MeasureDrift(
+        values,
+        times_s,
+        1e-9 * static_cast<double>(drift.last_stamp_ns - drift.first_stamp_ns),
+        &drift);
     check->scale_drifts.push_back(std::move(drift));
   }
 }

@@ -43,6 +43,7 @@ struct ScaleChangeCut {
   double scale_before = 0.0;  // metres per reconstruction unit
   double scale_after = 0.0;
   double f_statistic = 0.0;
+  double f_threshold = 0.0;  // its critical value (scale_consistency.h)
 };
 
 // A stretch of an input segment calibrated with a scale of its own.
@@ -61,7 +62,7 @@ struct ScaleDrift {
   int64_t last_stamp_ns = 0;
   // Scale at the last stamp over the scale at the first, minus 1.
   double relative_drift = 0.0;
-  double relative_drift_stddev = 0.0;  // scatter-scaled, first order
+  double relative_drift_stddev = 0.0;   // scatter-scaled, first order
   std::vector<ScaleStretch> stretches;  // in time order
 };
 
@@ -84,7 +85,7 @@ struct StretchCheckResult {
   std::vector<InconsistentStretch> stretches;
   std::vector<ScaleChangeCut> scale_changes;
   std::vector<ScaleDrift> scale_drifts;  // one per input segment with cuts
-  bool split = false;  // whether segments were cut
+  bool split = false;                    // whether segments were cut
 };
 
 // Pairs of one segment must be in time order (as association produces them).
