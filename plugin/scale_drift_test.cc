@@ -98,6 +98,24 @@ TEST_F(ScaleDriftTest, TenPercentIsNamedAndEachExportedStretchHasItsScale) {
   }
 }
 
+// A short drive as the real KITTI excerpt (6 s, about 24 motion pairs, one
+// turn) with 12 % drift: too few pairs per part for steps to stand out, the
+// linear-trend test names it.
+TEST_F(ScaleDriftTest, TwelvePercentOnAShortDriveIsNamed) {
+  for (const uint64_t seed : {TestSeed(1000), TestSeed(1002)}) {
+    SimulatedColmapProjectOptions options;
+    options.seed = seed;
+    options.duration_s = 6.0;
+    options.scale_drift = 0.12;
+    const ColmapCalibrationRun run = CalibrateColmapProject(
+        Project(options, "short_" + std::to_string(seed)), "odomcal colmap");
+    ASSERT_EQ(run.check.scale_drifts.size(), 1u) << "seed " << seed;
+    EXPECT_NEAR(run.check.scale_drifts[0].relative_drift, 0.12, 0.02);
+    EXPECT_TRUE(HasWarningStartingWith(
+        run.check.result, "sub-model 0: COLMAP's scale drifts by +"));
+  }
+}
+
 // Lever arm x/y unobservable (here: forced by a standard deviation limit no
 // drive meets): the status is not success, yet the drift is named.
 TEST_F(ScaleDriftTest, IsNamedWhenTheLeverArmIsUnobservable) {

@@ -14,23 +14,25 @@
 namespace odomcal {
 namespace {
 
-// Weighted sums of one run of per-pair scales a_i (centred), their lever arm
-// gradients g_i and weights w_i = 1 / sigma_i^2, for the linear model
-//   a_i = s_part(i) + g_i . theta   (theta: lever arm x/y, shared).
+// Weighted sums of one run of per-pair scales a_i (centred), their
+// regressors r_i = (lever arm gradient g_i, time tau_i) and weights
+// w_i = 1 / sigma_i^2, for the linear model
+//   a_i = s_part(i) + g_i . theta [+ slope tau_i]
+// (theta: lever arm x/y and slope shared by the parts fitted together).
 struct Sums {
   double w = 0.0, wa = 0.0, waa = 0.0;
-  Eigen::Vector2d wg = Eigen::Vector2d::Zero();
-  Eigen::Vector2d wag = Eigen::Vector2d::Zero();
-  Eigen::Matrix2d wgg = Eigen::Matrix2d::Zero();
+  Eigen::Vector3d wr = Eigen::Vector3d::Zero();
+  Eigen::Vector3d war = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d wrr = Eigen::Matrix3d::Zero();
 
   Sums operator-(const Sums& other) const {
     Sums d;
     d.w = w - other.w;
     d.wa = wa - other.wa;
     d.waa = waa - other.waa;
-    d.wg = wg - other.wg;
-    d.wag = wag - other.wag;
-    d.wgg = wgg - other.wgg;
+    d.wr = wr - other.wr;
+    d.war = war - other.war;
+    d.wrr = wrr - other.wrr;
     return d;
   }
 };
@@ -41,42 +43,48 @@ struct PartitionFit {
   double chi_square = 0.0;
   int rank = 0;
   std::vector<double> scales;  // centred, like the a_i
+  double slope = 0.0;          // per second, with a trend
 };
 
 class PrefixSums {
  public:
-  PrefixSums(const std::vector<PairMetricScale>& values, double centre)
+  PrefixSums(const std::vector<PairMetricScale>& values,
+             const std::vector<double>& times_s,
+             double centre)
       : sums_(values.size() + 1) {
     for (size_t i = 0; i < values.size(); ++i) {
       const double w = 1.0 / (values[i].stddev * values[i].stddev);
       const double a = values[i].scale - centre;
-      const Eigen::Vector2d& g = values[i].scale_per_lever_arm_xy;
+      Eigen::Vector3d r;
+      r << values[i].scale_per_lever_arm_xy, times_s[i];
       Sums& next = sums_[i + 1];
       next = sums_[i];
       next.w += w;
       next.wa += w * a;
       next.waa += w * a * a;
-      next.wg += w * g;
-      next.wag += w * a * g;
-      next.wgg += w * g * g.transpose();
+      next.wr += w * r;
+      next.war += w * a * r;
+      next.wrr += w * r * r.transpose();
     }
   }
 
-  // Parts [bounds[k], bounds[k + 1]) with a scale each, one lever arm.
-  PartitionFit Fit(const std::vector<int>& bounds) const {
+  // Parts [bounds[k], bounds[k + 1]) with a scale each, one lever arm, and
+  // with `trend` one slope over time.
+  PartitionFit Fit(const std::vector<int>& bounds, bool trend = false) const {
     const int num_parts = static_cast<int>(bounds.size()) - 1;
-    const int n = 2 + num_parts;
+    const int m = trend ? 3 : 2;  // shared regressors
+    const int n = m + num_parts;
     Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
     double waa = 0.0;
     for (int k = 0; k < num_parts; ++k) {
       const Sums part = sums_[bounds[k + 1]] - sums_[bounds[k]];
-      normal.topLeftCorner<2, 2>() += part.wgg;
-      normal.block(0, 2 + k, 2, 1) = part.wg;
-      normal.block(2 + k, 0, 1, 2) = part.wg.transpose();
-      normal(2 + k, 2 + k) = part.w;
-      rhs.head<2>() += part.wag;
-      rhs(2 + k) = part.wa;
+      normal.topLeftCorner(m, m) += part.wrr.topLeftCorner(m, m);
+      normal.block(0, m + k, m, 1) = part.wr.head(m);
+      normal.block(m + k, 0, 1, m) = part.wr.head(m).transpose();
+      normal(m + k, m + k) = part.w;
+      rhs.head(m) += part.war.head(m);
+      rhs(m + k) = part.wa;
       waa += part.waa;
     }
     // Pseudo-inverse of the diagonally normalised system: a lever arm the
@@ -104,7 +112,8 @@ class PrefixSums {
     const Eigen::VectorXd solution =
         inv_sqrt.asDiagonal() * (eig.eigenvectors() * solution_in_eigenbasis);
     fit.chi_square = std::max(0.0, waa - explained);
-    for (int k = 0; k < num_parts; ++k) fit.scales.push_back(solution(2 + k));
+    for (int k = 0; k < num_parts; ++k) fit.scales.push_back(solution(m + k));
+    if (trend) fit.slope = solution(2);
     return fit;
   }
 
@@ -112,16 +121,48 @@ class PrefixSums {
   std::vector<Sums> sums_;
 };
 
-struct Split {
-  int at = -1;  // first index of the second part
+// F statistic of a nested model: the drop of chi-square per added parameter
+// against the larger model's scatter per degree of freedom, and its
+// critical value at `probability`. Not a test (threshold infinite) when the
+// larger model determines nothing more or leaves no degree of freedom.
+struct FTest {
   double f_statistic = 0.0;
   double f_threshold = std::numeric_limits<double>::infinity();
-  double scale_before = 0.0, scale_after = 0.0;  // centred
+  bool Significant() const { return f_statistic > f_threshold; }
 };
 
-// The best split of [begin, end) and its F-test: the drop of chi-square per
-// added parameter against the two-part fit's scatter per degree of freedom.
+FTest NestedFTest(const PartitionFit& smaller,
+                  const PartitionFit& larger,
+                  int num_values,
+                  double probability) {
+  FTest test;
+  const int added = larger.rank - smaller.rank;
+  const int dof = num_values - larger.rank;
+  if (added <= 0 || dof <= 0) return test;
+  const double noise = larger.chi_square / dof;
+  const double drop = (smaller.chi_square - larger.chi_square) / added;
+  test.f_statistic =
+      noise > 0.0
+          ? drop / noise
+          : (drop > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  test.f_threshold = FDistributionCriticalValue(probability, added, dof);
+  return test;
+}
+
+struct Split {
+  int at = -1;  // first index of the second part
+  FTest step;   // two constant parts against one
+  FTest trend;  // one part with a linear trend against a constant
+  double scale_before = 0.0, scale_after = 0.0;  // centred
+  double trend_change = 0.0;  // slope times the duration (centred units)
+};
+
+// The best split of [begin, end) into two constant parts and the F-tests
+// of a step there and of a linear trend over [begin, end). Half the
+// false-cut probability goes to each; the step's half is divided among the
+// split points searched (Bonferroni).
 Split BestSplit(const PrefixSums& sums,
+                const std::vector<double>& times_s,
                 int begin,
                 int end,
                 const ScaleChangeOptions& options) {
@@ -139,23 +180,15 @@ Split BestSplit(const PrefixSums& sums,
       best.at = at;
     }
   }
-  const int added = best_two.rank - one.rank;
-  const int dof = n - best_two.rank;
-  if (best.at < 0 || added <= 0 || dof <= 0) {
-    best.at = -1;
-    return best;
-  }
-  const double noise = best_two.chi_square / dof;
-  const double drop = (one.chi_square - best_two.chi_square) / added;
-  best.f_statistic =
-      noise > 0.0
-          ? drop / noise
-          : (drop > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+  if (best.at < 0) return best;
   const int num_splits = n - 2 * min_part + 1;
-  best.f_threshold = FDistributionCriticalValue(
-      options.false_cut_probability / num_splits, added, dof);
+  best.step = NestedFTest(
+      one, best_two, n, 0.5 * options.false_cut_probability / num_splits);
+  const PartitionFit trend = sums.Fit({begin, end}, /*trend=*/true);
+  best.trend = NestedFTest(one, trend, n, 0.5 * options.false_cut_probability);
   best.scale_before = best_two.scales[0];
   best.scale_after = best_two.scales[1];
+  best.trend_change = trend.slope * (times_s[end - 1] - times_s[begin]);
   return best;
 }
 
@@ -166,23 +199,33 @@ struct Cut {
 };
 
 // Binary segmentation of values[begin, end); cuts are indices into values.
+// A part is cut where a step is significant, or, failing that, where its
+// linear trend is (a drift, as incremental SfM's, that no single step
+// explains well), at the best split point.
 void Segment(const PrefixSums& sums,
+             const std::vector<double>& times_s,
              int begin,
              int end,
              double centre,
              const ScaleChangeOptions& options,
              std::vector<Cut>* cuts) {
   if (static_cast<int>(cuts->size()) >= options.max_changes_per_segment) return;
-  const Split split = BestSplit(sums, begin, end, options);
-  if (split.at < 0 || !(split.f_statistic > split.f_threshold)) return;
+  const Split split = BestSplit(sums, times_s, begin, end, options);
+  if (split.at < 0) return;
   const double before = split.scale_before + centre;
   const double after = split.scale_after + centre;
-  const double relative =
-      std::abs(after - before) / std::min(std::abs(before), std::abs(after));
-  if (!(relative >= options.min_relative_change)) return;
-  cuts->push_back({split.at, split.f_statistic, split.f_threshold});
-  Segment(sums, begin, split.at, centre, options, cuts);
-  Segment(sums, split.at, end, centre, options, cuts);
+  const double smaller = std::min(std::abs(before), std::abs(after));
+  const bool step =
+      split.step.Significant() &&
+      std::abs(after - before) >= options.min_relative_change * smaller;
+  const bool trend =
+      split.trend.Significant() &&
+      std::abs(split.trend_change) >= options.min_relative_change * smaller;
+  if (!step && !trend) return;
+  const FTest& test = step ? split.step : split.trend;
+  cuts->push_back({split.at, test.f_statistic, test.f_threshold});
+  Segment(sums, times_s, begin, split.at, centre, options, cuts);
+  Segment(sums, times_s, split.at, end, centre, options, cuts);
 }
 
 }  // namespace
@@ -243,17 +286,28 @@ std::vector<ScaleChange> FindScaleChanges(
       return pairs[a].stamp_i_ns < pairs[b].stamp_i_ns;
     });
     std::vector<PairMetricScale> values;
+    std::vector<double> times_s;  // pair mid times from the first
     double sum_w = 0.0, sum_ws = 0.0;
     for (const int i : indices) {
       values.push_back(pair_scales[i]);
+      times_s.push_back(
+          0.5e-9 * static_cast<double>(
+                       (pairs[i].stamp_i_ns - pairs[indices[0]].stamp_i_ns) +
+                       (pairs[i].stamp_j_ns - pairs[indices[0]].stamp_i_ns)));
       const double w = 1.0 / (pair_scales[i].stddev * pair_scales[i].stddev);
       sum_w += w;
       sum_ws += w * pair_scales[i].scale;
     }
     const double centre = sum_ws / sum_w;  // keeps the sums well conditioned
-    const PrefixSums sums(values, centre);
+    const PrefixSums sums(values, times_s, centre);
     std::vector<Cut> cuts;
-    Segment(sums, 0, static_cast<int>(values.size()), centre, options, &cuts);
+    Segment(sums,
+            times_s,
+            0,
+            static_cast<int>(values.size()),
+            centre,
+            options,
+            &cuts);
     if (cuts.empty()) continue;
     std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) {
       return a.at < b.at;

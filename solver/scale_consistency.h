@@ -10,7 +10,9 @@
 // RANSAC. This step finds such changes by binary segmentation: the split of a
 // segment into two constant-scale parts that most reduces the weighted
 // chi-square is accepted when an F-test against the two-part fit's own
-// scatter is significant and the scale change is large enough to matter.
+// scatter is significant and the scale change is large enough to matter, or
+// when a linear trend of the scale over time is (a gradual drift, whose
+// within-part trend would otherwise inflate the step test's scatter).
 //
 // The lever arm's x/y is fitted jointly (one for all parts of a segment):
 // a lever arm error biases only the scales of turning pairs (through
@@ -53,8 +55,9 @@ struct ScaleChangeOptions {
   int min_pairs_per_part = 6;         // each side determines its own scale
   double min_relative_change = 0.01;  // smaller changes are not worth a cut
   // Probability that a segment whose scale does not change is cut (per
-  // test of a segment; Bonferroni over its split points): the F threshold
-  // is the F(1, n - 4) critical value at this over the number of splits.
+  // test of a segment): half for the step test, whose F threshold is the
+  // F(1, n - 4) critical value at that half over the number of split points
+  // (Bonferroni), half for the trend test (F(1, n - 4) at that half).
   double false_cut_probability = 1e-3;
   // Enough parts for a drift of 10 % to leave under 1.5 % within a part.
   int max_changes_per_segment = 7;

@@ -72,7 +72,7 @@ TEST(FindScaleChanges, FindsAThreePercentStepWhereItIs) {
 }
 
 // False alarms cut good segments and cost accuracy. The test is designed
-// for a false-cut probability of 0.001 per segment (measured: 3 of 5000,
+// for a false-cut probability of 0.001 per segment (measured: 4 of 5000,
 // docs/robustness.md): at most 2 of 300 noisy problems without a change
 // (expected 0.3).
 TEST(FindScaleChanges, NoFalseAlarmsOnConsistentSegments) {
