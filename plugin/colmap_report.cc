@@ -75,7 +75,25 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
          {"time_s", FormatTimestampSeconds(cut.stamp_ns)},
          {"metric_scale_before", cut.scale_before},
          {"metric_scale_after", cut.scale_after},
-         {"f_statistic", cut.f_statistic}});
+         {"f_statistic", cut.f_statistic},
+         {"f_threshold", cut.f_threshold}});
+  }
+  json scale_drifts = json::array();
+  for (const ScaleDrift& drift : run.check.scale_drifts) {
+    json stretches_of_drift = json::array();
+    for (const ScaleStretch& stretch : drift.stretches) {
+      stretches_of_drift.push_back(
+          {{"segment", stretch.output_segment},
+           {"first_time_s", FormatTimestampSeconds(stretch.first_stamp_ns)},
+           {"last_time_s", FormatTimestampSeconds(stretch.last_stamp_ns)}});
+    }
+    scale_drifts.push_back(
+        {{"sub_model", run.segments[drift.input_segment].sub_model},
+         {"first_time_s", FormatTimestampSeconds(drift.first_stamp_ns)},
+         {"last_time_s", FormatTimestampSeconds(drift.last_stamp_ns)},
+         {"relative_drift", drift.relative_drift},
+         {"relative_drift_stddev", drift.relative_drift_stddev},
+         {"stretches", stretches_of_drift}});
   }
   json segment_sources = json::array();
   for (const int input : run.check.input_segment_of_output_segment) {
@@ -125,6 +143,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
       {"segment_sub_models", segment_sources},
       {"inconsistent_stretches", stretches},
       {"scale_changes", scale_changes},
+      {"scale_drifts", scale_drifts},
       {"metric_models", metric_models},
       {"mapper_attempts", mapper_attempts},
   };

@@ -206,6 +206,24 @@ TEST(ResultSchema, ColmapOutputConforms) {
   fs::remove_all(dir);
 }
 
+TEST(ResultSchema, ColmapOutputWithScaleDriftConforms) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("result_schema_drift_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  SimulatedColmapProjectOptions options;
+  options.scale_drift = 0.1;
+  const ColmapCalibrationRun run = CalibrateColmapProject(
+      WriteSimulatedColmapProject((dir / "project").string(), options),
+      "odomcal colmap");
+  ASSERT_FALSE(run.check.scale_drifts.empty());
+  const json out = ColmapCalibrationToJson(run);
+  EXPECT_EQ(Lines(SchemaChecker(ReadSchema()).Check(out)), "");
+  ASSERT_EQ(out["colmap"]["scale_drifts"].size(), 1u);
+  EXPECT_EQ(out["colmap"]["scale_drifts"][0]["stretches"].size(),
+            run.check.scale_drifts[0].stretches.size());
+  fs::remove_all(dir);
+}
+
 // The checker itself finds what it is there to find.
 TEST(ResultSchema,
      CheckerReportsWrongTypesMissingAndUndocumentedKeysAndBadEnums) {
