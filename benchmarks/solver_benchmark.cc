@@ -1,5 +1,5 @@
 // Timings of the solver on simulated motion pairs
-// (datasets/motion_simulator.h): the closed form (ALSP and ALS,
+// (datasets/simulation/motion_simulator.h): the closed form (ALSP and ALS,
 // hand_eye_linear.h), the Ceres refinement from the closed-form estimate
 // (hand_eye_refine.h), RANSAC with 30 % outliers (hand_eye_ransac.h) and the
 // whole pipeline (calibrate.h), each at 10, 100, 1000 and 10 000 motion pairs;
@@ -13,7 +13,7 @@
 // one core. Run pinned to one core, e.g.
 //   taskset -c 0 solver_benchmark --benchmark_min_time=0.2
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"

@@ -8,9 +8,9 @@
 
 #include "odomcal/plugin/simulate_command.h"
 
-#include "odomcal/datasets/paper_evaluation.h"
-#include "odomcal/datasets/paper_simulation.h"
-#include "odomcal/datasets/paper_sweeps.h"
+#include "odomcal/datasets/paper/paper_evaluation.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
+#include "odomcal/datasets/paper/paper_sweeps.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"

@@ -1,6 +1,6 @@
 #include "odomcal/solver/hand_eye_refine.h"
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
 #include "odomcal/solver/hand_eye_cost.h"
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/tests/test_seed.h"

@@ -3,7 +3,7 @@
 // one-line errors on bad files, outputs that never clobber or touch inputs.
 
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/tests/test_files.h"
 
 #include <gtest/gtest.h>

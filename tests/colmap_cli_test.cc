@@ -6,7 +6,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/tests/test_files.h"
 
 #include <gtest/gtest.h>

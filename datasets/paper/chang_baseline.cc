@@ -1,4 +1,4 @@
-#include "odomcal/solver/chang_baseline.h"
+#include "odomcal/datasets/paper/chang_baseline.h"
 
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_ransac.h"

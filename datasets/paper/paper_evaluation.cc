@@ -7,10 +7,10 @@
 // their own slot, so the aggregation, done afterwards in trial order, is
 // bitwise independent of the thread count.
 
-#include "odomcal/datasets/paper_evaluation.h"
+#include "odomcal/datasets/paper/paper_evaluation.h"
 
 #include "odomcal/solver/calibration_options.h"
-#include "odomcal/solver/chang_baseline.h"
+#include "odomcal/datasets/paper/chang_baseline.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_refine.h"
 

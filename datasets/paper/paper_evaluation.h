@@ -36,7 +36,7 @@
 // left out of the RMSEs, never counted as zero error.
 #pragma once
 
-#include "odomcal/datasets/paper_simulation.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
 
 #include <array>
 #include <cstdint>

@@ -1,6 +1,6 @@
-#include "odomcal/datasets/paper_evaluation.h"
+#include "odomcal/datasets/paper/paper_evaluation.h"
 
-#include "odomcal/datasets/paper_sweeps.h"
+#include "odomcal/datasets/paper/paper_sweeps.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>

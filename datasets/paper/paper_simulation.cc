@@ -6,10 +6,10 @@
 // exactly; landmark redraws after a failed two-view estimate consume
 // further draws of the same generator.
 
-#include "odomcal/datasets/paper_simulation.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
 
-#include "odomcal/datasets/motion_simulator.h"
-#include "odomcal/datasets/two_view_pose.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/datasets/paper/two_view_pose.h"
 
 #include <algorithm>
 #include <cmath>

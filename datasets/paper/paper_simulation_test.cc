@@ -1,4 +1,4 @@
-#include "odomcal/datasets/paper_simulation.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
 
 #include "odomcal/tests/test_seed.h"
 

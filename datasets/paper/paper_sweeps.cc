@@ -1,6 +1,6 @@
 // Sweep tables and the mapping of a sweep value onto the simulation options.
 
-#include "odomcal/datasets/paper_sweeps.h"
+#include "odomcal/datasets/paper/paper_sweeps.h"
 
 #include <cmath>
 #include <stdexcept>

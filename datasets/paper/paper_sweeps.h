@@ -17,7 +17,7 @@
 // camera rotation and direction SDs (1 px = nominal).
 #pragma once
 
-#include "odomcal/datasets/paper_simulation.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
 
 #include <string>
 #include <vector>

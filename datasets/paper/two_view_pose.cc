@@ -9,7 +9,7 @@
 // J^T J (points marginalised), scaled by sigma_px^2, and mapped from Ceres'
 // tangent spaces to MotionPair's rotation-vector / 3D-translation layout.
 
-#include "odomcal/datasets/two_view_pose.h"
+#include "odomcal/datasets/paper/two_view_pose.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>

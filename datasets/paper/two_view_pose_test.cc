@@ -1,4 +1,4 @@
-#include "odomcal/datasets/two_view_pose.h"
+#include "odomcal/datasets/paper/two_view_pose.h"
 
 #include "odomcal/tests/test_seed.h"
 

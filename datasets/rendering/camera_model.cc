@@ -1,4 +1,4 @@
-#include "odomcal/datasets/camera_model.h"
+#include "odomcal/datasets/rendering/camera_model.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "odomcal/datasets/camera_model.h"
+#include "odomcal/datasets/rendering/camera_model.h"
 
-#include "odomcal/datasets/camera_mount.h"
+#include "odomcal/datasets/simulation/camera_mount.h"
 
 #include <gtest/gtest.h>
 

@@ -6,9 +6,9 @@
 // in 4 of 5 runs of small/tilted variants although every two-view geometry
 // agreed with the ground truth).
 
-#include "odomcal/datasets/dataset_presets.h"
+#include "odomcal/datasets/rendering/dataset_presets.h"
 
-#include "odomcal/datasets/camera_mount.h"
+#include "odomcal/datasets/simulation/camera_mount.h"
 
 #include <stdexcept>
 

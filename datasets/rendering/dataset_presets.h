@@ -12,7 +12,7 @@
 // All share the 50 Hz odometry and the default texture density (6 mm texels).
 #pragma once
 
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
 
 #include <cstdint>
 #include <string>

@@ -7,7 +7,7 @@
 // camera and testing each ray only against rectangles whose projected
 // bounding box contains its pixel.
 
-#include "odomcal/datasets/ray_caster.h"
+#include "odomcal/datasets/rendering/ray_caster.h"
 
 #include <algorithm>
 #include <cmath>

@@ -13,8 +13,8 @@
 // std::threads; the output does not depend on the thread count.
 #pragma once
 
-#include "odomcal/datasets/camera_model.h"
-#include "odomcal/datasets/room_scene.h"
+#include "odomcal/datasets/rendering/camera_model.h"
+#include "odomcal/datasets/rendering/room_scene.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>

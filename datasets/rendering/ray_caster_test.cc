@@ -1,4 +1,4 @@
-#include "odomcal/datasets/ray_caster.h"
+#include "odomcal/datasets/rendering/ray_caster.h"
 
 #include <gtest/gtest.h>
 

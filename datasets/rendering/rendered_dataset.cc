@@ -3,11 +3,11 @@
 // at its capture time; WriteRenderedDataset then renders frame by frame and
 // writes the files (images with OpenCV, logs with the adapters' writers).
 
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/seed.h"
+#include "odomcal/datasets/simulation/seed.h"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>

@@ -19,12 +19,12 @@
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
-#include "odomcal/datasets/camera_model.h"
-#include "odomcal/datasets/ray_caster.h"
-#include "odomcal/datasets/room_layout.h"
-#include "odomcal/datasets/room_path.h"
-#include "odomcal/datasets/room_scene.h"
-#include "odomcal/datasets/wheel_odometry.h"
+#include "odomcal/datasets/rendering/camera_model.h"
+#include "odomcal/datasets/rendering/ray_caster.h"
+#include "odomcal/datasets/rendering/room_layout.h"
+#include "odomcal/datasets/rendering/room_path.h"
+#include "odomcal/datasets/rendering/room_scene.h"
+#include "odomcal/datasets/simulation/wheel_odometry.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <cstdint>

@@ -1,7 +1,7 @@
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
 
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/dataset_presets.h"
+#include "odomcal/datasets/rendering/dataset_presets.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

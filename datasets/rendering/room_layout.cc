@@ -1,7 +1,7 @@
 // Clearance and ray distance are brute force over all segments (tens of
 // them); the planner calls them a few thousand times per path.
 
-#include "odomcal/datasets/room_layout.h"
+#include "odomcal/datasets/rendering/room_layout.h"
 
 #include <algorithm>
 #include <cmath>

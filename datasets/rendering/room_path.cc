@@ -4,7 +4,7 @@
 // manoeuvre durations are rounded to whole nanoseconds before the poses are
 // integrated, so evaluation and planning agree exactly.
 
-#include "odomcal/datasets/room_path.h"
+#include "odomcal/datasets/rendering/room_path.h"
 
 #include <algorithm>
 #include <cmath>

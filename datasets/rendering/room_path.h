@@ -20,7 +20,7 @@
 // Planar poses are origin-free here: (x, y, yaw) in the room frame.
 #pragma once
 
-#include "odomcal/datasets/room_layout.h"
+#include "odomcal/datasets/rendering/room_layout.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>

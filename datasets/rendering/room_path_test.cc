@@ -1,7 +1,7 @@
-#include "odomcal/datasets/room_path.h"
+#include "odomcal/datasets/rendering/room_path.h"
 
-#include "odomcal/datasets/dataset_presets.h"
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/dataset_presets.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
 
 #include <gtest/gtest.h>
 

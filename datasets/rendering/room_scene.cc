@@ -2,10 +2,10 @@
 // seed, or flat); the textures are then generated on `num_threads` threads,
 // each request independent, so the result does not depend on the thread count.
 
-#include "odomcal/datasets/room_scene.h"
+#include "odomcal/datasets/rendering/room_scene.h"
 
-#include "odomcal/datasets/seed.h"
-#include "odomcal/datasets/value_noise.h"
+#include "odomcal/datasets/simulation/seed.h"
+#include "odomcal/datasets/rendering/value_noise.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,8 +8,8 @@
 // (a, b) / texel_size_m. Deterministic for (layout, options).
 #pragma once
 
-#include "odomcal/datasets/room_layout.h"
-#include "odomcal/datasets/texture.h"
+#include "odomcal/datasets/rendering/room_layout.h"
+#include "odomcal/datasets/rendering/texture.h"
 
 #include <Eigen/Core>
 

@@ -1,7 +1,7 @@
 // Mip levels are built once by 2x2 box averaging (an odd last row/column is
 // averaged with itself, i.e. clamped); lookups clamp to the edge.
 
-#include "odomcal/datasets/texture.h"
+#include "odomcal/datasets/rendering/texture.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "odomcal/datasets/texture.h"
+#include "odomcal/datasets/rendering/texture.h"
 
-#include "odomcal/datasets/value_noise.h"
+#include "odomcal/datasets/rendering/value_noise.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // adds the smoothstep-interpolated lattice value. Finally each channel is
 // shifted and scaled to the requested mean and contrast.
 
-#include "odomcal/datasets/value_noise.h"
+#include "odomcal/datasets/rendering/value_noise.h"
 
 #include <algorithm>
 #include <cmath>

@@ -14,7 +14,7 @@
 // Deterministic for (width, height, seed, periods, stddev).
 #pragma once
 
-#include "odomcal/datasets/texture.h"
+#include "odomcal/datasets/rendering/texture.h"
 
 #include <cstdint>
 

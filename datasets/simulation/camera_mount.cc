@@ -1,4 +1,4 @@
-#include "odomcal/datasets/camera_mount.h"
+#include "odomcal/datasets/simulation/camera_mount.h"
 
 #include <cmath>
 

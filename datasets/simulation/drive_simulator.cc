@@ -3,7 +3,7 @@
 // odometry origin: x_sfm = (R_g x_origin + t_g) / metric_scale, so camera
 // translations come out in reconstruction units.
 
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 
 #include <cmath>
 #include <random>

@@ -3,7 +3,7 @@
 // describes (see NoiseModel and ResidualCovariance in the solver), so that
 // consistency tests (NEES) compare like with like.
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
-#include "odomcal/datasets/room_path.h"
+#include "odomcal/datasets/rendering/room_path.h"
 
 #include <cstdint>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "odomcal/datasets/wheel_odometry.h"
+#include "odomcal/datasets/simulation/wheel_odometry.h"
 
 #include <gtest/gtest.h>
 

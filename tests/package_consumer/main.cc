@@ -1,12 +1,15 @@
 // A downstream project using the installed package: find_package(odomcal)
-// and one call into every exported library. datasets simulates a noise-free
-// drive, adapters writes it as files and associates it, solver calibrates
-// the pairs, and plugin runs the `odomcal calibrate` pipeline on the files
-// and writes the result JSON. Both estimates must recover the simulated
-// extrinsic and scale.
+// and one call into every exported library. datasets_simulation simulates a
+// noise-free drive, adapters writes it as files and associates it, solver
+// calibrates the pairs, datasets_paper runs Chang et al.'s baseline on them,
+// datasets_rendering measures a room, and plugin runs the `odomcal calibrate`
+// pipeline on the files and writes the result JSON. The three estimates must
+// recover the simulated extrinsic and scale.
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/paper/chang_baseline.h"
+#include "odomcal/datasets/rendering/room_layout.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/calibration_report.h"
 #include "odomcal/solver/calibrate.h"
@@ -80,6 +83,22 @@ int main(int argc, char** argv) {
   const odomcal::CalibrationResult direct = odomcal::CalibrateOdomCam(
       association.pairs, odomcal::CalibrationOptions{});
 
+  // datasets_paper: the CM baseline on the same pairs (noise-free: exact).
+  const odomcal::ChangEstimate chang = odomcal::EstimateOdomFromCamChang(
+      association.pairs, odomcal::CalibrationOptions{});
+  odomcal::CalibrationResult chang_result;
+  chang_result.status = chang.success ? odomcal::CalibrationStatus::kSuccess
+                                      : odomcal::CalibrationStatus::kNotRun;
+  chang_result.message = "CM failed: " + chang.failure;
+  chang_result.odom_from_cam = chang.odom_from_cam;
+  chang_result.metric_scales = chang.metric_scales;
+
+  // datasets_rendering: the centre of a 4 x 3 m room is 1.5 m from a wall.
+  const odomcal::RoomLayout room =
+      odomcal::MakeRectangularRoom(4.0, 3.0, 2.5, true, {});
+  const double wall_distance_m =
+      room.DistanceToObstacles(Eigen::Vector2d(2.0, 1.5));
+
   // plugin: the `odomcal calibrate` pipeline on the files, and its JSON.
   odomcal::CalibrateInputs inputs;
   inputs.camera_paths = {camera_path};
@@ -90,6 +109,9 @@ int main(int argc, char** argv) {
       odomcal::CalibrationToJson(run.result, run.context);
 
   const bool ok = Recovered(direct, drive, "solver") &&
+                  Recovered(chang_result, drive, "datasets_paper") &&
+                  Check(std::abs(wall_distance_m - 1.5) < 1e-12,
+                        "datasets_rendering: wall distance") &&
                   Recovered(run.result, drive, "plugin") &&
                   Check(json.at("status") == "success" &&
                             json.at("schema") == "odomcal.calibration",
