@@ -4,8 +4,8 @@
 
 #include "odomcal/datasets/rendering/room_scene.h"
 
-#include "odomcal/datasets/simulation/seed.h"
 #include "odomcal/datasets/rendering/value_noise.h"
+#include "odomcal/datasets/simulation/seed.h"
 
 #include <algorithm>
 #include <cmath>
