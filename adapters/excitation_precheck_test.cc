@@ -1,5 +1,6 @@
 #include "odomcal/adapters/excitation_precheck.h"
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +13,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int64_t kBaseNs = 1700000000000000000;
 constexpr int64_t kOdometryStepNs = 20000000;  // 50 Hz
 constexpr int64_t kImageStepNs = 500000000;    // 2 Hz

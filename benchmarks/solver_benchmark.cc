@@ -14,6 +14,7 @@
 //   taskset -c 0 solver_benchmark --benchmark_min_time=0.2
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
@@ -34,7 +35,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 constexpr uint64_t kSeed = 20120514;  // fixed: every run times the same data
 constexpr double kOutlierFraction = 0.3;
 // Noise-free recovery tolerances of the unit tests (hand_eye_linear_test.cc).

@@ -1,5 +1,6 @@
 #include "odomcal/datasets/paper/chang_baseline.h"
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_ransac.h"
 
@@ -60,7 +61,7 @@ ChangEstimate EstimateOdomFromCamChang(const MotionPairs& pairs,
     all[i] = static_cast<int>(i);
     by_segment[pairs[i].segment].push_back(static_cast<int>(i));
     if (std::abs(LogRotation(pairs[i].odom_i_from_odom_j.rotation).z()) >=
-        options.min_rotation_deg * 3.14159265358979323846 / 180.0) {
+        options.min_rotation_deg * kPi / 180.0) {
       rotating.push_back(static_cast<int>(i));
     }
   }

@@ -1,14 +1,13 @@
 #include "odomcal/datasets/paper/chang_baseline.h"
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
 
 namespace odomcal {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 TEST(SolveChangMinimal, ExactOnNoiseFreeMinimalData) {
   auto rng = SeededRng(50);

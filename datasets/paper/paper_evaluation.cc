@@ -7,10 +7,10 @@
 // their own slot, so the aggregation, done afterwards in trial order, is
 // bitwise independent of the thread count.
 
-#include "odomcal/datasets/paper/paper_evaluation.h"
-
-#include "odomcal/solver/calibration_options.h"
 #include "odomcal/datasets/paper/chang_baseline.h"
+#include "odomcal/datasets/paper/paper_evaluation.h"
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_refine.h"
 
@@ -29,7 +29,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The divergence bound, in standard deviations (Table I: "3 sigma").
 constexpr double kDivergenceSigmas = 3.0;

@@ -8,8 +8,9 @@
 
 #include "odomcal/datasets/paper/paper_simulation.h"
 
-#include "odomcal/datasets/simulation/motion_simulator.h"
 #include "odomcal/datasets/paper/two_view_pose.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Attempts at drawing one landmark visible in both views before giving up.
 constexpr int kMaxLandmarkDraws = 1000;
 

@@ -1,6 +1,7 @@
 #include "odomcal/datasets/rendering/camera_model.h"
 
 #include "odomcal/datasets/simulation/camera_mount.h"
+#include "odomcal/solver/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -63,7 +64,7 @@ TEST(MakeCameraMount, AxesOfTheNamedMounts) {
   const Rigid3d left = MakeCameraMount(90, 0, 0, t);
   EXPECT_NEAR((axis(left, 2) - Eigen::Vector3d::UnitY()).norm(), 0, kTolerance);
   const Rigid3d down = MakeCameraMount(0, 25, 0, t);
-  EXPECT_NEAR(axis(down, 2).z(), -std::sin(25.0 * M_PI / 180.0), kTolerance);
+  EXPECT_NEAR(axis(down, 2).z(), -std::sin(25.0 * kPi / 180.0), kTolerance);
   const Rigid3d rolled = MakeCameraMount(0, 0, 90, t);
   EXPECT_NEAR(
       (axis(rolled, 0) + Eigen::Vector3d::UnitZ()).norm(), 0, kTolerance);

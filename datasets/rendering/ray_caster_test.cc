@@ -1,5 +1,7 @@
 #include "odomcal/datasets/rendering/ray_caster.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -95,7 +97,7 @@ TEST(RenderImage, SameOutputForAnyThreadCountAndBackgroundWhereNothingIsHit) {
   EXPECT_EQ(one.rgb[centre], 255);  // the white square
   // The back face is visible too.
   const Rigid3d behind(
-      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())),
+      Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY())),
       Eigen::Vector3d(0, 0, 4));
   EXPECT_EQ(RenderImage(scene, camera, behind, options).rgb[centre], 255);
 }

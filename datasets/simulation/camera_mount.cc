@@ -1,5 +1,7 @@
 #include "odomcal/datasets/simulation/camera_mount.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <cmath>
 
 namespace odomcal {
@@ -8,7 +10,6 @@ Rigid3d MakeCameraMount(double yaw_deg,
                         double pitch_down_deg,
                         double roll_deg,
                         const Eigen::Vector3d& translation_m) {
-  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
   Eigen::Matrix3d forward;
   forward.col(0) = -Eigen::Vector3d::UnitY();
   forward.col(1) = -Eigen::Vector3d::UnitZ();

@@ -5,16 +5,12 @@
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace odomcal {
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
-
-}  // namespace
 
 Rigid3d RandomOdomFromCam(std::mt19937_64* rng) {
   std::uniform_real_distribution<double> translation(-0.1, 0.1);

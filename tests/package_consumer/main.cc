@@ -12,6 +12,7 @@
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/calibration_report.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <nlohmann/json.hpp>
@@ -22,8 +23,6 @@
 #include <string>
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 bool Check(bool ok, const std::string& what) {
   if (!ok) std::fprintf(stderr, "consumer: %s\n", what.c_str());
@@ -42,7 +41,7 @@ bool Recovered(const odomcal::CalibrationResult& result,
   const double rotation_error_deg =
       result.odom_from_cam.rotation.angularDistance(
           drive.odom_from_cam.rotation) *
-      kRadToDeg;
+      odomcal::kRadToDeg;
   const double xy_error_m = (result.odom_from_cam.translation.head<2>() -
                              drive.odom_from_cam.translation.head<2>())
                                 .norm();
