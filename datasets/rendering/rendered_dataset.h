@@ -67,7 +67,7 @@ struct RenderedFrame {
 struct RenderedDataset {
   RenderedDatasetOptions options;  // with the derived seeds filled in
   RoomScene scene;
-  RoomPath path;
+  UnicyclePath path;
   Rigid3d room_from_origin;
   Trajectory odometry;       // measured, origin_from_odom
   Trajectory true_odometry;  // exact, same stamps

@@ -6,6 +6,8 @@
 
 #include "odomcal/datasets/rendering/room_path.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -15,32 +17,9 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int64_t kCheckStepNs = 50000000;  // 50 ms between clearance checks
 constexpr int kMaxAttemptsPerManoeuvre = 40;
 constexpr int kMaxAttemptsPerLeg = 20;
-
-double WrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
-
-// Exact unicycle motion at constant (v, w) for dt seconds.
-PlanarPose Step(const PlanarPose& pose, double v, double w, double dt) {
-  const double dyaw = w * dt;
-  double forward, left;
-  if (std::abs(dyaw) < 1e-9) {
-    forward = v * dt;
-    left = 0.5 * v * dt * dyaw;
-  } else {
-    forward = v / w * std::sin(dyaw);
-    left = v / w * (1.0 - std::cos(dyaw));
-  }
-  PlanarPose next;
-  next.x =
-      pose.x + std::cos(pose.yaw_rad) * forward - std::sin(pose.yaw_rad) * left;
-  next.y =
-      pose.y + std::sin(pose.yaw_rad) * forward + std::cos(pose.yaw_rad) * left;
-  next.yaw_rad = pose.yaw_rad + dyaw;
-  return next;
-}
 
 int64_t ToNs(double seconds) {
   return static_cast<int64_t>(std::llround(seconds * 1e9));
@@ -51,7 +30,7 @@ class Planner {
   Planner(const RoomLayout& layout, const RoomPathOptions& options)
       : layout_(layout), options_(options), rng_(options.seed) {}
 
-  RoomPath Plan() {
+  UnicyclePath Plan() {
     pose_ = options_.start;
     if (!Valid(pose_, &options_.legs.front(), /*relaxed=*/false)) {
       throw std::invalid_argument(
@@ -84,7 +63,7 @@ class Planner {
       }
     }
     Wander(options_.legs.back(), ToNs(options_.duration_s));
-    return RoomPath(std::move(out_));
+    return UnicyclePath(std::move(out_));
   }
 
  private:
@@ -123,7 +102,9 @@ class Planner {
                       bool relaxed) const {
     for (int64_t t = kCheckStepNs;; t += kCheckStepNs) {
       const int64_t step = std::min(t, duration_ns);
-      if (!Valid(Step(pose_, v, w, 1e-9 * step), region, relaxed)) return false;
+      if (!Valid(UnicycleStep(pose_, v, w, 1e-9 * step), region, relaxed)) {
+        return false;
+      }
       if (step == duration_ns) return true;
     }
   }
@@ -131,7 +112,7 @@ class Planner {
   void Append(double v, double w, int64_t duration_ns) {
     if (duration_ns <= 0) return;
     out_.push_back({t_ns_, duration_ns, v, w, pose_});
-    pose_ = Step(pose_, v, w, 1e-9 * duration_ns);
+    pose_ = UnicycleStep(pose_, v, w, 1e-9 * duration_ns);
     t_ns_ += duration_ns;
   }
 
@@ -233,49 +214,6 @@ class Planner {
 
 }  // namespace
 
-Rigid3d PlanarPose::ToRigid3d() const {
-  return Rigid3d(YawRotation(yaw_rad), Eigen::Vector3d(x, y, 0.0));
-}
-
-RoomPath::RoomPath(std::vector<PathManoeuvre> manoeuvres)
-    : manoeuvres_(std::move(manoeuvres)) {
-  if (manoeuvres_.empty()) {
-    throw std::invalid_argument("RoomPath: no manoeuvres");
-  }
-}
-
-int64_t RoomPath::duration_ns() const {
-  if (manoeuvres_.empty()) return 0;
-  return manoeuvres_.back().start_ns + manoeuvres_.back().duration_ns;
-}
-
-PlanarPose RoomPath::PoseAt(int64_t t_ns) const {
-  if (manoeuvres_.empty()) return PlanarPose();
-  t_ns = std::clamp<int64_t>(t_ns, 0, duration_ns());
-  // Last manoeuvre starting at or before t.
-  auto it = std::upper_bound(
-      manoeuvres_.begin(),
-      manoeuvres_.end(),
-      t_ns,
-      [](int64_t t, const PathManoeuvre& m) { return t < m.start_ns; });
-  const PathManoeuvre& m = *std::prev(it);
-  return Step(
-      m.start, m.speed_mps, m.yaw_rate_radps, 1e-9 * (t_ns - m.start_ns));
-}
-
-Eigen::Vector2d RoomPath::DistanceAndYawBetween(int64_t t0_ns,
-                                                int64_t t1_ns) const {
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  for (const PathManoeuvre& m : manoeuvres_) {
-    const int64_t a = std::max(t0_ns, m.start_ns);
-    const int64_t b = std::min(t1_ns, m.start_ns + m.duration_ns);
-    if (b <= a) continue;
-    const double dt = 1e-9 * (b - a);
-    sum += Eigen::Vector2d(m.speed_mps * dt, m.yaw_rate_radps * dt);
-  }
-  return sum;
-}
-
 void RoomPathOptions::Check() const {
   if (legs.empty())
     throw std::invalid_argument("RoomPathOptions.legs is empty");
@@ -314,8 +252,8 @@ void RoomPathOptions::Check() const {
   }
 }
 
-RoomPath PlanRoomPath(const RoomLayout& layout,
-                      const RoomPathOptions& options) {
+UnicyclePath PlanRoomPath(const RoomLayout& layout,
+                          const RoomPathOptions& options) {
   layout.Check();
   options.Check();
   return Planner(layout, options).Plan();

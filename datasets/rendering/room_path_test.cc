@@ -33,7 +33,7 @@ TEST_P(PresetPath, StaysInsideWithClearanceAndIsContinuous) {
     const RenderedDataset dataset =
         SimulateDatasetMotion(MakeDatasetPreset(GetParam(), seed));
     const RoomPathOptions& options = dataset.options.path;
-    const RoomPath& path = dataset.path;
+    const UnicyclePath& path = dataset.path;
     double min_robot = 1e9, min_camera = 1e9;
     for (int64_t t = 0; t <= path.duration_ns(); t += 10000000) {
       const PlanarPose pose = path.PoseAt(t);

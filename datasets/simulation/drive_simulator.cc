@@ -5,6 +5,9 @@
 
 #include "odomcal/datasets/simulation/drive_simulator.h"
 
+#include "odomcal/datasets/simulation/unicycle_path.h"
+#include "odomcal/solver/angles.h"
+
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -13,7 +16,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kWheelBaseM = 0.4;
 
 struct Manoeuvre {
@@ -21,32 +23,6 @@ struct Manoeuvre {
   double yaw_rate_radps = 0.0;
   double duration_s = 0.0;
 };
-
-struct Pose2 {
-  double x = 0.0, y = 0.0, yaw = 0.0;
-};
-
-// Exact unicycle step at constant (v, w) for dt seconds.
-Pose2 Step(const Pose2& pose, double v, double w, double dt) {
-  Pose2 next = pose;
-  const double dyaw = w * dt;
-  double forward, left;
-  if (std::abs(dyaw) < 1e-9) {
-    forward = v * dt;
-    left = 0.5 * v * dt * dyaw;
-  } else {
-    forward = v / w * std::sin(dyaw);
-    left = v / w * (1.0 - std::cos(dyaw));
-  }
-  next.x += std::cos(pose.yaw) * forward - std::sin(pose.yaw) * left;
-  next.y += std::sin(pose.yaw) * forward + std::cos(pose.yaw) * left;
-  next.yaw += dyaw;
-  return next;
-}
-
-Rigid3d ToRigid(const Pose2& pose) {
-  return Rigid3d(YawRotation(pose.yaw), Eigen::Vector3d(pose.x, pose.y, 0.0));
-}
 
 std::vector<Manoeuvre> PlanManoeuvres(const DriveSimulatorOptions& options,
                                       std::mt19937_64* rng) {
@@ -128,7 +104,7 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   const int64_t period_ns =
       static_cast<int64_t>(std::llround(1e9 / options.odometry_rate_hz));
   const double dt = 1e-9 * static_cast<double>(period_ns);
-  Pose2 truth, measured;
+  PlanarPose truth, measured;
   size_t manoeuvre = 0;
   double time_in_manoeuvre = 0.0;
   const int64_t num_steps =
@@ -136,10 +112,10 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   const double deg = kPi / 180.0;
   for (int64_t k = 0; k <= num_steps; ++k) {
     const int64_t stamp_ns = options.start_stamp_ns + k * period_ns;
-    drive.true_odometry.poses.push_back({stamp_ns, ToRigid(truth)});
-    drive.odometry.poses.push_back({stamp_ns, ToRigid(measured)});
+    drive.true_odometry.poses.push_back({stamp_ns, truth.ToRigid3d()});
+    drive.odometry.poses.push_back({stamp_ns, measured.ToRigid3d()});
     if (k % odometry_per_camera == 0) {
-      const Rigid3d origin_from_cam = ToRigid(truth) * options.odom_from_cam;
+      const Rigid3d origin_from_cam = truth.ToRigid3d() * options.odom_from_cam;
       Rigid3d world_from_cam(
           sfm_rotation * origin_from_cam.rotation,
           (sfm_rotation * origin_from_cam.translation + sfm_translation) /
@@ -162,15 +138,16 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
       ++manoeuvre;
     }
     const Manoeuvre& m = plan[manoeuvre];
-    truth = Step(truth, m.speed_mps, m.yaw_rate_radps, dt);
+    truth = UnicycleStep(truth, m.speed_mps, m.yaw_rate_radps, dt);
     const double left = (m.speed_mps - 0.5 * kWheelBaseM * m.yaw_rate_radps) *
                         (1.0 + options.wheel_scale_error_left);
     const double right = (m.speed_mps + 0.5 * kWheelBaseM * m.yaw_rate_radps) *
                          (1.0 + options.wheel_scale_error_right);
-    measured = Step(measured,
-                    0.5 * (left + right),
-                    (right - left) / kWheelBaseM + options.yaw_rate_bias_radps,
-                    dt);
+    measured =
+        UnicycleStep(measured,
+                     0.5 * (left + right),
+                     (right - left) / kWheelBaseM + options.yaw_rate_bias_radps,
+                     dt);
     time_in_manoeuvre += dt;
   }
   return drive;

@@ -37,7 +37,7 @@ void WheelOdometryNoise::Check() const {
   }
 }
 
-Trajectory SimulateWheelOdometry(const RoomPath& path,
+Trajectory SimulateWheelOdometry(const UnicyclePath& path,
                                  const std::vector<int64_t>& sample_times_ns,
                                  int64_t stamp_offset_ns,
                                  const WheelOdometryNoise& noise) {
@@ -80,7 +80,7 @@ Trajectory SimulateWheelOdometry(const RoomPath& path,
   return odometry;
 }
 
-Trajectory TrueWheelOdometry(const RoomPath& path,
+Trajectory TrueWheelOdometry(const UnicyclePath& path,
                              const std::vector<int64_t>& sample_times_ns,
                              int64_t stamp_offset_ns) {
   CheckTimes(sample_times_ns);

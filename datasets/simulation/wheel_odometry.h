@@ -1,4 +1,4 @@
-// Wheel odometry of a differential-drive robot following a RoomPath, as its
+// Wheel odometry of a differential-drive robot following a UnicyclePath, as its
 // wheel encoders would report it.
 //
 // Over each sample period [t_k, t_k+1] the true wheel travels are
@@ -16,7 +16,7 @@
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
-#include "odomcal/datasets/rendering/room_path.h"
+#include "odomcal/datasets/simulation/unicycle_path.h"
 
 #include <cstdint>
 #include <vector>
@@ -36,14 +36,14 @@ struct WheelOdometryNoise {
 // Sample times are ns from the path start, strictly increasing, the first
 // one at 0 or later; stamps are sample time + stamp_offset_ns. Throws
 // std::invalid_argument for bad times or noise parameters.
-Trajectory SimulateWheelOdometry(const RoomPath& path,
+Trajectory SimulateWheelOdometry(const UnicyclePath& path,
                                  const std::vector<int64_t>& sample_times_ns,
                                  int64_t stamp_offset_ns,
                                  const WheelOdometryNoise& noise);
 
 // The exact odometry at the same times: origin_from_odom(t) =
-// room_from_odom(0)^-1 * room_from_odom(t), where 0 is the first sample time.
-Trajectory TrueWheelOdometry(const RoomPath& path,
+// path_from_odom(0)^-1 * path_from_odom(t), where 0 is the first sample time.
+Trajectory TrueWheelOdometry(const UnicyclePath& path,
                              const std::vector<int64_t>& sample_times_ns,
                              int64_t stamp_offset_ns);
 

@@ -1,5 +1,7 @@
 #include "odomcal/datasets/simulation/wheel_odometry.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,23 +19,23 @@ std::vector<int64_t> Times(int64_t duration_ns) {
 }
 
 // 20 s straight at 0.5 m/s, 10 s arc, 10 s standing.
-RoomPath TestPath() {
+UnicyclePath TestPath() {
   std::vector<PathManoeuvre> m(3);
   m[0] = {0, 20000000000, 0.5, 0.0, PlanarPose{1.0, 2.0, 0.3}};
   m[1] = {20000000000, 10000000000, 0.4, 0.3, PlanarPose()};
   m[2] = {30000000000, 10000000000, 0.0, 0.0, PlanarPose()};
   // Chain the start poses exactly as the planner would.
-  RoomPath first({m[0]});
+  UnicyclePath first({m[0]});
   m[1].start = first.PoseAt(m[0].duration_ns);
-  RoomPath second({m[0], m[1]});
+  UnicyclePath second({m[0], m[1]});
   m[2].start = second.PoseAt(m[1].start_ns + m[1].duration_ns);
-  return RoomPath(m);
+  return UnicyclePath(m);
 }
 
 double Yaw(const Rigid3d& pose) { return RollPitchYaw(pose.rotation).z(); }
 
 TEST(SimulateWheelOdometry, NoiseFreeEqualsTheTruth) {
-  const RoomPath path = TestPath();
+  const UnicyclePath path = TestPath();
   const std::vector<int64_t> times = Times(path.duration_ns());
   const Trajectory measured =
       SimulateWheelOdometry(path, times, 100, WheelOdometryNoise());
@@ -48,7 +50,7 @@ TEST(SimulateWheelOdometry, NoiseFreeEqualsTheTruth) {
                 1e-8);
     EXPECT_NEAR(std::remainder(Yaw(measured.poses[i].world_from_sensor) -
                                    Yaw(truth.poses[i].world_from_sensor),
-                               2 * M_PI),
+                               2 * kPi),
                 0.0,
                 kExact);
   }
@@ -59,7 +61,7 @@ TEST(SimulateWheelOdometry, WheelScaleErrorsAndYawDrift) {
   noise.wheel_scale_error_left = 0.01;
   noise.wheel_scale_error_right = 0.03;
   noise.yaw_rate_bias_radps = 0.002;
-  const RoomPath path = TestPath();
+  const UnicyclePath path = TestPath();
   const Trajectory odometry =
       SimulateWheelOdometry(path, Times(path.duration_ns()), 0, noise);
   // Straight part (first 20 s): both wheels travel s, so the distance is
@@ -76,7 +78,7 @@ TEST(SimulateWheelOdometry, WheelScaleErrorsAndYawDrift) {
   // Standing (last 10 s): only the drift moves the heading.
   const double yaw_30 = Yaw(odometry.poses[1500].world_from_sensor);
   const double yaw_40 = Yaw(odometry.poses[2000].world_from_sensor);
-  EXPECT_NEAR(std::remainder(yaw_40 - yaw_30, 2 * M_PI), 0.002 * 10.0, kExact);
+  EXPECT_NEAR(std::remainder(yaw_40 - yaw_30, 2 * kPi), 0.002 * 10.0, kExact);
   EXPECT_EQ(odometry.poses[1500].world_from_sensor.translation,
             odometry.poses[2000].world_from_sensor.translation);
 }
@@ -88,7 +90,7 @@ TEST(SimulateWheelOdometry, SlipStatistics) {
   noise.wheel_slip_stddev = 0.02;
   noise.seed = 4;
   std::vector<PathManoeuvre> m = {{0, 400000000000, 0.5, 0.0, PlanarPose()}};
-  const RoomPath path(m);
+  const UnicyclePath path(m);
   const Trajectory odometry =
       SimulateWheelOdometry(path, Times(path.duration_ns()), 0, noise);
   const double step = 0.5 * 1e-9 * kPeriodNs;
