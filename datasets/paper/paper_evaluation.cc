@@ -1,5 +1,5 @@
 // A trial runs the three closed forms and CM on all pairs, then the batch
-// refinement from each of ALS, ALSP, CM and the truth. The refinement's
+// refinement from each of ALS, ALSP-L, CM and the truth. The refinement's
 // information (J^T J in the reported coordinates) is inverted by an
 // eigen-decomposition; a non-positive-definite one leaves the B method
 // without covariance (then it cannot be tested for divergence). Trials are
@@ -7,8 +7,9 @@
 // their own slot, so the aggregation, done afterwards in trial order, is
 // bitwise independent of the thread count.
 
-#include "odomcal/datasets/paper/chang_baseline.h"
 #include "odomcal/datasets/paper/paper_evaluation.h"
+
+#include "odomcal/datasets/paper/chang_baseline.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/hand_eye_linear.h"
@@ -147,16 +148,16 @@ std::string ToString(EvaluationMethod method) {
   switch (method) {
     case EvaluationMethod::kAls:
       return "ALS";
-    case EvaluationMethod::kAlsp:
-      return "ALSP";
+    case EvaluationMethod::kAlspLengthPreserving:
+      return "ALSP-L";
     case EvaluationMethod::kAlspOrthogonal:
       return "ALSP-orth";
     case EvaluationMethod::kCm:
       return "CM";
     case EvaluationMethod::kAlsB:
       return "ALS-B";
-    case EvaluationMethod::kAlspB:
-      return "ALSP-B";
+    case EvaluationMethod::kAlspLengthPreservingB:
+      return "ALSP-L-B";
     case EvaluationMethod::kCmB:
       return "CM-B";
     case EvaluationMethod::kGtB:
@@ -167,17 +168,17 @@ std::string ToString(EvaluationMethod method) {
 
 bool IsBatchMethod(EvaluationMethod method) {
   return method == EvaluationMethod::kAlsB ||
-         method == EvaluationMethod::kAlspB ||
+         method == EvaluationMethod::kAlspLengthPreservingB ||
          method == EvaluationMethod::kCmB || method == EvaluationMethod::kGtB;
 }
 
 std::array<EvaluationMethod, kNumEvaluationMethods> AllEvaluationMethods() {
   return {EvaluationMethod::kAls,
-          EvaluationMethod::kAlsp,
+          EvaluationMethod::kAlspLengthPreserving,
           EvaluationMethod::kAlspOrthogonal,
           EvaluationMethod::kCm,
           EvaluationMethod::kAlsB,
-          EvaluationMethod::kAlspB,
+          EvaluationMethod::kAlspLengthPreservingB,
           EvaluationMethod::kCmB,
           EvaluationMethod::kGtB};
 }
@@ -235,12 +236,12 @@ TrialResult EvaluateTrial(const PaperSimulation& simulation,
 
   const Start als =
       linear(LinearMethod::kAls, PlaneProjection::kLengthPreserving);
-  const Start alsp =
+  const Start alsp_l =
       linear(LinearMethod::kAlsp, PlaneProjection::kLengthPreserving);
   const Start alsp_orth =
       linear(LinearMethod::kAlsp, PlaneProjection::kOrthogonal);
   record(EvaluationMethod::kAls, als);
-  record(EvaluationMethod::kAlsp, alsp);
+  record(EvaluationMethod::kAlspLengthPreserving, alsp_l);
   record(EvaluationMethod::kAlspOrthogonal, alsp_orth);
 
   CalibrationOptions cm_options;
@@ -268,7 +269,7 @@ TrialResult EvaluateTrial(const PaperSimulation& simulation,
         simulation, indices, start.odom_from_cam, start.scales, refine_options);
   };
   batch(EvaluationMethod::kAlsB, als);
-  batch(EvaluationMethod::kAlspB, alsp);
+  batch(EvaluationMethod::kAlspLengthPreservingB, alsp_l);
   batch(EvaluationMethod::kCmB, cm);
   Start truth;
   truth.ok = true;

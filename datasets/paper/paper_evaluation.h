@@ -5,13 +5,15 @@
 //
 // Methods (EvaluationMethod):
 //   ALS        closed form, camera translations as measured (kAls)
-//   ALSP       closed form, length-preserving plane projection (our default)
+//   ALSP-L     closed form, length-preserving plane projection
+//              (`--alsp_projection length_preserving`)
 //   ALSP-orth  closed form, the paper's orthogonal projection (== ALS, see
-//              calibration_options.h; kept to measure that)
+//              calibration_options.h; kept to measure that): what the CLI's
+//              `--method alsp` computes by default
 //   CM         Chang et al., minimal solution + RANSAC with a fixed budget
 //              (chang_baseline.h)
-//   ALS-B, ALSP-B, CM-B   batch refinement (RefineOdomFromCam) started at
-//              ALS, ALSP, CM
+//   ALS-B, ALSP-L-B, CM-B   batch refinement (RefineOdomFromCam) started
+//              at ALS, ALSP-L, CM
 //   GT-B       batch refinement started at the truth
 // All use all pairs (no outlier rejection besides CM's own RANSAC); the
 // refinement weighs each pair by its odom_covariance and cam_covariance, has
@@ -48,17 +50,17 @@ namespace odomcal {
 
 enum class EvaluationMethod {
   kAls,
-  kAlsp,
+  kAlspLengthPreserving,
   kAlspOrthogonal,
   kCm,
   kAlsB,
-  kAlspB,
+  kAlspLengthPreservingB,
   kCmB,
   kGtB,
 };
 constexpr int kNumEvaluationMethods = 8;
 
-// "ALS", "ALSP", "ALSP-orth", "CM", "ALS-B", "ALSP-B", "CM-B", "GT-B".
+// "ALS", "ALSP-L", "ALSP-orth", "CM", "ALS-B", "ALSP-L-B", "CM-B", "GT-B".
 std::string ToString(EvaluationMethod method);
 bool IsBatchMethod(EvaluationMethod method);
 // All methods in the order above.

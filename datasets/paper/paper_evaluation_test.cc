@@ -10,10 +10,10 @@
 namespace odomcal {
 namespace {
 
-// The paper's first claim (ALSP-B ~ GT-B) as a regression bound.
+// The paper's first claim (ALSP-L-B ~ GT-B) as a regression bound.
 constexpr double kBatchRelativeTolerance = 0.02;
 
-TEST(RunSweepPoint, AlspBMatchesGtBAndAlspBeatsCm) {
+TEST(RunSweepPoint, AlspLBMatchesGtBAndAlspLBeatsCm) {
   const PaperSimulationOptions simulation =
       ApplySweepValue(NominalPaperSimulation(CameraNoiseMode::kParametric),
                       "rotation_noise",
@@ -21,24 +21,25 @@ TEST(RunSweepPoint, AlspBMatchesGtBAndAlspBeatsCm) {
   EvaluationOptions options;
   const SweepPointResult point =
       RunSweepPoint(simulation, options, "test", 0, 0.1, 300, 2, TestSeed(320));
-  const MethodSummary& alsp_b = point[EvaluationMethod::kAlspB];
+  const MethodSummary& alsp_l_b =
+      point[EvaluationMethod::kAlspLengthPreservingB];
   const MethodSummary& gt_b = point[EvaluationMethod::kGtB];
-  const MethodSummary& alsp = point[EvaluationMethod::kAlsp];
+  const MethodSummary& alsp_l = point[EvaluationMethod::kAlspLengthPreserving];
   const MethodSummary& cm = point[EvaluationMethod::kCm];
-  EXPECT_EQ(alsp_b.num_failures, 0);
+  EXPECT_EQ(alsp_l_b.num_failures, 0);
   EXPECT_EQ(gt_b.num_failures, 0);
-  EXPECT_NEAR(alsp_b.rmse_rotation_deg / gt_b.rmse_rotation_deg,
+  EXPECT_NEAR(alsp_l_b.rmse_rotation_deg / gt_b.rmse_rotation_deg,
               1.0,
               kBatchRelativeTolerance);
-  EXPECT_NEAR(alsp_b.rmse_translation_m / gt_b.rmse_translation_m,
+  EXPECT_NEAR(alsp_l_b.rmse_translation_m / gt_b.rmse_translation_m,
               1.0,
               kBatchRelativeTolerance);
-  EXPECT_NEAR(alsp_b.rmse_scale_rel / gt_b.rmse_scale_rel,
+  EXPECT_NEAR(alsp_l_b.rmse_scale_rel / gt_b.rmse_scale_rel,
               1.0,
               kBatchRelativeTolerance);
-  EXPECT_LT(alsp.rmse_rotation_deg, cm.rmse_rotation_deg);
-  EXPECT_LT(alsp.rmse_translation_m, cm.rmse_translation_m);
-  EXPECT_LT(alsp.rmse_scale_rel, cm.rmse_scale_rel);
+  EXPECT_LT(alsp_l.rmse_rotation_deg, cm.rmse_rotation_deg);
+  EXPECT_LT(alsp_l.rmse_translation_m, cm.rmse_translation_m);
+  EXPECT_LT(alsp_l.rmse_scale_rel, cm.rmse_scale_rel);
   // The orthogonal projection reproduces ALS.
   EXPECT_NEAR(point[EvaluationMethod::kAlspOrthogonal].rmse_rotation_deg,
               point[EvaluationMethod::kAls].rmse_rotation_deg,
@@ -46,7 +47,7 @@ TEST(RunSweepPoint, AlspBMatchesGtBAndAlspBeatsCm) {
   // A consistent estimator: divergences only by chance (< 1.6 % expected).
   EXPECT_LT(gt_b.divergence_rate, 0.05);
   EXPECT_FALSE(std::isnan(gt_b.divergence_rate));
-  EXPECT_TRUE(std::isnan(alsp.divergence_rate));
+  EXPECT_TRUE(std::isnan(alsp_l.divergence_rate));
 }
 
 bool SameError(const MethodError& a, const MethodError& b) {
@@ -93,9 +94,9 @@ TEST(SummarizeTrials, FailuresAreCountedNotAveraged) {
   simulation.num_motions = 1;
   const SweepPointResult point =
       RunSweepPoint(simulation, EvaluationOptions(), "test", 0, 1.0, 4, 1, 1);
-  const MethodSummary& alsp = point[EvaluationMethod::kAlsp];
-  EXPECT_EQ(alsp.num_failures, 4);
-  EXPECT_TRUE(std::isnan(alsp.rmse_rotation_deg));
+  const MethodSummary& alsp_l = point[EvaluationMethod::kAlspLengthPreserving];
+  EXPECT_EQ(alsp_l.num_failures, 4);
+  EXPECT_TRUE(std::isnan(alsp_l.rmse_rotation_deg));
   EXPECT_EQ(point[EvaluationMethod::kCm].num_failures, 4);
   EXPECT_EQ(point[EvaluationMethod::kCmB].num_failures, 4);
 }
