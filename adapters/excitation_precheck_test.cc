@@ -1,5 +1,6 @@
 #include "odomcal/adapters/excitation_precheck.h"
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <gtest/gtest.h>
@@ -11,8 +12,6 @@
 
 namespace odomcal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The JSON `unobservable` list of a result.
 std::vector<std::string> Unobservable(const CalibrationResult& result) {

@@ -1,9 +1,9 @@
 #include "odomcal/plugin/demo_command.h"
 
 #include "odomcal/adapters/format_error.h"
-#include "odomcal/datasets/dataset_presets.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/dataset_presets.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/colmap_runner.h"

@@ -2,7 +2,7 @@
 // the odometry rotations tilt, their axes are not all parallel, and the
 // translation z of the extrinsic is estimated with its standard deviation.
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/tests/test_seed.h"

@@ -1,6 +1,7 @@
 #include "odomcal/solver/calibrate.h"
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
@@ -11,9 +12,6 @@
 
 namespace odomcal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
 
 bool Contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();

@@ -8,6 +8,8 @@
 
 #include "odomcal/solver/hand_eye_linear.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -18,7 +20,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Grid over alpha for the multi-segment profile; the profile has at most a
 // few minima per turn, so half a degree brackets every one of them.
 constexpr int kAlphaGridSize = 720;

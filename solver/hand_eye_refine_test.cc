@@ -1,6 +1,7 @@
 #include "odomcal/solver/hand_eye_refine.h"
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_cost.h"
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/tests/test_seed.h"
@@ -15,8 +16,6 @@
 
 namespace odomcal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<int> AllIndices(const MotionPairs& pairs) {
   std::vector<int> indices(pairs.size());

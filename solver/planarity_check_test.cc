@@ -1,7 +1,7 @@
 #include "odomcal/solver/planarity_check.h"
 
 #include "odomcal/adapters/association.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <gtest/gtest.h>

@@ -1,22 +1,26 @@
 // A downstream project using the installed package: find_package(odomcal)
-// and one call into every exported library. datasets simulates a noise-free
-// drive, adapters writes it as files (trajectories, and a COLMAP text model
-// with image timestamps) and associates it, solver calibrates the pairs,
-// plugin calibrates the COLMAP project (odomcal_plugin.h), reports writes
-// its files, and cli runs the `odomcal calibrate` pipeline on the
-// trajectory files. Every estimate must recover the simulated extrinsic and
-// scale.
+// and one call into every exported library. datasets_simulation simulates a
+// noise-free drive, adapters writes it as files (trajectories, and a COLMAP
+// text model with image timestamps) and associates it, solver calibrates the
+// pairs, datasets_paper runs Chang et al.'s baseline on them,
+// datasets_rendering measures a room, plugin calibrates the COLMAP project
+// (odomcal_plugin.h), reports writes its files, and cli runs the `odomcal
+// calibrate` pipeline on the trajectory files. Every estimate must recover
+// the simulated extrinsic and scale.
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/paper/chang_baseline.h"
+#include "odomcal/datasets/rendering/room_layout.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/calibration_report.h"
 #include "odomcal/plugin/colmap_calibration_outputs.h"
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/odomcal_plugin.h"
 #include "odomcal/plugin/output_folder.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <nlohmann/json.hpp>
@@ -28,8 +32,6 @@
 #include <string>
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 bool Check(bool ok, const std::string& what) {
   if (!ok) std::fprintf(stderr, "consumer: %s\n", what.c_str());
@@ -48,7 +50,7 @@ bool Recovered(const odomcal::CalibrationResult& result,
   const double rotation_error_deg =
       result.odom_from_cam.rotation.angularDistance(
           drive.odom_from_cam.rotation) *
-      kRadToDeg;
+      odomcal::kRadToDeg;
   const double xy_error_m = (result.odom_from_cam.translation.head<2>() -
                              drive.odom_from_cam.translation.head<2>())
                                 .norm();
@@ -127,6 +129,22 @@ int main(int argc, char** argv) {
   const odomcal::CalibrationResult direct = odomcal::CalibrateOdomCam(
       association.pairs, odomcal::CalibrationOptions{});
 
+  // datasets_paper: the CM baseline on the same pairs (noise-free: exact).
+  const odomcal::ChangEstimate chang = odomcal::EstimateOdomFromCamChang(
+      association.pairs, odomcal::CalibrationOptions{});
+  odomcal::CalibrationResult chang_result;
+  chang_result.status = chang.success ? odomcal::CalibrationStatus::kSuccess
+                                      : odomcal::CalibrationStatus::kNotRun;
+  chang_result.message = "CM failed: " + chang.failure;
+  chang_result.odom_from_cam = chang.odom_from_cam;
+  chang_result.metric_scales = chang.metric_scales;
+
+  // datasets_rendering: the centre of a 4 x 3 m room is 1.5 m from a wall.
+  const odomcal::RoomLayout room =
+      odomcal::MakeRectangularRoom(4.0, 3.0, 2.5, true, {});
+  const double wall_distance_m =
+      room.DistanceToObstacles(Eigen::Vector2d(2.0, 1.5));
+
   // plugin: the calibration of a COLMAP project; reports: its files.
   const odomcal::ColmapCalibrationInputs project =
       WriteColmapProject(drive, folder / "project");
@@ -152,6 +170,9 @@ int main(int argc, char** argv) {
       odomcal::CalibrationToJson(run.result, run.context);
 
   const bool ok = Recovered(direct, drive, "solver") &&
+                  Recovered(chang_result, drive, "datasets_paper") &&
+                  Check(std::abs(wall_distance_m - 1.5) < 1e-12,
+                        "datasets_rendering: wall distance") &&
                   Recovered(calibrated.check.result, drive, "plugin") &&
                   Check(calibrated.metric_models.size() == 1 &&
                             calibrated.metric_models[0].model.images.size() ==
