@@ -9,6 +9,7 @@
 #include "odomcal/adapters/association.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 
 #include <algorithm>
@@ -19,7 +20,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Below this |theta| the SE(2) coefficients use their Taylor series; the
 // first omitted terms are O(theta^4) ~ 1e-24, far below double precision.
 constexpr double kSmallAngle = 1e-6;

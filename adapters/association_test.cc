@@ -1,5 +1,7 @@
 #include "odomcal/adapters/association.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,8 +20,6 @@ constexpr double kHandEyeTolerance = 1e-9;
 constexpr int64_t kSecond = 1000000000;
 // A Unix-like base stamp, so that nothing works only for small integers.
 constexpr int64_t kBaseNs = 1403636579763555584;
-
-constexpr double kPi = 3.14159265358979323846;
 
 double Radians(double degrees) { return degrees * kPi / 180.0; }
 

@@ -57,7 +57,7 @@ ExcitationPrecheck PrecheckExcitation(
   CalibrationResult& verdict = precheck.verdict;
   verdict.status = ideal.status;
   verdict.message = ideal.message;
-  verdict.unobservable = ideal.unobservable;
+  verdict.observability = ideal.observability;
   verdict.warnings = ideal.warnings;
   const CalibrationDiagnostics& d = ideal.diagnostics;
   verdict.diagnostics.num_pairs_in = d.num_pairs_in;

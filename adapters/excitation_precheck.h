@@ -30,7 +30,7 @@ struct ExcitationPrecheck {
   // calibration after SfM would have them at best.
   AssociationResult association;
   // The solver's verdict on the ideal motions, without its estimate (which
-  // would only echo the nominal mount): status, message, `unobservable`,
+  // would only echo the nominal mount): status, message, `observability`,
   // warnings and the excitation diagnostics (pairs, turns, yaw increments).
   CalibrationResult verdict;
   // False when the verdict is kNotEnoughMotion or kUnobservable: the data

@@ -1,6 +1,7 @@
 #include "odomcal/adapters/frame_selection.h"
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 
 #include <algorithm>
@@ -35,7 +36,6 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
                    });
   FrameSelection selection;
   selection.num_images = static_cast<int>(images.size());
-  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
   bool have_last = false;
   Rigid3d last;
   for (const TimedImage& image : images) {

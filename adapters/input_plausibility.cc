@@ -3,6 +3,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/solver/angles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +12,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegPerRad = 180.0 / kPi;
 // A wrap by 2 pi leaves the real step, which at any sampling rate of a
 // wheeled robot is far below this.
 constexpr double kMaxWrappedYawStepRad = kPi / 4.0;
@@ -38,9 +37,7 @@ double Median(std::vector<double> values) {
 }
 
 // Angle of a rotation by `angle_rad` about one axis, in [0, pi].
-double FoldedAngle(double angle_rad) {
-  return std::abs(std::remainder(angle_rad, 2.0 * kPi));
-}
+double FoldedAngle(double angle_rad) { return std::abs(WrapAngle(angle_rad)); }
 
 std::string SpanText(int64_t first_ns, int64_t last_ns) {
   return Format("%.3f", NsToSeconds(first_ns)) + "-" +
@@ -104,14 +101,14 @@ void CheckRotationAngleUnits(const MotionPairs& pairs,
     if (!std::isfinite(odom) || !std::isfinite(cam)) continue;
     if (std::max(odom, cam) < kMinPairAngleRad) continue;
     as_radians.push_back(std::abs(odom - cam));
-    as_degrees.push_back(std::abs(odom - FoldedAngle(cam * kDegPerRad)));
-    as_inverse.push_back(std::abs(odom - cam / kDegPerRad));
+    as_degrees.push_back(std::abs(odom - FoldedAngle(cam * kRadToDeg)));
+    as_inverse.push_back(std::abs(odom - cam / kRadToDeg));
   }
   if (static_cast<int>(as_radians.size()) < kMinRotatingPairs) return;
   const double radians = Median(as_radians);
   if (!(radians > kMinAngleMismatchRad)) return;
   const std::string over = " (median mismatch " +
-                           Format("%.2f", radians * kDegPerRad) +
+                           Format("%.2f", radians * kRadToDeg) +
                            " deg as given, ";
   const std::string pairs_text = " deg after the factor, over " +
                                  std::to_string(as_radians.size()) +
@@ -122,7 +119,7 @@ void CheckRotationAngleUnits(const MotionPairs& pairs,
         odometry_source +
         ": the odometry turns 57.3 times as far as the camera in every motion "
         "pair" +
-        over + Format("%.2f", degrees * kDegPerRad) + pairs_text +
+        over + Format("%.2f", degrees * kRadToDeg) + pairs_text +
         ": the odometry yaw looks like degrees; name the column yaw_deg in the "
         "header or convert it to radians");
   }
@@ -132,7 +129,7 @@ void CheckRotationAngleUnits(const MotionPairs& pairs,
         odometry_source +
         ": the odometry turns 57.3 times less than the camera in every motion "
         "pair" +
-        over + Format("%.2f", inverse * kDegPerRad) + pairs_text +
+        over + Format("%.2f", inverse * kRadToDeg) + pairs_text +
         ": the odometry yaw looks like radians read as degrees; name the "
         "column "
         "yaw or yaw_rad in the header");

@@ -1,6 +1,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 
 #include "odomcal/adapters/test_support.h"
+#include "odomcal/solver/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +11,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int64_t kStart = 1700000000000000000;
 
 // A planar log at 50 Hz driving along x at `speed` (units per second).

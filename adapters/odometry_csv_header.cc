@@ -2,12 +2,12 @@
 // after its last '_' (or no suffix), and both are looked up in small tables.
 #include "odomcal/adapters/odometry_csv_header.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <cctype>
 
 namespace odomcal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 enum class Column { kTime, kX, kY, kYaw };
 

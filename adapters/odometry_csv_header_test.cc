@@ -1,5 +1,7 @@
 #include "odomcal/adapters/odometry_csv_header.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,8 +10,6 @@
 
 namespace odomcal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::optional<OdometryCsvColumns> Parse(std::vector<std::string_view> fields,
                                         std::string* error = nullptr) {

@@ -1,6 +1,7 @@
 #include "odomcal/adapters/trajectory_io.h"
 
 #include "odomcal/adapters/test_support.h"
+#include "odomcal/solver/angles.h"
 
 #include <gtest/gtest.h>
 
@@ -444,7 +445,7 @@ TEST(ReadOdometryCsv, HeaderNamesOrderAndUnits) {
   EXPECT_TRUE(b.poses[0].world_from_sensor.translation.isApprox(
       Eigen::Vector3d(1.5, -0.25, 0), 1e-15));
   EXPECT_TRUE(b.poses[0].world_from_sensor.rotation.isApprox(
-      YawRotation(3.14159265358979323846 / 2), 1e-15));
+      YawRotation(kPi / 2), 1e-15));
   // theta, t and milliseconds with a fraction.
   const std::string theta =
       WriteTextFile("theta.csv", "theta,y,x,t_ms\n0,1,2,1.5\n");

@@ -1,5 +1,5 @@
 // Timings of the solver on simulated motion pairs
-// (datasets/motion_simulator.h): the closed form (ALSP and ALS,
+// (datasets/simulation/motion_simulator.h): the closed form (ALSP and ALS,
 // hand_eye_linear.h), the Ceres refinement from the closed-form estimate
 // (hand_eye_refine.h), RANSAC with 30 % outliers (hand_eye_ransac.h) and the
 // whole pipeline (calibrate.h), each at 10, 100, 1000 and 10 000 motion pairs;
@@ -13,7 +13,8 @@
 // one core. Run pinned to one core, e.g.
 //   taskset -c 0 solver_benchmark --benchmark_min_time=0.2
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
@@ -34,7 +35,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 constexpr uint64_t kSeed = 20120514;  // fixed: every run times the same data
 constexpr double kOutlierFraction = 0.3;
 // Noise-free recovery tolerances of the unit tests (hand_eye_linear_test.cc).

@@ -1,9 +1,16 @@
-# odomcal_add_library(NAME SOURCES ... HEADERS ... PUBLIC_LIBS ... PRIVATE_LIBS ...)
-# One library per top-level folder, aliased odomcal::NAME, installed and exported.
+# odomcal_add_library(NAME [EXPORT_NAME name] SOURCES ... HEADERS ...
+#                     PUBLIC_LIBS ... PRIVATE_LIBS ...)
+# A library of a top-level folder, aliased odomcal::NAME, installed and
+# exported as odomcal::NAME, or as odomcal::<EXPORT_NAME> when given (then
+# that alias exists in the build tree too).
 function(odomcal_add_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;HEADERS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "EXPORT_NAME" "SOURCES;HEADERS;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
   add_library(${name} ${ARG_SOURCES} ${ARG_HEADERS})
   add_library(odomcal::${name} ALIAS ${name})
+  if(ARG_EXPORT_NAME)
+    set_target_properties(${name} PROPERTIES EXPORT_NAME ${ARG_EXPORT_NAME})
+    add_library(odomcal::${ARG_EXPORT_NAME} ALIAS ${name})
+  endif()
   target_compile_features(${name} PUBLIC cxx_std_17)
   target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic)
   target_include_directories(${name} PUBLIC

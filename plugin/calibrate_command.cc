@@ -51,6 +51,8 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
   context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
+  context.flag_echo =
+      CalibrationFlagsEcho(inputs.association, inputs.calibration);
   context.association =
       AssociateCameraWithOdometry(cameras, odometry, inputs.association);
   if (context.association.num_usable_camera_poses == 0) {

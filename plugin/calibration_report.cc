@@ -1,10 +1,11 @@
-// Quantities named in CalibrationResult::unobservable are written as null
-// (JSON) or left out (YAML), and printed as "undetermined": a number the data
-// do not support is never reported as if it were an estimate.
+// Quantities CalibrationResult::observability does not call estimated are
+// written as null (JSON) or left out (YAML), and printed as "undetermined":
+// a number the data do not support is never reported as if it were an
+// estimate. A held translation z is the given value, written as such.
 
 #include "odomcal/plugin/calibration_report.h"
 
-#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <opencv2/core.hpp>
@@ -20,16 +21,12 @@ namespace {
 using nlohmann::json;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-bool Has(const std::vector<std::string>& names, const std::string& name) {
-  return std::find(names.begin(), names.end(), name) != names.end();
+bool Estimated(Determination determination) {
+  return determination == Determination::kEstimated;
 }
 
 bool ScaleDetermined(const CalibrationResult& result, size_t segment) {
-  const std::string name =
-      result.metric_scales.size() == 1
-          ? "metric_scale"
-          : "metric_scale[" + std::to_string(segment) + "]";
-  return result.has_estimate && !Has(result.unobservable, name) &&
+  return result.has_estimate && result.observability.ScaleDetermined(segment) &&
          std::isfinite(result.metric_scales[segment]);
 }
 
@@ -64,6 +61,30 @@ json TransformToJson(const Rigid3d& transform,
       NumberOrNull(transform.translation.y(), y_determined),
       NumberOrNull(transform.translation.z(), z_determined)};
   return out;
+}
+
+json PlanarityToJson(const PlanarityCheck& p) {
+  if (!p.checked) return {{"checked", false}};
+  return {
+      {"checked", true},
+      {"consistent", p.consistent},
+      {"tilt_deg", p.tilt_deg},
+      {"out_of_plane_m", p.out_of_plane_m},
+      {"tilt_rms_deg", p.tilt_rms_deg},
+      {"tilt_max_deg", p.tilt_max_deg},
+      {"out_of_plane_rms_m", p.out_of_plane_rms_m},
+      {"out_of_plane_max_m", p.out_of_plane_max_m},
+      {"chi_square", p.chi_square},
+      {"degrees_of_freedom", p.degrees_of_freedom},
+      {"chi_square_threshold", p.chi_square_threshold},
+      {"reduced_chi_square", p.reduced_chi_square},
+      {"correlation_length", p.correlation_length},
+      {"covariance_inflation", p.covariance_inflation},
+      {"worst_first_time_s", FormatTimestampSeconds(p.worst_first_stamp_ns)},
+      {"worst_last_time_s", FormatTimestampSeconds(p.worst_last_stamp_ns)},
+      {"worst_tilt_rms_deg", p.worst_tilt_rms_deg},
+      {"worst_out_of_plane_rms_m", p.worst_out_of_plane_rms_m},
+  };
 }
 
 json DiagnosticsToJson(const CalibrationDiagnostics& d) {
@@ -107,6 +128,7 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
       {"relative_translation", d.relative_translation_residual},
       {"reduced_chi_square", d.reduced_chi_square},
   };
+  out["planarity"] = PlanarityToJson(d.planarity);
   out["ransac_num_iterations"] = d.ransac_num_iterations;
   out["refined"] = d.refined;
   out["refinement_num_iterations"] = d.refinement_num_iterations;
@@ -124,11 +146,12 @@ std::string Format(const char* format, double value) {
 
 json CalibrationToJson(const CalibrationResult& result,
                        const ReportContext& context) {
-  const auto& unobservable = result.unobservable;
+  const Observability& observability = result.observability;
   const bool estimate = result.has_estimate;
-  const bool rotation = estimate && !Has(unobservable, "rotation");
-  const bool x = estimate && !Has(unobservable, "translation_x");
-  const bool y = estimate && !Has(unobservable, "translation_y");
+  const bool rotation = estimate && Estimated(observability.rotation);
+  const bool x = estimate && Estimated(observability.translation_x);
+  const bool y = estimate && Estimated(observability.translation_y);
+  const bool z = estimate && Estimated(observability.translation_z);
   json out;
   out["schema"] = "odomcal.calibration";
   out["schema_version"] = kResultSchemaVersion;
@@ -161,7 +184,7 @@ json CalibrationToJson(const CalibrationResult& result,
   }
   out["metric_scales"] = scales;
   out["metric_scale"] = scales.size() == 1 ? scales[0] : json(nullptr);
-  out["unobservable"] = unobservable;
+  out["unobservable"] = UnobservableNames(observability);
   out["fixed"] = {
       {"translation_z_m", context.calibration_options.fixed_translation_z_m}};
 
@@ -187,12 +210,17 @@ json CalibrationToJson(const CalibrationResult& result,
          NumberOrNull(result.stddev_translation_xy_m.x(), x)},
         {"translation_y_m",
          NumberOrNull(result.stddev_translation_xy_m.y(), y)},
+        {"translation_z_m", NumberOrNull(result.stddev_translation_z_m, z)},
         {"metric_scales_rel", stddev_scales},
     };
+    // tz, when estimated, is the last parameter.
+    const bool tz =
+        result.observability.translation_z == Determination::kEstimated;
     json order = {"rx", "ry", "rz", "tx", "ty"};
-    for (size_t k = 0; k + 5 < static_cast<size_t>(c.rows()); ++k) {
+    for (size_t k = 0; k + 5 + tz < static_cast<size_t>(c.rows()); ++k) {
       order.push_back("s_" + std::to_string(k));
     }
+    if (tz) order.push_back("tz");
     json rows = json::array();
     for (int r = 0; r < c.rows(); ++r) {
       json row = json::array();
@@ -204,8 +232,9 @@ json CalibrationToJson(const CalibrationResult& result,
         {"perturbation",
          "rotation: left, R = Exp(phi) * R_hat, phi in radians about the "
          "odometry axes; translation: additive, metres; s_k: metric scale of "
-         "segment k, metres per reconstruction unit; translation z is fixed "
-         "and excluded"},
+         "segment k, metres per reconstruction unit; " +
+             std::string(tz ? "tz: translation z, additive, metres"
+                            : "translation z is fixed and excluded")},
         {"matrix", rows},
     };
   } else {
@@ -235,7 +264,8 @@ json CalibrationToJson(const CalibrationResult& result,
     };
   }
   out["diagnostics"] = diagnostics;
-  // The flags' echo: keys and values from the option tables (cli_flags.h).
+  // The paths and units as read, then the flags' values as the command line
+  // echoed them (ReportContext::flag_echo, from its option tables).
   json inputs = {
       {"command", context.command},
       {"camera_poses", context.camera_paths},
@@ -246,11 +276,8 @@ json CalibrationToJson(const CalibrationResult& result,
       {"camera_time_unit", context.camera_time_unit},
       {"odometry_time_unit", context.odometry_time_unit},
   };
-  EchoOptions(AssociationFlags(), context.association_options, &inputs);
-  inputs.update(context.command_inputs);
-  json options = json::object();
-  EchoOptions(CalibrationOptionFlags(), context.calibration_options, &options);
-  options.update(context.command_options);
+  inputs.update(context.flag_echo.value("inputs", json::object()));
+  const json options = context.flag_echo.value("options", json::object());
   out["inputs"] = inputs;
   out["options"] = options;
   return out;
@@ -260,12 +287,11 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
   cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   fs << "status" << ToString(result.status);
   fs << "message" << result.message;
+  const Observability& observability = result.observability;
   const bool rotation =
-      result.has_estimate && !Has(result.unobservable, "rotation");
-  const bool x =
-      result.has_estimate && !Has(result.unobservable, "translation_x");
-  const bool y =
-      result.has_estimate && !Has(result.unobservable, "translation_y");
+      result.has_estimate && Estimated(observability.rotation);
+  const bool x = result.has_estimate && Estimated(observability.translation_x);
+  const bool y = result.has_estimate && Estimated(observability.translation_y);
   if (rotation && x && y) {
     const Eigen::Matrix4d m = result.odom_from_cam.ToMatrix();
     cv::Mat matrix(4, 4, CV_64F);
@@ -290,7 +316,7 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
   if (!scales.empty()) fs << "metric_scales" << scales;
   fs << "unobservable"
      << "[";
-  for (const std::string& name : result.unobservable) fs << name;
+  for (const std::string& name : UnobservableNames(observability)) fs << name;
   fs << "]";
   if (result.covariance && rotation && x && y) {
     const Eigen::MatrixXd& c = *result.covariance;
@@ -303,7 +329,9 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
     }
     fs << "covariance" << covariance;
     fs << "covariance_order"
-       << "rx ry rz (left perturbation, rad) tx ty (m) s_k";
+       << (Estimated(observability.translation_z)
+               ? "rx ry rz (left perturbation, rad) tx ty (m) s_k tz (m)"
+               : "rx ry rz (left perturbation, rad) tx ty (m) s_k");
   }
   return fs.releaseAndGetString();
 }
@@ -328,17 +356,19 @@ std::string CalibrationSummary(const CalibrationResult& result,
       << " motion pairs\n";
   if (!result.has_estimate) {
     out << "  no estimate; undetermined:";
-    for (const std::string& name : result.unobservable) out << " " << name;
+    for (const std::string& name : UnobservableNames(result.observability)) {
+      out << " " << name;
+    }
     out << "\n";
   } else {
-    const auto& u = result.unobservable;
+    const Observability& o = result.observability;
     const bool sigma = result.covariance.has_value();
-    const bool rotation = !Has(u, "rotation");
+    const bool rotation = Estimated(o.rotation);
     if (calibrated) {
       out << "  odom_from_cam (x_in_odom = odom_from_cam * x_in_cam):\n";
     } else {
       out << "  undetermined:";
-      for (const std::string& name : u) out << " " << name;
+      for (const std::string& name : UnobservableNames(o)) out << " " << name;
       out << "\n  partial estimate, NOT a calibration (do not use it; "
              "odom_from_cam, x_in_odom = odom_from_cam * x_in_cam):\n";
     }
@@ -364,9 +394,8 @@ std::string CalibrationSummary(const CalibrationResult& result,
     }
     const char axis[2] = {'x', 'y'};
     for (int k = 0; k < 2; ++k) {
-      const std::string name = std::string("translation_") + axis[k];
       out << "    " << axis[k] << "     ";
-      if (Has(u, name)) {
+      if (!Estimated(k == 0 ? o.translation_x : o.translation_y)) {
         out << "undetermined\n";
         continue;
       }
@@ -378,9 +407,18 @@ std::string CalibrationSummary(const CalibrationResult& result,
       out << "\n";
     }
     out << "    z     "
-        << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation.z())
-        << "   fixed (unobservable under planar motion; "
-           "--fixed_translation_z_m)\n";
+        << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation.z());
+    if (Estimated(o.translation_z)) {
+      if (sigma) {
+        out << Format("   +- %.2f cm (3 sigma)",
+                      300.0 * result.stddev_translation_z_m);
+      }
+      out << "   estimated (SE(3) odometry, rotation axes not all "
+             "parallel)\n";
+    } else {
+      out << "   fixed (unobservable under planar motion; "
+             "--fixed_translation_z_m)\n";
+    }
     for (size_t k = 0; k < result.metric_scales.size(); ++k) {
       out << "  metric scale";
       if (result.metric_scales.size() > 1) out << " [segment " << k << "]";

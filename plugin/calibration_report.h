@@ -26,11 +26,13 @@ struct ReportContext {
   AssociationOptions association_options;
   AssociationResult association;  // counts; pairs are not echoed
   CalibrationOptions calibration_options;
-  // The echo of the command's own flags (those of `odomcal colmap` and
-  // `odomcal run`, from their option tables), merged into `inputs` and
-  // `options`.
-  nlohmann::json command_inputs = nlohmann::json::object();
-  nlohmann::json command_options = nlohmann::json::object();
+  // The values of the command's flags, {"inputs": {...}, "options": {...}},
+  // written into the result's `inputs` (after the paths and units above) and
+  // `options`. The command line makes it from its option tables
+  // (CalibrationFlagsEcho in cli_flags.h, ProjectFlagsEcho, RunFlagsEcho),
+  // so that it lists exactly the flags; without it the result's `options`
+  // is empty.
+  nlohmann::json flag_echo = nlohmann::json::object();
 };
 
 constexpr int kResultSchemaVersion = 1;

@@ -78,12 +78,16 @@ TEST(CalibrationToJson, ASuccessGivesTheEstimateConsistentlyInEveryForm) {
 TEST(CalibrationToJson, UnobservableQuantitiesAreNullNeverNumbers) {
   CalibrationRun run = SimulatedCalibrationRun(3, /*straight_only=*/false);
   ASSERT_TRUE(run.result.has_estimate);
-  run.result.unobservable = {"translation_y", "metric_scale"};
+  const Observability estimated = run.result.observability;
+  run.result.observability.translation_y = Determination::kUndetermined;
+  run.result.observability.metric_scales[0] = Determination::kUndetermined;
   const json out = CalibrationToJson(run.result, run.context);
   const json& t = out["odom_from_cam"]["translation_m"];
   EXPECT_TRUE(t[0].is_number());
   EXPECT_TRUE(t[1].is_null());
   EXPECT_TRUE(t[2].is_number());  // fixed, not estimated
+  EXPECT_EQ(out["unobservable"],
+            json::array({"translation_z", "translation_y", "metric_scale"}));
   EXPECT_TRUE(out["odom_from_cam"]["quaternion_wxyz"].is_array());
   EXPECT_TRUE(out["cam_from_odom"].is_null());
   EXPECT_TRUE(out["metric_scales"][0].is_null());
@@ -94,7 +98,8 @@ TEST(CalibrationToJson, UnobservableQuantitiesAreNullNeverNumbers) {
       out["diagnostics"]["closed_form"]["odom_from_cam"]["translation_m"][1]
           .is_null());
 
-  run.result.unobservable = {"rotation"};
+  run.result.observability = estimated;
+  run.result.observability.rotation = Determination::kUndetermined;
   const json no_rotation = CalibrationToJson(run.result, run.context);
   for (const char* key : {"matrix", "quaternion_wxyz", "roll_pitch_yaw_deg"}) {
     EXPECT_TRUE(no_rotation["odom_from_cam"][key].is_null()) << key;

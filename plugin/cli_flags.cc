@@ -270,4 +270,13 @@ void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs) {
   AddFlags(CalibrationOptionFlags(), app, &inputs->calibration);
 }
 
+nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
+                                    const CalibrationOptions& calibration) {
+  nlohmann::json echo = {{"inputs", nlohmann::json::object()},
+                         {"options", nlohmann::json::object()}};
+  EchoOptions(AssociationFlags(), association, &echo["inputs"]);
+  EchoOptions(CalibrationOptionFlags(), calibration, &echo["options"]);
+  return echo;
+}
+
 }  // namespace odomcal

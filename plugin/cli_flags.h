@@ -10,12 +10,13 @@
 #include "odomcal/solver/calibration_options.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 namespace odomcal {
 
 // How the input files are read: --odometry_format, --camera_time_unit,
 // --odometry_time_unit. No echo functions: the report echoes in `inputs` the
-// units and format it was given in ReportContext (for `odomcal colmap`
+// units and format it is given in ReportContext (for `odomcal colmap`
 // without --image_timestamps the camera times come "from image file names").
 const OptionTable<CalibrateInputs>& InputFormatFlags();
 // --camera_time_offset_s, --max_odometry_gap_s, --keyframe_min_* (echoed in
@@ -28,5 +29,10 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags();
 // Registers the tables above, in the order of docs/cli.md, bound to
 // `inputs`: after parsing, `inputs` holds every value given.
 void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs);
+
+// The echo of the association and calibration flags, for
+// ReportContext::flag_echo: {"inputs": {...}, "options": {...}}.
+nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
+                                    const CalibrationOptions& calibration);
 
 }  // namespace odomcal

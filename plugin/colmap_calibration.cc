@@ -9,10 +9,6 @@
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
-#include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
-#include "odomcal/plugin/project_flags.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -101,44 +97,48 @@ ColmapModel TransformModel(const ColmapModel& model,
   return metric;
 }
 
-bool HasUsableExtrinsic(const CalibrationResult& result) {
-  if (!result.has_estimate) return false;
-  for (const char* name : {"rotation", "translation_x", "translation_y"}) {
-    if (std::find(result.unobservable.begin(),
-                  result.unobservable.end(),
-                  name) != result.unobservable.end()) {
-      return false;
-    }
+// "sub-model 0: COLMAP's scale drifts by +10.1 % (3 sigma 0.4 %) from
+// <t0> to <t1> s (seen in the step lengths against the odometry): calibrated
+// and exported as 4 stretches with scales of their own: <t0> .. <t> s
+// 0.3712 m/unit, ..."
+std::string ScaleDriftWarning(const std::string& sub_model,
+                              const ScaleDrift& drift,
+                              const CalibrationResult& result) {
+  char sigma[32];
+  std::snprintf(
+      sigma, sizeof(sigma), "%.1f %%", 300.0 * drift.relative_drift_stddev);
+  std::string text = "sub-model " + sub_model + ": COLMAP's scale drifts by " +
+                     SignedPercent(drift.relative_drift) + " (3 sigma " +
+                     sigma + ") from " +
+                     FormatTimestampSeconds(drift.first_stamp_ns) + " to " +
+                     FormatTimestampSeconds(drift.last_stamp_ns) +
+                     " s (seen in the step lengths against the odometry): "
+                     "calibrated and exported as " +
+                     std::to_string(drift.stretches.size()) +
+                     " stretches with scales of their own:";
+  for (size_t k = 0; k < drift.stretches.size(); ++k) {
+    const ScaleStretch& stretch = drift.stretches[k];
+    char scale[32];
+    std::snprintf(scale,
+                  sizeof(scale),
+                  "%.5g",
+                  result.metric_scales.at(stretch.output_segment));
+    text += std::string(k == 0 ? " " : ", ") +
+            FormatTimestampSeconds(stretch.first_stamp_ns) + " .. " +
+            FormatTimestampSeconds(stretch.last_stamp_ns) + " s " + scale +
+            " m/unit";
   }
-  return true;
+  return text;
+}
+
+bool HasUsableExtrinsic(const CalibrationResult& result) {
+  return result.has_estimate && result.observability.ExtrinsicDetermined();
 }
 
 }  // namespace
 
-ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
-                                   const std::string& command) {
-  ReportContext context;
-  context.command = command;
-  context.odometry_path = inputs.odometry_path;
-  context.odometry_format = inputs.odometry_format;
-  context.camera_time_unit = inputs.image_timestamps_path.empty()
-                                 ? "from image file names"
-                                 : TimeUnitName(inputs.image_time_unit);
-  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
-  context.association_options = inputs.association;
-  context.calibration_options = inputs.calibration;
-  EchoOptions(ColmapModelFlags(), inputs, &context.command_inputs);
-  EchoOptions(ProjectInputFlags(), inputs, &context.command_inputs);
-  EchoOptions(StretchFlags(), inputs.stretch, &context.command_options);
-  context.command_inputs.update(
-      inputs.command_echo.value("inputs", nlohmann::json::object()));
-  context.command_options.update(
-      inputs.command_echo.value("options", nlohmann::json::object()));
-  return context;
-}
-
 ColmapCalibrationRun CalibrateColmapProject(
-    const ColmapCalibrationInputs& inputs, const std::string& command) {
+    const ColmapCalibrationInputs& inputs) {
   inputs.association.Check();
   inputs.calibration.Check();
   const ImageTimestamps timestamps =
@@ -174,23 +174,17 @@ ColmapCalibrationRun CalibrateColmapProject(
     CheckImageTimesAreNotFrameNumbers(
         image_stamps_ns, inputs.model_path, timestamps.how_read());
   }
-  run.context = ProjectReportContext(inputs, command);
-  ReportContext& context = run.context;
-  for (const ColmapSegment& segment : run.segments) {
-    context.camera_paths.push_back(segment.model_path);
-  }
-  context.association =
+  run.association =
       AssociateCameraWithOdometry(cameras, run.odometry, inputs.association);
-  if (context.association.num_usable_camera_poses == 0) {
+  if (run.association.num_usable_camera_poses == 0) {
     throw FormatError(
         inputs.model_path +
         ": no registered image time falls inside the "
         "odometry " +
         inputs.odometry_path + " (" +
-        std::to_string(context.association.num_outside_odometry_span) +
+        std::to_string(run.association.num_outside_odometry_span) +
         " outside its span, " +
-        std::to_string(context.association.num_in_odometry_gaps) +
-        " in gaps): " +
+        std::to_string(run.association.num_in_odometry_gaps) + " in gaps): " +
         TimeSpansText(cameras,
                       timestamps.how_read(),
                       inputs.association.camera_time_offset_ns,
@@ -198,10 +192,10 @@ ColmapCalibrationRun CalibrateColmapProject(
         "; check the image timestamps, their unit and "
         "--camera_time_offset_s");
   }
-  CheckRotationAngleUnits(context.association.pairs, run.odometry.source);
+  CheckRotationAngleUnits(run.association.pairs, run.odometry.source);
 
   run.check = CalibrateWithStretchCheck(
-      context.association.pairs, inputs.calibration, inputs.stretch);
+      run.association.pairs, inputs.calibration, inputs.stretch);
   CalibrationResult& result = run.check.result;
   if (result.status == CalibrationStatus::kSuccess) {
     if (const auto warning = ExtrinsicDistanceWarning(result.odom_from_cam)) {
@@ -235,12 +229,16 @@ ColmapCalibrationRun CalibrateColmapProject(
         " s (COLMAP scale drift, seen in the step lengths): the parts are "
         "calibrated as segments with scales of their own");
   }
-  if (context.association.num_outside_odometry_span +
-          context.association.num_in_odometry_gaps >
+  for (const ScaleDrift& drift : run.check.scale_drifts) {
+    result.warnings.push_back(ScaleDriftWarning(
+        run.segments[drift.input_segment].sub_model, drift, result));
+  }
+  if (run.association.num_outside_odometry_span +
+          run.association.num_in_odometry_gaps >
       0) {
     result.warnings.push_back(
-        std::to_string(context.association.num_outside_odometry_span +
-                       context.association.num_in_odometry_gaps) +
+        std::to_string(run.association.num_outside_odometry_span +
+                       run.association.num_in_odometry_gaps) +
         " registered images lie outside the odometry span or in its gaps");
   }
   if (!HasUsableExtrinsic(result)) {
@@ -331,81 +329,6 @@ ColmapCalibrationRun CalibrateColmapProject(
     run.metric_models.push_back(std::move(metric));
   }
   return run;
-}
-
-std::vector<std::string> ColmapCalibrationOutputEntries() {
-  return {"calibration.json",
-          "calibration.yaml",
-          "sparse_metric",
-          "camera_in_odom.tum",
-          "camera_in_odom.tum.tmp",
-          "report.html"};
-}
-
-std::vector<std::string> WriteColmapCalibrationOutputs(
-    const ColmapCalibrationRun& run, const std::string& output_dir) {
-  const fs::path root(output_dir);
-  WriteFileAtomically((root / "calibration.json").string(),
-                      ColmapCalibrationToJson(run).dump(2) + "\n");
-  WriteFileAtomically((root / "calibration.yaml").string(),
-                      CalibrationToYaml(run.check.result));
-  std::vector<std::string> entries = {"calibration.json", "calibration.yaml"};
-
-  // sparse_metric/<name>: written to a temporary folder, then renamed. An
-  // earlier run's sub-models go first: they are not this calibration's.
-  const fs::path metric_root = root / "sparse_metric";
-  RemoveOwnedOutput(output_dir, "sparse_metric");
-  if (!run.metric_models.empty()) {
-    fs::create_directories(metric_root);
-    entries.push_back("sparse_metric/");
-  }
-  for (const MetricSubModel& metric : run.metric_models) {
-    const fs::path target = metric_root / metric.name;
-    const fs::path temporary = metric_root / (metric.name + ".tmp");
-    RemoveOwnedOutput(output_dir, "sparse_metric/" + metric.name + ".tmp");
-    fs::create_directories(temporary);
-    WriteColmapModel(metric.model, temporary.string(), ColmapFormat::kBinary);
-    RemoveOwnedOutput(output_dir, "sparse_metric/" + metric.name);
-    fs::rename(temporary, target);
-  }
-
-  // camera_in_odom.tum: origin_from_cam of every registered image with a
-  // time, in metres, each image once.
-  Trajectory cameras;
-  cameras.source = "camera_in_odom";
-  std::set<std::string> written;
-  std::map<std::string, int64_t> stamp_of;
-  for (const ColmapSegment& segment : run.segments) {
-    for (size_t i = 0; i < segment.image_names.size(); ++i) {
-      stamp_of.emplace(segment.image_names[i],
-                       segment.trajectory.poses[i].stamp_ns);
-    }
-  }
-  for (const MetricSubModel& metric : run.metric_models) {
-    for (const auto& [id, image] : metric.model.images) {
-      const auto stamp = stamp_of.find(image.name);
-      if (stamp == stamp_of.end() || !written.insert(image.name).second)
-        continue;
-      cameras.poses.push_back({stamp->second, Inverse(image.cam_from_world)});
-    }
-  }
-  std::sort(cameras.poses.begin(),
-            cameras.poses.end(),
-            [](const StampedPose& a, const StampedPose& b) {
-              return a.stamp_ns < b.stamp_ns;
-            });
-  const std::string tum_path = (root / "camera_in_odom.tum").string();
-  const std::string tum_temporary = tum_path + ".tmp";
-  RemoveOwnedOutput(output_dir, "camera_in_odom.tum");
-  if (!cameras.poses.empty()) {
-    WriteTumTrajectory(cameras, tum_temporary);
-    fs::rename(tum_temporary, tum_path);
-    entries.push_back("camera_in_odom.tum");
-  }
-
-  WriteFileAtomically((root / "report.html").string(), ColmapReportHtml(run));
-  entries.push_back("report.html");
-  return entries;
 }
 
 }  // namespace odomcal

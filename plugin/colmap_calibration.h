@@ -1,5 +1,5 @@
-// Calibration of an existing COLMAP project against wheel odometry, and its
-// outputs: the shared core of `odomcal colmap` and `odomcal run`.
+// Calibration of an existing COLMAP project against wheel odometry: the
+// shared core of `odomcal colmap` and `odomcal run`.
 //
 // Steps: read every sub-model as a segment (adapters/colmap_segments.h),
 // leave out those that only repeat images of a larger one, associate with
@@ -16,7 +16,6 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/calibration_report.h"
 #include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/similarity_alignment.h"
@@ -41,10 +40,6 @@ struct ColmapCalibrationInputs {
   AssociationOptions association;
   CalibrationOptions calibration;
   StretchOptions stretch;
-  // The echo of the command's own flags (`odomcal run`'s, run_flags.h):
-  // {"inputs": {...}, "options": {...}}, merged into the result's by
-  // ProjectReportContext.
-  nlohmann::json command_echo = nlohmann::json::object();
 };
 
 // One sub-model in metres in the odometry's origin frame.
@@ -61,41 +56,18 @@ struct ColmapCalibrationRun {
   std::vector<ColmapSegment> segments;  // one per sub-model, but for:
   std::vector<DuplicateSegment> duplicate_segments;  // left out
   Trajectory odometry;
-  int num_database_images = -1;  // -1: no database given
-  StretchCheckResult check;      // result, pairs used, stretches
-  ReportContext context;
+  int num_database_images = -1;   // -1: no database given
+  AssociationResult association;  // the motion pairs and their counts
+  StretchCheckResult check;       // result, pairs used, stretches
   std::vector<MetricSubModel> metric_models;
   // `odomcal run` only: every mapper run and the one calibrated here.
   std::vector<MapperAttempt> mapper_attempts;
   int chosen_mapper_attempt = -1;
-  // What was written in the output folder, as listed to the user
-  // ("calibration.json", "sparse_metric/", ...): only entries with content.
-  std::vector<std::string> written_outputs;
 };
 
-// The report's account of the inputs and options of a project calibration
-// (no camera paths, no association: the caller adds what it has).
-ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
-                                   const std::string& command);
-
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).
+// Reads only; the outputs are written by colmap_calibration_outputs.h.
 ColmapCalibrationRun CalibrateColmapProject(
-    const ColmapCalibrationInputs& inputs, const std::string& command);
-
-// The entries WriteColmapCalibrationOutputs writes in its folder (for
-// ClaimOutputFolder, output_folder.h).
-std::vector<std::string> ColmapCalibrationOutputEntries();
-
-// Writes into `output_dir` (which must exist and be claimed for the entries
-// above): calibration.json/.yaml, sparse_metric/<sub-model>/ (COLMAP binary),
-// camera_in_odom.tum and report.html. Every file is written atomically.
-// sparse_metric/ and camera_in_odom.tum are written only when they hold a
-// model or a pose (without an extrinsic there is nothing to put in metres:
-// an empty folder or a header-only file would read as a result); an earlier
-// run's are removed. Returns what it wrote: "calibration.json",
-// "calibration.yaml", ["sparse_metric/", "camera_in_odom.tum",]
-// "report.html".
-std::vector<std::string> WriteColmapCalibrationOutputs(
-    const ColmapCalibrationRun& run, const std::string& output_dir);
+    const ColmapCalibrationInputs& inputs);
 
 }  // namespace odomcal

@@ -3,6 +3,8 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap_calibration_outputs.h"
+#include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/project_flags.h"
 
@@ -50,12 +52,13 @@ int RunColmap(int argc, char** argv) {
                         ColmapCalibrationOutputEntries(),
                         overwrite ? ExistingOutputs::kReplaceOwn
                                   : ExistingOutputs::kRefuseNonEmptyFolder);
-    const ColmapCalibrationRun run =
-        CalibrateColmapProject(inputs, "odomcal colmap");
+    const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+    const ReportContext context = ProjectReportContext(
+        inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs));
     const std::vector<std::string> written =
-        WriteColmapCalibrationOutputs(run, output_path);
+        WriteColmapCalibrationOutputs(run, context, output_path);
     if (!quiet) {
-      std::cout << CalibrationSummary(run.check.result, run.context);
+      std::cout << CalibrationSummary(run.check.result, context);
       std::string names;
       for (const std::string& name : written)
         names += (names.empty() ? "" : ", ") + name;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -24,8 +25,31 @@ json Sim3ToJson(const Sim3d& sim3) {
 
 }  // namespace
 
-json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
-  json out = CalibrationToJson(run.check.result, run.context);
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const ColmapCalibrationRun& run,
+                                   const std::string& command,
+                                   nlohmann::json flag_echo) {
+  ReportContext context;
+  context.command = command;
+  for (const ColmapSegment& segment : run.segments) {
+    context.camera_paths.push_back(segment.model_path);
+  }
+  context.odometry_path = inputs.odometry_path;
+  context.odometry_format = inputs.odometry_format;
+  context.camera_time_unit = inputs.image_timestamps_path.empty()
+                                 ? "from image file names"
+                                 : TimeUnitName(inputs.image_time_unit);
+  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  context.association_options = inputs.association;
+  context.association = run.association;
+  context.calibration_options = inputs.calibration;
+  context.flag_echo = std::move(flag_echo);
+  return context;
+}
+
+json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
+                             const ReportContext& context) {
+  json out = CalibrationToJson(run.check.result, context);
   json sub_models = json::array();
   for (const ColmapSegment& segment : run.segments) {
     sub_models.push_back(
@@ -55,7 +79,25 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
          {"time_s", FormatTimestampSeconds(cut.stamp_ns)},
          {"metric_scale_before", cut.scale_before},
          {"metric_scale_after", cut.scale_after},
-         {"f_statistic", cut.f_statistic}});
+         {"f_statistic", cut.f_statistic},
+         {"f_threshold", cut.f_threshold}});
+  }
+  json scale_drifts = json::array();
+  for (const ScaleDrift& drift : run.check.scale_drifts) {
+    json stretches_of_drift = json::array();
+    for (const ScaleStretch& stretch : drift.stretches) {
+      stretches_of_drift.push_back(
+          {{"segment", stretch.output_segment},
+           {"first_time_s", FormatTimestampSeconds(stretch.first_stamp_ns)},
+           {"last_time_s", FormatTimestampSeconds(stretch.last_stamp_ns)}});
+    }
+    scale_drifts.push_back(
+        {{"sub_model", run.segments[drift.input_segment].sub_model},
+         {"first_time_s", FormatTimestampSeconds(drift.first_stamp_ns)},
+         {"last_time_s", FormatTimestampSeconds(drift.last_stamp_ns)},
+         {"relative_drift", drift.relative_drift},
+         {"relative_drift_stddev", drift.relative_drift_stddev},
+         {"stretches", stretches_of_drift}});
   }
   json segment_sources = json::array();
   for (const int input : run.check.input_segment_of_output_segment) {
@@ -105,15 +147,17 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run) {
       {"segment_sub_models", segment_sources},
       {"inconsistent_stretches", stretches},
       {"scale_changes", scale_changes},
+      {"scale_drifts", scale_drifts},
       {"metric_models", metric_models},
       {"mapper_attempts", mapper_attempts},
   };
   return out;
 }
 
-std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
+std::string ColmapReportHtml(const ColmapCalibrationRun& run,
+                             const ReportContext& context) {
   const CalibrationResult& result = run.check.result;
-  const MotionPairs& input_pairs = run.context.association.pairs;
+  const MotionPairs& input_pairs = run.association.pairs;
   const size_t num_input = input_pairs.size();
   const double nan = std::nan("");
 
@@ -344,7 +388,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run) {
        << "\">" << EscapeMarkup(ToString(result.status)) << ": "
        << EscapeMarkup(result.message) << "</p>\n"
        << "<h2>Estimate (3-sigma bounds)</h2>\n<pre>"
-       << EscapeMarkup(CalibrationSummary(result, run.context)) << "</pre>\n"
+       << EscapeMarkup(CalibrationSummary(result, context)) << "</pre>\n"
        << "<p>odom_from_cam maps camera coordinates to odometry (robot base) "
           "coordinates; "
           "roll, pitch, yaw in degrees; x, y, z in cm; the bounds are three "

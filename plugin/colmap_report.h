@@ -3,6 +3,7 @@
 // report with inline SVG plots.
 #pragma once
 
+#include "odomcal/plugin/calibration_report.h"
 #include "odomcal/plugin/colmap_calibration.h"
 
 #include <nlohmann/json.hpp>
@@ -11,12 +12,24 @@
 
 namespace odomcal {
 
-nlohmann::json ColmapCalibrationToJson(const ColmapCalibrationRun& run);
+// The report's account of a project calibration: `inputs`' paths, time
+// units and options, the sub-models and association of `run`, `command`
+// ("odomcal colmap") and the echo of its flags (ReportContext::flag_echo;
+// the command line's ProjectFlagsEcho, project_flags.h).
+ReportContext ProjectReportContext(
+    const ColmapCalibrationInputs& inputs,
+    const ColmapCalibrationRun& run,
+    const std::string& command,
+    nlohmann::json flag_echo = nlohmann::json::object());
+
+nlohmann::json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
+                                       const ReportContext& context);
 
 // report.html: the estimate with 3-sigma bounds, warnings, and plots: top
 // view of the odometry and the calibrated camera trajectory, per-pair
 // residuals, yaw excitation, and the COLMAP-vs-odometry consistency with
 // rejected stretches marked.
-std::string ColmapReportHtml(const ColmapCalibrationRun& run);
+std::string ColmapReportHtml(const ColmapCalibrationRun& run,
+                             const ReportContext& context);
 
 }  // namespace odomcal

@@ -1,5 +1,6 @@
 #include "odomcal/plugin/colmap_report.h"
 
+#include "odomcal/plugin/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report_testing.h"
 
 #include <unistd.h>
@@ -62,9 +63,9 @@ class ColmapReport : public ::testing::Test {
     fs::remove_all(dir);
     SimulatedColmapProjectOptions options;
     options.fold = true;
-    run_ = new ColmapCalibrationRun(CalibrateColmapProject(
-        WriteSimulatedColmapProject((dir / "project").string(), options),
-        "odomcal colmap"));
+    const ColmapCalibrationInputs inputs =
+        WriteSimulatedColmapProject((dir / "project").string(), options);
+    run_ = new ColmapCalibrationRun(CalibrateColmapProject(inputs));
     MapperAttempt first;
     first.random_seed = 1;
     first.produced_model = true;
@@ -85,9 +86,12 @@ class ColmapReport : public ::testing::Test {
         "a <b>bold</b> & \"quoted\" warning that goes on and on without a "
         "single space: " +
         std::string(300, 'x'));
-    html_ = new std::string(ColmapReportHtml(*run_));
+    context_ = new ReportContext(
+        ProjectReportContext(inputs, *run_, "odomcal colmap"));
+    html_ = new std::string(ColmapReportHtml(*run_, *context_));
     fs::create_directories(dir / "out");
-    WriteColmapCalibrationOutputs(*run_, (dir / "out").string());  // for a look
+    WriteColmapCalibrationOutputs(
+        *run_, *context_, (dir / "out").string());  // for a look
   }
   static void TearDownTestSuite() {
     // ODOMCAL_KEEP_TEST_FILES keeps out/report.html
@@ -96,12 +100,15 @@ class ColmapReport : public ::testing::Test {
       fs::remove_all(ProcessDir());
     }
     delete run_;
+    delete context_;
     delete html_;
   }
   static ColmapCalibrationRun* run_;
+  static ReportContext* context_;
   static std::string* html_;
 };
 ColmapCalibrationRun* ColmapReport::run_ = nullptr;
+ReportContext* ColmapReport::context_ = nullptr;
 std::string* ColmapReport::html_ = nullptr;
 
 TEST_F(ColmapReport, TheRunHasWhatTheReportShows) {
@@ -251,7 +258,7 @@ TEST_F(ColmapReport, WarningsAppearVerbatimEscapedAndWrap) {
 }
 
 TEST_F(ColmapReport, JsonHasTheColmapSectionOfTheRun) {
-  const nlohmann::json json = ColmapCalibrationToJson(*run_);
+  const nlohmann::json json = ColmapCalibrationToJson(*run_, *context_);
   EXPECT_EQ(json["schema"], "odomcal.calibration");
   EXPECT_EQ(json["status"], "success");
   const nlohmann::json& colmap = json["colmap"];

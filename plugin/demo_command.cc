@@ -1,9 +1,9 @@
 #include "odomcal/plugin/demo_command.h"
 
 #include "odomcal/adapters/format_error.h"
-#include "odomcal/datasets/dataset_presets.h"
-#include "odomcal/datasets/drive_simulator.h"
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/dataset_presets.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/colmap_runner.h"
@@ -45,7 +45,9 @@ nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
         {"wheel_scale_error_right", options.wheel_scale_error_right},
         {"yaw_rate_bias_radps", options.yaw_rate_bias_radps},
         {"camera_rotation_noise_deg", options.camera_rotation_noise_deg},
-        {"camera_position_noise", options.camera_position_noise}}},
+        {"camera_position_noise", options.camera_position_noise},
+        {"ground_tilt_deg", options.ground_tilt_deg},
+        {"ground_wavelength_m", options.ground_wavelength_m}}},
   };
 }
 
@@ -162,7 +164,7 @@ int RunRenderedDemo(const std::string& workspace,
         });
   }
 
-  RunSettings settings;
+  ReconstructionOptions settings;
   settings.image_path = (dataset_dir / "images").string();
   settings.workspace_path = (root / "run").string();
   settings.camera_model = dataset.options.camera.ColmapModelName();
@@ -172,7 +174,7 @@ int RunRenderedDemo(const std::string& workspace,
     settings.camera_params +=
         (settings.camera_params.empty() ? "" : ",") + std::string(text);
   }
-  ColmapCalibrationInputs inputs;
+  ColmapCalibrationInputs& inputs = settings.project;
   inputs.odometry_path = (dataset_dir / "odometry.csv").string();
   inputs.image_timestamps_path =
       (dataset_dir / "image_timestamps.csv").string();
@@ -188,9 +190,8 @@ int RunRenderedDemo(const std::string& workspace,
             << settings.camera_model << " --camera_params "
             << settings.camera_params << " --workspace_path "
             << settings.workspace_path << std::endl;
-  const ColmapCalibrationRun run =
-      RunReconstructionPipeline(settings, inputs, "odomcal demo");
-  const CalibrationResult& result = run.check.result;
+  const RunOutcome run = RunAndWriteOutputs(settings, "odomcal demo");
+  const CalibrationResult& result = run.calibration.check.result;
   std::cout << CalibrationSummary(result, run.context);
 
   std::cout << "[demo] comparison with the ground truth\n";
@@ -218,7 +219,7 @@ int RunRenderedDemo(const std::string& workspace,
     true_position[frame.image_name] = frame.origin_from_cam.translation;
   }
   std::vector<Eigen::Vector3d> estimated, expected;
-  for (const MetricSubModel& metric : run.metric_models) {
+  for (const MetricSubModel& metric : run.calibration.metric_models) {
     for (const auto& [id, image] : metric.model.images) {
       const auto it = true_position.find(image.name);
       if (it == true_position.end()) continue;
@@ -274,6 +275,13 @@ int RunDemo(int argc, char** argv) {
   app.add_option(
          "--duration_s", simulation.duration_s, "--simulated: drive duration")
       ->check(InRange(5, 3600))
+      ->capture_default_str();
+  app.add_option("--ground_tilt_deg",
+                 simulation.ground_tilt_deg,
+                 "--simulated: slope of a rolling ground, degrees along each "
+                 "of two axes (the camera moves in 3-D, the wheel odometry "
+                 "stays planar)")
+      ->check(InRange(0, 30))
       ->capture_default_str();
   CalibrateInputs inputs;
   AddCalibrationFlags(&app, &inputs);

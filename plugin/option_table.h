@@ -2,10 +2,12 @@
 // per struct, one row per flag. A row says the flag's name, its help text, its
 // check, the field it sets (whose value is the default shown by --help) and
 // the key under which the result JSON echoes the value. The CLI registers its
-// flags from these tables (cli_flags.cc, project_flags.cc, run_flags.cc), the
-// report writes its `inputs`/`options` echo from them (calibration_report.cc,
-// ProjectReportContext), and tests/flag_table_test.cc checks docs/cli.md and
-// the echo against the CLI.
+// flags from these tables (cli_flags.cc, project_flags.cc, run_flags.cc) and
+// makes the echo of the values from them (CalibrationFlagsEcho,
+// ProjectFlagsEcho, RunFlagsEcho), which it hands the report writers in
+// ReportContext::flag_echo (calibration_report.h): the reports and the
+// library know nothing of flags. tests/flag_table_test.cc checks docs/cli.md
+// and the echo against the CLI.
 //
 // Field names are the flag names without "--" (CalibrationOptions::Check
 // names fields, and the CLI rewrites them into flags), so a row's name is
@@ -59,6 +61,17 @@ void EchoOptions(const OptionTable<Options>& table,
     nlohmann::json& object =
         row.echo_object.empty() ? *echo : (*echo)[row.echo_object];
     object[row.echo_key] = row.echo(options);
+  }
+}
+
+// Adds `more`'s "inputs" and "options" members to `echo`'s (both echoes as
+// made by the *FlagsEcho functions).
+inline void MergeFlagEcho(const nlohmann::json& more, nlohmann::json* echo) {
+  for (const char* part : {"inputs", "options"}) {
+    if (!more.contains(part)) continue;
+    nlohmann::json& into = (*echo)[part];
+    if (into.is_null()) into = nlohmann::json::object();
+    into.update(more.at(part));
   }
 }
 

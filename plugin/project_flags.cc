@@ -115,6 +115,15 @@ void FinishProjectFlags(const ProjectFlags& flags,
   inputs->calibration = calibrate.calibration;
 }
 
+nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
+  nlohmann::json echo =
+      CalibrationFlagsEcho(inputs.association, inputs.calibration);
+  EchoOptions(ColmapModelFlags(), inputs, &echo["inputs"]);
+  EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
+  EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);
+  return echo;
+}
+
 void PrepareOutputFolder(const FlaggedPath& output,
                          const std::vector<FlaggedPath>& inputs,
                          const std::vector<std::string>& entries,

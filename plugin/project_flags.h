@@ -37,6 +37,12 @@ void AddProjectFlags(CLI::App* app,
 void FinishProjectFlags(const ProjectFlags& flags,
                         ColmapCalibrationInputs* inputs);
 
+// The echo of `odomcal colmap`'s flags as `inputs` holds them, for
+// ProjectReportContext: the calibration flags, --model_path and
+// --database_path (null when not given), the project inputs and the stretch
+// check's flags.
+nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs);
+
 // Checks the output folder `output` against `inputs` (output_guard.h), then
 // creates it if needed and claims `entries` in it (output_folder.h), before
 // any work. Throws OutputError.

@@ -1,8 +1,8 @@
 #include "odomcal/plugin/render_command.h"
 
 #include "odomcal/adapters/format_error.h"
-#include "odomcal/datasets/dataset_presets.h"
-#include "odomcal/datasets/rendered_dataset.h"
+#include "odomcal/datasets/rendering/dataset_presets.h"
+#include "odomcal/datasets/rendering/rendered_dataset.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"

@@ -4,7 +4,8 @@
 #include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/plugin/cli_flags.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <cstdio>
@@ -14,6 +15,15 @@
 namespace odomcal {
 
 namespace fs = std::filesystem;
+
+double SimulatedImageMetricScale(const SimulatedColmapProjectOptions& options,
+                                 size_t index,
+                                 size_t num_images) {
+  const double fraction =
+      num_images > 1 ? static_cast<double>(index) / (num_images - 1) : 0.0;
+  return DriveSimulatorOptions().metric_scale *
+         (1.0 + options.scale_drift * fraction);
+}
 
 ColmapCalibrationInputs WriteSimulatedColmapProject(
     const std::string& dir, const SimulatedColmapProjectOptions& options) {
@@ -32,8 +42,26 @@ ColmapCalibrationInputs WriteSimulatedColmapProject(
   ColmapModel model;
   model.cameras[1] = MakeColmapCamera(
       1, ColmapCameraModel::kPinhole, 320, 240, {250, 250, 160, 120});
-  for (size_t i = 0; i < drive.camera.poses.size(); ++i) {
+  const size_t num_images = drive.camera.poses.size();
+  Eigen::Vector3d drifted_position = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < num_images; ++i) {
     Rigid3d world_from_cam = drive.camera.poses[i].world_from_sensor;
+    if (i == 0) {
+      drifted_position = world_from_cam.translation;
+    } else {
+      // A step of the drive in units of constant scale, re-expressed at the
+      // step's drifted scale (mean of its two images').
+      const double growth =
+          0.5 *
+          (SimulatedImageMetricScale(options, i - 1, num_images) +
+           SimulatedImageMetricScale(options, i, num_images)) /
+          drive.metric_scale;
+      drifted_position +=
+          (world_from_cam.translation -
+           drive.camera.poses[i - 1].world_from_sensor.translation) /
+          growth;
+    }
+    world_from_cam.translation = drifted_position;
     if (options.fold && i >= 100 && i < 130) {
       world_from_cam.translation +=
           Eigen::Vector3d(0.0, 0.0, 0.05 * (static_cast<double>(i) - 100.0));
@@ -80,6 +108,8 @@ CalibrationRun SimulatedCalibrationRun(uint64_t seed, bool straight_only) {
   context.camera_time_unit = "s";
   context.odometry_time_unit = "s";
   context.calibration_options.fixed_translation_z_m = 0.4;
+  context.flag_echo = CalibrationFlagsEcho(context.association_options,
+                                           context.calibration_options);
   context.association = AssociateCameraWithOdometry(
       {drive.camera}, drive.odometry, context.association_options);
   run.result =

@@ -20,7 +20,18 @@ struct SimulatedColmapProjectOptions {
   // Images 100..129 of the sub-model bent out of the drive's path, as when
   // COLMAP folds a stretch: the odometry contradicts them.
   bool fold = false;
+  // COLMAP-like scale drift: the metric scale (m/unit) of the camera
+  // positions grows linearly by this fraction from the first image to the
+  // last (each step divided by the scale at its time), as an incremental
+  // reconstruction's does.
+  double scale_drift = 0.0;
 };
+
+// True metric scale of image `index` of a project written with `options`
+// (drive.metric_scale times the drift's growth at that image).
+double SimulatedImageMetricScale(const SimulatedColmapProjectOptions& options,
+                                 size_t index,
+                                 size_t num_images);
 
 // Writes the project under `dir` (created) and returns the inputs of
 // CalibrateColmapProject for it (fixed translation z: 0.4 m, the truth).

@@ -9,6 +9,7 @@
 
 #include "odomcal/plugin/calibration_report.h"
 #include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/project_flags.h"
 #include "odomcal/plugin/report_testing.h"
 
 #include <unistd.h>
@@ -162,11 +163,13 @@ TEST(ResultSchema, CalibrateOutputsConform) {
   EXPECT_FALSE(out.contains("colmap"));
 
   CalibrationRun partly = success;
-  partly.result.unobservable = {"translation_y", "metric_scale"};
+  partly.result.observability.translation_y = Determination::kUndetermined;
+  partly.result.observability.metric_scales[0] = Determination::kUndetermined;
   EXPECT_EQ(
       Lines(checker.Check(CalibrationToJson(partly.result, partly.context))),
       "");
-  partly.result.unobservable = {"rotation"};
+  partly.result.observability = success.result.observability;
+  partly.result.observability.rotation = Determination::kUndetermined;
   EXPECT_EQ(
       Lines(checker.Check(CalibrationToJson(partly.result, partly.context))),
       "");
@@ -185,9 +188,9 @@ TEST(ResultSchema, ColmapOutputConforms) {
   fs::remove_all(dir);
   SimulatedColmapProjectOptions options;
   options.fold = true;
-  ColmapCalibrationRun run = CalibrateColmapProject(
-      WriteSimulatedColmapProject((dir / "project").string(), options),
-      "odomcal colmap");
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir / "project").string(), options);
+  ColmapCalibrationRun run = CalibrateColmapProject(inputs);
   ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
   ASSERT_FALSE(run.check.stretches.empty());
   MapperAttempt with_model;
@@ -197,9 +200,33 @@ TEST(ResultSchema, ColmapOutputConforms) {
                          MapperAttempt()};  // as `odomcal run` fills it
   run.chosen_mapper_attempt = 0;
   const SchemaChecker checker(ReadSchema());
-  const json out = ColmapCalibrationToJson(run);
+  const json out = ColmapCalibrationToJson(
+      run,
+      ProjectReportContext(
+          inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs)));
   EXPECT_EQ(Lines(checker.Check(out)), "");
   EXPECT_TRUE(out.contains("colmap"));
+  fs::remove_all(dir);
+}
+
+TEST(ResultSchema, ColmapOutputWithScaleDriftConforms) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("result_schema_drift_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  SimulatedColmapProjectOptions options;
+  options.scale_drift = 0.1;
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir / "project").string(), options);
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  ASSERT_FALSE(run.check.scale_drifts.empty());
+  const json out = ColmapCalibrationToJson(
+      run,
+      ProjectReportContext(
+          inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs)));
+  EXPECT_EQ(Lines(SchemaChecker(ReadSchema()).Check(out)), "");
+  ASSERT_EQ(out["colmap"]["scale_drifts"].size(), 1u);
+  EXPECT_EQ(out["colmap"]["scale_drifts"][0]["stretches"].size(),
+            run.check.scale_drifts[0].stretches.size());
   fs::remove_all(dir);
 }
 

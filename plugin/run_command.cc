@@ -1,33 +1,16 @@
-// Stages, each timed and printed: [1] frame selection (odometry), then the
-// excitation check (excitation_precheck.h; a drive the odometry cannot
-// calibrate stops here, before COLMAP, unless --force), [2] feature
-// extraction, [3] position priors + matching, [4] mapping, repeated
-// with other random seeds while the odometry contradicts the model (see
-// mapper_attempts.h), [5] calibration and outputs. COLMAP runs headless on
-// the CPU; intrinsics are kept fixed in the mapper when given, because
-// self-calibration on robot video drifts.
+// `odomcal run`: the flags become ReconstructionOptions, the pipeline
+// (reconstruction_pipeline.h) runs with its progress printed, and the
+// outputs of `odomcal colmap` are written in the workspace.
 
 #include "odomcal/plugin/run_command.h"
 
-#include "odomcal/adapters/colmap_database.h"
-#include "odomcal/adapters/colmap_database_priors.h"
-#include "odomcal/adapters/excitation_precheck.h"
-#include "odomcal/adapters/format_error.h"
-#include "odomcal/adapters/frame_selection.h"
-#include "odomcal/adapters/image_timestamps.h"
-#include "odomcal/adapters/input_plausibility.h"
-#include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap_calibration_outputs.h"
 #include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/colmap_runner.h"
-#include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/project_flags.h"
 #include "odomcal/plugin/run_flags.h"
-
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
@@ -35,348 +18,60 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <map>
-#include <optional>
-#include <sstream>
+#include <utility>
 
 namespace odomcal {
 namespace {
 
 namespace fs = std::filesystem;
 
-bool IsImageFile(const fs::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(),
-                 extension.end(),
-                 extension.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return extension == ".png" || extension == ".jpg" || extension == ".jpeg" ||
-         extension == ".bmp" || extension == ".tif" || extension == ".tiff";
-}
+// Prints the pipeline's progress: "[2/5] COLMAP feature extraction ... done,
+// log <path> (3.2 s)", and the notes between stages on lines of their own.
+// The last stage's line is ended by Finish, once the outputs are written.
+class ProgressPrinter {
+ public:
+  ProgressPrinter() = default;
+  ProgressPrinter(const ProgressPrinter&) = delete;
+  ProgressPrinter& operator=(const ProgressPrinter&) = delete;
+  // An exception between a stage's title and its end still ends the line.
+  ~ProgressPrinter() {
+    if (open_) std::cout << std::endl;
+  }
 
-// Image names relative to the folder, '/'-separated, as COLMAP stores them.
-std::vector<std::string> ListImages(const std::string& image_path) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::recursive_directory_iterator(image_path)) {
-    if (entry.is_regular_file() && IsImageFile(entry.path())) {
-      names.push_back(fs::relative(entry.path(), image_path).generic_string());
+  void Print(const PipelineProgress& progress) {
+    switch (progress.event) {
+      case PipelineProgress::Event::kStageStarted:
+        std::cout << "[" << progress.stage << "/" << progress.num_stages << "] "
+                  << progress.message << std::flush;
+        open_ = true;
+        start_ = std::chrono::steady_clock::now();
+        break;
+      case PipelineProgress::Event::kStageFinished:
+        if (progress.stage < progress.num_stages) Finish(progress.message);
+        break;
+      case PipelineProgress::Event::kNote:
+        std::cout << progress.message << "\n" << std::flush;
+        break;
     }
   }
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
-class StageClock {
- public:
-  StageClock(int index, int count, const std::string& title) {
-    std::cout << "[" << index << "/" << count << "] " << title << std::flush;
-    start_ = std::chrono::steady_clock::now();
-  }
-  double Seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                         start_)
-        .count();
-  }
-  // An exception between the title and Done() still ends the line.
-  ~StageClock() {
-    if (!done_) std::cout << std::endl;
-  }
-  void Done(const std::string& note) {
-    done_ = true;
+  void Finish(const std::string& note) {
+    open_ = false;
     char seconds[32];
-    std::snprintf(seconds, sizeof(seconds), "%.1f s", Seconds());
+    std::snprintf(
+        seconds,
+        sizeof(seconds),
+        "%.1f s",
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
+            .count());
     std::cout << " ... " << note << " (" << seconds << ")\n" << std::flush;
   }
 
  private:
+  bool open_ = false;
   std::chrono::steady_clock::time_point start_;
-  bool done_ = false;
 };
-
-std::string Note(const ColmapStageResult& stage) {
-  return stage.reused ? "reused from an earlier run"
-                      : "done, log " + stage.log_path;
-}
-
-// The first line of `log_path` that holds `word`, or "".
-std::string FirstLineWith(const std::string& log_path,
-                          const std::string& word) {
-  std::ifstream log(log_path);
-  std::string line;
-  while (std::getline(log, line)) {
-    if (line.find(word) != std::string::npos) {
-      return std::string(TrimBlanks(line));
-    }
-  }
-  return "";
-}
-
-// COLMAP 3.8's feature_extractor skips files it cannot decode and still
-// exits 0; the matchers then abort on an empty database with a stack trace.
-// On failure the stage's marker is removed, so that a rerun extracts again.
-void CheckImagesWereRead(const std::string& database,
-                         size_t num_images,
-                         const std::string& image_path,
-                         const std::string& log_path,
-                         const fs::path& stage_marker) {
-  std::error_code ignored;
-  if (!fs::exists(database)) {
-    fs::remove(stage_marker, ignored);
-    throw ColmapError("COLMAP feature_extractor wrote no database " + database +
-                      " (see " + log_path + ")");
-  }
-  if (ReadColmapDatabaseImages(database).empty()) {
-    fs::remove(stage_marker, ignored);
-    const std::string error = FirstLineWith(log_path, "ERROR");
-    throw ColmapError("COLMAP could read none of the " +
-                      std::to_string(num_images) + " images in " + image_path +
-                      " (see " + log_path +
-                      (error.empty() ? "" : ": " + error) + ")");
-  }
-}
-
-// "the odometry agrees with all 34 motion pairs", "2 of 34 motion pairs
-// contradict the odometry", "none of 34 motion pairs could be tested" (too
-// little motion), with the calibration status when it gave no answer.
-std::string OdometryVerdict(const MapperAttempt& attempt) {
-  std::string verdict;
-  if (!attempt.pairs_tested) {
-    verdict = "none of " + std::to_string(attempt.num_pairs) +
-              " motion pairs could be tested against the odometry";
-  } else if (attempt.num_contradicting_pairs == 0) {
-    verdict = "the odometry agrees with all " +
-              std::to_string(attempt.num_pairs) + " motion pairs";
-  } else {
-    verdict = std::to_string(attempt.num_contradicting_pairs) + " of " +
-              std::to_string(attempt.num_pairs) +
-              " motion pairs contradict the odometry";
-  }
-  if (attempt.status != CalibrationStatus::kSuccess) {
-    verdict += " (calibration: " + ToString(attempt.status) + ")";
-  }
-  return verdict;
-}
-
-// One matching of the images and the mapper runs on it.
-struct MatchingRound {
-  int index = 0;  // MapperAttempt::matching_round
-  std::string database;
-};
-
-struct MappedRound {
-  std::vector<MapperAttempt> attempts;
-  // An earlier run, on these or earlier matches, contradicted where the
-  // last one was.
-  std::optional<MapperAttempt> repeated;
-};
-
-std::string AttemptName(const MapperAttempt& attempt) {
-  return "--random_seed " + std::to_string(attempt.random_seed) +
-         (attempt.matching_round == 0 ? "" : " on the new matches");
-}
-
-std::vector<std::string> MatcherArguments(const std::string& matcher,
-                                          const MatchingRound& round,
-                                          const RunSettings& run,
-                                          const ColmapVersion& version) {
-  const std::string matching = FeatureMatchingPrefix(version);
-  std::vector<std::string> arguments = {matcher + "_matcher",
-                                        "--database_path",
-                                        round.database,
-                                        "--" + matching + ".use_gpu",
-                                        "0",
-                                        "--" + matching + ".num_threads",
-                                        std::to_string(run.num_threads)};
-  if (matcher == "spatial") {
-    arguments.insert(arguments.end(),
-                     {"--SpatialMatching.is_gps",
-                      "0",
-                      "--SpatialMatching.ignore_z",
-                      "1",
-                      "--SpatialMatching.max_num_neighbors",
-                      std::to_string(run.spatial_neighbors),
-                      "--SpatialMatching.max_distance",
-                      "5"});
-  } else {
-    arguments.insert(arguments.end(),
-                     {"--SequentialMatching.overlap",
-                      std::to_string(run.sequential_overlap)});
-  }
-  return arguments;
-}
-
-// [3] again: the features of `first_database` in round.database, matched
-// anew with the same settings (COLMAP's two-view verification is random, so
-// the matches differ). The copy is made (and every later stage runs anew)
-// unless both stages finished on an earlier run with the same arguments.
-void MatchAgain(ColmapRunner* colmap,
-                const std::string& matcher,
-                const MatchingRound& round,
-                const std::string& first_database,
-                const RunSettings& run,
-                int num_stages) {
-  StageClock clock(
-      3,
-      num_stages,
-      "COLMAP " + matcher + " matching again, into a copy of the features");
-  const std::vector<std::string> cleaner = {"database_cleaner",
-                                            "--type",
-                                            "matches",
-                                            "--database_path",
-                                            round.database};
-  const std::vector<std::string> matching =
-      MatcherArguments(matcher, round, run, colmap->Version());
-  const std::string cleaner_stage = "database_cleaner_rematch";
-  const std::string matcher_stage = matcher + "_matcher_rematch";
-  if (!colmap->WillReuse(cleaner_stage, cleaner, {round.database}) ||
-      !colmap->WillReuse(matcher_stage, matching, {round.database})) {
-    fs::copy_file(
-        first_database, round.database, fs::copy_options::overwrite_existing);
-    colmap->RunLaterStagesAnew();
-  }
-  colmap->RunStage(cleaner_stage, cleaner, {round.database});
-  clock.Done(Note(colmap->RunStage(matcher_stage, matching, {round.database})) +
-             ", database " + round.database);
-}
-
-// [4]: `colmap mapper` with --random_seed 0, 1, ... on the round's matches,
-// each model calibrated, until the odometry accepts one, a run repeats the
-// contradictions of an earlier one (of this round or in `earlier`), or
-// run.mapper_attempts runs are made.
-MappedRound MapWithSeeds(ColmapRunner* colmap,
-                         const RunSettings& run,
-                         const MatchingRound& round,
-                         const std::vector<MapperAttempt>& earlier,
-                         int num_stages,
-                         const std::string& command,
-                         ColmapCalibrationInputs* inputs) {
-  const fs::path workspace(run.workspace_path);
-  const std::string prefix = round.index == 0 ? "" : "rematch_";
-  inputs->database_path = round.database;
-  MappedRound mapped;
-  for (int seed = 0; seed < run.mapper_attempts; ++seed) {
-    MapperAttempt attempt;
-    attempt.matching_round = round.index;
-    attempt.random_seed = seed;
-    StageClock clock(4,
-                     num_stages,
-                     std::string("COLMAP mapping") +
-                         (round.index == 0 ? "" : " the new matches") +
-                         ", --random_seed " + std::to_string(seed));
-    const std::string stage_name =
-        "mapper_" + prefix + "seed_" + std::to_string(seed);
-    const fs::path output = workspace / "mapper_attempts" /
-                            (prefix + "seed_" + std::to_string(seed));
-    const bool fixed_intrinsics = !run.camera_params.empty();
-    const std::vector<std::string> arguments = {
-        "mapper",
-        "--database_path",
-        round.database,
-        "--image_path",
-        run.image_path,
-        "--output_path",
-        output.string(),
-        "--image_list_path",
-        (workspace / "image_list.txt").string(),
-        "--random_seed",
-        std::to_string(seed),
-        "--Mapper.num_threads",
-        std::to_string(run.num_threads),
-        "--Mapper.ba_refine_focal_length",
-        fixed_intrinsics ? "0" : "1",
-        "--Mapper.ba_refine_principal_point",
-        "0",
-        "--Mapper.ba_refine_extra_params",
-        fixed_intrinsics ? "0" : "1"};
-    const std::vector<std::string> outputs = {(output / "0").string()};
-    // A rerun must not mix new sub-models with stale ones.
-    std::error_code error;
-    if (!colmap->WillReuse(stage_name, arguments, outputs)) {
-      RemoveOwnedOutput(
-          run.workspace_path,
-          "mapper_attempts/" + prefix + "seed_" + std::to_string(seed));
-    }
-    fs::create_directories(output, error);
-    const ColmapStageResult stage =
-        colmap->RunStage(stage_name, arguments, outputs);
-    attempt.model_path = output.string();
-    if (!fs::exists(output / "0")) {
-      mapped.attempts.push_back(attempt);
-      clock.Done("no model, log " + stage.log_path);
-      continue;
-    }
-    inputs->model_path = output.string();
-    const ColmapCalibrationRun calibration =
-        CalibrateColmapProject(*inputs, command);
-    mapped.attempts.push_back(SummarizeMapperAttempt(
-        seed, output.string(), calibration.segments, calibration.check));
-    mapped.attempts.back().matching_round = round.index;
-    const MapperAttempt& last = mapped.attempts.back();
-    const bool accepted = OdometryAcceptsModel(last);
-    std::vector<MapperAttempt> before = earlier;
-    before.insert(
-        before.end(), mapped.attempts.begin(), mapped.attempts.end() - 1);
-    for (const MapperAttempt& other : before) {
-      if (!accepted && !mapped.repeated &&
-          (RepeatsContradictions(last, other) ||
-           RepeatsUntestedPairs(last, other))) {
-        mapped.repeated = other;
-      }
-    }
-    std::string note = Note(stage) + "; " + OdometryVerdict(last);
-    if (mapped.repeated) {
-      note += ", the same as with " + AttemptName(*mapped.repeated);
-    } else if (!accepted && seed + 1 < run.mapper_attempts) {
-      note += ": mapping again";
-    }
-    clock.Done(note);
-    if (accepted || mapped.repeated) break;
-  }
-  return mapped;
-}
-
-// Why the chosen model still has motion pairs the odometry contradicts.
-std::string MapperContradictionWarning(
-    const std::vector<MapperAttempt>& attempts,
-    int chosen,
-    const MappedRound& last_round) {
-  const MapperAttempt& last = last_round.attempts.back();
-  if (last_round.repeated) {
-    const MapperAttempt& first = *last_round.repeated;
-    const std::string runs =
-        first.matching_round == last.matching_round
-            ? "COLMAP mapper runs with --random_seed " +
-                  std::to_string(first.random_seed) + " and " +
-                  std::to_string(last.random_seed) +
-                  (last.matching_round == 0 ? "" : " on the new matches")
-            : "COLMAP mapper runs on two matchings (" + AttemptName(first) +
-                  ", " + AttemptName(last) + ")";
-    return runs + " gave the same " +
-           std::to_string(last.num_contradicting_pairs) +
-           " motion pairs that contradict the odometry: the odometry or the "
-           "images "
-           "disagree there, not COLMAP's randomness";
-  }
-  return "every one of " + std::to_string(attempts.size()) +
-         " COLMAP mapper runs" +
-         (last.matching_round == 0 ? "" : " on two matchings") +
-         " gave motion pairs that contradict the odometry; the model of " +
-         AttemptName(attempts[chosen]) + " contradicts it least";
-}
-
-// `workspace`/`entry` becomes a copy of folder `source`; a failure leaves no
-// half copy under that name.
-void ReplaceWithCopy(const fs::path& source,
-                     const std::string& workspace,
-                     const std::string& entry) {
-  const fs::path temporary = fs::path(workspace) / (entry + ".tmp");
-  RemoveOwnedOutput(workspace, entry + ".tmp");
-  fs::copy(source, temporary, fs::copy_options::recursive);
-  RemoveOwnedOutput(workspace, entry);
-  fs::rename(temporary, fs::path(workspace) / entry);
-}
 
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string joined;
@@ -385,292 +80,61 @@ std::string JoinNames(const std::vector<std::string>& names) {
   return joined;
 }
 
-// "excitation (odometry at the 57 image times): 56 motion pairs, 0 left and
-// 0 right turns above 2 deg: the calibration cannot be determined
-// (unobservable); no COLMAP stage is run (--force runs them anyway)".
-std::string ExcitationLine(const ExcitationPrecheck& precheck,
-                           const CalibrationOptions& options,
-                           bool force) {
-  const CalibrationDiagnostics& d = precheck.verdict.diagnostics;
-  std::ostringstream line;
-  line << "excitation (odometry at the "
-       << precheck.association.num_camera_poses
-       << " image times): " << precheck.association.pairs.size()
-       << " motion pairs, " << d.num_left_turns << " left and "
-       << d.num_right_turns << " right turns above " << options.min_rotation_deg
-       << " deg: ";
-  if (precheck.determinable) {
-    line << "enough to calibrate\n";
-  } else {
-    line << "the calibration cannot be determined ("
-         << ToString(precheck.verdict.status) << "); "
-         << (force ? "running COLMAP anyway (--force)"
-                   : "no COLMAP stage is run (--force runs them anyway)")
-         << "\n";
-  }
-  return line.str();
-}
-
-// The refusal before COLMAP: calibration.json with the solver's status and
-// `unobservable` (no estimate), and no other output of an earlier run left
-// beside it to be mistaken for this one's.
-ColmapCalibrationRun RefuseBeforeColmap(const ExcitationPrecheck& precheck,
-                                        const ColmapCalibrationInputs& inputs,
-                                        const std::string& workspace,
-                                        const std::string& command) {
-  ColmapCalibrationRun refused;
-  refused.check.result = precheck.verdict;
-  refused.check.result.message +=
-      " (seen in the odometry at the image times, before COLMAP; --force runs "
-      "it anyway)";
-  refused.context = ProjectReportContext(inputs, command);
-  refused.context.association = precheck.association;
-  for (const std::string& entry : ColmapCalibrationOutputEntries()) {
-    if (entry != "calibration.json") RemoveOwnedOutput(workspace, entry);
-  }
-  WriteFileAtomically((fs::path(workspace) / "calibration.json").string(),
-                      ColmapCalibrationToJson(refused).dump(2) + "\n");
-  refused.written_outputs = {"calibration.json"};
-  std::cout << "wrote " << (fs::path(workspace) / "calibration.json").string()
-            << " (the status only)\n";
-  return refused;
-}
-
-// Everything `odomcal run` writes in its workspace, COLMAP's files included.
-std::vector<std::string> RunWorkspaceEntries() {
-  std::vector<std::string> entries = ColmapCalibrationOutputEntries();
-  entries.insert(entries.end(),
-                 {"image_list.txt",
-                  "database.db",
-                  "database_rematched.db",
-                  "logs",
-                  "stages",
-                  "commands.txt",
-                  "mapper_attempts",
-                  "sparse",
-                  "sparse.tmp"});
-  return entries;
-}
-
 }  // namespace
 
-ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
-                                               ColmapCalibrationInputs inputs,
-                                               const std::string& command) {
-  RunSettings run = settings;
-  const fs::path workspace(run.workspace_path);
+RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
+                              const std::string& command) {
   // Reruns reuse the workspace: odomcal's own entries in it are replaced.
-  PrepareOutputFolder({run.workspace_path, "--workspace_path"},
-                      {{run.image_path, "--image_path"},
-                       {inputs.odometry_path, "--odometry"},
-                       {inputs.image_timestamps_path, "--image_timestamps"}},
-                      RunWorkspaceEntries(),
-                      ExistingOutputs::kReplaceOwn);
-  constexpr int kStages = 5;
-
-  // [1] Frame selection.
-  const Trajectory odometry = ReadOdometry(inputs.odometry_path,
-                                           inputs.odometry_format,
-                                           inputs.odometry_time_unit,
-                                           inputs.odometry_time_unit_given);
-  CheckOdometrySpeed(odometry);
-  std::vector<TimedImage> images;
-  {
-    StageClock clock(1, kStages, "selecting frames with the odometry");
-    const ImageTimestamps timestamps =
-        inputs.image_timestamps_path.empty()
-            ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
-            : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
-                                       inputs.image_time_unit);
-    const std::vector<std::string> names = ListImages(run.image_path);
-    if (names.empty()) {
-      throw FormatError(run.image_path +
-                        ": no images (.png, .jpg, .jpeg, "
-                        ".bmp, .tif)");
-    }
-    std::vector<TimedImage> all;
-    for (const std::string& name : names) {
-      std::string why;
-      const auto stamp = timestamps.Lookup(name, &why);
-      if (!stamp) throw FormatError(run.image_path + "/" + name + ": " + why);
-      all.push_back({name, *stamp});
-    }
-    if (inputs.image_timestamps_path.empty()) {
-      std::vector<int64_t> stamps_ns;
-      for (const TimedImage& image : all) stamps_ns.push_back(image.stamp_ns);
-      CheckImageTimesAreNotFrameNumbers(
-          stamps_ns, run.image_path, timestamps.how_read());
-    }
-    run.frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
-    run.frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
-    const FrameSelection selection = SelectFrames(all, odometry, run.frames);
-    if (selection.kept.size() < 3) {
-      throw FormatError(run.image_path + ": only " +
-                        std::to_string(selection.kept.size()) + " of " +
-                        std::to_string(names.size()) +
-                        " images are inside the odometry and apart enough (" +
-                        std::to_string(selection.num_outside_odometry) +
-                        " outside its span or gaps)");
-    }
-    if (run.matcher == "sequential") {
-      for (size_t i = 1; i < selection.kept.size(); ++i) {
-        if (selection.kept[i].name < selection.kept[i - 1].name) {
-          throw FormatError(
-              "image names do not sort in time order (" +
-              selection.kept[i - 1].name + " after " + selection.kept[i].name +
-              "); the sequential matcher needs that: use --matcher spatial");
-        }
+  std::vector<std::string> entries = ColmapCalibrationOutputEntries();
+  const std::vector<std::string> pipeline = ReconstructionWorkspaceEntries();
+  entries.insert(entries.end(), pipeline.begin(), pipeline.end());
+  PrepareOutputFolder(
+      {options.workspace_path, "--workspace_path"},
+      {{options.image_path, "--image_path"},
+       {options.project.odometry_path, "--odometry"},
+       {options.project.image_timestamps_path, "--image_timestamps"}},
+      entries,
+      ExistingOutputs::kReplaceOwn);
+  ProgressPrinter printer;
+  const ReconstructionResult result = ReconstructAndCalibrate(
+      options, [&printer](const PipelineProgress& progress) {
+        printer.Print(progress);
+      });
+  RunOutcome outcome;
+  outcome.calibration = result.calibration;
+  // The flags' echo, with the model and database the pipeline made (null
+  // when it refused the drive before COLMAP).
+  ColmapCalibrationInputs calibrated = options.project;
+  calibrated.model_path = result.model_path;
+  calibrated.database_path = result.database_path;
+  nlohmann::json flag_echo = ProjectFlagsEcho(calibrated);
+  MergeFlagEcho(RunFlagsEcho(options), &flag_echo);
+  outcome.context = ProjectReportContext(
+      calibrated, outcome.calibration, command, std::move(flag_echo));
+  const fs::path workspace(options.workspace_path);
+  if (result.refused_before_colmap) {
+    // calibration.json with the status only, and no other output of an
+    // earlier run left beside it to be mistaken for this one's.
+    for (const std::string& entry : ColmapCalibrationOutputEntries()) {
+      if (entry != "calibration.json") {
+        RemoveOwnedOutput(options.workspace_path, entry);
       }
     }
-    std::ostringstream list;
-    for (const TimedImage& image : selection.kept) list << image.name << "\n";
-    WriteFileAtomically((workspace / "image_list.txt").string(), list.str());
-    images = selection.kept;
-    clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
-               std::to_string(selection.num_images) + " images (" +
-               std::to_string(selection.num_dropped_still_or_close) +
-               " standing still or too close, " +
-               std::to_string(selection.num_outside_odometry) +
-               " outside the odometry)");
+    WriteFileAtomically(
+        (workspace / "calibration.json").string(),
+        ColmapCalibrationToJson(outcome.calibration, outcome.context).dump(2) +
+            "\n");
+    outcome.written_outputs = {"calibration.json"};
+    std::cout << "wrote " << (workspace / "calibration.json").string()
+              << " (the status only)\n";
+    return outcome;
   }
-
-  // Before COLMAP: whether the odometry between the image times can
-  // determine the calibration at all (excitation_precheck.h).
-  std::vector<int64_t> image_stamps;
-  for (const TimedImage& image : images) image_stamps.push_back(image.stamp_ns);
-  const ExcitationPrecheck precheck = PrecheckExcitation(
-      image_stamps, odometry, inputs.association, inputs.calibration);
-  std::cout << ExcitationLine(precheck, inputs.calibration, run.force)
-            << std::flush;
-  if (!precheck.determinable && !run.force) {
-    return RefuseBeforeColmap(precheck, inputs, run.workspace_path, command);
-  }
-
-  ColmapRunner::Options runner_options;
-  runner_options.executable = run.colmap_path;
-  runner_options.workspace = run.workspace_path;
-  ColmapRunner colmap(runner_options);
-  const ColmapVersion& version = colmap.Version();
-
-  // [2] Features.
-  const std::string database = (workspace / "database.db").string();
-  const std::string extraction = FeatureExtractionPrefix(version);
-  {
-    StageClock clock(2, kStages, "COLMAP feature extraction");
-    std::vector<std::string> arguments = {
-        "feature_extractor",
-        "--database_path",
-        database,
-        "--image_path",
-        run.image_path,
-        "--image_list_path",
-        (workspace / "image_list.txt").string(),
-        "--ImageReader.single_camera",
-        "1",
-        "--ImageReader.camera_model",
-        run.camera_model,
-        "--" + extraction + ".use_gpu",
-        "0",
-        "--" + extraction + ".max_num_features",
-        std::to_string(run.max_num_features),
-        "--" + extraction + ".num_threads",
-        std::to_string(run.num_threads)};
-    if (!run.camera_params.empty()) {
-      arguments.insert(arguments.end(),
-                       {"--ImageReader.camera_params", run.camera_params});
-    }
-    const ColmapStageResult stage =
-        colmap.RunStage("feature_extractor", arguments, {database});
-    CheckImagesWereRead(database,
-                        images.size(),
-                        run.image_path,
-                        stage.log_path,
-                        workspace / "stages" / "feature_extractor.done");
-    clock.Done(Note(stage));
-  }
-
-  // [3] Matching, guided by odometry positions.
-  std::string matcher = run.matcher;
-  if (matcher == "spatial" && version.AtLeast(3, 10)) {
-    std::cout
-        << "(COLMAP >= 3.10 keeps priors elsewhere: sequential matching)\n";
-    matcher = "sequential";
-  }
-  if (matcher == "spatial") {
-    std::map<std::string, Eigen::Vector3d> positions;
-    InterpolationFailure why;
-    for (const TimedImage& image : images) {
-      const auto pose = InterpolateOdometry(
-          odometry,
-          image.stamp_ns + inputs.association.camera_time_offset_ns,
-          inputs.association.max_odometry_gap_s,
-          &why);
-      if (pose) positions[image.name] = pose->translation;
-    }
-    WriteColmapDatabasePositionPriors(database, positions);
-  }
-  MatchingRound first;
-  first.database = database;
-  {
-    StageClock clock(3, kStages, "COLMAP " + matcher + " matching");
-    clock.Done(
-        Note(colmap.RunStage(matcher + "_matcher",
-                             MatcherArguments(matcher, first, run, version),
-                             {database})));
-  }
-
-  // [4] Mapping, each model checked against the odometry; when the random
-  // seeds do not help, [3] and [4] once more on new matches
-  // (mapper_attempts.h).
-  MappedRound mapped =
-      MapWithSeeds(&colmap, run, first, {}, kStages, command, &inputs);
-  std::vector<MapperAttempt> attempts = mapped.attempts;
-  MatchingRound second;
-  if (run.rematch && ShouldMatchAgain(mapped.attempts)) {
-    second.index = 1;
-    second.database = (workspace / "database_rematched.db").string();
-    MatchAgain(&colmap, matcher, second, database, run, kStages);
-    mapped =
-        MapWithSeeds(&colmap, run, second, attempts, kStages, command, &inputs);
-    attempts.insert(
-        attempts.end(), mapped.attempts.begin(), mapped.attempts.end());
-  }
-  const int chosen = BestMapperAttempt(attempts);
-  if (chosen < 0) {
-    throw ColmapError("COLMAP mapper produced no model in " +
-                      std::to_string(attempts.size()) +
-                      (attempts.size() == 1 ? " run" : " runs") + " (see " +
-                      (workspace / "logs" / "mapper_seed_0.log").string() +
-                      "): too little texture or overlap, or wrong intrinsics");
-  }
-
-  // [5] Calibration of the model the odometry contradicts least.
-  const MapperAttempt& best = attempts[chosen];
-  StageClock clock(
-      5,
-      kStages,
-      "calibrating against the odometry (model of " + AttemptName(best) + ")");
-  const fs::path sparse = workspace / "sparse";
-  ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
-  // Calibrated again (a fraction of a second) so that every path in the
-  // outputs names sparse/, the model a later `odomcal colmap` would read.
-  inputs.model_path = sparse.string();
-  inputs.database_path =
-      best.matching_round == 0 ? first.database : second.database;
-  ColmapCalibrationRun calibration = CalibrateColmapProject(inputs, command);
-  calibration.mapper_attempts = attempts;
-  calibration.chosen_mapper_attempt = chosen;
-  // (A refusal for too little motion explains itself in the status.)
-  if (!OdometryAcceptsModel(best) && best.pairs_tested && attempts.size() > 1) {
-    calibration.check.result.warnings.push_back(
-        MapperContradictionWarning(attempts, chosen, mapped));
-  }
-  calibration.written_outputs =
-      WriteColmapCalibrationOutputs(calibration, run.workspace_path);
-  calibration.written_outputs.insert(calibration.written_outputs.begin() + 2,
-                                     "sparse/");
-  clock.Done("wrote " + JoinNames(calibration.written_outputs));
-  return calibration;
+  outcome.written_outputs = WriteColmapCalibrationOutputs(
+      outcome.calibration, outcome.context, options.workspace_path);
+  outcome.written_outputs.insert(outcome.written_outputs.begin() + 2,
+                                 "sparse/");
+  printer.Finish("wrote " + JoinNames(outcome.written_outputs));
+  return outcome;
 }
 
 int RunRun(int argc, char** argv) {
@@ -678,30 +142,27 @@ int RunRun(int argc, char** argv) {
       "Reconstructs an image folder with COLMAP (odometry-guided) and "
       "calibrates the camera-to-odometry extrinsic and metric scale.",
       "odomcal run"};
-  RunSettings run;
-  ColmapCalibrationInputs inputs;
+  ReconstructionOptions run;
   ProjectFlags flags;
   AddRunFlags(&app, &run);
-  AddProjectFlags(&app, &inputs, &flags);
+  AddProjectFlags(&app, &run.project, &flags);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
 
   return RunReportingErrors(app, [&]() -> int {
-    FinishProjectFlags(flags, &inputs);
-    inputs.command_echo = RunFlagsEcho(run);
-    const ColmapCalibrationRun calibration =
-        RunReconstructionPipeline(run, inputs, "odomcal run");
-    std::cout << CalibrationSummary(calibration.check.result,
-                                    calibration.context);
-    const auto& written = calibration.written_outputs;
+    FinishProjectFlags(flags, &run.project);
+    const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run");
+    std::cout << CalibrationSummary(outcome.calibration.check.result,
+                                    outcome.context);
+    const auto& written = outcome.written_outputs;
     if (std::find(written.begin(), written.end(), "report.html") !=
         written.end()) {
       std::cout << "  report: "
                 << (fs::path(run.workspace_path) / "report.html").string()
                 << "\n";
     }
-    return ExitCodeFor(calibration.check.result);
+    return ExitCodeFor(outcome.calibration.check.result);
   });
 }
 

@@ -1,48 +1,31 @@
-// `odomcal run`: from an image folder and an odometry log to a calibration.
-// Selects frames with the odometry, refuses a drive whose odometry cannot
-// determine the calibration (no or too few turns) before COLMAP, runs COLMAP
-// (feature_extractor, odometry-guided spatial or sequential matching, mapper,
-// run again with another random seed while the odometry contradicts its model,
-// matching again when that does not help) in a workspace, then calibrates the
-// reconstruction as `odomcal colmap` does. Finished COLMAP stages are reused
-// when rerun on the same workspace.
+// `odomcal run`: from an image folder and an odometry log to a calibration,
+// with the pipeline of reconstruction_pipeline.h; this file is the command
+// line: flags in, progress lines, summary and files out.
 #pragma once
 
-#include "odomcal/adapters/frame_selection.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/reconstruction_pipeline.h"
 
 #include <string>
+#include <vector>
 
 namespace odomcal {
 
-struct RunSettings {
-  std::string image_path;
-  std::string workspace_path;
-  std::string camera_model = "PINHOLE";
-  std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
-  std::string matcher = "spatial";  // or "sequential"
-  std::string colmap_path = "colmap";
-  int max_num_features = 2048;
-  int num_threads = 2;
-  int spatial_neighbors = 8;
-  int sequential_overlap = 10;
-  int mapper_attempts = 3;  // at most, per matching; see mapper_attempts.h
-  bool rematch = true;      // match again when the seeds do not help
-  // Run COLMAP even when the odometry at the image times cannot determine
-  // the calibration (excitation_precheck.h); otherwise that is refused
-  // before any COLMAP stage, with the solver's status.
-  bool force = false;
-  FrameSelectionOptions frames;
+struct RunOutcome {
+  ColmapCalibrationRun calibration;
+  ReportContext context;  // for the summary
+  // What was written in the workspace, as listed to the user
+  // ("calibration.json", "sparse/", ...): only entries with content.
+  std::vector<std::string> written_outputs;
 };
 
-// The five stages with progress on stdout; the workspace receives COLMAP's
-// files and the outputs of `odomcal colmap`. `inputs` supplies the odometry,
-// image times and calibration options (model and database paths are set
-// here). Throws FormatError, OutputError, ColmapError or
-// std::invalid_argument with a one-line message.
-ColmapCalibrationRun RunReconstructionPipeline(const RunSettings& settings,
-                                               ColmapCalibrationInputs inputs,
-                                               const std::string& command);
+// Claims the workspace, runs ReconstructAndCalibrate with its five stages'
+// progress on stdout and writes the outputs of `odomcal colmap` in the
+// workspace (only calibration.json when the drive is refused before COLMAP).
+// Throws FormatError, OutputError, ColmapError or std::invalid_argument with
+// a one-line message.
+RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
+                              const std::string& command);
 
 int RunRun(int argc, char** argv);
 

@@ -5,11 +5,13 @@
 namespace odomcal {
 namespace {
 
-using Run = RunSettings;
+using Run = ReconstructionOptions;
+
+bool Rematches(const Run& run) { return run.mapper.max_matching_rounds > 1; }
 
 }  // namespace
 
-const OptionTable<RunSettings>& RunFolderFlags() {
+const OptionTable<ReconstructionOptions>& RunFolderFlags() {
   static const OptionTable<Run> table = [] {
     OptionRow<Run> image_path;
     image_path.name = "image_path";
@@ -43,7 +45,7 @@ const OptionTable<RunSettings>& RunFolderFlags() {
   return table;
 }
 
-const OptionTable<RunSettings>& RunFlags() {
+const OptionTable<ReconstructionOptions>& RunFlags() {
   static const OptionTable<Run> table = {
       ChoiceRow<Run>(
           "camera_model",
@@ -116,9 +118,10 @@ const OptionTable<RunSettings>& RunFlags() {
           "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
           "contradicts motion pairs of the model; the model it contradicts "
           "least is kept; per matching",
-          [](auto& r) -> auto& { return r.mapper_attempts; },
+          [](auto& r) -> auto& { return r.mapper.max_seeds; },
           InRange(1, 20)),
-      // --rematch on|off is echoed as the boolean "rematch".
+      // --rematch on|off sets the matchings at most (2: match again once,
+      // 1: never) and is echoed as the boolean "rematch".
       [] {
         OptionRow<Run> row = ChoiceRow<Run>(
             "rematch",
@@ -126,12 +129,14 @@ const OptionTable<RunSettings>& RunFlags() {
             "accepts, match the images again and map the new matches too",
             {"on", "off"},
             [](const Run& run) {
-              return std::string(run.rematch ? "on" : "off");
+              return std::string(Rematches(run) ? "on" : "off");
             },
             [](Run* run, const std::string& name) {
-              run->rematch = name == "on";
+              run->mapper.max_matching_rounds = name == "on" ? 2 : 1;
             });
-        row.echo = [](const Run& run) { return nlohmann::json(run.rematch); };
+        row.echo = [](const Run& run) {
+          return nlohmann::json(Rematches(run));
+        };
         return row;
       }(),
       NumberRow<Run>(
@@ -149,12 +154,12 @@ const OptionTable<RunSettings>& RunFlags() {
   return table;
 }
 
-void AddRunFlags(CLI::App* app, RunSettings* settings) {
+void AddRunFlags(CLI::App* app, ReconstructionOptions* settings) {
   AddFlags(RunFolderFlags(), app, settings);
   AddFlags(RunFlags(), app, settings);
 }
 
-nlohmann::json RunFlagsEcho(const RunSettings& settings) {
+nlohmann::json RunFlagsEcho(const ReconstructionOptions& settings) {
   nlohmann::json echo = {{"inputs", nlohmann::json::object()},
                          {"options", {{"run", nlohmann::json::object()}}}};
   EchoOptions(RunFolderFlags(), settings, &echo["inputs"]);

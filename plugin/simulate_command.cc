@@ -8,9 +8,9 @@
 
 #include "odomcal/plugin/simulate_command.h"
 
-#include "odomcal/datasets/paper_evaluation.h"
-#include "odomcal/datasets/paper_simulation.h"
-#include "odomcal/datasets/paper_sweeps.h"
+#include "odomcal/datasets/paper/paper_evaluation.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
+#include "odomcal/datasets/paper/paper_sweeps.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/output_file.h"
@@ -35,13 +35,14 @@ namespace {
 
 // Methods in the plots: ALSP-orth is ALS exactly (see paper_evaluation.h),
 // so it is left out of the figures (it stays in the CSV).
-const EvaluationMethod kPlottedMethods[] = {EvaluationMethod::kAls,
-                                            EvaluationMethod::kAlsp,
-                                            EvaluationMethod::kCm,
-                                            EvaluationMethod::kAlsB,
-                                            EvaluationMethod::kAlspB,
-                                            EvaluationMethod::kCmB,
-                                            EvaluationMethod::kGtB};
+const EvaluationMethod kPlottedMethods[] = {
+    EvaluationMethod::kAls,
+    EvaluationMethod::kAlspLengthPreserving,
+    EvaluationMethod::kCm,
+    EvaluationMethod::kAlsB,
+    EvaluationMethod::kAlspLengthPreservingB,
+    EvaluationMethod::kCmB,
+    EvaluationMethod::kGtB};
 
 std::string CsvNumber(double value) {
   if (!std::isfinite(value)) return "";
@@ -176,7 +177,8 @@ struct DivergenceTotals {
 int RunSimulate(int argc, char** argv) {
   CLI::App app{
       "Monte Carlo evaluation of Guo et al. (ICRA 2012), Section V: RMSE of "
-      "ALS, ALSP, CM and their batch refinements (and GT-B) over parameter "
+      "ALS, ALSP-L, ALSP-orth, CM and their batch refinements (and GT-B) over "
+      "parameter "
       "sweeps (Fig. 2), and the divergence rates (Table I).",
       "odomcal simulate"};
   std::string output_path;

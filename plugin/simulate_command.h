@@ -1,6 +1,7 @@
 // `odomcal simulate`: the Monte Carlo evaluation of Guo, Mirzaei &
 // Roumeliotis (ICRA 2012), Section V (Fig. 2 and Table I), on the sweeps of
-// datasets/paper_sweeps.h with the methods of datasets/paper_evaluation.h.
+// datasets/paper/paper_sweeps.h with the methods of
+// datasets/paper/paper_evaluation.h.
 //
 //   odomcal simulate --output_path DIR [--trials 1000] [--seed S]
 //       [--sweep rotation_noise|translation_noise|pixel_noise|num_motions|all]

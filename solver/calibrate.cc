@@ -8,12 +8,14 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 #include "odomcal/solver/hand_eye_refine.h"
 #include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/planarity_check.h"
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -79,11 +81,6 @@ void ValidatePairs(const MotionPairs& pairs) {
   }
 }
 
-std::string ScaleName(int segment, int num_segments) {
-  return num_segments == 1 ? "metric_scale"
-                           : "metric_scale[" + std::to_string(segment) + "]";
-}
-
 double YawDeg(const MotionPair& pair) {
   return LogRotation(pair.odom_i_from_odom_j.rotation).z() * kRadToDeg;
 }
@@ -138,35 +135,155 @@ Eigen::Matrix3d RollPitchYawJacobian(const Eigen::Quaterniond& q) {
   return jacobian;
 }
 
+// The inverse of an information matrix, or nothing when it is (numerically)
+// singular: eigenvalues of the diagonally normalised matrix below
+// kNullSpaceTolerance of the largest.
+std::optional<Eigen::MatrixXd> InvertInformation(
+    const Eigen::MatrixXd& information) {
+  const Eigen::VectorXd diag = information.diagonal();
+  if (information.size() == 0 || !information.allFinite() ||
+      !(diag.array() > 0.0).all()) {
+    return std::nullopt;
+  }
+  const Eigen::VectorXd inv_sqrt = diag.cwiseSqrt().cwiseInverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(
+      inv_sqrt.asDiagonal() * information * inv_sqrt.asDiagonal());
+  if (!(eig.eigenvalues().minCoeff() >
+        kNullSpaceTolerance * eig.eigenvalues().maxCoeff())) {
+    return std::nullopt;
+  }
+  return Eigen::MatrixXd(inv_sqrt.asDiagonal() * eig.eigenvectors() *
+                         eig.eigenvalues().cwiseInverse().asDiagonal() *
+                         eig.eigenvectors().transpose() *
+                         inv_sqrt.asDiagonal());
+}
+
+// True when some odometry rotation moves the z axis: (R_A - I) e_z is not
+// zero. Planar odometry (rotations about z only) has it exactly zero.
+bool OdometryTilts(const MotionPairs& pairs, const std::vector<int>& used) {
+  for (const int i : used) {
+    const Eigen::Matrix3d r_a =
+        pairs[i].odom_i_from_odom_j.rotation.toRotationMatrix();
+    if (r_a(0, 2) != 0.0 || r_a(1, 2) != 0.0 || r_a(2, 2) != 1.0) return true;
+  }
+  return false;
+}
+
+// The estimate with translation z free, for SE(3) odometry: the 3-D linear
+// translation step at the current rotation, then the refinement with z as a
+// parameter (or its information alone without refinement). Accepted only
+// when the information determines z within options.max_translation_stddev_m;
+// otherwise the result keeps z held (nothing changes). RANSAC chose `used`
+// with z held: it left out pairs whose tilt shows a wrong z, and the ones it
+// kept lean toward the held value, so the pairs are chosen again under the
+// estimate with z (and `used` updated).
+void EstimateTranslationZ(const MotionPairs& pairs,
+                          std::vector<int>* used_pairs,
+                          const CalibrationOptions& options,
+                          CalibrationResult* result,
+                          Eigen::MatrixXd* information,
+                          std::vector<int>* information_segments) {
+  std::vector<int> used = *used_pairs;
+  const LinearEstimate linear =
+      SolveTranslationScale3d(pairs, used, result->odom_from_cam.rotation);
+  if (!linear.success) return;
+  std::vector<double> scales = linear.metric_scales;
+  scales.resize(result->metric_scales.size(), std::nan(""));
+  for (const int i : used) {
+    if (!(scales[pairs[i].segment] > 0.0)) return;
+  }
+  Rigid3d odom_from_cam = linear.odom_from_cam;
+  Eigen::MatrixXd z_information;
+  std::vector<int> z_segments;
+  if (options.refine) {
+    const RefinementResult refined = RefineOdomFromCam(
+        pairs, used, odom_from_cam, scales, options, TranslationZ::kEstimate);
+    if (!refined.usable || !IsFinite(refined.odom_from_cam)) return;
+    odom_from_cam = refined.odom_from_cam;
+    scales = refined.metric_scales;
+    z_information = refined.information;
+    z_segments = refined.information_segments;
+    std::vector<int> inliers;
+    for (int i = 0; options.use_ransac && i < static_cast<int>(pairs.size());
+         ++i) {
+      const double scale = scales[pairs[i].segment];
+      if (std::isfinite(scale) &&
+          IsInlier(pairs[i], odom_from_cam, scale, options)) {
+        inliers.push_back(i);
+      }
+    }
+    if (static_cast<int>(inliers.size()) >= options.min_num_pairs &&
+        inliers != used) {
+      const RefinementResult again = RefineOdomFromCam(pairs,
+                                                       inliers,
+                                                       odom_from_cam,
+                                                       scales,
+                                                       options,
+                                                       TranslationZ::kEstimate);
+      if (!again.usable || !IsFinite(again.odom_from_cam)) return;
+      odom_from_cam = again.odom_from_cam;
+      scales = again.metric_scales;
+      z_information = again.information;
+      z_segments = again.information_segments;
+      used = inliers;
+    }
+  } else {
+    z_information = HandEyeInformation(pairs,
+                                       used,
+                                       odom_from_cam,
+                                       scales,
+                                       options,
+                                       &z_segments,
+                                       TranslationZ::kEstimate);
+  }
+  const std::optional<Eigen::MatrixXd> covariance =
+      InvertInformation(z_information);
+  if (!covariance) return;
+  const Eigen::Index z = covariance->rows() - 1;
+  if (!(std::sqrt((*covariance)(z, z)) <= options.max_translation_stddev_m)) {
+    return;
+  }
+  result->odom_from_cam = odom_from_cam;
+  result->metric_scales = scales;
+  result->observability.translation_z = Determination::kEstimated;
+  *used_pairs = used;
+  *information = z_information;
+  *information_segments = z_segments;
+}
+
 // Covariance, standard deviations and the observability verdict from the
-// information matrix in [rx, ry, rz, tx, ty, s_k...] order.
+// information matrix in [rx, ry, rz, tx, ty, s_k..., tz if estimated] order.
 void AnalyseInformation(const Eigen::MatrixXd& information,
                         const std::vector<int>& segments,
                         int num_segments,
                         const CalibrationOptions& options,
                         CalibrationResult* result) {
-  std::vector<std::string> names = {
-      "rotation", "rotation", "rotation", "translation_x", "translation_y"};
+  Observability& observability = result->observability;
+  // The quantity each parameter of the information belongs to.
+  std::vector<Determination*> quantities = {&observability.rotation,
+                                            &observability.rotation,
+                                            &observability.rotation,
+                                            &observability.translation_x,
+                                            &observability.translation_y};
   for (const int segment : segments) {
-    names.push_back(ScaleName(segment, num_segments));
+    quantities.push_back(&observability.metric_scales[segment]);
   }
-  auto add_unobservable = [&](const std::string& name) {
-    if (std::find(result->unobservable.begin(),
-                  result->unobservable.end(),
-                  name) == result->unobservable.end()) {
-      result->unobservable.push_back(name);
-    }
+  const bool z_estimated =
+      observability.translation_z == Determination::kEstimated;
+  if (z_estimated) quantities.push_back(&observability.translation_z);
+  auto undetermined = [](Determination* quantity) {
+    *quantity = Determination::kUndetermined;
   };
   const int n = static_cast<int>(information.rows());
   const Eigen::VectorXd diag = information.diagonal();
   if (n == 0 || !information.allFinite()) {
-    add_unobservable("rotation");
+    undetermined(&observability.rotation);
     return;
   }
   Eigen::VectorXd inv_sqrt(n);
   for (int k = 0; k < n; ++k) {
     inv_sqrt(k) = diag(k) > 0.0 ? 1.0 / std::sqrt(diag(k)) : 0.0;
-    if (!(diag(k) > 0.0)) add_unobservable(names[k]);
+    if (!(diag(k) > 0.0)) undetermined(quantities[k]);
   }
   const Eigen::MatrixXd normalized =
       inv_sqrt.asDiagonal() * information * inv_sqrt.asDiagonal();
@@ -178,7 +295,7 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
     singular = true;
     for (int j = 0; j < n; ++j) {
       if (std::abs(eig.eigenvectors()(j, k)) > kNullComponentTolerance) {
-        add_unobservable(names[j]);
+        undetermined(quantities[j]);
       }
     }
   }
@@ -208,21 +325,27 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
     result->stddev_metric_scales_rel[segments[k]] =
         std::sqrt(covariance(5 + k, 5 + k)) / scale;
   }
+  if (z_estimated) {
+    result->stddev_translation_z_m = std::sqrt(covariance(n - 1, n - 1));
+    if (result->stddev_translation_z_m > options.max_translation_stddev_m) {
+      undetermined(&observability.translation_z);
+    }
+  }
 
   if (result->stddev_rotation_axes_deg.maxCoeff() >
       options.max_rotation_stddev_deg) {
-    add_unobservable("rotation");
+    undetermined(&observability.rotation);
   }
   if (result->stddev_translation_xy_m.x() > options.max_translation_stddev_m) {
-    add_unobservable("translation_x");
+    undetermined(&observability.translation_x);
   }
   if (result->stddev_translation_xy_m.y() > options.max_translation_stddev_m) {
-    add_unobservable("translation_y");
+    undetermined(&observability.translation_y);
   }
   for (const int segment : segments) {
     if (result->stddev_metric_scales_rel[segment] >
         options.max_scale_stddev_rel) {
-      add_unobservable(ScaleName(segment, num_segments));
+      undetermined(&observability.metric_scales[segment]);
     }
   }
 }
@@ -263,8 +386,23 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.rms_translation_residual_m = std::sqrt(sum_t2 / count);
   d.relative_translation_residual =
       sum_step2 > 0.0 ? std::sqrt(sum_t2 / sum_step2) : 0.0;
-  const double dof = 6.0 * used.size() - (5.0 + d.num_pairs_per_segment.size());
+  const bool z_estimated =
+      result->observability.translation_z == Determination::kEstimated;
+  const double dof =
+      6.0 * used.size() - (5.0 + d.num_pairs_per_segment.size() + z_estimated);
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
+}
+
+// Multiplies the covariance by `factor` (>= 1); every standard deviation
+// grows by its square root.
+void InflateCovariance(double factor, CalibrationResult* result) {
+  if (!result->covariance) return;
+  const double root = std::sqrt(factor);
+  *result->covariance *= factor;
+  result->stddev_roll_pitch_yaw_deg *= root;
+  result->stddev_rotation_axes_deg *= root;
+  result->stddev_translation_xy_m *= root;
+  for (double& stddev : result->stddev_metric_scales_rel) stddev *= root;
 }
 
 CalibrationResult Refuse(CalibrationResult result,
@@ -283,10 +421,11 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   ValidatePairs(pairs);
 
   CalibrationResult result;
-  result.unobservable = {"translation_z"};
   CalibrationDiagnostics& d = result.diagnostics;
   const int num_pairs = static_cast<int>(pairs.size());
   const int num_segments = NumSegments(pairs);
+  result.observability.metric_scales.assign(num_segments,
+                                            Determination::kEstimated);
   d.num_pairs_in = num_pairs;
   d.inlier_mask.assign(pairs.size(), 0);
   MeasureExcitation(pairs, options, &d);
@@ -299,8 +438,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                       std::to_string(options.min_num_pairs) + " are needed");
   }
   if (d.num_rotating_pairs == 0) {
-    result.unobservable = {
-        "rotation", "translation_x", "translation_y", "translation_z"};
+    result.observability = Observability::Nothing(0);
     return Refuse(
         result,
         CalibrationStatus::kUnobservable,
@@ -341,10 +479,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
         std::max(max_step_m, pair.odom_i_from_odom_j.translation.norm());
   }
   if (max_step_m < kMinOdometryStepM) {
-    result.unobservable = {"translation_x", "translation_y", "translation_z"};
-    for (int k = 0; k < num_segments; ++k) {
-      result.unobservable.push_back(ScaleName(k, num_segments));
-    }
+    result.observability = Observability::Nothing(num_segments);
+    result.observability.rotation = Determination::kEstimated;
     return Refuse(result,
                   CalibrationStatus::kUnobservable,
                   "the odometry never translates (largest step " +
@@ -398,8 +534,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   d.translation_step_condition_number =
       linear.translation_step_condition_number;
   if (!linear.success) {
-    result.unobservable = {
-        "rotation", "translation_x", "translation_y", "translation_z"};
+    result.observability = Observability::Nothing(0);
     return Refuse(result,
                   CalibrationStatus::kUnobservable,
                   "closed form failed: " + linear.failure);
@@ -413,11 +548,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                      std::isfinite(linear.metric_scales[segment]);
   }
   if (!linear_finite) {
-    result.unobservable = {
-        "rotation", "translation_x", "translation_y", "translation_z"};
-    for (int k = 0; k < num_segments; ++k) {
-      result.unobservable.push_back(ScaleName(k, num_segments));
-    }
+    result.observability = Observability::Nothing(num_segments);
     return Refuse(result,
                   CalibrationStatus::kUnobservable,
                   "the closed form is not finite (numerical overflow): the "
@@ -435,7 +566,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   for (const int i : used) ++d.num_pairs_per_segment[pairs[i].segment];
   for (int k = 0; k < num_segments; ++k) {
     if (d.num_pairs_per_segment[k] == 0) {
-      result.unobservable.push_back(ScaleName(k, num_segments));
+      result.observability.metric_scales[k] = Determination::kUndetermined;
     } else if (!(result.metric_scales[k] > 0.0)) {
       return Refuse(result,
                     CalibrationStatus::kInconsistentData,
@@ -478,12 +609,35 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                                      options,
                                      &information_segments);
   }
+  // SE(3) odometry: z may be determined as well.
+  if (result.status != CalibrationStatus::kRefinementFailed &&
+      OdometryTilts(pairs, used)) {
+    EstimateTranslationZ(
+        pairs, &used, options, &result, &information, &information_segments);
+    d.num_pairs_per_segment.assign(num_segments, 0);
+    for (const int i : used) ++d.num_pairs_per_segment[pairs[i].segment];
+    for (int k = 0; k < num_segments; ++k) {
+      if (d.num_pairs_per_segment[k] == 0) {
+        result.observability.metric_scales[k] = Determination::kUndetermined;
+      }
+    }
+  }
   for (const int i : used) d.inlier_mask[i] = 1;
   d.num_pairs_used = static_cast<int>(used.size());
 
   ComputeResiduals(pairs, used, options, &result);
   AnalyseInformation(
       information, information_segments, num_segments, options, &result);
+  // Planar odometry cannot see slopes: a camera motion that leaves the plane
+  // biases roll/pitch and x/y beyond the planar covariance. Named, and the
+  // covariance inflated by the measured excess (planarity_check.h).
+  d.planarity = CheckPlanarity(
+      pairs, used, result.odom_from_cam, result.metric_scales, options.noise);
+  if (d.planarity.checked && !d.planarity.consistent) {
+    result.warnings.push_back(
+        PlanarityWarning(d.planarity, pairs.front().stamp_i_ns));
+    InflateCovariance(d.planarity.covariance_inflation, &result);
+  }
 
   // Warnings a user should read even when the answer is usable.
   if (num_pairs - d.num_pairs_used > 0) {
@@ -524,14 +678,16 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // With several segments, one segment's undetermined scale does not make
   // the extrinsic or the other scales wrong: it is reported (null in the
   // outputs, named in `unobservable`) with a warning.
-  std::vector<std::string> essential, segment_scales;
-  for (size_t k = 1; k < result.unobservable.size(); ++k) {
-    const std::string& name = result.unobservable[k];
-    (num_segments > 1 && name.rfind("metric_scale[", 0) == 0 ? segment_scales
-                                                             : essential)
-        .push_back(name);
+  Observability extrinsic = result.observability;
+  extrinsic.metric_scales.clear();
+  std::vector<std::string> essential = UndeterminedNames(extrinsic);
+  std::vector<std::string> segment_scales;
+  for (int k = 0; k < num_segments; ++k) {
+    if (!result.observability.ScaleDetermined(k)) {
+      segment_scales.push_back(ScaleName(k, num_segments));
+    }
   }
-  if (!segment_scales.empty() &&
+  if (num_segments == 1 ||
       static_cast<int>(segment_scales.size()) == num_segments) {
     essential.insert(
         essential.end(), segment_scales.begin(), segment_scales.end());

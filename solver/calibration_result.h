@@ -1,6 +1,8 @@
 // Result of the odometer-camera calibration (see calibrate.h).
 #pragma once
 
+#include "odomcal/solver/observability.h"
+#include "odomcal/solver/planarity_check.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -15,7 +17,7 @@ enum class CalibrationStatus {
   kNotRun,            // the solver was not called
   kSuccess,           // every observable quantity is determined
   kNotEnoughMotion,   // too few pairs or too little rotation to start
-  kUnobservable,      // some quantity is undetermined: see `unobservable`
+  kUnobservable,      // some quantity is undetermined: see `observability`
   kInconsistentData,  // the data contradict the model (association, pose
                       // convention, negative scale, too many outliers)
   kRefinementFailed,  // Ceres failed; the closed-form estimate is kept
@@ -65,6 +67,9 @@ struct CalibrationDiagnostics {
   // Weighted cost per degree of freedom (about 1 when the noise model fits).
   double reduced_chi_square = 0.0;
 
+  // Out-of-plane motion under the estimate (planar odometry only).
+  PlanarityCheck planarity;
+
   // Closed-form estimate before refinement.
   Rigid3d linear_odom_from_cam;
   std::vector<double> linear_metric_scales;
@@ -81,28 +86,31 @@ struct CalibrationResult {
 
   // True when odom_from_cam and metric_scales hold an estimate (also for
   // kUnobservable / kInconsistentData, where it must not be trusted as a
-  // whole: the CLI withholds the quantities named in `unobservable`).
+  // whole: the CLI withholds the quantities `observability` does not
+  // call estimated).
   bool has_estimate = false;
-  // x_in_odom = odom_from_cam * x_in_cam; translation z is held fixed.
+  // x_in_odom = odom_from_cam * x_in_cam; translation z is held at
+  // options.fixed_translation_z_m unless observability.translation_z is
+  // kEstimated (SE(3) odometry whose rotation axes are not all parallel).
   Rigid3d odom_from_cam;
   // Metres per reconstruction unit, one per segment.
   std::vector<double> metric_scales;
 
-  // Undetermined quantities, e.g. {"translation_z"} always under planar
-  // motion; names: rotation, translation_x, translation_y, translation_z,
-  // metric_scale, metric_scale[k].
-  std::vector<std::string> unobservable;
+  // What the data determine; z is held under planar motion. The JSON
+  // `unobservable` list is UnobservableNames(observability).
+  Observability observability;
   std::vector<std::string> warnings;
 
-  // Covariance, order [rx, ry, rz, tx, ty, s_0 .. s_{K-1}]: rotation as a
-  // left perturbation R = Exp(phi) R_hat in radians about the odometry axes,
-  // translation in metres, scales in metres per reconstruction unit.
-  // Translation z is excluded: it is fixed, not estimated.
+  // Covariance, order [rx, ry, rz, tx, ty, s_0 .. s_{K-1}] and, only when
+  // translation z is estimated, tz last: rotation as a left perturbation
+  // R = Exp(phi) R_hat in radians about the odometry axes, translation in
+  // metres, scales in metres per reconstruction unit. A held z is excluded.
   std::optional<Eigen::MatrixXd> covariance;
   // Standard deviations derived from it.
   Eigen::Vector3d stddev_roll_pitch_yaw_deg = Eigen::Vector3d::Zero();
   Eigen::Vector3d stddev_rotation_axes_deg = Eigen::Vector3d::Zero();
   Eigen::Vector2d stddev_translation_xy_m = Eigen::Vector2d::Zero();
+  double stddev_translation_z_m = 0.0;           // 0 unless z is estimated
   std::vector<double> stddev_metric_scales_rel;  // sigma_s / s
 
   CalibrationDiagnostics diagnostics;

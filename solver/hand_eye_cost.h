@@ -13,36 +13,34 @@
 namespace odomcal {
 
 // Residual, whitened:  W [ Log(q_A^-1 q q_B q^-1) ; R_A p + t_A - s R t_B - p ]
-// with p = [p_xy, fixed_z] and s = exp(log_scale). Parameters:
+// with p = [p_xy, p_z] and s = exp(log_scale). Parameters:
 // q (4, Eigen x,y,z,w order, on EigenQuaternionManifold), p_xy (2),
-// log_scale (1). See hand_eye_residual.h for the model and W.
+// log_scale (1), p_z (1; a constant block where z is held). See
+// hand_eye_residual.h for the model and W.
 class HandEyeCost {
  public:
-  HandEyeCost(const MotionPair& pair,
-              double fixed_translation_z_m,
-              const Matrix6d& sqrt_information)
+  HandEyeCost(const MotionPair& pair, const Matrix6d& sqrt_information)
       : q_a_inverse_(pair.odom_i_from_odom_j.rotation.conjugate()),
         r_a_(pair.odom_i_from_odom_j.rotation.toRotationMatrix()),
         t_a_(pair.odom_i_from_odom_j.translation),
         q_b_(pair.cam_i_from_cam_j.rotation),
         t_b_(pair.cam_i_from_cam_j.translation),
-        fixed_z_(fixed_translation_z_m),
         sqrt_information_(sqrt_information) {}
 
   static ceres::CostFunction* Create(const MotionPair& pair,
-                                     double fixed_translation_z_m,
                                      const Matrix6d& sqrt_information) {
-    return new ceres::AutoDiffCostFunction<HandEyeCost, 6, 4, 2, 1>(
-        new HandEyeCost(pair, fixed_translation_z_m, sqrt_information));
+    return new ceres::AutoDiffCostFunction<HandEyeCost, 6, 4, 2, 1, 1>(
+        new HandEyeCost(pair, sqrt_information));
   }
 
   template <typename T>
   bool operator()(const T* q_xyzw,
                   const T* p_xy,
                   const T* log_scale,
+                  const T* p_z,
                   T* residuals) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
-    const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], T(fixed_z_));
+    const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], p_z[0]);
     const T scale = exp(log_scale[0]);
 
     const Eigen::Quaternion<T> error =
@@ -64,7 +62,6 @@ class HandEyeCost {
   Eigen::Vector3d t_a_;
   Eigen::Quaterniond q_b_;
   Eigen::Vector3d t_b_;
-  double fixed_z_;
   Matrix6d sqrt_information_;
 };
 

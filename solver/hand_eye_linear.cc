@@ -8,6 +8,8 @@
 
 #include "odomcal/solver/hand_eye_linear.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -18,7 +20,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Grid over alpha for the multi-segment profile; the profile has at most a
 // few minima per turn, so half a degree brackets every one of them.
 constexpr int kAlphaGridSize = 720;
@@ -434,6 +435,53 @@ bool SolveYawTranslationScale(const std::vector<CompactMotion>& motions,
 }
 
 }  // namespace
+
+LinearEstimate SolveTranslationScale3d(const MotionPairs& pairs,
+                                       const std::vector<int>& indices,
+                                       const Eigen::Quaterniond& rotation) {
+  LinearEstimate estimate;
+  std::map<int, int> local_of_segment;
+  for (const int index : indices) {
+    local_of_segment.emplace(pairs[index].segment, 0);
+  }
+  int num_segments = 0;
+  for (auto& [segment, local] : local_of_segment) local = num_segments++;
+  if (indices.empty()) {
+    estimate.failure = "no motion pair";
+    return estimate;
+  }
+  // Rows (R_A - I) p - s_k R t_B = -t_A, unknowns [p_x, p_y, p_z, s_k..].
+  const Eigen::Matrix3d r = rotation.toRotationMatrix();
+  Eigen::MatrixXd design =
+      Eigen::MatrixXd::Zero(3 * indices.size(), 3 + num_segments);
+  Eigen::VectorXd rhs(3 * indices.size());
+  for (size_t i = 0; i < indices.size(); ++i) {
+    const MotionPair& pair = pairs[indices[i]];
+    const Rigid3d& a = pair.odom_i_from_odom_j;
+    design.block<3, 3>(3 * i, 0) =
+        a.rotation.toRotationMatrix() - Eigen::Matrix3d::Identity();
+    design.block<3, 1>(3 * i, 3 + local_of_segment.at(pair.segment)) =
+        -(r * pair.cam_i_from_cam_j.translation);
+    rhs.segment<3>(3 * i) = -a.translation;
+  }
+  estimate.translation_step_condition_number =
+      NormalizedConditionNumber(design.transpose() * design);
+  if (!std::isfinite(estimate.translation_step_condition_number) ||
+      estimate.translation_step_condition_number > 1e8) {
+    estimate.failure = "the 3-D translation step is singular";
+    return estimate;
+  }
+  const Eigen::VectorXd y = design.colPivHouseholderQr().solve(rhs);
+  estimate.odom_from_cam = Rigid3d(rotation, y.head<3>());
+  estimate.metric_scales.assign(local_of_segment.rbegin()->first + 1,
+                                std::numeric_limits<double>::quiet_NaN());
+  for (const auto& [segment, local] : local_of_segment) {
+    estimate.metric_scales[segment] = y(3 + local);
+  }
+  estimate.step2_cost = (design * y - rhs).squaredNorm();
+  estimate.success = true;
+  return estimate;
+}
 
 std::vector<Eigen::Quaterniond> SolveRotationYZ(const MotionPairs& pairs,
                                                 const std::vector<int>& indices,

@@ -87,6 +87,17 @@ bool SolveYawTranslationScale(const MotionPairs& pairs,
                               const LinearOptions& options,
                               LinearEstimate* estimate);
 
+// The translation step in three dimensions for a known rotation, for SE(3)
+// odometry whose rotation axes are not all parallel (then the z rows of
+// (R_A - I) p = s_k R(q) t_B - t_A determine p_z too): linear least squares
+// over p (3) and s_k on pairs[indices]. Fills odom_from_cam (rotation as
+// given), metric_scales and translation_step_condition_number of the
+// result; !success with `failure` when the step is singular (e.g. planar
+// odometry, or all rotation axes parallel).
+LinearEstimate SolveTranslationScale3d(const MotionPairs& pairs,
+                                       const std::vector<int>& indices,
+                                       const Eigen::Quaterniond& rotation);
+
 // Hamilton product matrices, quaternions as [w, x, y, z]:
 // p ⊗ q = QuaternionLeftMatrix(p) q = QuaternionRightMatrix(q) p.
 Eigen::Matrix4d QuaternionLeftMatrix(const Eigen::Quaterniond& p);

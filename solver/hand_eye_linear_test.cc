@@ -1,6 +1,7 @@
 #include "odomcal/solver/hand_eye_linear.h"
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +11,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Noise-free recovery tolerances (issue #2): rotation 1e-6 deg, x/y 1e-9 m,
 // scale 1e-9 relative.
 constexpr double kRotationToleranceDeg = 1e-6;

@@ -1,5 +1,6 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_residual.h"
 
@@ -12,7 +13,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 constexpr int kSampleSize = 2;
 constexpr int kMaxLocalOptimizations = 3;
 

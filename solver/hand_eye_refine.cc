@@ -1,11 +1,11 @@
 // Ceres problem: one 6-dimensional residual block per used motion pair over
 // the parameter blocks [q (4, EigenQuaternionManifold), p_xy (2),
-// log s_k (1)]. The whitening W_i is computed once at the starting point,
-// which keeps the cost a fixed weighted least-squares problem. After solving,
-// the Jacobian is evaluated (without the robust loss) to form the Fisher
-// information; it is mapped from Ceres' tangent coordinates to the reported
-// ones: phi = 2 * delta for the quaternion (Plus(q, delta) =
-// [cos|delta|, sin|delta| delta/|delta|] ⊗ q, a left perturbation by a
+// log s_k (1), p_z (1, constant where z is held)]. The whitening W_i is
+// computed once at the starting point, which keeps the cost a fixed weighted
+// least-squares problem. After solving, the Jacobian is evaluated (without the
+// robust loss) to form the Fisher information; it is mapped from Ceres' tangent
+// coordinates to the reported ones: phi = 2 * delta for the quaternion (Plus(q,
+// delta) = [cos|delta|, sin|delta| delta/|delta|] ⊗ q, a left perturbation by a
 // rotation of angle 2|delta|) and ds = s * d(log s) for each scale.
 
 #include "odomcal/solver/hand_eye_refine.h"
@@ -31,7 +31,9 @@ class HandEyeProblem {
                  const Rigid3d& initial,
                  const std::vector<double>& initial_scales,
                  const CalibrationOptions& options,
-                 bool with_loss) {
+                 TranslationZ z,
+                 bool with_loss)
+      : estimate_z_(z == TranslationZ::kEstimate) {
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_ = std::make_unique<ceres::Problem>(problem_options);
@@ -39,6 +41,8 @@ class HandEyeProblem {
     for (int k = 0; k < 4; ++k) quaternion_[k] = q0.coeffs()[k];
     p_xy_[0] = initial.translation.x();
     p_xy_[1] = initial.translation.y();
+    p_z_ =
+        estimate_z_ ? initial.translation.z() : options.fixed_translation_z_m;
     for (const int index : indices) {
       const int segment = pairs[index].segment;
       log_scales_.emplace(segment, std::log(initial_scales.at(segment)));
@@ -54,25 +58,25 @@ class HandEyeProblem {
       } else if (with_loss && options.robust_loss == RobustLoss::kCauchy) {
         loss = new ceres::CauchyLoss(options.robust_loss_scale);
       }
-      problem_->AddResidualBlock(
-          HandEyeCost::Create(
-              pair, options.fixed_translation_z_m, sqrt_information),
-          loss,
-          quaternion_,
-          p_xy_,
-          &log_scales_.at(pair.segment));
+      problem_->AddResidualBlock(HandEyeCost::Create(pair, sqrt_information),
+                                 loss,
+                                 quaternion_,
+                                 p_xy_,
+                                 &log_scales_.at(pair.segment),
+                                 &p_z_);
     }
     problem_->SetManifold(quaternion_, &quaternion_manifold_);
+    if (!estimate_z_) problem_->SetParameterBlockConstant(&p_z_);
   }
 
   ceres::Problem& problem() { return *problem_; }
 
-  Rigid3d OdomFromCam(double fixed_z) const {
+  Rigid3d OdomFromCam() const {
     return Rigid3d(
         Eigen::Quaterniond(
             quaternion_[3], quaternion_[0], quaternion_[1], quaternion_[2])
             .normalized(),
-        Eigen::Vector3d(p_xy_[0], p_xy_[1], fixed_z));
+        Eigen::Vector3d(p_xy_[0], p_xy_[1], p_z_));
   }
 
   std::vector<double> Scales(size_t num_segments) const {
@@ -96,6 +100,7 @@ class HandEyeProblem {
       evaluate_options.parameter_blocks.push_back(&log_scale);
       segments->push_back(segment);
     }
+    if (estimate_z_) evaluate_options.parameter_blocks.push_back(&p_z_);
     ceres::CRSMatrix crs;
     double cost = 0.0;
     problem_->Evaluate(evaluate_options, &cost, nullptr, nullptr, &crs);
@@ -117,10 +122,12 @@ class HandEyeProblem {
   }
 
  private:
+  bool estimate_z_;
   std::unique_ptr<ceres::Problem> problem_;
   ceres::EigenQuaternionManifold quaternion_manifold_;
   double quaternion_[4];  // x, y, z, w (Eigen's coeffs order)
   double p_xy_[2];
+  double p_z_;
   std::map<int, double> log_scales_;
 };
 
@@ -143,7 +150,8 @@ RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
                                    const std::vector<int>& indices,
                                    const Rigid3d& initial,
                                    const std::vector<double>& initial_scales,
-                                   const CalibrationOptions& options) {
+                                   const CalibrationOptions& options,
+                                   TranslationZ z) {
   RefinementResult result;
   result.odom_from_cam = initial;
   result.metric_scales = initial_scales;
@@ -153,7 +161,7 @@ RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
     return result;
   }
   HandEyeProblem problem(
-      pairs, indices, initial, initial_scales, options, /*with_loss=*/true);
+      pairs, indices, initial, initial_scales, options, z, /*with_loss=*/true);
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
   solver_options.max_num_iterations = options.max_num_iterations;
@@ -174,7 +182,7 @@ RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
   if (!result.usable) {
     return result;
   }
-  result.odom_from_cam = problem.OdomFromCam(options.fixed_translation_z_m);
+  result.odom_from_cam = problem.OdomFromCam();
   result.metric_scales = problem.Scales(initial_scales.size());
   result.information = problem.Information(&result.information_segments);
   return result;
@@ -185,7 +193,8 @@ Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
                                    const Rigid3d& odom_from_cam,
                                    const std::vector<double>& metric_scales,
                                    const CalibrationOptions& options,
-                                   std::vector<int>* information_segments) {
+                                   std::vector<int>* information_segments,
+                                   TranslationZ z) {
   if (indices.empty() || !ValidStart(indices, pairs, metric_scales)) {
     information_segments->clear();
     return Eigen::MatrixXd();
@@ -195,6 +204,7 @@ Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
                          odom_from_cam,
                          metric_scales,
                          options,
+                         z,
                          /*with_loss=*/false);
   return problem.Information(information_segments);
 }

@@ -3,7 +3,9 @@
 //
 // Minimises sum_i rho(|W_i r_i|^2) over the rotation q (on the unit
 // quaternion manifold), p_x, p_y and one log-scale per segment, with p_z held
-// at options.fixed_translation_z_m (unobservable under planar motion).
+// at options.fixed_translation_z_m (unobservable under planar motion) or,
+// with TranslationZ::kEstimate, estimated too (SE(3) odometry whose
+// rotation axes are not all parallel).
 // r_i and W_i are defined in hand_eye_residual.h; W_i is evaluated once at the
 // initial estimate. rho is the identity or the robust loss of the options.
 #pragma once
@@ -20,6 +22,10 @@
 
 namespace odomcal {
 
+// Translation z: held at options.fixed_translation_z_m, or a free parameter
+// starting from the initial estimate's z.
+enum class TranslationZ { kHold, kEstimate };
+
 struct RefinementResult {
   bool usable = false;  // Ceres' IsSolutionUsable()
   Rigid3d odom_from_cam;
@@ -30,8 +36,9 @@ struct RefinementResult {
   std::string report;  // Ceres BriefReport()
 
   // Fisher information J^T J at the solution in the order
-  // [rx, ry, rz, tx, ty, s_k for each segment with pairs]: rotation as a
-  // left perturbation in radians (Ceres' quaternion tangent is half of it),
+  // [rx, ry, rz, tx, ty, s_k for each segment with pairs] and, with
+  // TranslationZ::kEstimate only, tz last: rotation as a left perturbation in
+  // radians (Ceres' quaternion tangent is half of it), translation in metres,
   // scales in metres per reconstruction unit.
   Eigen::MatrixXd information;
   std::vector<int> information_segments;  // segment of each scale column
@@ -43,7 +50,8 @@ RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
                                    const std::vector<int>& indices,
                                    const Rigid3d& initial,
                                    const std::vector<double>& initial_scales,
-                                   const CalibrationOptions& options);
+                                   const CalibrationOptions& options,
+                                   TranslationZ z = TranslationZ::kHold);
 
 // Information matrix only, at a fixed estimate (no optimisation); same order
 // and conventions as RefinementResult::information.
@@ -52,6 +60,7 @@ Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
                                    const Rigid3d& odom_from_cam,
                                    const std::vector<double>& metric_scales,
                                    const CalibrationOptions& options,
-                                   std::vector<int>* information_segments);
+                                   std::vector<int>* information_segments,
+                                   TranslationZ z = TranslationZ::kHold);
 
 }  // namespace odomcal

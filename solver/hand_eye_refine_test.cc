@@ -1,6 +1,7 @@
 #include "odomcal/solver/hand_eye_refine.h"
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_cost.h"
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/tests/test_seed.h"
@@ -15,8 +16,6 @@
 
 namespace odomcal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<int> AllIndices(const MotionPairs& pairs) {
   std::vector<int> indices(pairs.size());
@@ -91,28 +90,28 @@ TEST(HandEyeCost, GradientCheckerPasses) {
   const SimulatedMotions truth = SimulateMotions(options, &rng);
   ceres::EigenQuaternionManifold quaternion_manifold;
   const std::vector<const ceres::Manifold*> manifolds = {
-      &quaternion_manifold, nullptr, nullptr};
+      &quaternion_manifold, nullptr, nullptr, nullptr};
   for (const MotionPair& pair : truth.pairs) {
     const Matrix6d w = HandEyeSqrtInformation(
         pair, truth.odom_from_cam, truth.metric_scales[0], NoiseModel());
-    std::unique_ptr<ceres::CostFunction> cost(
-        HandEyeCost::Create(pair, 0.05, w));
+    std::unique_ptr<ceres::CostFunction> cost(HandEyeCost::Create(pair, w));
     // Evaluate away from the truth so that no residual is trivially zero.
     const Eigen::Quaterniond q = ExpRotation(Eigen::Vector3d(0.1, -0.2, 0.3)) *
                                  truth.odom_from_cam.rotation;
     double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
     double p_xy[2] = {0.3, -0.1};
     double log_scale[1] = {std::log(truth.metric_scales[0]) + 0.2};
-    const double* parameters[] = {q_xyzw, p_xy, log_scale};
+    double p_z[1] = {0.05};
+    const double* parameters[] = {q_xyzw, p_xy, log_scale, p_z};
     ceres::NumericDiffOptions numeric_diff_options;
     ceres::GradientChecker checker(
         cost.get(), &manifolds, numeric_diff_options);
     ceres::GradientChecker::ProbeResults results;
     checker.Probe(parameters, 1e-6, &results);
-    ASSERT_EQ(results.local_jacobians.size(), 3u);
+    ASSERT_EQ(results.local_jacobians.size(), 4u);
     // Ceres' own verdict is purely relative and flags entries that are zero
     // analytically and 1e-14 numerically; compare with a mixed tolerance.
-    for (size_t block = 0; block < 3; ++block) {
+    for (size_t block = 0; block < 4; ++block) {
       const auto& analytic = results.local_jacobians[block];
       const auto& numeric = results.local_numeric_jacobians[block];
       const double scale = std::max(1.0, numeric.cwiseAbs().maxCoeff());

@@ -1,13 +1,13 @@
 #include "odomcal/solver/hand_eye_residual.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <Eigen/Cholesky>
 
 #include <cmath>
 
 namespace odomcal {
 namespace {
-
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;

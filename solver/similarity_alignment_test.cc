@@ -1,6 +1,6 @@
 #include "odomcal/solver/similarity_alignment.h"
 
-#include "odomcal/datasets/motion_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>

@@ -3,9 +3,13 @@
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/hand_eye_ransac.h"
 
+#include <Eigen/QR>
+
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 namespace odomcal {
 namespace {
@@ -216,6 +220,7 @@ void CutScaleChanges(const CalibrationOptions& options,
     cut.scale_before = change.scale_before;
     cut.scale_after = change.scale_after;
     cut.f_statistic = change.f_statistic;
+    cut.f_threshold = change.f_threshold;
     check->scale_changes.push_back(cut);
   }
   for (InconsistentStretch& run : check->stretches) {
@@ -234,6 +239,114 @@ void CutScaleChanges(const CalibrationOptions& options,
   check->input_segment_of_output_segment = std::move(input_segment_of_output);
   check->split = true;
   check->result = CalibrateOdomCam(check->pairs, options);
+}
+
+// Weighted least squares of  a_i = s0 + slope (t_i - t_first) + g_i . theta
+// over the per-pair scales a_i of one input segment's used pairs (t_i: the
+// pair's mid time, g_i: its lever arm gradient): the drift is
+// slope * duration / s0, its variance scaled by the fit's own scatter when
+// that exceeds the noise model.
+void MeasureDrift(const std::vector<PairMetricScale>& scales,
+                  const std::vector<double>& times_s,
+                  double duration_s,
+                  ScaleDrift* drift) {
+  Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+  double waa = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < scales.size(); ++i) {
+    const PairMetricScale& value = scales[i];
+    if (!std::isfinite(value.scale) || !std::isfinite(value.stddev) ||
+        !(value.stddev > 0.0)) {
+      continue;
+    }
+    const double w = 1.0 / (value.stddev * value.stddev);
+    Eigen::Vector4d row;
+    row << 1.0, times_s[i], value.scale_per_lever_arm_xy;
+    normal += w * row * row.transpose();
+    rhs += w * value.scale * row;
+    waa += w * value.scale * value.scale;
+    ++n;
+  }
+  if (n < 5) return;
+  const Eigen::Matrix4d covariance =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix4d>(normal)
+          .pseudoInverse();
+  const Eigen::Vector4d solution = covariance * rhs;
+  const double chi_square = std::max(0.0, waa - solution.dot(rhs));
+  const double variance_factor = std::max(1.0, chi_square / (n - 4));
+  const double s0 = solution(0);
+  if (!(std::abs(s0) > 0.0)) return;
+  drift->relative_drift = solution(1) * duration_s / s0;
+  drift->relative_drift_stddev =
+      std::sqrt(variance_factor * std::max(0.0, covariance(1, 1))) *
+      duration_s / std::abs(s0);
+}
+
+// One ScaleDrift per input segment with a scale cut, from the final fit.
+void MeasureScaleDrifts(const CalibrationOptions& options,
+                        StretchCheckResult* check) {
+  const CalibrationResult& fit = check->result;
+  if (!fit.has_estimate) return;
+  std::set<int> cut_inputs;
+  for (const ScaleChangeCut& cut : check->scale_changes) {
+    cut_inputs.insert(cut.input_segment);
+  }
+  const std::vector<PairMetricScale> scales = PerPairMetricScales(
+      check->pairs, fit.odom_from_cam, fit.metric_scales, options.noise);
+  for (const int input : cut_inputs) {
+    ScaleDrift drift;
+    drift.input_segment = input;
+    drift.first_stamp_ns = std::numeric_limits<int64_t>::max();
+    drift.last_stamp_ns = std::numeric_limits<int64_t>::min();
+    std::map<int, ScaleStretch> stretches;
+    std::vector<int> members;
+    for (size_t i = 0; i < check->pairs.size(); ++i) {
+      const MotionPair& pair = check->pairs[i];
+      if (check->input_segment_of_output_segment.at(pair.segment) != input)
+        continue;
+      auto [it, inserted] = stretches.try_emplace(pair.segment);
+      ScaleStretch& stretch = it->second;
+      if (inserted) {
+        stretch.output_segment = pair.segment;
+        stretch.first_stamp_ns = pair.stamp_i_ns;
+        stretch.last_stamp_ns = pair.stamp_j_ns;
+      }
+      stretch.first_stamp_ns =
+          std::min(stretch.first_stamp_ns, pair.stamp_i_ns);
+      stretch.last_stamp_ns = std::max(stretch.last_stamp_ns, pair.stamp_j_ns);
+      drift.first_stamp_ns = std::min(drift.first_stamp_ns, pair.stamp_i_ns);
+      drift.last_stamp_ns = std::max(drift.last_stamp_ns, pair.stamp_j_ns);
+      if (fit.diagnostics.inlier_mask.at(i)) {
+        members.push_back(static_cast<int>(i));
+      }
+    }
+    for (const auto& [segment, stretch] : stretches) {
+      drift.stretches.push_back(stretch);
+    }
+    std::sort(drift.stretches.begin(),
+              drift.stretches.end(),
+              [](const ScaleStretch& a, const ScaleStretch& b) {
+                return a.first_stamp_ns < b.first_stamp_ns;
+              });
+    std::vector<PairMetricScale> values;
+    std::vector<double> times_s;
+    for (const int i : members) {
+      const MotionPair& pair = check->pairs[i];
+      values.push_back(scales[i]);
+      times_s.push_back(
+          1e-9 *
+          static_cast<double>((pair.stamp_i_ns - drift.first_stamp_ns) +
+                              (pair.stamp_j_ns - drift.first_stamp_ns)) /
+          2.0);
+    }
+    MeasureDrift(
+        values,
+        times_s,
+        1e-9 * static_cast<double>(drift.last_stamp_ns - drift.first_stamp_ns),
+        &drift);
+    check->scale_drifts.push_back(std::move(drift));
+  }
 }
 
 }  // namespace
@@ -259,8 +372,9 @@ StretchCheckResult CalibrateWithStretchCheck(
                                     stretch_options.min_run_pairs);
   if (!check.stretches.empty())
     CutOutlierRuns(pairs, options, stretch_options, &check);
-  if (stretch_options.check_scale_changes && check.result.IsSuccess()) {
+  if (stretch_options.check_scale_changes && check.result.has_estimate) {
     CutScaleChanges(options, stretch_options.scale_change, &check);
+    if (!check.scale_changes.empty()) MeasureScaleDrifts(options, &check);
   }
   return check;
 }

@@ -12,6 +12,10 @@
 // then repeated on the relabelled pairs. Last, the step-length check of
 // scale_consistency.h cuts segments whose scale changes along the path (SfM
 // scale drift) into parts with scales of their own, and calibrates again.
+// It runs whenever the calibration has an estimate, whatever its status: the
+// rotation and the step lengths give the scale of a stretch even when the
+// lever arm is undetermined (it is fitted as a nuisance), and a drift must
+// be named most of all when the answer is otherwise doubtful.
 #pragma once
 
 #include "odomcal/solver/calibration_options.h"
@@ -39,6 +43,27 @@ struct ScaleChangeCut {
   double scale_before = 0.0;  // metres per reconstruction unit
   double scale_after = 0.0;
   double f_statistic = 0.0;
+  double f_threshold = 0.0;  // its critical value (scale_consistency.h)
+};
+
+// A stretch of an input segment calibrated with a scale of its own.
+struct ScaleStretch {
+  int output_segment = 0;
+  int64_t first_stamp_ns = 0;  // span of its motion pairs
+  int64_t last_stamp_ns = 0;
+};
+
+// An input segment the step-length check cut: how much its scale drifts,
+// from a weighted linear trend of the per-pair scales over time (lever arm
+// x/y fitted jointly), and the stretches it was calibrated as.
+struct ScaleDrift {
+  int input_segment = 0;
+  int64_t first_stamp_ns = 0;
+  int64_t last_stamp_ns = 0;
+  // Scale at the last stamp over the scale at the first, minus 1.
+  double relative_drift = 0.0;
+  double relative_drift_stddev = 0.0;   // scatter-scaled, first order
+  std::vector<ScaleStretch> stretches;  // in time order
 };
 
 struct InconsistentStretch {
@@ -59,7 +84,8 @@ struct StretchCheckResult {
   std::vector<int> input_segment_of_output_segment;
   std::vector<InconsistentStretch> stretches;
   std::vector<ScaleChangeCut> scale_changes;
-  bool split = false;  // whether segments were cut
+  std::vector<ScaleDrift> scale_drifts;  // one per input segment with cuts
+  bool split = false;                    // whether segments were cut
 };
 
 // Pairs of one segment must be in time order (as association produces them).

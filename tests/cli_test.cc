@@ -3,7 +3,8 @@
 // one-line errors on bad files, outputs that never clobber or touch inputs.
 
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/test_files.h"
 
 #include <gtest/gtest.h>
@@ -22,8 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct CommandResult {
   int exit_code = -1;

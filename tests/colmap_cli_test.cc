@@ -6,7 +6,8 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/test_files.h"
 
 #include <gtest/gtest.h>
@@ -25,8 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct Project {
   SimulatedDrive drive;

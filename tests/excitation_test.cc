@@ -10,7 +10,7 @@
 #include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/tests/odomcal_process.h"
 #include "odomcal/tests/test_files.h"
 

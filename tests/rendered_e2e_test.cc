@@ -7,6 +7,7 @@
 // default; ODOMCAL_TEST_SEED renders other scenes (the tolerances must hold).
 
 #include "odomcal/adapters/colmap_model.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 #include "odomcal/tests/test_files.h"
 #include "odomcal/tests/test_seed.h"
@@ -29,8 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 bool ColmapInstalled() {
   return std::system("colmap help > /dev/null 2>&1") == 0;

@@ -10,7 +10,8 @@
 #include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/datasets/drive_simulator.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/odomcal_process.h"
 #include "odomcal/tests/test_files.h"
 
@@ -44,7 +45,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr char kCalibrateError[] = "odomcal calibrate: error: ";
 constexpr char kColmapError[] = "odomcal colmap: error: ";
 constexpr char kRunError[] = "odomcal run: error: ";

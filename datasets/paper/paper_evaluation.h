@@ -1,0 +1,164 @@
+// The Monte Carlo evaluation of Guo, Mirzaei & Roumeliotis (ICRA 2012),
+// Section V (Fig. 2, Table I): per trial, every method estimates
+// odom_from_cam and the metric scale(s) from one PaperSimulation; errors
+// against the truth are aggregated into RMSEs and divergence rates.
+//
+// Methods (EvaluationMethod):
+//   ALS        closed form, camera translations as measured (kAls)
+//   ALSP-L     closed form, length-preserving plane projection
+//              (`--alsp_projection length_preserving`)
+//   ALSP-orth  closed form, the paper's orthogonal projection (== ALS, see
+//              calibration_options.h; kept to measure that): what the CLI's
+//              `--method alsp` computes by default
+//   CM         Chang et al., minimal solution + RANSAC with a fixed budget
+//              (chang_baseline.h)
+//   ALS-B, ALSP-L-B, CM-B   batch refinement (RefineOdomFromCam) started
+//              at ALS, ALSP-L, CM
+//   GT-B       batch refinement started at the truth
+// All use all pairs (no outlier rejection besides CM's own RANSAC); the
+// refinement weighs each pair by its odom_covariance and cam_covariance, has
+// no robust loss, and holds translation z at its true value (unobservable
+// under planar motion), as do the closed forms.
+//
+// Errors of an estimate (q_hat, p_hat, s_hat) against the truth (q, p, s):
+//   rotation_deg  = angle of dq = q_hat^-1 ⊗ q, in degrees (the paper's
+//                   "tilt angle" |delta theta| with dq ~ [delta theta / 2, 1])
+//   translation_m = |p_hat.xy - p.xy|
+//   scale_rel     = RMS over segments of (s_hat_k - s_k) / s_k
+// Divergence (Table I), B methods only: with C the inverse of the
+// refinement's information (order [rx, ry, rz, tx, ty, s_k...], rotation a
+// left perturbation R = Exp(phi) R_hat), the error
+//   e = [Log(q ⊗ q_hat^-1), p.xy - p_hat.xy, s - s_hat]
+// is a divergence when |e_k| > 3 sqrt(C_kk) for any k. (For a consistent
+// Gaussian estimate this happens by chance with probability up to
+// 1 - 0.9973^(5+K), 1.6 % for one segment.)
+//
+// A method that returns no estimate (closed form or CM failing, refinement
+// not usable, or a B method whose start failed) is a failure: counted, and
+// left out of the RMSEs, never counted as zero error.
+#pragma once
+
+#include "odomcal/datasets/paper/paper_simulation.h"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+enum class EvaluationMethod {
+  kAls,
+  kAlspLengthPreserving,
+  kAlspOrthogonal,
+  kCm,
+  kAlsB,
+  kAlspLengthPreservingB,
+  kCmB,
+  kGtB,
+};
+constexpr int kNumEvaluationMethods = 8;
+
+// "ALS", "ALSP-L", "ALSP-orth", "CM", "ALS-B", "ALSP-L-B", "CM-B", "GT-B".
+std::string ToString(EvaluationMethod method);
+bool IsBatchMethod(EvaluationMethod method);
+// All methods in the order above.
+std::array<EvaluationMethod, kNumEvaluationMethods> AllEvaluationMethods();
+
+struct EvaluationOptions {
+  // CM's RANSAC: a fixed number of minimal samples (no adaptive stopping).
+  int cm_ransac_iterations = 200;
+  int max_refinement_iterations = 100;
+  void Check() const;  // throws std::invalid_argument naming the field
+};
+
+struct MethodError {
+  bool failed = false;
+  double rotation_deg = 0.0;
+  double translation_m = 0.0;
+  double scale_rel = 0.0;
+  // B methods: whether the information was invertible, and the divergence
+  // test's outcome (false when there is no covariance).
+  bool has_covariance = false;
+  bool diverged = false;
+};
+
+struct TrialResult {
+  std::array<MethodError, kNumEvaluationMethods> methods;
+  int num_pairs = 0;  // after dropped two-view failures
+  const MethodError& operator[](EvaluationMethod method) const {
+    return methods[static_cast<int>(method)];
+  }
+};
+
+// Runs every method on `simulation`; `seed` drives CM's RANSAC.
+TrialResult EvaluateTrial(const PaperSimulation& simulation,
+                          const EvaluationOptions& options,
+                          uint64_t seed);
+
+struct MethodSummary {
+  int num_trials = 0;
+  int num_failures = 0;
+  // Over the trials without failure; NaN when there are none.
+  double rmse_rotation_deg = 0.0;
+  double rmse_translation_m = 0.0;
+  double rmse_scale_rel = 0.0;
+  // B methods: trials with a covariance, divergences among them, and their
+  // ratio (NaN for the other methods or without any covariance).
+  int num_with_covariance = 0;
+  int num_divergences = 0;
+  double divergence_rate = 0.0;
+};
+
+struct SweepPointResult {
+  double value = 0.0;  // the swept parameter's value
+  int num_trials = 0;
+  int num_dropped_motions = 0;  // two-view failures over all trials
+  std::array<MethodSummary, kNumEvaluationMethods> methods;
+  const MethodSummary& operator[](EvaluationMethod method) const {
+    return methods[static_cast<int>(method)];
+  }
+};
+
+// Aggregates trials (in their order) into a sweep point.
+SweepPointResult SummarizeTrials(double value,
+                                 const std::vector<TrialResult>& trials);
+
+// Seed of one trial, a hash of (base seed, sweep name, point index, trial
+// index): independent of the thread count and of the other sweeps.
+uint64_t TrialSeed(uint64_t base_seed,
+                   const std::string& sweep_name,
+                   int point_index,
+                   int trial_index);
+
+// Called after each finished trial with (finished, total), from the worker
+// threads, one call at a time.
+using ProgressCallback = std::function<void(int, int)>;
+
+// Runs num_trials trials of `simulation` on num_threads std::threads; trial
+// t simulates with std::mt19937_64(TrialSeed(...)) and evaluates with a
+// seed derived from it. Results do not depend on num_threads. Throws
+// std::invalid_argument for invalid options; rethrows the first exception a
+// worker raised.
+SweepPointResult RunSweepPoint(const PaperSimulationOptions& simulation,
+                               const EvaluationOptions& options,
+                               const std::string& sweep_name,
+                               int point_index,
+                               double value,
+                               int num_trials,
+                               int num_threads,
+                               uint64_t base_seed,
+                               const ProgressCallback& progress = nullptr);
+
+// The per-trial results behind RunSweepPoint (same seeds), in trial order.
+std::vector<TrialResult> RunTrials(const PaperSimulationOptions& simulation,
+                                   const EvaluationOptions& options,
+                                   const std::string& sweep_name,
+                                   int point_index,
+                                   int num_trials,
+                                   int num_threads,
+                                   uint64_t base_seed,
+                                   const ProgressCallback& progress = nullptr);
+
+}  // namespace odomcal

@@ -1,0 +1,117 @@
+#include "odomcal/datasets/paper/paper_evaluation.h"
+
+#include "odomcal/datasets/paper/paper_sweeps.h"
+#include "odomcal/tests/test_seed.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace odomcal {
+namespace {
+
+// The paper's first claim (ALSP-L-B ~ GT-B) as a regression bound.
+constexpr double kBatchRelativeTolerance = 0.02;
+
+TEST(RunSweepPoint, AlspLBMatchesGtBAndAlspLBeatsCm) {
+  const PaperSimulationOptions simulation =
+      ApplySweepValue(NominalPaperSimulation(CameraNoiseMode::kParametric),
+                      "rotation_noise",
+                      0.1);
+  EvaluationOptions options;
+  const SweepPointResult point =
+      RunSweepPoint(simulation, options, "test", 0, 0.1, 300, 2, TestSeed(320));
+  const MethodSummary& alsp_l_b =
+      point[EvaluationMethod::kAlspLengthPreservingB];
+  const MethodSummary& gt_b = point[EvaluationMethod::kGtB];
+  const MethodSummary& alsp_l = point[EvaluationMethod::kAlspLengthPreserving];
+  const MethodSummary& cm = point[EvaluationMethod::kCm];
+  EXPECT_EQ(alsp_l_b.num_failures, 0);
+  EXPECT_EQ(gt_b.num_failures, 0);
+  EXPECT_NEAR(alsp_l_b.rmse_rotation_deg / gt_b.rmse_rotation_deg,
+              1.0,
+              kBatchRelativeTolerance);
+  EXPECT_NEAR(alsp_l_b.rmse_translation_m / gt_b.rmse_translation_m,
+              1.0,
+              kBatchRelativeTolerance);
+  EXPECT_NEAR(alsp_l_b.rmse_scale_rel / gt_b.rmse_scale_rel,
+              1.0,
+              kBatchRelativeTolerance);
+  EXPECT_LT(alsp_l.rmse_rotation_deg, cm.rmse_rotation_deg);
+  EXPECT_LT(alsp_l.rmse_translation_m, cm.rmse_translation_m);
+  EXPECT_LT(alsp_l.rmse_scale_rel, cm.rmse_scale_rel);
+  // The orthogonal projection reproduces ALS.
+  EXPECT_NEAR(point[EvaluationMethod::kAlspOrthogonal].rmse_rotation_deg,
+              point[EvaluationMethod::kAls].rmse_rotation_deg,
+              1e-9);
+  // A consistent estimator: divergences only by chance (< 1.6 % expected).
+  EXPECT_LT(gt_b.divergence_rate, 0.05);
+  EXPECT_FALSE(std::isnan(gt_b.divergence_rate));
+  EXPECT_TRUE(std::isnan(alsp_l.divergence_rate));
+}
+
+bool SameError(const MethodError& a, const MethodError& b) {
+  return a.failed == b.failed && a.rotation_deg == b.rotation_deg &&
+         a.translation_m == b.translation_m && a.scale_rel == b.scale_rel &&
+         a.has_covariance == b.has_covariance && a.diverged == b.diverged;
+}
+
+TEST(RunTrials, IndependentOfTheThreadCount) {
+  const PaperSimulationOptions simulation =
+      NominalPaperSimulation(CameraNoiseMode::kLandmarks);
+  EvaluationOptions options;
+  options.cm_ransac_iterations = 50;
+  int calls = 0;
+  const std::vector<TrialResult> one = RunTrials(
+      simulation, options, "pixel_noise", 3, 12, 1, 7, [&calls](int, int) {
+        ++calls;
+      });
+  const std::vector<TrialResult> two =
+      RunTrials(simulation, options, "pixel_noise", 3, 12, 2, 7);
+  EXPECT_EQ(calls, 12);
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t t = 0; t < one.size(); ++t) {
+    for (int m = 0; m < kNumEvaluationMethods; ++m) {
+      EXPECT_TRUE(SameError(one[t].methods[m], two[t].methods[m]))
+          << "trial " << t << " method " << m;
+    }
+  }
+}
+
+TEST(TrialSeed, DependsOnEveryInput) {
+  const uint64_t seed = TrialSeed(1, "a", 0, 0);
+  EXPECT_EQ(seed, TrialSeed(1, "a", 0, 0));
+  EXPECT_NE(seed, TrialSeed(2, "a", 0, 0));
+  EXPECT_NE(seed, TrialSeed(1, "b", 0, 0));
+  EXPECT_NE(seed, TrialSeed(1, "a", 1, 0));
+  EXPECT_NE(seed, TrialSeed(1, "a", 0, 1));
+}
+
+TEST(SummarizeTrials, FailuresAreCountedNotAveraged) {
+  // One motion cannot determine anything: every method fails.
+  PaperSimulationOptions simulation =
+      NominalPaperSimulation(CameraNoiseMode::kParametric);
+  simulation.num_motions = 1;
+  const SweepPointResult point =
+      RunSweepPoint(simulation, EvaluationOptions(), "test", 0, 1.0, 4, 1, 1);
+  const MethodSummary& alsp_l = point[EvaluationMethod::kAlspLengthPreserving];
+  EXPECT_EQ(alsp_l.num_failures, 4);
+  EXPECT_TRUE(std::isnan(alsp_l.rmse_rotation_deg));
+  EXPECT_EQ(point[EvaluationMethod::kCm].num_failures, 4);
+  EXPECT_EQ(point[EvaluationMethod::kCmB].num_failures, 4);
+}
+
+TEST(ApplySweepValue, SetsTheSweptParameter) {
+  const PaperSimulationOptions nominal =
+      NominalPaperSimulation(CameraNoiseMode::kLandmarks);
+  EXPECT_EQ(ApplySweepValue(nominal, "rotation_noise", 0.3).odom_yaw_sigma_rad,
+            0.3);
+  EXPECT_EQ(ApplySweepValue(nominal, "num_motions", 50).num_motions, 50);
+  EXPECT_EQ(ApplySweepValue(nominal, "pixel_noise", 2).pixel_sigma, 2.0);
+  EXPECT_THROW(ApplySweepValue(nominal, "nope", 1), std::invalid_argument);
+  EXPECT_THROW(FindPaperSweep("nope"), std::invalid_argument);
+  EXPECT_EQ(PaperSweeps().size(), 4u);
+}
+
+}  // namespace
+}  // namespace odomcal

@@ -1,0 +1,34 @@
+// Named RenderedDatasetOptions for `odomcal render --preset NAME`.
+//
+//   small     CI: 40 images 320x240 at 2.5 Hz, forward camera, one 8 x 6 m room
+//   default   the demo: 64 images 320x240 at 2.5 Hz, forward camera (26 s)
+//   tilted    40 images 320x240, camera pitched 20 deg down, rolled 90 deg, 0.7
+//   m up hard      two rooms joined by a featureless corridor (the
+//   reconstruction
+//             splits in two), 1-1.5 % wheel errors, slip, yaw drift, 25 ms
+//             time offset and 2 ms jitter; 130 images 320x240 at 2.5 Hz
+//   straight  straight driving only (rotation unobservable), 40 images
+//
+// All share the 50 Hz odometry and the default texture density (6 mm texels).
+#pragma once
+
+#include "odomcal/datasets/rendering/rendered_dataset.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct DatasetPresetInfo {
+  std::string name;
+  std::string summary;  // one line
+};
+
+std::vector<DatasetPresetInfo> DatasetPresets();
+
+// Throws std::invalid_argument listing the valid names for an unknown one.
+RenderedDatasetOptions MakeDatasetPreset(const std::string& name,
+                                         uint64_t seed);
+
+}  // namespace odomcal

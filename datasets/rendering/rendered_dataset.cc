@@ -1,0 +1,257 @@
+// SimulateRenderedDataset: derive the seeds, plan the path long enough for
+// the timeline, simulate the odometry at its own rate, and place each image
+// at its capture time; WriteRenderedDataset then renders frame by frame and
+// writes the files (images with OpenCV, logs with the adapters' writers).
+
+#include "odomcal/datasets/rendering/rendered_dataset.h"
+
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/simulation/seed.h"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+
+namespace odomcal {
+namespace {
+
+int64_t ToNs(double seconds) {
+  return static_cast<int64_t>(std::llround(seconds * 1e9));
+}
+
+nlohmann::json TransformJson(const Rigid3d& transform) {
+  const Eigen::Quaterniond q = WithPositiveScalar(transform.rotation);
+  const Eigen::Vector3d& t = transform.translation;
+  const Eigen::Matrix4d m = transform.ToMatrix();
+  nlohmann::json matrix = nlohmann::json::array();
+  for (int r = 0; r < 4; ++r) {
+    matrix.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+  }
+  return {{"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+          {"translation_m", {t.x(), t.y(), t.z()}},
+          {"matrix", matrix}};
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace
+
+void RenderedDatasetOptions::Check() const {
+  camera.Check();
+  layout.Check();
+  scene.Check();
+  render.Check();
+  odometry_noise.Check();
+  if (num_images < 2) {
+    throw std::invalid_argument(
+        "RenderedDatasetOptions.num_images must be >= 2");
+  }
+  if (!(camera_rate_hz > 0.0) || !(odometry_rate_hz >= camera_rate_hz)) {
+    throw std::invalid_argument(
+        "RenderedDatasetOptions: need 0 < camera_rate_hz <= odometry_rate_hz");
+  }
+  if (!(lead_time_s >= 0.0) || !std::isfinite(camera_time_offset_s)) {
+    throw std::invalid_argument(
+        "RenderedDatasetOptions: lead_time_s >= 0, finite "
+        "camera_time_offset_s");
+  }
+  // Recorded stamps must stay in order: jitter well below the period.
+  if (!(camera_time_jitter_s >= 0.0) ||
+      camera_time_jitter_s * camera_rate_hz > 0.05) {
+    throw std::invalid_argument(
+        "RenderedDatasetOptions.camera_time_jitter_s must be in [0, 0.05 / "
+        "camera_rate_hz]");
+  }
+}
+
+RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
+  options.Check();
+  RenderedDataset dataset;
+  RenderedDatasetOptions& o = dataset.options;
+  o = options;
+  o.scene.seed = DeriveSeed(o.seed, 1);
+  o.path.seed = DeriveSeed(o.seed, 2);
+  o.odometry_noise.seed = DeriveSeed(o.seed, 3);
+  o.path.camera_position_in_odom = o.odom_from_cam.translation;
+  o.path.camera_axis_in_odom =
+      o.odom_from_cam.rotation * Eigen::Vector3d::UnitZ();
+
+  // Timeline in ns from the first odometry sample.
+  std::vector<int64_t> captures;
+  for (int k = 0; k < o.num_images; ++k) {
+    captures.push_back(ToNs(o.lead_time_s + k / o.camera_rate_hz));
+  }
+  const int64_t odometry_end = captures.back() + ToNs(o.lead_time_s);
+  o.path.duration_s = 1e-9 * odometry_end;
+
+  dataset.path = PlanRoomPath(o.layout, o.path);
+
+  std::vector<int64_t> samples;
+  const double period_s = 1.0 / o.odometry_rate_hz;
+  for (int64_t k = 0;; ++k) {
+    samples.push_back(ToNs(k * period_s));
+    if (samples.back() >= odometry_end) break;
+  }
+  dataset.odometry = SimulateWheelOdometry(
+      dataset.path, samples, o.start_stamp_ns, o.odometry_noise);
+  dataset.true_odometry =
+      TrueWheelOdometry(dataset.path, samples, o.start_stamp_ns);
+  dataset.room_from_origin = dataset.path.PoseAt(0).ToRigid3d();
+  const Rigid3d origin_from_room = Inverse(dataset.room_from_origin);
+
+  std::mt19937_64 jitter_rng(DeriveSeed(o.seed, 4));
+  std::normal_distribution<double> jitter(0.0, o.camera_time_jitter_s);
+  for (int k = 0; k < o.num_images; ++k) {
+    RenderedFrame frame;
+    char name[32];
+    std::snprintf(name, sizeof(name), "%06d.png", k);
+    frame.image_name = name;
+    frame.capture_ns = o.start_stamp_ns + captures[k];
+    const double noise_s =
+        o.camera_time_jitter_s > 0.0 ? jitter(jitter_rng) : 0.0;
+    frame.stamp_ns = frame.capture_ns + ToNs(o.camera_time_offset_s + noise_s);
+    frame.room_from_cam =
+        dataset.path.PoseAt(captures[k]).ToRigid3d() * o.odom_from_cam;
+    frame.origin_from_cam = origin_from_room * frame.room_from_cam;
+    dataset.frames.push_back(frame);
+  }
+  return dataset;
+}
+
+RenderedDataset SimulateRenderedDataset(const RenderedDatasetOptions& options) {
+  RenderedDataset dataset = SimulateDatasetMotion(options);
+  dataset.scene = BuildRoomScene(dataset.options.layout, dataset.options.scene);
+  return dataset;
+}
+
+Image RenderFrame(const RenderedDataset& dataset, size_t index) {
+  if (index >= dataset.frames.size()) {
+    throw std::invalid_argument("RenderFrame: index out of range");
+  }
+  return RenderImage(dataset.scene,
+                     dataset.options.camera,
+                     dataset.frames[index].room_from_cam,
+                     dataset.options.render);
+}
+
+std::string GroundTruthJson(const RenderedDataset& dataset) {
+  const RenderedDatasetOptions& o = dataset.options;
+  nlohmann::json images = nlohmann::json::array();
+  for (const RenderedFrame& frame : dataset.frames) {
+    nlohmann::json pose = TransformJson(frame.origin_from_cam);
+    pose.erase("matrix");
+    images.push_back(
+        {{"name", frame.image_name},
+         {"timestamp", FormatTimestampSeconds(frame.stamp_ns)},
+         {"capture_timestamp", FormatTimestampSeconds(frame.capture_ns)},
+         {"world_from_cam", pose}});
+  }
+  const WheelOdometryNoise& n = o.odometry_noise;
+  nlohmann::json truth = {
+      {"schema", "odomcal.rendered_dataset"},
+      {"schema_version", 1},
+      {"preset", o.preset},
+      {"seed", o.seed},
+      {"conventions",
+       {{"transforms",
+         "b_from_a maps coordinates in a to b: x_in_b = b_from_a * x_in_a"},
+        {"quaternion", "Hamilton, order w x y z"},
+        {"frames",
+         "cam: x right, y down, z forward; odom: robot body, x forward, y "
+         "left, "
+         "z up, on the floor; world: the odometry's origin (robot pose at the "
+         "first odometry sample); metres"},
+        {"timestamps",
+         "seconds, exact 9-decimal text; timestamp = capture_timestamp + "
+         "camera_time_offset_s + jitter"},
+        {"pixels",
+         "COLMAP: pixel (i, j) covers [i, i+1) x [j, j+1), centre at +0.5"}}},
+      {"odom_from_cam", TransformJson(o.odom_from_cam)},
+      {"cam_from_odom", TransformJson(Inverse(o.odom_from_cam))},
+      {"metric_scale", 1.0},
+      {"camera",
+       {{"model", o.camera.ColmapModelName()},
+        {"width", o.camera.width},
+        {"height", o.camera.height},
+        {"params", o.camera.ColmapParams()},
+        {"param_names", o.camera.ColmapParamNames()}}},
+      {"timing",
+       {{"camera_rate_hz", o.camera_rate_hz},
+        {"odometry_rate_hz", o.odometry_rate_hz},
+        {"camera_time_offset_s", o.camera_time_offset_s},
+        {"camera_time_jitter_s", o.camera_time_jitter_s},
+        {"note",
+         "the camera clock runs late by camera_time_offset_s: odomcal "
+         "calibrate --camera_time_offset_s should be its negative"}}},
+      {"odometry_noise",
+       {{"wheel_base_m", n.wheel_base_m},
+        {"wheel_scale_error_left", n.wheel_scale_error_left},
+        {"wheel_scale_error_right", n.wheel_scale_error_right},
+        {"wheel_slip_stddev", n.wheel_slip_stddev},
+        {"yaw_rate_bias_radps", n.yaw_rate_bias_radps}}},
+      {"scene",
+       {{"room_from_world", TransformJson(dataset.room_from_origin)},
+        {"num_surfaces", dataset.scene.surfaces.size()},
+        {"texel_size_m", o.scene.texel_size_m},
+        {"supersampling", o.render.supersampling}}},
+      {"images", images},
+  };
+  return truth.dump(2) + "\n";
+}
+
+void WriteRenderedDataset(
+    const RenderedDataset& dataset,
+    const std::string& output_dir,
+    const std::function<void(size_t done, size_t total)>& progress) {
+  namespace fs = std::filesystem;
+  const fs::path root(output_dir);
+  const fs::path images = root / "images";
+  std::error_code error;
+  fs::create_directories(images, error);
+  if (error || !fs::is_directory(images)) {
+    throw std::runtime_error(images.string() + ": cannot create the folder");
+  }
+  std::string timestamps = "image_name,timestamp\n";
+  for (size_t i = 0; i < dataset.frames.size(); ++i) {
+    const Image image = RenderFrame(dataset, i);
+    const cv::Mat rgb(image.height,
+                      image.width,
+                      CV_8UC3,
+                      const_cast<uint8_t*>(image.rgb.data()));
+    cv::Mat bgr;
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    const std::string path = (images / dataset.frames[i].image_name).string();
+    bool written = false;
+    try {
+      written = cv::imwrite(path, bgr);
+    } catch (const cv::Exception& e) {
+      throw std::runtime_error(path + ": cannot write the image (" + e.what() +
+                               ")");
+    }
+    if (!written) throw std::runtime_error(path + ": cannot write the image");
+    timestamps += dataset.frames[i].image_name + "," +
+                  FormatTimestampSeconds(dataset.frames[i].stamp_ns) + "\n";
+    if (progress) progress(i + 1, dataset.frames.size());
+  }
+  WriteOdometryCsv(dataset.odometry, (root / "odometry.csv").string());
+  WriteOdometryCsv(dataset.true_odometry,
+                   (root / "odometry_ground_truth.csv").string());
+  WriteText((root / "image_timestamps.csv").string(), timestamps);
+  WriteText((root / "ground_truth.json").string(), GroundTruthJson(dataset));
+}
+
+}  // namespace odomcal

@@ -1,0 +1,75 @@
+// A simulated drive of a differential-drive robot with a rigidly mounted
+// camera: timestamped wheel odometry (metres, odometry's origin frame) and a
+// camera trajectory as an SfM system would report it (its own frame and
+// scale), with a known extrinsic and metric scale.
+//
+// The path is a random sequence of manoeuvres at constant linear and angular
+// velocity: straight runs, arcs of varying radius in both directions, turns
+// in place and stops. Odometry integrates wheel speeds measured with
+// per-wheel scale errors and a yaw-rate bias; camera poses receive small
+// independent pose noise. Deterministic for a given seed.
+//
+// Tilted ground (ground_tilt_deg > 0): the robot drives over a rolling
+// height field, so its true motion is 3-D (roll, pitch, height change) while
+// the wheel odometry stays planar: it is the ground-plane projection of the
+// true path (x, y, heading), blind to the tilt. The camera sees the 3-D
+// motion. This is the modelling error the planarity check
+// (solver/planarity_check.h) detects.
+#pragma once
+
+#include "odomcal/adapters/trajectory.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <cstdint>
+
+namespace odomcal {
+
+struct DriveSimulatorOptions {
+  uint64_t seed = 0;
+  double duration_s = 60.0;
+  double odometry_rate_hz = 50.0;
+  double camera_rate_hz = 10.0;                  // must divide odometry_rate_hz
+  int64_t start_stamp_ns = 1700000000000000000;  // realistic epoch stamps
+
+  // Default mount: camera looking forward (z_cam = x_odom, x_cam = -y_odom,
+  // y_cam = -z_odom), 25 cm ahead, 5 cm left, 40 cm up.
+  Rigid3d odom_from_cam = Rigid3d(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5),
+                                  Eigen::Vector3d(0.25, 0.05, 0.40));
+  double metric_scale = 0.37;  // metres per reconstruction unit
+
+  // Manoeuvres.
+  double max_speed_mps = 0.5;
+  double max_yaw_rate_radps = 0.8;
+  bool straight_only = false;  // no turns at all (an unobservable drive)
+
+  // Tilted ground: height h(x, y) = a (sin(k u.p + phi_u) + sin(k v.p +
+  // phi_v)) over two orthogonal random directions u, v, with a k =
+  // tan(ground_tilt_deg) and k = 2 pi / ground_wavelength_m: the slope along
+  // each of u and v varies smoothly within +-ground_tilt_deg along the drive.
+  // 0: flat ground (the drive is then identical to one without this option).
+  double ground_tilt_deg = 0.0;
+  double ground_wavelength_m = 8.0;
+
+  // Odometry errors: wheel radius errors (fraction), wheel base 0.4 m, and a
+  // constant yaw-rate bias.
+  double wheel_scale_error_left = 0.0;
+  double wheel_scale_error_right = 0.0;
+  double yaw_rate_bias_radps = 0.0;
+  // Camera pose noise per pose: rotation (deg) and position (reconstruction
+  // units).
+  double camera_rotation_noise_deg = 0.0;
+  double camera_position_noise = 0.0;
+};
+
+struct SimulatedDrive {
+  Trajectory odometry;       // measured, planar, metres
+  Trajectory true_odometry;  // exact, same stamps (3-D on tilted ground)
+  Trajectory camera;         // world_from_cam in the SfM frame and units
+  Rigid3d odom_from_cam;
+  double metric_scale = 1.0;
+  Rigid3d sfm_from_origin_rotation_translation;  // similarity part, see .cc
+};
+
+SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options);
+
+}  // namespace odomcal

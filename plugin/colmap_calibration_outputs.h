@@ -1,0 +1,33 @@
+// The files of a project calibration (`odomcal colmap`, `odomcal run`):
+// the result JSON and YAML, the model in metres, the camera trajectory in
+// the odometry frame and the HTML report.
+#pragma once
+
+#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/colmap_calibration.h"
+
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+// The entries WriteColmapCalibrationOutputs writes in its folder (for
+// ClaimOutputFolder, output_folder.h).
+std::vector<std::string> ColmapCalibrationOutputEntries();
+
+// Writes into `output_dir` (which must exist and be claimed for the entries
+// above): calibration.json/.yaml, sparse_metric/<sub-model>/ (COLMAP binary),
+// camera_in_odom.tum and report.html. Every file is written atomically.
+// sparse_metric/ and camera_in_odom.tum are written only when they hold a
+// model or a pose (without an extrinsic there is nothing to put in metres:
+// an empty folder or a header-only file would read as a result); an earlier
+// run's are removed. `context` (ProjectReportContext, colmap_report.h) is
+// echoed in the JSON and the report. Returns what it wrote:
+// "calibration.json", "calibration.yaml", ["sparse_metric/",
+// "camera_in_odom.tum",] "report.html".
+std::vector<std::string> WriteColmapCalibrationOutputs(
+    const ColmapCalibrationRun& run,
+    const ReportContext& context,
+    const std::string& output_dir);
+
+}  // namespace odomcal

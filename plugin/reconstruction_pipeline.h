@@ -1,0 +1,94 @@
+// "Reconstruct and calibrate an image folder with its odometry": the
+// pipeline behind `odomcal run`, as a library call. Selects frames with the
+// odometry, refuses a drive whose odometry cannot determine the calibration
+// (no or too few turns) before COLMAP, runs COLMAP (feature_extractor,
+// odometry-guided spatial or sequential matching, mapper, run again with
+// another random seed while the odometry contradicts its model, matching
+// again when that does not help; mapper_policy.h) in a workspace, then
+// calibrates the reconstruction as CalibrateColmapProject does. Finished
+// COLMAP stages are reused when rerun on the same workspace.
+//
+// Nothing is printed; progress goes to a callback. Files are written only
+// inside the workspace: COLMAP's (database, logs, mapper attempts), the
+// model calibrated (sparse/) and the image list. The calibration outputs
+// (calibration.json, report.html, ...) are the caller's to write
+// (colmap_calibration_outputs.h, target odomcal::reports).
+#pragma once
+
+#include "odomcal/adapters/excitation_precheck.h"
+#include "odomcal/adapters/frame_selection.h"
+#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/mapper_policy.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct ReconstructionOptions {
+  std::string image_path;      // folder of images (sub-folders too)
+  std::string workspace_path;  // created; reused on reruns
+  std::string camera_model = "PINHOLE";
+  std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
+  std::string matcher = "spatial";  // or "sequential"
+  std::string colmap_path = "colmap";
+  int max_num_features = 2048;
+  int num_threads = 2;
+  int spatial_neighbors = 8;
+  int sequential_overlap = 10;
+  MapperPolicyOptions mapper;
+  // Run COLMAP even when the odometry at the image times cannot determine
+  // the calibration (excitation_precheck.h); otherwise that is refused
+  // before any COLMAP stage, with the solver's status.
+  bool force = false;
+  FrameSelectionOptions frames;
+  // The odometry, image times and calibration options; model_path and
+  // database_path are ignored (the pipeline makes them).
+  ColmapCalibrationInputs project;
+};
+
+// One step of the pipeline's progress.
+struct PipelineProgress {
+  enum class Event {
+    kStageStarted,   // message: what the stage does
+    kStageFinished,  // message: its outcome; seconds: its duration
+    kNote,           // message: a line about the run between stages
+  };
+  Event event = Event::kNote;
+  int stage = 0;  // 1 .. num_stages; stages 3 and 4 may run more than once
+  int num_stages = 0;
+  double fraction = 0.0;  // of the pipeline done, in [0, 1], never decreases
+  std::string message;
+  double seconds = 0.0;
+};
+
+using ProgressCallback = std::function<void(const PipelineProgress&)>;
+
+struct ReconstructionResult {
+  // The calibration of the model kept (sub-models, odometry, association,
+  // result, metric sub-models, every mapper attempt and the one chosen).
+  ColmapCalibrationRun calibration;
+  // True when the odometry at the image times cannot determine the
+  // calibration and options.force is off: no COLMAP stage ran, and
+  // calibration holds only the solver's status and the association.
+  bool refused_before_colmap = false;
+  std::string model_path;     // workspace/sparse: the model calibrated
+  std::string database_path;  // the matches it was mapped from
+};
+
+// The stages of the pipeline, for PipelineProgress::num_stages.
+inline constexpr int kReconstructionStages = 5;
+
+// Everything the pipeline writes in its workspace (for ClaimOutputFolder,
+// output_folder.h).
+std::vector<std::string> ReconstructionWorkspaceEntries();
+
+// Throws FormatError (inputs), OutputError (workspace), ColmapError (COLMAP
+// failed or produced no model) or std::invalid_argument (options), each
+// with a one-line message.
+ReconstructionResult ReconstructAndCalibrate(
+    const ReconstructionOptions& options,
+    const ProgressCallback& progress = {});
+
+}  // namespace odomcal

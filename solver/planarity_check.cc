@@ -1,0 +1,187 @@
+#include "odomcal/solver/planarity_check.h"
+
+#include "odomcal/solver/hand_eye_residual.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace odomcal {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr double kPlanarTolerance = 1e-9;
+// Standard normal quantile of 0.999.
+constexpr double kZ999 = 3.090232306167813;
+
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+// Two or three significant digits without an exponent: 0.41, 6.3, 21, 140.
+std::string Short(double value) {
+  const double magnitude = std::abs(value);
+  return Format(magnitude >= 100.0  ? "%.0f"
+                : magnitude >= 10.0 ? "%.1f"
+                : magnitude >= 1.0  ? "%.2f"
+                                    : "%.2g",
+                value);
+}
+
+// Integrated autocorrelation time of the whitened residuals, in pairs: 1 for
+// independent noise; a smooth slope makes neighbouring pairs' residuals
+// alike, and their effect on the estimate does not average out as 1/n.
+// Lags are summed while the autocorrelation stays positive (Sokal's
+// truncation), up to a quarter of the pairs.
+double CorrelationLength(const std::vector<Eigen::Vector3d>& whitened) {
+  const size_t n = whitened.size();
+  double energy = 0.0;
+  for (const Eigen::Vector3d& w : whitened) energy += w.squaredNorm();
+  if (!(energy > 0.0)) return 1.0;
+  double length = 1.0;
+  for (size_t lag = 1; lag <= n / 4; ++lag) {
+    double sum = 0.0;
+    for (size_t k = 0; k + lag < n; ++k) {
+      sum += whitened[k].dot(whitened[k + lag]);
+    }
+    const double correlation = sum / energy;
+    if (correlation <= 0.0) break;
+    length += 2.0 * correlation;
+  }
+  return length;
+}
+
+}  // namespace
+
+bool IsPlanarOdometry(const MotionPairs& pairs) {
+  for (const MotionPair& pair : pairs) {
+    const Eigen::Vector3d rotation =
+        LogRotation(pair.odom_i_from_odom_j.rotation);
+    if (rotation.head<2>().norm() > kPlanarTolerance ||
+        std::abs(pair.odom_i_from_odom_j.translation.z()) > kPlanarTolerance) {
+      return false;
+    }
+  }
+  return true;
+}
+
+double ChiSquare999(int dof) {
+  if (dof <= 0) return 0.0;
+  const double k = static_cast<double>(dof);
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + kZ999 * std::sqrt(a), 3);
+}
+
+PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
+                              const std::vector<int>& used,
+                              const Rigid3d& odom_from_cam,
+                              const std::vector<double>& metric_scales,
+                              const NoiseModel& noise) {
+  PlanarityCheck check;
+  if (used.size() < 2 || !IsPlanarOdometry(pairs)) return check;
+  check.checked = true;
+  check.tilt_deg.assign(pairs.size(), 0.0);
+  check.out_of_plane_m.assign(pairs.size(), 0.0);
+
+  std::vector<double> chi_square(used.size(), 0.0);
+  std::vector<Eigen::Vector3d> whitened(used.size());
+  double sum_tilt2 = 0.0, sum_height2 = 0.0;
+  for (size_t k = 0; k < used.size(); ++k) {
+    const int i = used[k];
+    const MotionPair& pair = pairs[i];
+    const double scale = metric_scales[pair.segment];
+    const Vector6d residual = HandEyeResidual(pair, odom_from_cam, scale);
+    const Matrix6d covariance =
+        HandEyeResidualCovariance(pair, odom_from_cam, scale, noise);
+    // Out-of-plane components: rotation x, y and translation z.
+    const int index[3] = {0, 1, 5};
+    Eigen::Vector3d r;
+    Eigen::Matrix3d sigma;
+    for (int a = 0; a < 3; ++a) {
+      r(a) = residual(index[a]);
+      for (int b = 0; b < 3; ++b) sigma(a, b) = covariance(index[a], index[b]);
+    }
+    // The same tiny load as HandEyeSqrtInformation: finite when singular.
+    sigma += 1e-18 * Eigen::Matrix3d::Identity();
+    const Eigen::LLT<Eigen::Matrix3d> cholesky(sigma);
+    whitened[k] = cholesky.matrixL().solve(r);
+    chi_square[k] = whitened[k].squaredNorm();
+    check.chi_square += chi_square[k];
+
+    const double tilt_deg = r.head<2>().norm() * kRadToDeg;
+    const double height_m = -r(2);
+    check.tilt_deg[i] = tilt_deg;
+    check.out_of_plane_m[i] = height_m;
+    sum_tilt2 += tilt_deg * tilt_deg;
+    sum_height2 += height_m * height_m;
+    check.tilt_max_deg = std::max(check.tilt_max_deg, tilt_deg);
+    check.out_of_plane_max_m =
+        std::max(check.out_of_plane_max_m, std::abs(height_m));
+  }
+  const double n = static_cast<double>(used.size());
+  check.tilt_rms_deg = std::sqrt(sum_tilt2 / n);
+  check.out_of_plane_rms_m = std::sqrt(sum_height2 / n);
+  check.degrees_of_freedom = 3 * static_cast<int>(used.size()) - 2;
+  check.chi_square_threshold = ChiSquare999(check.degrees_of_freedom);
+  check.reduced_chi_square = check.chi_square / check.degrees_of_freedom;
+  check.consistent = check.chi_square <= check.chi_square_threshold;
+  check.correlation_length = CorrelationLength(whitened);
+  check.covariance_inflation =
+      check.consistent
+          ? 1.0
+          : std::max(1.0, check.reduced_chi_square * check.correlation_length);
+
+  // Worst stretch: the window of consecutive used pairs with the largest
+  // chi-square sum.
+  const size_t window =
+      std::min(used.size(), std::max<size_t>(3, used.size() / 10));
+  double window_sum = 0.0, best_sum = -1.0;
+  size_t best_end = window - 1;
+  for (size_t k = 0; k < used.size(); ++k) {
+    window_sum += chi_square[k];
+    if (k >= window) window_sum -= chi_square[k - window];
+    if (k + 1 >= window && window_sum > best_sum) {
+      best_sum = window_sum;
+      best_end = k;
+    }
+  }
+  const size_t best_begin = best_end + 1 - window;
+  check.worst_first_stamp_ns = pairs[used[best_begin]].stamp_i_ns;
+  check.worst_last_stamp_ns = pairs[used[best_end]].stamp_j_ns;
+  double worst_tilt2 = 0.0, worst_height2 = 0.0;
+  for (size_t k = best_begin; k <= best_end; ++k) {
+    worst_tilt2 += std::pow(check.tilt_deg[used[k]], 2);
+    worst_height2 += std::pow(check.out_of_plane_m[used[k]], 2);
+  }
+  check.worst_tilt_rms_deg = std::sqrt(worst_tilt2 / window);
+  check.worst_out_of_plane_rms_m = std::sqrt(worst_height2 / window);
+  return check;
+}
+
+std::string PlanarityWarning(const PlanarityCheck& check,
+                             int64_t first_stamp_ns) {
+  auto seconds = [&](int64_t stamp_ns) {
+    return 1e-9 * static_cast<double>(stamp_ns - first_stamp_ns);
+  };
+  return "the motion is not planar: per motion pair the camera tilts " +
+         Short(check.tilt_rms_deg) + " deg RMS (max " +
+         Short(check.tilt_max_deg) + " deg) and moves " +
+         Short(1000.0 * check.out_of_plane_rms_m) + " mm RMS (max " +
+         Short(1000.0 * check.out_of_plane_max_m) +
+         " mm) out of the odometry plane, " + Short(check.reduced_chi_square) +
+         "x the noise model's variance, correlated over " +
+         Short(check.correlation_length) + " pairs; worst at " +
+         Format("%.1f", seconds(check.worst_first_stamp_ns)) + "-" +
+         Format("%.1f", seconds(check.worst_last_stamp_ns)) + " s (tilt " +
+         Short(check.worst_tilt_rms_deg) +
+         " deg RMS). Planar odometry cannot see slopes or ramps (or the "
+         "camera is noisier than the noise model): standard deviations "
+         "inflated " +
+         Short(std::sqrt(check.covariance_inflation)) + "x";
+}
+
+}  // namespace odomcal

@@ -1,0 +1,93 @@
+// Does the motion fit the planar model? Planar wheel odometry (x, y, yaw)
+// cannot see roll, pitch or height: on a slope or a ramp the camera's true
+// motion leaves the plane, the extrinsic's roll/pitch absorb part of it, and
+// a covariance computed under the planar model is 10-30x too small
+// (docs/robustness.md, "Modelling assumptions").
+//
+// Under the estimate X = odom_from_cam (q, p) and the segment scale s, each
+// pair's camera motion mapped into the odometry frame, X B(s) X^-1, must turn
+// about the odometry z axis and stay in its plane, as the planar odometry A
+// does. Per pair, from the hand-eye residual of hand_eye_residual.h:
+//   tilt     = [x, y] of Log(R_A^T R R_B R^T)  (radians; the out-of-plane
+//              rotation of the camera motion relative to the odometry's)
+//   height   = -(R_A p + t_A - s R t_B - p)_z   (metres; for planar A this is
+//              (s R t_B)_z, the camera's displacement along odometry z)
+// Their covariance under the noise model (or the pairs' covariances) gives a
+// chi-square over the used pairs with 3 n - 2 degrees of freedom (roll and
+// pitch were fitted to the same components). Above its 99.9 % point the
+// motion is not planar (or the camera noise exceeds the noise model): the
+// caller warns and inflates the covariance by the reduced chi-square times
+// the residuals' correlation length along the drive.
+//
+// Only planar odometry is checked: with roll/pitch/z in the odometry (SE(3)
+// poses) the motion may leave the plane legitimately.
+#pragma once
+
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct PlanarityCheck {
+  bool checked = false;  // false: odometry not planar, or no estimate
+  // Per input pair (0 for pairs not used in the fit), signed height in m.
+  std::vector<double> tilt_deg;
+  std::vector<double> out_of_plane_m;
+  // Over the used pairs.
+  double tilt_rms_deg = 0.0;
+  double tilt_max_deg = 0.0;
+  double out_of_plane_rms_m = 0.0;
+  double out_of_plane_max_m = 0.0;  // largest |height|
+  double chi_square = 0.0;
+  int degrees_of_freedom = 0;
+  double chi_square_threshold = 0.0;  // 99.9 % point
+  double reduced_chi_square = 0.0;    // chi_square / degrees_of_freedom
+  bool consistent = true;             // chi_square <= chi_square_threshold
+  // Integrated autocorrelation time of the whitened out-of-plane residuals
+  // along the drive, in pairs (1: independent, as noise is).
+  double correlation_length = 1.0;
+  // Factor applied to the covariance (1 when consistent): the reduced
+  // chi-square times the correlation length, since a slope biases a run of
+  // neighbouring pairs alike; standard deviations grow by its square root.
+  double covariance_inflation = 1.0;
+  // The stretch of consecutive used pairs with the largest chi-square (about
+  // a tenth of the drive, at least 3 pairs): where the ground tilts most.
+  int64_t worst_first_stamp_ns = 0;
+  int64_t worst_last_stamp_ns = 0;
+  double worst_tilt_rms_deg = 0.0;
+  double worst_out_of_plane_rms_m = 0.0;
+};
+
+// True when every pair's odometry motion is a rotation about z and a
+// translation in the x-y plane (to 1e-9): a planar log.
+bool IsPlanarOdometry(const MotionPairs& pairs);
+
+// Measures the above for `used` pairs under the estimate; checked = false
+// when the odometry is not planar or fewer than 2 pairs are used.
+PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
+                              const std::vector<int>& used,
+                              const Rigid3d& odom_from_cam,
+                              const std::vector<double>& metric_scales,
+                              const NoiseModel& noise);
+
+// The warning for an inconsistent check: the measured tilt, height, the
+// excess over the noise and where along the drive (seconds since
+// first_stamp_ns), e.g. "the motion is not planar: per motion pair the
+// camera tilts 0.14 deg RMS (max 0.38 deg) and moves 1.22 mm RMS (max 3.81
+// mm) out of the odometry plane, 2.60x the noise model's variance,
+// correlated over 20.3 pairs; worst at 56.2-68.8 s (tilt 0.21 deg RMS).
+// Planar odometry cannot see slopes or ramps (or the camera is noisier than
+// the noise model): standard deviations inflated 7.25x".
+std::string PlanarityWarning(const PlanarityCheck& check,
+                             int64_t first_stamp_ns);
+
+// Upper 99.9 % point of the chi-square distribution with `dof` degrees of
+// freedom (Wilson-Hilferty; within 1 % above 10 degrees of freedom).
+double ChiSquare999(int dof);
+
+}  // namespace odomcal
