@@ -212,11 +212,12 @@ TEST(ResultSchema, ColmapOutputWithScaleDriftConforms) {
   fs::remove_all(dir);
   SimulatedColmapProjectOptions options;
   options.scale_drift = 0.1;
-  const ColmapCalibrationRun run = CalibrateColmapProject(
-      WriteSimulatedColmapProject((dir / "project").string(), options),
-      "odomcal colmap");
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir / "project").string(), options);
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
   ASSERT_FALSE(run.check.scale_drifts.empty());
-  const json out = ColmapCalibrationToJson(run);
+  const json out = ColmapCalibrationToJson(
+      run, ProjectReportContext(inputs, run, "odomcal colmap"));
   EXPECT_EQ(Lines(SchemaChecker(ReadSchema()).Check(out)), "");
   ASSERT_EQ(out["colmap"]["scale_drifts"].size(), 1u);
   EXPECT_EQ(out["colmap"]["scale_drifts"][0]["stretches"].size(),
