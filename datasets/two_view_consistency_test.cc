@@ -1,5 +1,6 @@
 #include "odomcal/datasets/two_view_consistency.h"
 
+#include "odomcal/datasets/paper_evaluation.h"
 #include "odomcal/datasets/paper_sweeps.h"
 #include "odomcal/datasets/two_view_pose.h"
 #include "odomcal/tests/test_seed.h"
@@ -132,6 +133,61 @@ TEST(EstimateTwoViewPose, EveryStartNeverEndsAboveTheEightPointStart) {
   }
   EXPECT_GT(num_motions, 450);
   EXPECT_GT(num_lower, 0);
+}
+
+}  // namespace
+}  // namespace odomcal
+
+namespace odomcal {
+namespace {
+
+// The study of docs/paper_reproduction.md, "The geometry the paper does not
+// state" (minutes; run by hand):
+//   paper_evaluation_test --gtest_also_run_disabled_tests
+//       --gtest_filter=TwoViewConsistency.DISABLED_GeometryStudy
+// Prints one markdown row per geometry: the two-view tail and gross-error
+// rate with every start, and ALS / ALSP-B / GT-B over 100 trials.
+TEST(TwoViewConsistency, DISABLED_GeometryStudy) {
+  struct Geometry {
+    const char* name;
+    double min_depth_m, max_depth_m, max_normalized_coordinate;
+    double translation_sigma_m;
+  };
+  const Geometry geometries[] = {
+      {"nominal: depth 0.5-5 m, +-45 deg, step SD 0.2 m", 0.5, 5.0, 1.0, 0.2},
+      {"depth 0.5-2 m", 0.5, 2.0, 1.0, 0.2},
+      {"depth 2-10 m", 2.0, 10.0, 1.0, 0.2},
+      {"field of view +-30 deg", 0.5, 5.0, 0.577, 0.2},
+      {"field of view +-60 deg", 0.5, 5.0, 1.732, 0.2},
+      {"step SD 0.5 m", 0.5, 5.0, 1.0, 0.5},
+  };
+  std::cout << "| geometry | NEES p99 | gross [%] | ALS rot [deg] | ALSP-B rot "
+               "[deg] / div [%] | GT-B rot [deg] / div [%] |\n";
+  for (const Geometry& geometry : geometries) {
+    PaperSimulationOptions options =
+        NominalPaperSimulation(CameraNoiseMode::kLandmarks);
+    options.min_depth_m = geometry.min_depth_m;
+    options.max_depth_m = geometry.max_depth_m;
+    options.max_normalized_coordinate = geometry.max_normalized_coordinate;
+    options.translation_sigma_m = geometry.translation_sigma_m;
+    auto rng = SeededRng(702);
+    TwoViewErrors errors;
+    for (int k = 0; k < 50; ++k) {
+      AddTwoViewErrors(SimulatePaperMotions(options, &rng), &errors);
+    }
+    const TwoViewConsistency c = SummarizeTwoViewErrors(errors);
+    const SweepPointResult point = RunSweepPoint(
+        options, EvaluationOptions(), "geometry", 0, 0.0, 100, 2, 703);
+    const MethodSummary& als = point[EvaluationMethod::kAls];
+    const MethodSummary& alsp_b = point[EvaluationMethod::kAlspB];
+    const MethodSummary& gt_b = point[EvaluationMethod::kGtB];
+    std::cout << "| " << geometry.name << " | " << c.nees_quantile_99 << " | "
+              << 100.0 * c.gross_error_rate << " | " << als.rmse_rotation_deg
+              << " | " << alsp_b.rmse_rotation_deg << " / "
+              << 100.0 * alsp_b.divergence_rate << " | "
+              << gt_b.rmse_rotation_deg << " / " << 100.0 * gt_b.divergence_rate
+              << " |\n";
+  }
 }
 
 }  // namespace
