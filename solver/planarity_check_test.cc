@@ -2,6 +2,7 @@
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <gtest/gtest.h>
@@ -12,8 +13,7 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+constexpr double kDeg = kDegToRad;
 
 const Rigid3d kOdomFromCam = DriveSimulatorOptions().odom_from_cam;
 constexpr double kScale = 0.37;
