@@ -187,6 +187,7 @@ int RunSimulate(int argc, char** argv) {
   std::string sweep_name = "all";
   int num_threads = 2;
   std::string camera_noise = "landmarks";
+  std::string two_view_starts = "all";
   bool overwrite = false;
   EvaluationOptions evaluation;
   app.add_option("--output_path",
@@ -216,6 +217,13 @@ int RunSimulate(int argc, char** argv) {
                  "adjustment (the paper's); parametric: Gaussian rotation and "
                  "direction noise (fast)")
       ->check(CLI::IsMember({"landmarks", "parametric"}))
+      ->capture_default_str();
+  app.add_option("--two_view_starts",
+                 two_view_starts,
+                 "landmarks: bundle adjustments from every viable start and "
+                 "the lowest cost (all), or from the 8-point solution only "
+                 "(eight_point: the estimator before multi-start)")
+      ->check(CLI::IsMember({"all", "eight_point"}))
       ->capture_default_str();
   app.add_option("--cm_iterations",
                  evaluation.cm_ransac_iterations,
@@ -248,7 +256,8 @@ int RunSimulate(int argc, char** argv) {
                                 : ExistingOutputs::kRefuseExistingEntry);
 
     const bool show_progress = isatty(STDERR_FILENO) != 0;
-    const PaperSimulationOptions nominal = NominalPaperSimulation(mode);
+    PaperSimulationOptions nominal = NominalPaperSimulation(mode);
+    nominal.two_view_multi_start = two_view_starts == "all";
     std::vector<DivergenceTotals> totals(kNumEvaluationMethods);
     const auto start = std::chrono::steady_clock::now();
     int total_trials = 0;

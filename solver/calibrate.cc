@@ -4,6 +4,7 @@
 
 #include "odomcal/solver/calibrate.h"
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_ransac.h"
 #include "odomcal/solver/hand_eye_refine.h"
@@ -22,8 +23,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
 // Eigenvalues of the diagonally normalised information below this fraction of
 // the largest span its (numerical) null space.
 constexpr double kNullSpaceTolerance = 1e-10;

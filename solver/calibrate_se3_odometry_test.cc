@@ -3,6 +3,7 @@
 // translation z of the extrinsic is estimated with its standard deviation.
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/tests/test_seed.h"
@@ -19,7 +20,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 constexpr double kMetricScale = 0.7;  // metres per reconstruction unit
 
 Eigen::Quaterniond FromRollPitchYaw(double roll, double pitch, double yaw) {

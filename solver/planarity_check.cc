@@ -1,5 +1,6 @@
 #include "odomcal/solver/planarity_check.h"
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_residual.h"
 
 #include <Eigen/Dense>
@@ -11,7 +12,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 constexpr double kPlanarTolerance = 1e-9;
 // Standard normal quantile of 0.999.
 constexpr double kZ999 = 3.090232306167813;

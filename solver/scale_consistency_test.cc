@@ -1,6 +1,7 @@
 #include "odomcal/solver/scale_consistency.h"
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/stretch_consistency.h"
 #include "odomcal/tests/test_seed.h"
@@ -110,7 +111,6 @@ SimulatedMotions StraightAndOneWayTurns(uint64_t seed,
   truth.metric_scales = {0.5};
   std::uniform_real_distribution<double> length(0.5, 1.0), arc_yaw(0.2, 0.6);
   const NoiseModel noise;
-  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
   for (int i = 0; i < 80; ++i) {
     const double yaw =
         i >= arcs_begin && i < arcs_begin + 20 ? arc_yaw(rng) : 0.0;

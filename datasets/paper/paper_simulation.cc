@@ -105,6 +105,7 @@ bool LandmarkCameraMeasurement(const Rigid3d& metric_motion,
   TwoViewOptions two_view;
   two_view.focal_length_px = options.focal_length_px;
   two_view.pixel_sigma = options.pixel_sigma;
+  two_view.multi_start = options.two_view_multi_start;
   for (int attempt = 0; attempt < options.max_two_view_attempts; ++attempt) {
     std::vector<Eigen::Vector2d> observed_i, observed_j;
     for (int k = 0; k < options.num_landmarks; ++k) {

@@ -97,6 +97,9 @@ struct PaperSimulationOptions {
   // Redraws of the landmarks when a two-view estimate fails; after that the
   // motion is dropped (counted in num_two_view_failures).
   int max_two_view_attempts = 3;
+  // Two-view bundle adjustments from every viable start (two_view_pose.h);
+  // false: from the 8-point solution only, as before the multi-start.
+  bool two_view_multi_start = true;
 
   double outlier_fraction = 0.0;
 

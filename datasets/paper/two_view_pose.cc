@@ -18,10 +18,13 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -32,6 +35,15 @@ constexpr int kMinNumPoints = 8;
 constexpr double kRecoverPoseDistance = 1e9;
 // H_pose is treated as singular below this ratio of its eigenvalues.
 constexpr double kMinInformationRatio = 1e-14;
+// Two starts closer than this (rotation, and angle between translation
+// lines) are one start.
+constexpr double kSameStartRad = 1e-3;
+// RANSAC of OpenCV's 5-point essential-matrix estimation: confidence, and
+// the inlier threshold in image noise standard deviations (at least
+// kFivePointMinSigmaPx pixels, so that noise-free data have a threshold).
+constexpr double kFivePointConfidence = 0.999;
+constexpr double kFivePointThresholdSigmas = 3.0;
+constexpr double kFivePointMinSigmaPx = 0.1;
 
 // Reprojection residual in view i, where the point is expressed:
 //   r = f * (p.xy / p.z - u_i)
@@ -104,6 +116,361 @@ double ReprojectionRms(const std::vector<Eigen::Vector2d>& u_i,
   return focal * std::sqrt(sum / (2.0 * static_cast<double>(points.size())));
 }
 
+// cam_i_from_cam_j with a unit translation from OpenCV's cam_j_from_cam_i.
+Rigid3d FromOpenCv(const cv::Mat& rotation_cv, const cv::Mat& translation_cv) {
+  Eigen::Matrix3d r_ji;
+  Eigen::Vector3d t_ji;
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) {
+      r_ji(row, col) = rotation_cv.at<double>(row, col);
+    }
+    t_ji(row) = translation_cv.at<double>(row, 0);
+  }
+  return Inverse(
+      Rigid3d(Eigen::Quaterniond(r_ji).normalized(), t_ji.normalized()));
+}
+
+// Starts that differ in rotation or in the translation's line. The sign of
+// the translation does not make another start: the reprojection cost is
+// invariant under (t, p) -> (-t, -p), and cheirality fixes the sign after.
+void AddDistinctStart(const Rigid3d& start, std::vector<Rigid3d>* starts) {
+  for (const Rigid3d& other : *starts) {
+    if (RotationAngle(other.rotation.conjugate() * start.rotation) <
+            kSameStartRad &&
+        std::abs(other.translation.dot(start.translation)) >
+            std::cos(kSameStartRad)) {
+      return;
+    }
+  }
+  starts->push_back(start);
+}
+
+// Number of points in front of both views when triangulated with the pose.
+int NumInFront(const std::vector<cv::Point2d>& points_i,
+               const std::vector<cv::Point2d>& points_j,
+               const Rigid3d& cam_i_from_cam_j) {
+  const Rigid3d cam_j_from_cam_i = Inverse(cam_i_from_cam_j);
+  int count = 0;
+  for (size_t k = 0; k < points_i.size(); ++k) {
+    const Eigen::Vector3d p_i =
+        Triangulate(Eigen::Vector2d(points_i[k].x, points_i[k].y),
+                    Eigen::Vector2d(points_j[k].x, points_j[k].y),
+                    cam_j_from_cam_i);
+    if (p_i.z() > 0.0 && (cam_j_from_cam_i * p_i).z() > 0.0) ++count;
+  }
+  return count;
+}
+
+// Every decomposition of `essential` that the cheirality test leaves
+// viable: at least half of the points in front of both views. recoverPose
+// keeps only the one with the most points in front; with short baselines
+// and noise the twisted pair (the other rotation) can be close in that
+// count and is the start whose minimum is the right one.
+std::vector<Rigid3d> ViableDecompositions(
+    const cv::Mat& essential,
+    const std::vector<cv::Point2d>& points_i,
+    const std::vector<cv::Point2d>& points_j) {
+  cv::Mat r1, r2, t;
+  cv::decomposeEssentialMat(essential, r1, r2, t);
+  std::vector<Rigid3d> viable;
+  const int num_points = static_cast<int>(points_i.size());
+  for (const cv::Mat& rotation : {r1, r2}) {
+    int best_count = -1;
+    Rigid3d best;
+    for (const double sign : {1.0, -1.0}) {
+      const Rigid3d candidate = FromOpenCv(rotation, sign * t);
+      const int count = NumInFront(points_i, points_j, candidate);
+      if (count > best_count) {
+        best_count = count;
+        best = candidate;
+      }
+    }
+    if (2 * best_count >= num_points) viable.push_back(best);
+  }
+  return viable;
+}
+
+// The 8-point solution that recoverPose picks, then the other viable
+// decomposition of the same essential matrix.
+std::vector<Rigid3d> EightPointStarts(const std::vector<cv::Point2d>& points_i,
+                                      const std::vector<cv::Point2d>& points_j,
+                                      std::string* failure) {
+  cv::Mat essential;
+  try {
+    essential = cv::findFundamentalMat(points_i, points_j, cv::FM_8POINT);
+  } catch (const cv::Exception& error) {
+    *failure = std::string("8-point algorithm failed: ") + error.what();
+    return {};
+  }
+  if (essential.rows != 3 || essential.cols != 3) {
+    *failure = "8-point algorithm found no essential matrix";
+    return {};
+  }
+  cv::Mat rotation_cv, translation_cv, mask, triangulated;
+  int num_in_front = 0;
+  try {
+    num_in_front = cv::recoverPose(essential,
+                                   points_i,
+                                   points_j,
+                                   cv::Mat::eye(3, 3, CV_64F),
+                                   rotation_cv,
+                                   translation_cv,
+                                   kRecoverPoseDistance,
+                                   mask,
+                                   triangulated);
+  } catch (const cv::Exception& error) {
+    *failure = std::string("recoverPose failed: ") + error.what();
+    return {};
+  }
+  if (num_in_front == 0) {
+    *failure = "no decomposition puts the points in front of both views";
+    return {};
+  }
+  std::vector<Rigid3d> starts = {FromOpenCv(rotation_cv, translation_cv)};
+  for (const Rigid3d& start :
+       ViableDecompositions(essential, points_i, points_j)) {
+    AddDistinctStart(start, &starts);
+  }
+  return starts;
+}
+
+// The viable decompositions of the 5-point solutions (Nister's solver inside
+// OpenCV's RANSAC; the simulated correspondences have no outliers, so it
+// stops after a few samples: LMedS, which needs no threshold, always runs
+// hundreds and took 30x the rest of the estimator). Empty when OpenCV finds
+// none.
+std::vector<Rigid3d> FivePointStarts(const std::vector<cv::Point2d>& points_i,
+                                     const std::vector<cv::Point2d>& points_j,
+                                     const TwoViewOptions& options) {
+  const double threshold = kFivePointThresholdSigmas *
+                           std::max(options.pixel_sigma, kFivePointMinSigmaPx) /
+                           options.focal_length_px;
+  cv::Mat essentials;
+  try {
+    essentials = cv::findEssentialMat(points_i,
+                                      points_j,
+                                      cv::Mat::eye(3, 3, CV_64F),
+                                      cv::RANSAC,
+                                      kFivePointConfidence,
+                                      threshold);
+  } catch (const cv::Exception&) {
+    return {};
+  }
+  std::vector<Rigid3d> starts;
+  // OpenCV stacks several solutions as a (3k x 3) matrix.
+  for (int row = 0; row + 3 <= essentials.rows; row += 3) {
+    if (essentials.cols != 3) break;
+    const cv::Mat essential = essentials.rowRange(row, row + 3).clone();
+    for (const Rigid3d& start :
+         ViableDecompositions(essential, points_i, points_j)) {
+      AddDistinctStart(start, &starts);
+    }
+  }
+  return starts;
+}
+
+// A bundle adjustment from one start.
+struct Refinement {
+  bool usable = false;
+  std::string failure;
+  Rigid3d cam_i_from_cam_j;  // unit translation
+  std::vector<Eigen::Vector3d> points_in_cam_i;
+  double initial_rms_px = 0.0;
+  double final_rms_px = 0.0;
+  double cost = 0.0;  // Ceres cost, 1/2 sum of squared px
+  int num_iterations = 0;
+};
+
+// Adds the reprojection residuals of both views to `problem`.
+void AddReprojectionResiduals(const std::vector<Eigen::Vector2d>& u_i,
+                              const std::vector<Eigen::Vector2d>& u_j,
+                              double focal,
+                              double* rotation,
+                              double* translation,
+                              std::vector<double>* points,
+                              ceres::Problem* problem) {
+  for (size_t k = 0; k < u_i.size(); ++k) {
+    double* point = &(*points)[3 * k];
+    problem->AddResidualBlock(
+        new ceres::AutoDiffCostFunction<ViewIResidual, 2, 3>(
+            new ViewIResidual(u_i[k], focal)),
+        nullptr,
+        point);
+    problem->AddResidualBlock(
+        new ceres::AutoDiffCostFunction<ViewJResidual, 2, 4, 3, 3>(
+            new ViewJResidual(u_j[k], focal)),
+        nullptr,
+        rotation,
+        translation,
+        point);
+  }
+}
+
+Refinement Refine(const std::vector<Eigen::Vector2d>& u_i,
+                  const std::vector<Eigen::Vector2d>& u_j,
+                  const Rigid3d& start,
+                  const TwoViewOptions& options) {
+  const int num_points = static_cast<int>(u_i.size());
+  Refinement refinement;
+  Rigid3d cam_i_from_cam_j = start;
+  refinement.points_in_cam_i.resize(num_points);
+  for (int k = 0; k < num_points; ++k) {
+    refinement.points_in_cam_i[k] =
+        Triangulate(u_i[k], u_j[k], Inverse(cam_i_from_cam_j));
+  }
+  const double focal = options.focal_length_px;
+  refinement.initial_rms_px = ReprojectionRms(
+      u_i, u_j, cam_i_from_cam_j, refinement.points_in_cam_i, focal);
+  refinement.cam_i_from_cam_j = cam_i_from_cam_j;
+  refinement.final_rms_px = refinement.initial_rms_px;
+  refinement.cost = 0.5 * 2.0 * num_points * refinement.initial_rms_px *
+                    refinement.initial_rms_px;
+  if (!options.refine) {
+    refinement.usable = true;
+    return refinement;
+  }
+
+  double rotation[4];
+  double translation[3];
+  const Eigen::Quaterniond q0 = cam_i_from_cam_j.rotation.normalized();
+  for (int k = 0; k < 4; ++k) rotation[k] = q0.coeffs()[k];
+  for (int k = 0; k < 3; ++k) translation[k] = cam_i_from_cam_j.translation(k);
+  std::vector<double> points(3 * num_points);
+  for (int k = 0; k < num_points; ++k) {
+    for (int c = 0; c < 3; ++c)
+      points[3 * k + c] = refinement.points_in_cam_i[k](c);
+  }
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::EigenQuaternionManifold quaternion_manifold;
+  ceres::SphereManifold<3> sphere_manifold;
+  AddReprojectionResiduals(
+      u_i, u_j, focal, rotation, translation, &points, &problem);
+  problem.SetManifold(rotation, &quaternion_manifold);
+  problem.SetManifold(translation, &sphere_manifold);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_num_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  refinement.num_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  refinement.cost = summary.final_cost;
+  if (!summary.IsSolutionUsable()) {
+    refinement.failure = "bundle adjustment failed: " + summary.BriefReport();
+    return refinement;
+  }
+  // The reprojection cost is invariant under (t, p) -> (-t, -p), which puts
+  // the points behind both cameras: the bundle adjustment can drift there.
+  // Cheirality decides; the cost, and so the covariance, are unchanged.
+  int num_behind = 0;
+  for (int k = 0; k < num_points; ++k) {
+    if (points[3 * k + 2] < 0.0) ++num_behind;
+  }
+  if (2 * num_behind > num_points) {
+    for (double& value : translation) value = -value;
+    for (double& value : points) value = -value;
+  }
+  refinement.cam_i_from_cam_j = Rigid3d(
+      Eigen::Quaterniond(rotation[3], rotation[0], rotation[1], rotation[2])
+          .normalized(),
+      Eigen::Vector3d(translation[0], translation[1], translation[2])
+          .normalized());
+  for (int k = 0; k < num_points; ++k) {
+    refinement.points_in_cam_i[k] =
+        Eigen::Map<const Eigen::Vector3d>(&points[3 * k]);
+  }
+  refinement.final_rms_px = ReprojectionRms(
+      u_i, u_j, refinement.cam_i_from_cam_j, refinement.points_in_cam_i, focal);
+  refinement.usable = true;
+  return refinement;
+}
+
+// The covariance of the pose at a minimum; see the file comment.
+std::optional<MotionCovariance> PoseCovariance(
+    const std::vector<Eigen::Vector2d>& u_i,
+    const std::vector<Eigen::Vector2d>& u_j,
+    const Rigid3d& cam_i_from_cam_j,
+    const std::vector<Eigen::Vector3d>& points_in_cam_i,
+    const TwoViewOptions& options,
+    std::string* failure) {
+  const int num_points = static_cast<int>(u_i.size());
+  double rotation[4];
+  double translation[3];
+  const Eigen::Quaterniond q = cam_i_from_cam_j.rotation.normalized();
+  for (int k = 0; k < 4; ++k) rotation[k] = q.coeffs()[k];
+  for (int k = 0; k < 3; ++k) translation[k] = cam_i_from_cam_j.translation(k);
+  std::vector<double> points(3 * num_points);
+  for (int k = 0; k < num_points; ++k) {
+    for (int c = 0; c < 3; ++c) points[3 * k + c] = points_in_cam_i[k](c);
+  }
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::EigenQuaternionManifold quaternion_manifold;
+  ceres::SphereManifold<3> sphere_manifold;
+  AddReprojectionResiduals(u_i,
+                           u_j,
+                           options.focal_length_px,
+                           rotation,
+                           translation,
+                           &points,
+                           &problem);
+  problem.SetManifold(rotation, &quaternion_manifold);
+  problem.SetManifold(translation, &sphere_manifold);
+
+  // J in tangent coordinates [delta_q(3), delta_t(2), points].
+  ceres::Problem::EvaluateOptions evaluate_options;
+  evaluate_options.parameter_blocks = {rotation, translation};
+  for (int k = 0; k < num_points; ++k) {
+    evaluate_options.parameter_blocks.push_back(&points[3 * k]);
+  }
+  ceres::CRSMatrix crs;
+  problem.Evaluate(evaluate_options, nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row) {
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
+      jacobian(row, crs.cols[k]) = crs.values[k];
+    }
+  }
+  const Eigen::MatrixXd h = jacobian.transpose() * jacobian;
+  const int num_landmark_params = 3 * num_points;
+  const Eigen::Matrix<double, 5, 5> h_pp = h.topLeftCorner<5, 5>();
+  const Eigen::MatrixXd h_pl = h.topRightCorner(5, num_landmark_params);
+  const Eigen::MatrixXd h_ll =
+      h.bottomRightCorner(num_landmark_params, num_landmark_params);
+  const Eigen::LDLT<Eigen::MatrixXd> h_ll_ldlt(h_ll);
+  if (h_ll_ldlt.info() != Eigen::Success || !h_ll_ldlt.isPositive()) {
+    *failure = "the points are not determined (singular information)";
+    return std::nullopt;
+  }
+  Eigen::Matrix<double, 5, 5> h_pose =
+      h_pp - h_pl * h_ll_ldlt.solve(h_pl.transpose());
+  h_pose = 0.5 * (h_pose + h_pose.transpose()).eval();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eigen(
+      h_pose);
+  const Eigen::Matrix<double, 5, 1> values = eigen.eigenvalues();
+  if (!(values(0) > kMinInformationRatio * values(4))) {
+    *failure = "the relative pose is not determined (singular information)";
+    return std::nullopt;
+  }
+  const Eigen::Matrix<double, 5, 5> covariance_tangent =
+      options.pixel_sigma * options.pixel_sigma * eigen.eigenvectors() *
+      values.cwiseInverse().asDiagonal() * eigen.eigenvectors().transpose();
+  Eigen::Matrix<double, 3, 2, Eigen::RowMajor> sphere_jacobian;
+  sphere_manifold.PlusJacobian(translation, sphere_jacobian.data());
+  Eigen::Matrix<double, 6, 5> to_motion = Eigen::Matrix<double, 6, 5>::Zero();
+  to_motion.topLeftCorner<3, 3>() = 2.0 * Eigen::Matrix3d::Identity();
+  to_motion.bottomRightCorner<3, 2>() = sphere_jacobian;
+  return MotionCovariance(to_motion * covariance_tangent *
+                          to_motion.transpose());
+}
+
 }  // namespace
 
 void TwoViewOptions::Check() const {
@@ -137,7 +504,7 @@ TwoViewEstimate EstimateTwoViewPose(
     return estimate;
   }
 
-  // (1) 8-point + cheirality.
+  // (1) Starting poses.
   std::vector<cv::Point2d> points_i, points_j;
   for (int k = 0; k < num_points; ++k) {
     points_i.emplace_back(normalized_in_cam_i[k].x(),
@@ -145,195 +512,67 @@ TwoViewEstimate EstimateTwoViewPose(
     points_j.emplace_back(normalized_in_cam_j[k].x(),
                           normalized_in_cam_j[k].y());
   }
-  cv::Mat essential;
-  try {
-    essential = cv::findFundamentalMat(points_i, points_j, cv::FM_8POINT);
-  } catch (const cv::Exception& error) {
-    estimate.failure = std::string("8-point algorithm failed: ") + error.what();
-    return estimate;
-  }
-  if (essential.rows != 3 || essential.cols != 3) {
-    estimate.failure = "8-point algorithm found no essential matrix";
-    return estimate;
-  }
-  cv::Mat rotation_cv, translation_cv, mask, triangulated;
-  int num_in_front = 0;
-  try {
-    num_in_front = cv::recoverPose(essential,
-                                   points_i,
-                                   points_j,
-                                   cv::Mat::eye(3, 3, CV_64F),
-                                   rotation_cv,
-                                   translation_cv,
-                                   kRecoverPoseDistance,
-                                   mask,
-                                   triangulated);
-  } catch (const cv::Exception& error) {
-    estimate.failure = std::string("recoverPose failed: ") + error.what();
-    return estimate;
-  }
-  if (num_in_front == 0) {
-    estimate.failure =
-        "no decomposition puts the points in front of both views";
-    return estimate;
-  }
-  Eigen::Matrix3d r_ji;
-  Eigen::Vector3d t_ji;
-  for (int row = 0; row < 3; ++row) {
-    for (int col = 0; col < 3; ++col) {
-      r_ji(row, col) = rotation_cv.at<double>(row, col);
-    }
-    t_ji(row) = translation_cv.at<double>(row, 0);
-  }
-  const Rigid3d cam_j_from_cam_i(Eigen::Quaterniond(r_ji).normalized(),
-                                 t_ji.normalized());
-  Rigid3d cam_i_from_cam_j = Inverse(cam_j_from_cam_i);
+  std::vector<Rigid3d> starts;
   if (options.initial_cam_i_from_cam_j) {
-    cam_i_from_cam_j = *options.initial_cam_i_from_cam_j;
-    cam_i_from_cam_j.translation.normalize();
+    starts.push_back(*options.initial_cam_i_from_cam_j);
+    starts.back().translation.normalize();
+  } else {
+    std::string failure;
+    starts = EightPointStarts(points_i, points_j, &failure);
+    if (starts.empty()) {
+      estimate.failure = failure;
+      return estimate;
+    }
+    if (options.multi_start && options.refine) {
+      for (const Rigid3d& start :
+           FivePointStarts(points_i, points_j, options)) {
+        AddDistinctStart(start, &starts);
+      }
+    }
   }
+  if (!options.multi_start || !options.refine) starts.resize(1);
 
-  // (2) Triangulation.
-  estimate.points_in_cam_i.resize(num_points);
-  for (int k = 0; k < num_points; ++k) {
-    estimate.points_in_cam_i[k] = Triangulate(normalized_in_cam_i[k],
-                                              normalized_in_cam_j[k],
-                                              Inverse(cam_i_from_cam_j));
+  // (2) Triangulation and (3) bundle adjustment from each start; the lowest
+  // cost wins (the earliest of equals: the 8-point solution).
+  std::optional<Refinement> best;
+  for (const Rigid3d& start : starts) {
+    Refinement refinement =
+        Refine(normalized_in_cam_i, normalized_in_cam_j, start, options);
+    ++estimate.num_starts;
+    if (!refinement.usable) {
+      if (!best) estimate.failure = refinement.failure;
+      continue;
+    }
+    if (!best || refinement.cost < best->cost) {
+      estimate.best_start = estimate.num_starts - 1;
+      best = std::move(refinement);
+    }
   }
-  estimate.initial_rms_px = ReprojectionRms(normalized_in_cam_i,
-                                            normalized_in_cam_j,
-                                            cam_i_from_cam_j,
-                                            estimate.points_in_cam_i,
-                                            options.focal_length_px);
-  estimate.cam_i_from_cam_j = cam_i_from_cam_j;
-  estimate.final_rms_px = estimate.initial_rms_px;
+  if (!best) return estimate;
+  estimate.failure.clear();
+  estimate.cam_i_from_cam_j = best->cam_i_from_cam_j;
+  estimate.points_in_cam_i = best->points_in_cam_i;
+  estimate.initial_rms_px = best->initial_rms_px;
+  estimate.final_rms_px = best->final_rms_px;
+  estimate.final_cost = best->cost;
+  estimate.num_iterations = best->num_iterations;
   if (!options.refine) {
     estimate.success = true;
     return estimate;
   }
-
-  // (3) Bundle adjustment.
-  double rotation[4];
-  double translation[3];
-  const Eigen::Quaterniond q0 = cam_i_from_cam_j.rotation.normalized();
-  for (int k = 0; k < 4; ++k) rotation[k] = q0.coeffs()[k];
-  for (int k = 0; k < 3; ++k) translation[k] = cam_i_from_cam_j.translation(k);
-  std::vector<double> points(3 * num_points);
-  for (int k = 0; k < num_points; ++k) {
-    for (int c = 0; c < 3; ++c)
-      points[3 * k + c] = estimate.points_in_cam_i[k](c);
-  }
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  ceres::EigenQuaternionManifold quaternion_manifold;
-  ceres::SphereManifold<3> sphere_manifold;
-  const double focal = options.focal_length_px;
-  for (int k = 0; k < num_points; ++k) {
-    double* point = &points[3 * k];
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ViewIResidual, 2, 3>(
-            new ViewIResidual(normalized_in_cam_i[k], focal)),
-        nullptr,
-        point);
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ViewJResidual, 2, 4, 3, 3>(
-            new ViewJResidual(normalized_in_cam_j[k], focal)),
-        nullptr,
-        rotation,
-        translation,
-        point);
-  }
-  problem.SetManifold(rotation, &quaternion_manifold);
-  problem.SetManifold(translation, &sphere_manifold);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_num_iterations;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-12;
-  solver_options.parameter_tolerance = 1e-12;
-  solver_options.logging_type = ceres::SILENT;
-  solver_options.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  estimate.num_iterations = static_cast<int>(summary.iterations.size()) - 1;
-  estimate.final_cost = summary.final_cost;
-  if (!summary.IsSolutionUsable()) {
-    estimate.failure = "bundle adjustment failed: " + summary.BriefReport();
+  std::string failure;
+  const std::optional<MotionCovariance> covariance =
+      PoseCovariance(normalized_in_cam_i,
+                     normalized_in_cam_j,
+                     estimate.cam_i_from_cam_j,
+                     estimate.points_in_cam_i,
+                     options,
+                     &failure);
+  if (!covariance) {
+    estimate.failure = failure;
     return estimate;
   }
-  // The reprojection cost is invariant under (t, p) -> (-t, -p), which puts
-  // the points behind both cameras: the bundle adjustment can drift there.
-  // Cheirality decides; the cost, and so the covariance, are unchanged.
-  int num_behind = 0;
-  for (int k = 0; k < num_points; ++k) {
-    if (points[3 * k + 2] < 0.0) ++num_behind;
-  }
-  if (2 * num_behind > num_points) {
-    for (double& value : translation) value = -value;
-    for (double& value : points) value = -value;
-  }
-  cam_i_from_cam_j = Rigid3d(
-      Eigen::Quaterniond(rotation[3], rotation[0], rotation[1], rotation[2])
-          .normalized(),
-      Eigen::Vector3d(translation[0], translation[1], translation[2])
-          .normalized());
-  for (int k = 0; k < num_points; ++k) {
-    estimate.points_in_cam_i[k] =
-        Eigen::Map<const Eigen::Vector3d>(&points[3 * k]);
-  }
-  estimate.cam_i_from_cam_j = cam_i_from_cam_j;
-  estimate.final_rms_px = ReprojectionRms(normalized_in_cam_i,
-                                          normalized_in_cam_j,
-                                          cam_i_from_cam_j,
-                                          estimate.points_in_cam_i,
-                                          focal);
-
-  // Covariance: J in tangent coordinates [delta_q(3), delta_t(2), points].
-  ceres::Problem::EvaluateOptions evaluate_options;
-  evaluate_options.parameter_blocks = {rotation, translation};
-  for (int k = 0; k < num_points; ++k) {
-    evaluate_options.parameter_blocks.push_back(&points[3 * k]);
-  }
-  ceres::CRSMatrix crs;
-  problem.Evaluate(evaluate_options, nullptr, nullptr, nullptr, &crs);
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int row = 0; row < crs.num_rows; ++row) {
-    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) {
-      jacobian(row, crs.cols[k]) = crs.values[k];
-    }
-  }
-  const Eigen::MatrixXd h = jacobian.transpose() * jacobian;
-  const int num_landmark_params = 3 * num_points;
-  const Eigen::Matrix<double, 5, 5> h_pp = h.topLeftCorner<5, 5>();
-  const Eigen::MatrixXd h_pl = h.topRightCorner(5, num_landmark_params);
-  const Eigen::MatrixXd h_ll =
-      h.bottomRightCorner(num_landmark_params, num_landmark_params);
-  const Eigen::LDLT<Eigen::MatrixXd> h_ll_ldlt(h_ll);
-  if (h_ll_ldlt.info() != Eigen::Success || !h_ll_ldlt.isPositive()) {
-    estimate.failure = "the points are not determined (singular information)";
-    return estimate;
-  }
-  Eigen::Matrix<double, 5, 5> h_pose =
-      h_pp - h_pl * h_ll_ldlt.solve(h_pl.transpose());
-  h_pose = 0.5 * (h_pose + h_pose.transpose()).eval();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eigen(
-      h_pose);
-  const Eigen::Matrix<double, 5, 1> values = eigen.eigenvalues();
-  if (!(values(0) > kMinInformationRatio * values(4))) {
-    estimate.failure =
-        "the relative pose is not determined (singular information)";
-    return estimate;
-  }
-  const Eigen::Matrix<double, 5, 5> covariance_tangent =
-      options.pixel_sigma * options.pixel_sigma * eigen.eigenvectors() *
-      values.cwiseInverse().asDiagonal() * eigen.eigenvectors().transpose();
-  Eigen::Matrix<double, 3, 2, Eigen::RowMajor> sphere_jacobian;
-  sphere_manifold.PlusJacobian(translation, sphere_jacobian.data());
-  Eigen::Matrix<double, 6, 5> to_motion = Eigen::Matrix<double, 6, 5>::Zero();
-  to_motion.topLeftCorner<3, 3>() = 2.0 * Eigen::Matrix3d::Identity();
-  to_motion.bottomRightCorner<3, 2>() = sphere_jacobian;
-  estimate.covariance = to_motion * covariance_tangent * to_motion.transpose();
+  estimate.covariance = *covariance;
   estimate.success = true;
   return estimate;
 }
