@@ -426,6 +426,18 @@ OdometryFormat ParseOdometryFormat(const std::string& name) {
       "odometry format: expected one of auto, tum, csv; got '" + name + "'");
 }
 
+const char* OdometryFormatName(OdometryFormat format) {
+  switch (format) {
+    case OdometryFormat::kTum:
+      return "tum";
+    case OdometryFormat::kCsv:
+      return "csv";
+    case OdometryFormat::kAuto:
+      break;
+  }
+  return "auto";
+}
+
 Trajectory ReadOdometry(const std::string& path,
                         OdometryFormat format,
                         TimeUnit unit,

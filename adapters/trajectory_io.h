@@ -67,6 +67,8 @@ enum class OdometryFormat { kAuto, kTum, kCsv };
 
 // "auto", "tum" or "csv"; throws std::invalid_argument otherwise.
 OdometryFormat ParseOdometryFormat(const std::string& name);
+// The name ParseOdometryFormat reads.
+const char* OdometryFormatName(OdometryFormat format);
 
 // Reads an odometry log as TUM or CSV. kAuto decides by the content: the
 // first data line (header and comments skipped) with 4 fields -> CSV, 8

@@ -46,10 +46,13 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
     context.camera_paths.push_back(camera.source);
   }
   context.odometry_path = odometry.source;
+  context.odometry_format = inputs.odometry_format;
   context.camera_time_unit = TimeUnitName(inputs.camera_time_unit);
   context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
+  context.flag_echo =
+      CalibrationFlagsEcho(inputs.association, inputs.calibration);
   context.association =
       AssociateCameraWithOdometry(cameras, odometry, inputs.association);
   if (context.association.num_usable_camera_poses == 0) {
@@ -145,14 +148,12 @@ int RunCalibrate(int argc, char** argv) {
       ->required();
   app.add_flag("--overwrite", overwrite, "replace existing output files");
   app.add_flag("--quiet", quiet, "print only errors");
-  CalibrationFlags flags;
-  AddCalibrationFlags(&app, &inputs, &flags);
+  AddCalibrationFlags(&app, &inputs);
 
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
   return RunReportingErrors(app, [&]() -> int {
-    FinishCalibrationFlags(flags, &inputs);
     CheckCalibrationOutputs(inputs, output_path, overwrite);
     const CalibrationRun run =
         RunCalibrationPipeline(inputs, "odomcal calibrate");

@@ -136,32 +136,6 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
   return out;
 }
 
-json OptionsToJson(const CalibrationOptions& o) {
-  return {
-      {"method", ToString(o.method)},
-      {"alsp_projection", ToString(o.alsp_projection)},
-      {"refine", o.refine},
-      {"robust_loss", ToString(o.robust_loss)},
-      {"robust_loss_scale", o.robust_loss_scale},
-      {"fixed_translation_z_m", o.fixed_translation_z_m},
-      {"ransac", o.use_ransac},
-      {"ransac_max_rotation_error_deg", o.ransac_max_rotation_error_deg},
-      {"ransac_max_translation_error_m", o.ransac_max_translation_error_m},
-      {"ransac_max_translation_error_rel", o.ransac_max_translation_error_rel},
-      {"ransac_min_inlier_ratio", o.ransac_min_inlier_ratio},
-      {"ransac_seed", o.ransac_seed},
-      {"min_rotation_deg", o.min_rotation_deg},
-      {"noise",
-       {{"odom_yaw_sigma_deg", o.noise.odom_yaw_sigma_deg},
-        {"odom_yaw_sigma_rel", o.noise.odom_yaw_sigma_rel},
-        {"odom_tilt_sigma_deg", o.noise.odom_tilt_sigma_deg},
-        {"odom_translation_sigma_m", o.noise.odom_translation_sigma_m},
-        {"odom_translation_sigma_rel", o.noise.odom_translation_sigma_rel},
-        {"cam_rotation_sigma_deg", o.noise.cam_rotation_sigma_deg},
-        {"cam_translation_sigma_rel", o.noise.cam_translation_sigma_rel}}},
-  };
-}
-
 std::string Format(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), format, value);
@@ -290,22 +264,22 @@ json CalibrationToJson(const CalibrationResult& result,
     };
   }
   out["diagnostics"] = diagnostics;
-  const AssociationOptions& ao = context.association_options;
-  out["inputs"] = {
+  // The paths and units as read, then the flags' values as the command line
+  // echoed them (ReportContext::flag_echo, from its option tables).
+  json inputs = {
       {"command", context.command},
       {"camera_poses", context.camera_paths},
       {"camera_pose_convention",
        "TUM: timestamp tx ty tz qx qy qz qw, world_from_cam"},
       {"odometry", context.odometry_path},
+      {"odometry_format", OdometryFormatName(context.odometry_format)},
       {"camera_time_unit", context.camera_time_unit},
       {"odometry_time_unit", context.odometry_time_unit},
-      {"camera_time_offset_s",
-       1e-9 * static_cast<double>(ao.camera_time_offset_ns)},
-      {"max_odometry_gap_s", ao.max_odometry_gap_s},
-      {"keyframe_min_rotation_deg", ao.keyframe_min_rotation_deg},
-      {"keyframe_min_translation_m", ao.keyframe_min_translation_m},
   };
-  out["options"] = OptionsToJson(context.calibration_options);
+  inputs.update(context.flag_echo.value("inputs", json::object()));
+  const json options = context.flag_echo.value("options", json::object());
+  out["inputs"] = inputs;
+  out["options"] = options;
   return out;
 }
 

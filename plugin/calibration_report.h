@@ -4,6 +4,7 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 
@@ -19,11 +20,19 @@ struct ReportContext {
   std::string command;  // e.g. "odomcal calibrate"
   std::vector<std::string> camera_paths;
   std::string odometry_path;
+  OdometryFormat odometry_format = OdometryFormat::kAuto;  // as given
   std::string camera_time_unit;
   std::string odometry_time_unit;
   AssociationOptions association_options;
   AssociationResult association;  // counts; pairs are not echoed
   CalibrationOptions calibration_options;
+  // The values of the command's flags, {"inputs": {...}, "options": {...}},
+  // written into the result's `inputs` (after the paths and units above) and
+  // `options`. The command line makes it from its option tables
+  // (CalibrationFlagsEcho in cli_flags.h, ProjectFlagsEcho, RunFlagsEcho),
+  // so that it lists exactly the flags; without it the result's `options`
+  // is empty.
+  nlohmann::json flag_echo = nlohmann::json::object();
 };
 
 constexpr int kResultSchemaVersion = 1;

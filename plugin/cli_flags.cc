@@ -1,168 +1,282 @@
 #include "odomcal/plugin/cli_flags.h"
 
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/plugin/command_line.h"
 #include "odomcal/solver/format_number.h"
 
 #include <cmath>
-#include <stdexcept>
+#include <cstdlib>
 
 namespace odomcal {
+namespace {
 
-void AddCalibrationFlags(CLI::App* app,
-                         CalibrateInputs* inputs,
-                         CalibrationFlags* flags) {
-  CalibrationOptions& o = inputs->calibration;
-  AssociationOptions& a = inputs->association;
-  // Inputs and time.
-  app->add_option(
-         "--odometry_format", flags->odometry_format, "odometry file format")
-      ->check(CLI::IsMember({"auto", "tum", "csv"}))
-      ->capture_default_str();
-  app->add_option("--camera_time_unit",
-                  flags->camera_time_unit,
-                  "unit of the camera timestamps")
-      ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
-      ->capture_default_str();
-  app->add_option("--odometry_time_unit",
-                  flags->odometry_time_unit,
-                  "unit of the odometry timestamps (a CSV header's time_ms "
-                  "etc. sets it per file)")
-      ->check(CLI::IsMember({"s", "ms", "us", "ns"}))
-      ->capture_default_str()
-      ->each([flags](const std::string&) {
-        flags->odometry_time_unit_given = true;
-      });
-  app->add_option("--camera_time_offset_s",
-                  flags->camera_time_offset_s,
-                  "added to camera times to get odometry times")
-      ->capture_default_str();
-  app->add_option("--max_odometry_gap_s",
-                  a.max_odometry_gap_s,
-                  "camera times in odometry gaps longer than this are skipped")
-      ->capture_default_str();
-  app->add_option("--keyframe_min_rotation_deg",
-                  a.keyframe_min_rotation_deg,
-                  "next keyframe after this much odometry rotation...")
-      ->capture_default_str();
-  app->add_option("--keyframe_min_translation_m",
-                  a.keyframe_min_translation_m,
-                  "...or this much odometry translation")
-      ->capture_default_str();
-  // Method.
-  app->add_option("--method", flags->method, "closed form")
-      ->check(CLI::IsMember({"alsp", "als"}))
-      ->capture_default_str();
-  app->add_option("--alsp_projection",
-                  flags->alsp_projection,
-                  "ALSP projection of camera translations onto the plane")
-      ->check(CLI::IsMember({"orthogonal", "length_preserving"}))
-      ->capture_default_str();
-  app->add_flag("--no_refine",
-                flags->no_refine,
-                "report the closed form without Ceres refinement");
-  app->add_option("--fixed_translation_z_m",
-                  o.fixed_translation_z_m,
-                  "z of the camera in the odometry frame (unobservable under "
-                  "planar motion, held at this value)")
-      ->capture_default_str();
-  app->add_option("--ransac", flags->ransac, "RANSAC over motion pairs")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->capture_default_str();
-  app->add_option("--ransac_max_rotation_error_deg",
-                  o.ransac_max_rotation_error_deg,
-                  "inlier threshold on the rotation residual")
-      ->capture_default_str();
-  app->add_option("--ransac_max_translation_error_m",
-                  o.ransac_max_translation_error_m,
-                  "inlier threshold on the translation residual...")
-      ->capture_default_str();
-  app->add_option("--ransac_max_translation_error_rel",
-                  o.ransac_max_translation_error_rel,
-                  "...plus this fraction of the odometry step")
-      ->capture_default_str();
-  app->add_option("--ransac_min_inlier_ratio",
-                  o.ransac_min_inlier_ratio,
-                  "refuse the data below this inlier fraction")
-      ->capture_default_str();
-  app->add_option("--ransac_seed", o.ransac_seed, "RANSAC random seed")
-      ->check(AtLeast(0))
-      ->capture_default_str();
-  app->add_option(
-         "--robust_loss", flags->robust_loss, "robust loss of the refinement")
-      ->check(CLI::IsMember({"none", "huber", "cauchy"}))
-      ->capture_default_str();
-  app->add_option("--robust_loss_scale",
-                  o.robust_loss_scale,
-                  "robust loss scale in standard deviations")
-      ->capture_default_str();
-  // Noise model (per keyframe pair).
-  NoiseModel& n = o.noise;
-  app->add_option("--odom_yaw_sigma_deg",
-                  n.odom_yaw_sigma_deg,
-                  "odometry yaw noise per pair")
-      ->capture_default_str();
-  app->add_option("--odom_yaw_sigma_rel",
-                  n.odom_yaw_sigma_rel,
-                  "+ this fraction of the yaw increment")
-      ->capture_default_str();
-  app->add_option("--odom_tilt_sigma_deg",
-                  n.odom_tilt_sigma_deg,
-                  "odometry roll/pitch noise per pair")
-      ->capture_default_str();
-  app->add_option("--odom_translation_sigma_m",
-                  n.odom_translation_sigma_m,
-                  "odometry translation noise per axis and pair")
-      ->capture_default_str();
-  app->add_option("--odom_translation_sigma_rel",
-                  n.odom_translation_sigma_rel,
-                  "+ this fraction of the step length")
-      ->capture_default_str();
-  app->add_option("--cam_rotation_sigma_deg",
-                  n.cam_rotation_sigma_deg,
-                  "camera rotation noise per axis and pair")
-      ->capture_default_str();
-  app->add_option("--cam_translation_sigma_rel",
-                  n.cam_translation_sigma_rel,
-                  "camera translation noise, fraction of the step length")
-      ->capture_default_str();
-  // Refusal thresholds.
-  app->add_option("--min_rotation_deg",
-                  o.min_rotation_deg,
-                  "a pair excites rotation above this yaw")
-      ->capture_default_str();
-  app->add_option("--max_rotation_stddev_deg",
-                  o.max_rotation_stddev_deg,
-                  "larger: rotation reported unobservable")
-      ->capture_default_str();
-  app->add_option("--max_translation_stddev_m",
-                  o.max_translation_stddev_m,
-                  "larger: x/y reported unobservable")
-      ->capture_default_str();
-  app->add_option("--max_scale_stddev_rel",
-                  o.max_scale_stddev_rel,
-                  "larger: scale reported unobservable")
-      ->capture_default_str();
+using Inputs = CalibrateInputs;
+using Association = AssociationOptions;
+using Calibration = CalibrationOptions;
+
+const std::vector<std::string> kTimeUnits = {"s", "ms", "us", "ns"};
+
+// The offset is stored in integer nanoseconds: it must fit with room.
+CLI::Validator TimeOffsetCheck() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) {
+          return "must be a number, got '" + text + "'";
+        }
+        if (!std::isfinite(value) || std::abs(value) > 1e9) {
+          return "must be finite and within [-1e9, 1e9], got " +
+                 FormatNumber(value);
+        }
+        return "";
+      },
+      "");
 }
 
-void FinishCalibrationFlags(const CalibrationFlags& flags,
-                            CalibrateInputs* inputs) {
-  CalibrationOptions& o = inputs->calibration;
-  o.method = LinearMethodFromString(flags.method);
-  o.alsp_projection = PlaneProjectionFromString(flags.alsp_projection);
-  o.use_ransac = flags.ransac == "on";
-  o.robust_loss = RobustLossFromString(flags.robust_loss);
-  o.refine = !flags.no_refine;
-  inputs->odometry_format = ParseOdometryFormat(flags.odometry_format);
-  inputs->camera_time_unit = ParseTimeUnit(flags.camera_time_unit);
-  inputs->odometry_time_unit = ParseTimeUnit(flags.odometry_time_unit);
-  inputs->odometry_time_unit_given = flags.odometry_time_unit_given;
-  if (!std::isfinite(flags.camera_time_offset_s) ||
-      std::abs(flags.camera_time_offset_s) > 1e9) {
-    throw std::invalid_argument(
-        "--camera_time_offset_s must be finite and within [-1e9, 1e9], got " +
-        FormatNumber(flags.camera_time_offset_s));
-  }
-  inputs->association.camera_time_offset_ns =
-      std::llround(flags.camera_time_offset_s * 1e9);
+OptionRow<Association> TimeOffsetRow() {
+  OptionRow<Association> row;
+  row.name = "camera_time_offset_s";
+  row.echo_key = row.name;
+  row.help = "added to camera times to get odometry times";
+  row.add = [row](CLI::App* app, Association* options) {
+    return app
+        ->add_option_function<double>(
+            "--" + row.name,
+            [options](double seconds) {
+              options->camera_time_offset_ns = std::llround(seconds * 1e9);
+            },
+            row.help)
+        ->check(TimeOffsetCheck())
+        ->default_str(FormatNumber(
+            1e-9 * static_cast<double>(options->camera_time_offset_ns)));
+  };
+  row.echo = [](const Association& options) {
+    return nlohmann::json(1e-9 *
+                          static_cast<double>(options.camera_time_offset_ns));
+  };
+  return row;
+}
+
+}  // namespace
+
+const OptionTable<CalibrateInputs>& InputFormatFlags() {
+  static const OptionTable<Inputs> table = [] {
+    OptionTable<Inputs> rows = {
+        ChoiceRow<Inputs>(
+            "odometry_format",
+            "odometry file format",
+            {"auto", "tum", "csv"},
+            [](const Inputs& i) {
+              return OdometryFormatName(i.odometry_format);
+            },
+            [](Inputs* i, const std::string& name) {
+              i->odometry_format = ParseOdometryFormat(name);
+            }),
+        ChoiceRow<Inputs>(
+            "camera_time_unit",
+            "unit of the camera timestamps",
+            kTimeUnits,
+            [](const Inputs& i) { return TimeUnitName(i.camera_time_unit); },
+            [](Inputs* i, const std::string& name) {
+              i->camera_time_unit = ParseTimeUnit(name);
+            }),
+        // Given on the command line, a CSV header naming another unit is an
+        // error; the default gives way to the header.
+        ChoiceRow<Inputs>(
+            "odometry_time_unit",
+            "unit of the odometry timestamps (a CSV header's time_ms etc. "
+            "sets it per file)",
+            kTimeUnits,
+            [](const Inputs& i) { return TimeUnitName(i.odometry_time_unit); },
+            [](Inputs* i, const std::string& name) {
+              i->odometry_time_unit = ParseTimeUnit(name);
+              i->odometry_time_unit_given = true;
+            }),
+    };
+    for (OptionRow<Inputs>& row : rows) row.echo = nullptr;
+    return rows;
+  }();
+  return table;
+}
+
+const OptionTable<AssociationOptions>& AssociationFlags() {
+  static const OptionTable<Association> table = {
+      TimeOffsetRow(),
+      NumberRow<Association>(
+          "max_odometry_gap_s",
+          "camera times in odometry gaps longer than this are skipped",
+          [](auto& o) -> auto& { return o.max_odometry_gap_s; }),
+      NumberRow<Association>(
+          "keyframe_min_rotation_deg",
+          "next keyframe after this much odometry rotation...",
+          [](auto& o) -> auto& { return o.keyframe_min_rotation_deg; }),
+      NumberRow<Association>(
+          "keyframe_min_translation_m",
+          "...or this much odometry translation",
+          [](auto& o) -> auto& { return o.keyframe_min_translation_m; }),
+  };
+  return table;
+}
+
+const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
+  using C = Calibration;
+  static const OptionTable<C> table = {
+      // The estimator.
+      ChoiceRow<C>(
+          "method",
+          "closed form",
+          {"alsp", "als"},
+          [](const C& o) { return ToString(o.method); },
+          [](C* o, const std::string& name) {
+            o->method = LinearMethodFromString(name);
+          }),
+      ChoiceRow<C>(
+          "alsp_projection",
+          "ALSP projection of camera translations onto the plane",
+          {"orthogonal", "length_preserving"},
+          [](const C& o) { return ToString(o.alsp_projection); },
+          [](C* o, const std::string& name) {
+            o->alsp_projection = PlaneProjectionFromString(name);
+          }),
+      SwitchRow<C>(
+          "no_refine",
+          "report the closed form without Ceres refinement",
+          "refine",
+          [](auto& o) -> auto& { return o.refine; },
+          false),
+      NumberRow<C>(
+          "fixed_translation_z_m",
+          "z of the camera in the odometry frame (unobservable under "
+          "planar motion, held at this value)",
+          [](auto& o) -> auto& { return o.fixed_translation_z_m; }),
+      // Outliers. --ransac on|off is echoed as the boolean "ransac".
+      [] {
+        OptionRow<C> row = ChoiceRow<C>(
+            "ransac",
+            "RANSAC over motion pairs",
+            {"on", "off"},
+            [](const C& o) { return std::string(o.use_ransac ? "on" : "off"); },
+            [](C* o, const std::string& name) {
+              o->use_ransac = name == "on";
+            });
+        row.echo = [](const C& o) { return nlohmann::json(o.use_ransac); };
+        return row;
+      }(),
+      NumberRow<C>(
+          "ransac_max_rotation_error_deg",
+          "inlier threshold on the rotation residual",
+          [](auto& o) -> auto& { return o.ransac_max_rotation_error_deg; }),
+      NumberRow<C>(
+          "ransac_max_translation_error_m",
+          "inlier threshold on the translation residual...",
+          [](auto& o) -> auto& { return o.ransac_max_translation_error_m; }),
+      NumberRow<C>(
+          "ransac_max_translation_error_rel",
+          "...plus this fraction of the odometry step",
+          [](auto& o) -> auto& { return o.ransac_max_translation_error_rel; }),
+      NumberRow<C>(
+          "ransac_min_inlier_ratio",
+          "refuse the data below this inlier fraction",
+          [](auto& o) -> auto& { return o.ransac_min_inlier_ratio; }),
+      NumberRow<C>(
+          "ransac_seed",
+          "RANSAC random seed",
+          [](auto& o) -> auto& { return o.ransac_seed; },
+          AtLeast(0)),
+      ChoiceRow<C>(
+          "robust_loss",
+          "robust loss of the refinement",
+          {"none", "huber", "cauchy"},
+          [](const C& o) { return ToString(o.robust_loss); },
+          [](C* o, const std::string& name) {
+            o->robust_loss = RobustLossFromString(name);
+          }),
+      NumberRow<C>(
+          "robust_loss_scale",
+          "robust loss scale in standard deviations",
+          [](auto& o) -> auto& { return o.robust_loss_scale; }),
+      // Noise model (per keyframe pair).
+      EchoedIn(
+          "noise",
+          NumberRow<C>(
+              "odom_yaw_sigma_deg",
+              "odometry yaw noise per pair",
+              [](auto& o) -> auto& { return o.noise.odom_yaw_sigma_deg; })),
+      EchoedIn(
+          "noise",
+          NumberRow<C>(
+              "odom_yaw_sigma_rel",
+              "+ this fraction of the yaw increment",
+              [](auto& o) -> auto& { return o.noise.odom_yaw_sigma_rel; })),
+      EchoedIn(
+          "noise",
+          NumberRow<C>(
+              "odom_tilt_sigma_deg",
+              "odometry roll/pitch noise per pair",
+              [](auto& o) -> auto& { return o.noise.odom_tilt_sigma_deg; })),
+      EchoedIn("noise",
+               NumberRow<C>(
+                   "odom_translation_sigma_m",
+                   "odometry translation noise per axis and pair",
+                   [](auto& o) -> auto& {
+                     return o.noise.odom_translation_sigma_m;
+                   })),
+      EchoedIn("noise",
+               NumberRow<C>(
+                   "odom_translation_sigma_rel",
+                   "+ this fraction of the step length",
+                   [](auto& o) -> auto& {
+                     return o.noise.odom_translation_sigma_rel;
+                   })),
+      EchoedIn(
+          "noise",
+          NumberRow<C>(
+              "cam_rotation_sigma_deg",
+              "camera rotation noise per axis and pair",
+              [](auto& o) -> auto& { return o.noise.cam_rotation_sigma_deg; })),
+      EchoedIn("noise",
+               NumberRow<C>(
+                   "cam_translation_sigma_rel",
+                   "camera translation noise, fraction of the step length",
+                   [](auto& o) -> auto& {
+                     return o.noise.cam_translation_sigma_rel;
+                   })),
+      // Refusal thresholds.
+      NumberRow<C>(
+          "min_rotation_deg",
+          "a pair excites rotation above this yaw",
+          [](auto& o) -> auto& { return o.min_rotation_deg; }),
+      NumberRow<C>(
+          "max_rotation_stddev_deg",
+          "larger: rotation reported unobservable",
+          [](auto& o) -> auto& { return o.max_rotation_stddev_deg; }),
+      NumberRow<C>(
+          "max_translation_stddev_m",
+          "larger: x/y reported unobservable",
+          [](auto& o) -> auto& { return o.max_translation_stddev_m; }),
+      NumberRow<C>(
+          "max_scale_stddev_rel",
+          "larger: scale reported unobservable",
+          [](auto& o) -> auto& { return o.max_scale_stddev_rel; }),
+  };
+  return table;
+}
+
+void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs) {
+  AddFlags(InputFormatFlags(), app, inputs);
+  AddFlags(AssociationFlags(), app, &inputs->association);
+  AddFlags(CalibrationOptionFlags(), app, &inputs->calibration);
+}
+
+nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
+                                    const CalibrationOptions& calibration) {
+  nlohmann::json echo = {{"inputs", nlohmann::json::object()},
+                         {"options", nlohmann::json::object()}};
+  EchoOptions(AssociationFlags(), association, &echo["inputs"]);
+  EchoOptions(CalibrationOptionFlags(), calibration, &echo["options"]);
+  return echo;
 }
 
 }  // namespace odomcal

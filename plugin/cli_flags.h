@@ -1,37 +1,38 @@
 // Calibration flags shared by the commands that calibrate (calibrate, colmap,
-// run, demo). Flag names are public interface: keep them stable (docs/cli.md).
+// run, demo), as tables (option_table.h): the flags, their defaults and
+// checks, and the result JSON's echo all come from these rows. Flag names are
+// public interface: keep them stable (docs/cli.md).
 #pragma once
 
+#include "odomcal/adapters/association.h"
 #include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/option_table.h"
+#include "odomcal/solver/calibration_options.h"
 
 #include <CLI/CLI.hpp>
-
-#include <string>
+#include <nlohmann/json.hpp>
 
 namespace odomcal {
 
-// Text flags held until they are converted into CalibrateInputs.
-struct CalibrationFlags {
-  std::string method = "alsp";
-  std::string alsp_projection = "orthogonal";
-  std::string ransac = "on";
-  std::string robust_loss = "none";
-  std::string odometry_format = "auto";
-  std::string camera_time_unit = "s";
-  std::string odometry_time_unit = "s";
-  // --odometry_time_unit given on the command line: then an odometry CSV
-  // header that names another time unit is an error.
-  bool odometry_time_unit_given = false;
-  double camera_time_offset_s = 0.0;
-  bool no_refine = false;
-};
+// How the input files are read: --odometry_format, --camera_time_unit,
+// --odometry_time_unit. No echo functions: the report echoes in `inputs` the
+// units and format it is given in ReportContext (for `odomcal colmap`
+// without --image_timestamps the camera times come "from image file names").
+const OptionTable<CalibrateInputs>& InputFormatFlags();
+// --camera_time_offset_s, --max_odometry_gap_s, --keyframe_min_* (echoed in
+// `inputs`).
+const OptionTable<AssociationOptions>& AssociationFlags();
+// The estimator, outliers, noise model and refusal thresholds (echoed in
+// `options`, the noise model in `options.noise`).
+const OptionTable<CalibrationOptions>& CalibrationOptionFlags();
 
-void AddCalibrationFlags(CLI::App* app,
-                         CalibrateInputs* inputs,
-                         CalibrationFlags* flags);
+// Registers the tables above, in the order of docs/cli.md, bound to
+// `inputs`: after parsing, `inputs` holds every value given.
+void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs);
 
-// Converts the text flags; throws std::invalid_argument naming the flag.
-void FinishCalibrationFlags(const CalibrationFlags& flags,
-                            CalibrateInputs* inputs);
+// The echo of the association and calibration flags, for
+// ReportContext::flag_echo: {"inputs": {...}, "options": {...}}.
+nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
+                                    const CalibrationOptions& calibration);
 
 }  // namespace odomcal

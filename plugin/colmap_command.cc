@@ -27,17 +27,7 @@ int RunColmap(int argc, char** argv) {
   std::string output_path;
   bool overwrite = false;
   bool quiet = false;
-  app.add_option("--model_path",
-                 inputs.model_path,
-                 "COLMAP sparse model folder, or the mapper's output folder "
-                 "with sub-models 0, 1, ...")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--database_path",
-                 inputs.database_path,
-                 "the project's database.db (read-only; counts unregistered "
-                 "images)")
-      ->check(CLI::ExistingFile);
+  AddFlags(ColmapModelFlags(), &app, &inputs);
   app.add_option("--output_path",
                  output_path,
                  "output folder (created; must not be inside the project)")
@@ -63,8 +53,8 @@ int RunColmap(int argc, char** argv) {
                         overwrite ? ExistingOutputs::kReplaceOwn
                                   : ExistingOutputs::kRefuseNonEmptyFolder);
     const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
-    const ReportContext context =
-        ProjectReportContext(inputs, run, "odomcal colmap");
+    const ReportContext context = ProjectReportContext(
+        inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs));
     const std::vector<std::string> written =
         WriteColmapCalibrationOutputs(run, context, output_path);
     if (!quiet) {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -26,13 +27,15 @@ json Sim3ToJson(const Sim3d& sim3) {
 
 ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
                                    const ColmapCalibrationRun& run,
-                                   const std::string& command) {
+                                   const std::string& command,
+                                   nlohmann::json flag_echo) {
   ReportContext context;
   context.command = command;
   for (const ColmapSegment& segment : run.segments) {
     context.camera_paths.push_back(segment.model_path);
   }
   context.odometry_path = inputs.odometry_path;
+  context.odometry_format = inputs.odometry_format;
   context.camera_time_unit = inputs.image_timestamps_path.empty()
                                  ? "from image file names"
                                  : TimeUnitName(inputs.image_time_unit);
@@ -40,6 +43,7 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.association_options = inputs.association;
   context.association = run.association;
   context.calibration_options = inputs.calibration;
+  context.flag_echo = std::move(flag_echo);
   return context;
 }
 

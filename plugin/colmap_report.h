@@ -13,11 +13,14 @@
 namespace odomcal {
 
 // The report's account of a project calibration: `inputs`' paths, time
-// units and options, the sub-models and association of `run`, and
-// `command` ("odomcal colmap").
-ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
-                                   const ColmapCalibrationRun& run,
-                                   const std::string& command);
+// units and options, the sub-models and association of `run`, `command`
+// ("odomcal colmap") and the echo of its flags (ReportContext::flag_echo;
+// the command line's ProjectFlagsEcho, project_flags.h).
+ReportContext ProjectReportContext(
+    const ColmapCalibrationInputs& inputs,
+    const ColmapCalibrationRun& run,
+    const std::string& command,
+    nlohmann::json flag_echo = nlohmann::json::object());
 
 nlohmann::json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
                                        const ReportContext& context);

@@ -284,13 +284,11 @@ int RunDemo(int argc, char** argv) {
       ->check(InRange(0, 30))
       ->capture_default_str();
   CalibrateInputs inputs;
-  CalibrationFlags flags;
-  AddCalibrationFlags(&app, &inputs, &flags);
+  AddCalibrationFlags(&app, &inputs);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
   return RunReportingErrors(app, [&]() -> int {
-    FinishCalibrationFlags(flags, &inputs);
     if (simulated) {
       simulation.seed = seed;
       return RunSimulatedDemo(workspace, simulation, inputs);

@@ -4,6 +4,7 @@
 
 #include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/option_table.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
 
@@ -14,21 +15,33 @@
 
 namespace odomcal {
 
+// `odomcal colmap`'s --model_path and --database_path (echoed in `inputs`
+// for `odomcal run` too, which sets them to its workspace's).
+const OptionTable<ColmapCalibrationInputs>& ColmapModelFlags();
+// --odometry, --image_timestamps, --file_name_time_unit (echoed in
+// `inputs`).
+const OptionTable<ColmapCalibrationInputs>& ProjectInputFlags();
+// The stretch check's --min_inconsistent_run_pairs (echoed in `options`).
+const OptionTable<StretchOptions>& StretchFlags();
+
 struct ProjectFlags {
-  CalibrationFlags calibration;
-  CalibrateInputs calibrate;  // association + calibration options
-  std::string file_name_time_unit = "auto";
+  CalibrateInputs calibrate;  // the calibration flags (cli_flags.h)
 };
 
-// --odometry, --image_timestamps, --file_name_time_unit, the calibration
-// flags and the stretch check's --min_inconsistent_run_pairs.
+// ProjectInputFlags(), StretchFlags() and the calibration flags.
 void AddProjectFlags(CLI::App* app,
                      ColmapCalibrationInputs* inputs,
                      ProjectFlags* flags);
 
-// Converts the text flags into `inputs`; throws std::invalid_argument.
+// Copies the calibration flags into `inputs`.
 void FinishProjectFlags(const ProjectFlags& flags,
                         ColmapCalibrationInputs* inputs);
+
+// The echo of `odomcal colmap`'s flags as `inputs` holds them, for
+// ProjectReportContext: the calibration flags, --model_path and
+// --database_path (null when not given), the project inputs and the stretch
+// check's flags.
+nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs);
 
 // Checks the output folder `output` against `inputs` (output_guard.h), then
 // creates it if needed and claims `entries` in it (output_folder.h), before

@@ -5,6 +5,7 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/plugin/cli_flags.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <cstdio>
@@ -107,6 +108,8 @@ CalibrationRun SimulatedCalibrationRun(uint64_t seed, bool straight_only) {
   context.camera_time_unit = "s";
   context.odometry_time_unit = "s";
   context.calibration_options.fixed_translation_z_m = 0.4;
+  context.flag_echo = CalibrationFlagsEcho(context.association_options,
+                                           context.calibration_options);
   context.association = AssociateCameraWithOdometry(
       {drive.camera}, drive.odometry, context.association_options);
   run.result =

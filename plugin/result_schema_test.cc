@@ -9,6 +9,7 @@
 
 #include "odomcal/plugin/calibration_report.h"
 #include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/project_flags.h"
 #include "odomcal/plugin/report_testing.h"
 
 #include <unistd.h>
@@ -200,7 +201,9 @@ TEST(ResultSchema, ColmapOutputConforms) {
   run.chosen_mapper_attempt = 0;
   const SchemaChecker checker(ReadSchema());
   const json out = ColmapCalibrationToJson(
-      run, ProjectReportContext(inputs, run, "odomcal colmap"));
+      run,
+      ProjectReportContext(
+          inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs)));
   EXPECT_EQ(Lines(checker.Check(out)), "");
   EXPECT_TRUE(out.contains("colmap"));
   fs::remove_all(dir);
@@ -217,7 +220,9 @@ TEST(ResultSchema, ColmapOutputWithScaleDriftConforms) {
   const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
   ASSERT_FALSE(run.check.scale_drifts.empty());
   const json out = ColmapCalibrationToJson(
-      run, ProjectReportContext(inputs, run, "odomcal colmap"));
+      run,
+      ProjectReportContext(
+          inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs)));
   EXPECT_EQ(Lines(SchemaChecker(ReadSchema()).Check(out)), "");
   ASSERT_EQ(out["colmap"]["scale_drifts"].size(), 1u);
   EXPECT_EQ(out["colmap"]["scale_drifts"][0]["stretches"].size(),

@@ -10,6 +10,7 @@
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/project_flags.h"
+#include "odomcal/plugin/run_flags.h"
 
 #include <CLI/CLI.hpp>
 
@@ -18,6 +19,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -100,8 +102,15 @@ RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
       });
   RunOutcome outcome;
   outcome.calibration = result.calibration;
-  outcome.context =
-      ProjectReportContext(options.project, outcome.calibration, command);
+  // The flags' echo, with the model and database the pipeline made (null
+  // when it refused the drive before COLMAP).
+  ColmapCalibrationInputs calibrated = options.project;
+  calibrated.model_path = result.model_path;
+  calibrated.database_path = result.database_path;
+  nlohmann::json flag_echo = ProjectFlagsEcho(calibrated);
+  MergeFlagEcho(RunFlagsEcho(options), &flag_echo);
+  outcome.context = ProjectReportContext(
+      calibrated, outcome.calibration, command, std::move(flag_echo));
   const fs::path workspace(options.workspace_path);
   if (result.refused_before_colmap) {
     // calibration.json with the status only, and no other output of an
@@ -135,84 +144,7 @@ int RunRun(int argc, char** argv) {
       "odomcal run"};
   ReconstructionOptions run;
   ProjectFlags flags;
-  app.add_option(
-         "--image_path", run.image_path, "folder of images (sub-folders too)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--workspace_path",
-                 run.workspace_path,
-                 "COLMAP workspace and outputs (created; reused on reruns)")
-      ->required();
-  app.add_option("--camera_model", run.camera_model, "COLMAP camera model")
-      ->check(CLI::IsMember({"SIMPLE_PINHOLE",
-                             "PINHOLE",
-                             "SIMPLE_RADIAL",
-                             "RADIAL",
-                             "OPENCV",
-                             "OPENCV_FISHEYE",
-                             "FULL_OPENCV"}))
-      ->capture_default_str();
-  app.add_option("--camera_params",
-                 run.camera_params,
-                 "intrinsics in COLMAP's order, e.g. fx,fy,cx,cy; kept fixed "
-                 "in the mapper (strongly recommended)");
-  app.add_option("--matcher",
-                 run.matcher,
-                 "spatial: pairs by odometry position (COLMAP 3.8 priors); "
-                 "sequential: by image name order")
-      ->check(CLI::IsMember({"spatial", "sequential"}))
-      ->capture_default_str();
-  app.add_option("--spatial_neighbors",
-                 run.spatial_neighbors,
-                 "spatial matcher: neighbours per image")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option("--sequential_overlap",
-                 run.sequential_overlap,
-                 "sequential matcher: overlap")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option(
-         "--max_num_features",
-         run.max_num_features,
-         "SIFT features per image (matching cost grows with its square)")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option("--num_threads", run.num_threads, "COLMAP threads")
-      ->check(AtLeast(1))
-      ->capture_default_str();
-  app.add_option(
-         "--frame_min_translation_m",
-         run.frames.min_translation_m,
-         "frame selection: keep an image once the robot moved this far...")
-      ->check(AtLeast(0))
-      ->capture_default_str();
-  app.add_option("--frame_min_rotation_deg",
-                 run.frames.min_rotation_deg,
-                 "...or turned this much since the last kept image")
-      ->check(AtLeast(0))
-      ->capture_default_str();
-  app.add_option(
-         "--mapper_attempts",
-         run.mapper.max_seeds,
-         "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
-         "contradicts motion pairs of the model; the model it contradicts "
-         "least is kept; per matching")
-      ->check(InRange(1, 20))
-      ->capture_default_str();
-  std::string rematch = "on";
-  app.add_option("--rematch",
-                 rematch,
-                 "when the mapper's seeds do not give a model the odometry "
-                 "accepts, match the images again and map the new matches too")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->capture_default_str();
-  app.add_option("--colmap_path", run.colmap_path, "the colmap executable")
-      ->capture_default_str();
-  app.add_flag("--force",
-               run.force,
-               "run COLMAP even when the odometry at the image times cannot "
-               "determine the calibration (no or too few turns)");
+  AddRunFlags(&app, &run);
   AddProjectFlags(&app, &run.project, &flags);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
@@ -220,7 +152,6 @@ int RunRun(int argc, char** argv) {
 
   return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &run.project);
-    run.mapper.max_matching_rounds = rematch == "on" ? 2 : 1;
     const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run");
     std::cout << CalibrationSummary(outcome.calibration.check.result,
                                     outcome.context);

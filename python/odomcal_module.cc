@@ -62,8 +62,7 @@ bool IsUnknownKeyword(const std::string& message) {
 struct FlagApp {
   CLI::App app{"", kCommand};
   CalibrateInputs inputs;
-  CalibrationFlags flags;
-  FlagApp() { AddCalibrationFlags(&app, &inputs, &flags); }
+  FlagApp() { AddCalibrationFlags(&app, &inputs); }
 };
 
 // "--name=value" for each keyword; a flag (no value) for True.
@@ -196,7 +195,6 @@ py::object Calibrate(const py::object& camera_poses,
   try {
     const std::vector<Input> cameras_in = CameraInputs(camera_poses);
     const Input odometry_in = InputFrom(odometry, "odometry");
-    FinishCalibrationFlags(flag_app.flags, &inputs);
     inputs.association.Check();
     inputs.calibration.Check();
     py::gil_scoped_release no_gil;  // reading and calibrating take a while

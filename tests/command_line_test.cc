@@ -331,8 +331,7 @@ CommandResult RunCalibrateInProcess(std::vector<std::string> arguments) {
 TEST_F(CommandLine, NoMessageLeaksCppNamesOrHugeNumbers) {
   CLI::App app;
   CalibrateInputs inputs;
-  CalibrationFlags flags;
-  AddCalibrationFlags(&app, &inputs, &flags);
+  AddCalibrationFlags(&app, &inputs);
   const std::regex huge_number("[0-9]{20}");
   const std::string empty_input =
       std::string(kCalibrateError) + Path("camera.tum") +
