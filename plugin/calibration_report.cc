@@ -6,6 +6,7 @@
 #include "odomcal/plugin/calibration_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <opencv2/core.hpp>
@@ -19,7 +20,6 @@ namespace odomcal {
 namespace {
 
 using nlohmann::json;
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 bool Estimated(Determination determination) {
   return determination == Determination::kEstimated;

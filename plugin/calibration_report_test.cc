@@ -1,6 +1,7 @@
 #include "odomcal/plugin/calibration_report.h"
 
 #include "odomcal/plugin/report_testing.h"
+#include "odomcal/solver/angles.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -46,7 +47,6 @@ TEST(CalibrationToJson, ASuccessGivesTheEstimateConsistentlyInEveryForm) {
                    0.4);  // fixed z
   // roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll), degrees.
   const json& rpy = transform["roll_pitch_yaw_deg"];
-  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
   const Eigen::Matrix3d from_rpy =
       (Eigen::AngleAxisd(rpy[2].get<double>() * kDegToRad,
                          Eigen::Vector3d::UnitZ()) *

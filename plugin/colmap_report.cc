@@ -2,6 +2,7 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/svg_plot.h"
+#include "odomcal/solver/angles.h"
 
 #include <cmath>
 #include <sstream>
@@ -266,11 +267,10 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
       ratio(num_input, nan);
   for (size_t i = 0; i < num_input; ++i) {
     const MotionPair& pair = input_pairs[i];
-    yaw[i] = LogRotation(pair.odom_i_from_odom_j.rotation).z() * 180.0 /
-             3.14159265358979323846;
+    yaw[i] = LogRotation(pair.odom_i_from_odom_j.rotation).z() * kRadToDeg;
     mismatch[i] = std::abs(RotationAngle(pair.odom_i_from_odom_j.rotation) -
                            RotationAngle(pair.cam_i_from_cam_j.rotation)) *
-                  180.0 / 3.14159265358979323846;
+                  kRadToDeg;
   }
   // Step-length ratio: the camera displacement the odometry and the
   // extrinsic predict, |R_A p + t_A - p|, over the one COLMAP measured,

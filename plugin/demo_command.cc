@@ -10,6 +10,7 @@
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/run_command.h"
+#include "odomcal/solver/angles.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -24,8 +25,6 @@
 
 namespace odomcal {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
                                         const DriveSimulatorOptions& options) {

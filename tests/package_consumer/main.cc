@@ -20,6 +20,7 @@
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/odomcal_plugin.h"
 #include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/project_flags.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
@@ -157,7 +158,10 @@ int main(int argc, char** argv) {
   const std::vector<std::string> written =
       odomcal::WriteColmapCalibrationOutputs(
           calibrated,
-          odomcal::ProjectReportContext(project, calibrated, "consumer"),
+          odomcal::ProjectReportContext(project,
+                                        calibrated,
+                                        "consumer",
+                                        odomcal::ProjectFlagsEcho(project)),
           output);
 
   // cli: the `odomcal calibrate` pipeline on the files, and its JSON.
