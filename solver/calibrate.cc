@@ -392,18 +392,6 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
 }
 
-// Multiplies the covariance by `factor` (>= 1); every standard deviation
-// grows by its square root.
-void InflateCovariance(double factor, CalibrationResult* result) {
-  if (!result->covariance) return;
-  const double root = std::sqrt(factor);
-  *result->covariance *= factor;
-  result->stddev_roll_pitch_yaw_deg *= root;
-  result->stddev_rotation_axes_deg *= root;
-  result->stddev_translation_xy_m *= root;
-  for (double& stddev : result->stddev_metric_scales_rel) stddev *= root;
-}
-
 CalibrationResult Refuse(CalibrationResult result,
                          CalibrationStatus status,
                          const std::string& message) {
@@ -625,18 +613,19 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   d.num_pairs_used = static_cast<int>(used.size());
 
   ComputeResiduals(pairs, used, options, &result);
-  AnalyseInformation(
-      information, information_segments, num_segments, options, &result);
   // Planar odometry cannot see slopes: a camera motion that leaves the plane
   // biases roll/pitch and x/y beyond the planar covariance. Named, and the
-  // covariance inflated by the measured excess (planarity_check.h).
+  // covariance inflated by the measured excess (planarity_check.h) before
+  // the standard deviations are tested against their limits.
   d.planarity = CheckPlanarity(
       pairs, used, result.odom_from_cam, result.metric_scales, options.noise);
   if (d.planarity.checked && !d.planarity.consistent) {
     result.warnings.push_back(
         PlanarityWarning(d.planarity, pairs.front().stamp_i_ns));
-    InflateCovariance(d.planarity.covariance_inflation, &result);
+    information /= d.planarity.covariance_inflation;
   }
+  AnalyseInformation(
+      information, information_segments, num_segments, options, &result);
 
   // Warnings a user should read even when the answer is usable.
   if (num_pairs - d.num_pairs_used > 0) {

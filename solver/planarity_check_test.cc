@@ -191,6 +191,34 @@ TEST(TiltedGround, ThreeDegreesIsNamedAndCoveredWithinThreeSigma) {
   EXPECT_LT(covered_without_inflation, 4);
 }
 
+// The limits on the standard deviations apply to the inflated ones: a
+// rotation limit between the planar and the inflated sigma leaves the
+// rotation undetermined.
+TEST(TiltedGround, LimitsApplyToTheInflatedStandardDeviations) {
+  DriveSimulatorOptions options;
+  options.seed = 1;
+  options.ground_tilt_deg = 3.0;
+  options.camera_rotation_noise_deg = 0.02;
+  options.camera_position_noise = 0.002;
+  const SimulatedDrive drive = SimulateDrive(options);
+  const AssociationResult association = AssociateCameraWithOdometry(
+      {drive.camera}, drive.odometry, AssociationOptions());
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = options.odom_from_cam.translation.z();
+  const CalibrationResult inflated =
+      CalibrateOdomCam(association.pairs, calibration);
+  ASSERT_EQ(inflated.status, CalibrationStatus::kSuccess);
+  const double inflation = inflated.diagnostics.planarity.covariance_inflation;
+  ASSERT_GT(inflation, 4.0);
+  const double sigma = inflated.stddev_rotation_axes_deg.maxCoeff();
+  calibration.max_rotation_stddev_deg = 0.5 * sigma;  // > the planar sigma
+  ASSERT_GT(calibration.max_rotation_stddev_deg, sigma / std::sqrt(inflation));
+  const CalibrationResult limited =
+      CalibrateOdomCam(association.pairs, calibration);
+  EXPECT_EQ(limited.status, CalibrationStatus::kUnobservable);
+  EXPECT_EQ(limited.observability.rotation, Determination::kUndetermined);
+}
+
 // The same +-3 deg drives with SE(3) odometry (e.g. from an INS: the true
 // 3-D poses): no planarity warning, translation z is estimated (started at
 // 0), and rotation, x, y and z lie within their 3 sigma.
