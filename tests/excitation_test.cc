@@ -12,6 +12,7 @@
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/tests/odomcal_process.h"
+#include "odomcal/tests/scratch_folder_test.h"
 #include "odomcal/tests/test_files.h"
 
 #include <sys/stat.h>
@@ -39,22 +40,9 @@ std::string ImageName(int index) {
   return name;
 }
 
-class Excitation : public ::testing::Test {
+class Excitation : public ScratchFolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) /
-           (std::string("odomcal_excitation_") + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
-  }
-
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
+  Excitation() : ScratchFolderTest("odomcal_excitation_") {}
 
   // A 60 s simulated drive (straight only, or with turns both ways):
   // odometry.csv, camera.tum, and images/ with kImages files at the camera
@@ -173,8 +161,6 @@ class Excitation : public ::testing::Test {
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     return arguments;
   }
-
-  fs::path dir_;
 };
 
 constexpr char kStraightMessage[] =

@@ -10,6 +10,7 @@
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/tests/odomcal_process.h"
+#include "odomcal/tests/scratch_folder_test.h"
 #include "odomcal/tests/test_files.h"
 
 #include <sys/stat.h>
@@ -296,24 +297,11 @@ void RewriteTimes(const fs::path& path, size_t digits, char separator) {
   WriteFile(path, out);
 }
 
-class FlagEcho : public ::testing::Test {
+class FlagEcho : public ScratchFolderTest {
  protected:
   static constexpr int kImages = 50;
 
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) /
-           (std::string("odomcal_flag_echo_") + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
-  }
-
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
+  FlagEcho() : ScratchFolderTest("odomcal_flag_echo_") {}
 
   static std::string ImageName(int index) {
     char name[32];
@@ -442,8 +430,6 @@ class FlagEcho : public ::testing::Test {
     }
     return arguments;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(FlagEcho, CalibrateEchoesEveryFlag) {

@@ -10,6 +10,7 @@
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/tests/odomcal_process.h"
+#include "odomcal/tests/scratch_folder_test.h"
 #include "odomcal/tests/test_files.h"
 
 #include <unistd.h>
@@ -28,22 +29,9 @@ namespace fs = std::filesystem;
 constexpr char kNeverOverInput[] = "; odomcal never writes over an input";
 constexpr char kForeign[] = "; --overwrite replaces only odomcal's own files";
 
-class OutputSafety : public ::testing::Test {
+class OutputSafety : public ScratchFolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) /
-           (std::string("odomcal_outputs_") + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
-  }
-
-  std::string Path(const std::string& name) const {
-    return (dir_ / name).string();
-  }
+  OutputSafety() : ScratchFolderTest("odomcal_outputs_") {}
 
   // WriteFile, creating the folders on the way.
   void WriteNew(const std::string& name, const std::string& bytes) const {
@@ -138,8 +126,6 @@ class OutputSafety : public ::testing::Test {
             "--workspace_path",
             Path(workspace)};
   }
-
-  fs::path dir_;
 };
 
 // The user's case: the odometry given as --output with --overwrite.
