@@ -6,6 +6,7 @@
 #include "odomcal/plugin/calibration_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/cli_flags.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 
@@ -264,8 +265,9 @@ json CalibrationToJson(const CalibrationResult& result,
     };
   }
   out["diagnostics"] = diagnostics;
-  // The paths and units as read, then the flags' values as the command line
-  // echoed them (ReportContext::flag_echo, from its option tables).
+  // The paths and units as read, then the flags' values from the option
+  // tables (ReportContext::flag_echo; by default those of the options the
+  // context holds).
   json inputs = {
       {"command", context.command},
       {"camera_poses", context.camera_paths},
@@ -276,8 +278,12 @@ json CalibrationToJson(const CalibrationResult& result,
       {"camera_time_unit", context.camera_time_unit},
       {"odometry_time_unit", context.odometry_time_unit},
   };
-  inputs.update(context.flag_echo.value("inputs", json::object()));
-  const json options = context.flag_echo.value("options", json::object());
+  const json flag_echo = context.flag_echo.is_null()
+                             ? CalibrationFlagsEcho(context.association_options,
+                                                    context.calibration_options)
+                             : context.flag_echo;
+  inputs.update(flag_echo.value("inputs", json::object()));
+  const json options = flag_echo.value("options", json::object());
   out["inputs"] = inputs;
   out["options"] = options;
   return out;

@@ -1,5 +1,6 @@
 #include "odomcal/plugin/calibration_report.h"
 
+#include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/report_testing.h"
 #include "odomcal/solver/angles.h"
 
@@ -8,6 +9,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -121,6 +123,35 @@ TEST(CalibrationToJson, AStraightDriveHasNoEstimateAndSaysWhatIsUndetermined) {
   for (const json& scale : out["metric_scales"]) {
     EXPECT_TRUE(scale.is_null() || run.result.has_estimate);
   }
+}
+
+// A library caller (no command line) gets the echo of the options it
+// calibrated with, made from the same tables as the CLI's flags.
+TEST(CalibrationToJson, TheOptionsEchoDefaultsToTheContextsOptions) {
+  const CalibrationRun run =
+      SimulatedCalibrationRun(3, /*straight_only=*/false);
+  ReportContext context = run.context;
+  context.flag_echo = nullptr;  // as a default-constructed context's
+  context.calibration_options.robust_loss = RobustLoss::kHuber;
+  context.calibration_options.noise.odom_yaw_sigma_deg = 0.7;
+  context.association_options.max_odometry_gap_s = 0.5;
+  const json out = CalibrationToJson(run.result, context);
+  EXPECT_EQ(out["options"]["robust_loss"], "huber");
+  EXPECT_EQ(out["options"]["noise"]["odom_yaw_sigma_deg"], 0.7);
+  EXPECT_EQ(out["inputs"]["max_odometry_gap_s"], 0.5);
+  for (const OptionRow<CalibrationOptions>& row : CalibrationOptionFlags()) {
+    const json& object = row.echo_object.empty()
+                             ? out["options"]
+                             : out["options"][row.echo_object];
+    EXPECT_TRUE(object.contains(row.echo_key)) << row.name;
+  }
+  for (const OptionRow<AssociationOptions>& row : AssociationFlags()) {
+    EXPECT_TRUE(out["inputs"].contains(row.echo_key)) << row.name;
+  }
+  EXPECT_EQ(ReportContext().flag_echo, nullptr);
+  // An echo given is written as given.
+  context.flag_echo = json::object();
+  EXPECT_EQ(CalibrationToJson(run.result, context)["options"], json::object());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "odomcal/plugin/colmap_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/project_flags.h"
 #include "odomcal/plugin/svg_plot.h"
 #include "odomcal/solver/angles.h"
 
@@ -46,6 +47,12 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.calibration_options = inputs.calibration;
   context.flag_echo = std::move(flag_echo);
   return context;
+}
+
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const ColmapCalibrationRun& run,
+                                   const std::string& command) {
+  return ProjectReportContext(inputs, run, command, ProjectFlagsEcho(inputs));
 }
 
 json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
