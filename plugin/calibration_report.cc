@@ -218,8 +218,13 @@ json CalibrationToJson(const CalibrationResult& result,
     const bool tz =
         result.observability.translation_z == Determination::kEstimated;
     json order = {"rx", "ry", "rz", "tx", "ty"};
+    // Scale rows are labelled with their segment: a segment without used
+    // pairs has none.
     for (size_t k = 0; k + 5 + tz < static_cast<size_t>(c.rows()); ++k) {
-      order.push_back("s_" + std::to_string(k));
+      const int segment = k < result.covariance_segments.size()
+                              ? result.covariance_segments[k]
+                              : static_cast<int>(k);
+      order.push_back("s_" + std::to_string(segment));
     }
     if (tz) order.push_back("tz");
     json rows = json::array();

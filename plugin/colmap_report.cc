@@ -103,8 +103,12 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
         {{"sub_model", run.segments[drift.input_segment].sub_model},
          {"first_time_s", FormatTimestampSeconds(drift.first_stamp_ns)},
          {"last_time_s", FormatTimestampSeconds(drift.last_stamp_ns)},
-         {"relative_drift", drift.relative_drift},
-         {"relative_drift_stddev", drift.relative_drift_stddev},
+         // null: too few pairs to measure the trend.
+         {"relative_drift",
+          drift.trend_measured ? json(drift.relative_drift) : json(nullptr)},
+         {"relative_drift_stddev",
+          drift.trend_measured ? json(drift.relative_drift_stddev)
+                               : json(nullptr)},
          {"stretches", stretches_of_drift}});
   }
   json segment_sources = json::array();
