@@ -77,7 +77,7 @@ for tilt in tilts:
                 with open(f'{ws}/calibration.json') as f:
                     why = json.load(f).get('status', f'exit {run.returncode}')
             except (OSError, ValueError):
-                why = f'exit {run.returncode}'
+                why = f'exit={run.returncode}'
             refused[why] = refused.get(why, 0) + 1
             continue
         rows.append(row)
