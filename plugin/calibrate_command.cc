@@ -2,7 +2,7 @@
 
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
-#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/command_flags.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_guard.h"
 #include "odomcal/solver/calibrate.h"

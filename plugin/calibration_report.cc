@@ -6,6 +6,7 @@
 #include "odomcal/plugin/calibration_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/cli_flags.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 
@@ -217,8 +218,13 @@ json CalibrationToJson(const CalibrationResult& result,
     const bool tz =
         result.observability.translation_z == Determination::kEstimated;
     json order = {"rx", "ry", "rz", "tx", "ty"};
+    // Scale rows are labelled with their segment: a segment without used
+    // pairs has none.
     for (size_t k = 0; k + 5 + tz < static_cast<size_t>(c.rows()); ++k) {
-      order.push_back("s_" + std::to_string(k));
+      const int segment = k < result.covariance_segments.size()
+                              ? result.covariance_segments[k]
+                              : static_cast<int>(k);
+      order.push_back("s_" + std::to_string(segment));
     }
     if (tz) order.push_back("tz");
     json rows = json::array();
@@ -264,8 +270,9 @@ json CalibrationToJson(const CalibrationResult& result,
     };
   }
   out["diagnostics"] = diagnostics;
-  // The paths and units as read, then the flags' values as the command line
-  // echoed them (ReportContext::flag_echo, from its option tables).
+  // The paths and units as read, then the flags' values from the option
+  // tables (ReportContext::flag_echo; by default those of the options the
+  // context holds).
   json inputs = {
       {"command", context.command},
       {"camera_poses", context.camera_paths},
@@ -276,8 +283,12 @@ json CalibrationToJson(const CalibrationResult& result,
       {"camera_time_unit", context.camera_time_unit},
       {"odometry_time_unit", context.odometry_time_unit},
   };
-  inputs.update(context.flag_echo.value("inputs", json::object()));
-  const json options = context.flag_echo.value("options", json::object());
+  const json flag_echo = context.flag_echo.is_null()
+                             ? CalibrationFlagsEcho(context.association_options,
+                                                    context.calibration_options)
+                             : context.flag_echo;
+  inputs.update(flag_echo.value("inputs", json::object()));
+  const json options = flag_echo.value("options", json::object());
   out["inputs"] = inputs;
   out["options"] = options;
   return out;

@@ -28,11 +28,10 @@ struct ReportContext {
   CalibrationOptions calibration_options;
   // The values of the command's flags, {"inputs": {...}, "options": {...}},
   // written into the result's `inputs` (after the paths and units above) and
-  // `options`. The command line makes it from its option tables
-  // (CalibrationFlagsEcho in cli_flags.h, ProjectFlagsEcho, RunFlagsEcho),
-  // so that it lists exactly the flags; without it the result's `options`
-  // is empty.
-  nlohmann::json flag_echo = nlohmann::json::object();
+  // `options`, as made from the option tables (CalibrationFlagsEcho in
+  // cli_flags.h, ProjectFlagsEcho, RunFlagsEcho). Null (the default): the
+  // echo of association_options and calibration_options.
+  nlohmann::json flag_echo;
 };
 
 constexpr int kResultSchemaVersion = 1;

@@ -1,13 +1,18 @@
 #include "odomcal/plugin/calibration_report.h"
 
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/plugin/cli_flags.h"
 #include "odomcal/plugin/report_testing.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/calibrate.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -121,6 +126,66 @@ TEST(CalibrationToJson, AStraightDriveHasNoEstimateAndSaysWhatIsUndetermined) {
   for (const json& scale : out["metric_scales"]) {
     EXPECT_TRUE(scale.is_null() || run.result.has_estimate);
   }
+}
+
+// The scale rows of the covariance are named by their segment: the middle
+// one of three segments has no pairs, hence no row, and the order says so.
+TEST(CalibrationToJson, CovarianceOrderNamesTheSegmentOfEachScaleRow) {
+  MotionSimulatorOptions options;
+  options.num_pairs = 60;
+  options.num_segments = 3;
+  std::mt19937_64 rng(5);
+  SimulatedMotions motions = SimulateMotions(options, &rng);
+  MotionPairs pairs;
+  for (const MotionPair& pair : motions.pairs) {
+    if (pair.segment != 1) pairs.push_back(pair);
+  }
+  ASSERT_EQ(NumSegments(pairs), 3);
+  CalibrationOptions calibration;
+  calibration.use_ransac = false;
+  const CalibrationResult result = CalibrateOdomCam(pairs, calibration);
+  ASSERT_TRUE(result.covariance.has_value()) << result.message;
+  EXPECT_EQ(result.covariance_segments, (std::vector<int>{0, 2}));
+  const json out = CalibrationToJson(result, ReportContext());
+  EXPECT_EQ(out["covariance"]["order"],
+            json({"rx", "ry", "rz", "tx", "ty", "s_0", "s_2"}));
+  EXPECT_EQ(out["covariance"]["matrix"].size(), 7u);
+  // Segment 2's scale: its row, not the (missing) second row's.
+  const double stddev_2 =
+      std::sqrt(out["covariance"]["matrix"][6][6].get<double>()) /
+      result.metric_scales[2];
+  EXPECT_NEAR(out["stddev"]["metric_scales_rel"][2].get<double>(),
+              stddev_2,
+              1e-12 * stddev_2);
+}
+
+// A library caller (no command line) gets the echo of the options it
+// calibrated with, made from the same tables as the CLI's flags.
+TEST(CalibrationToJson, TheOptionsEchoDefaultsToTheContextsOptions) {
+  const CalibrationRun run =
+      SimulatedCalibrationRun(3, /*straight_only=*/false);
+  ReportContext context = run.context;
+  context.flag_echo = nullptr;  // as a default-constructed context's
+  context.calibration_options.robust_loss = RobustLoss::kHuber;
+  context.calibration_options.noise.odom_yaw_sigma_deg = 0.7;
+  context.association_options.max_odometry_gap_s = 0.5;
+  const json out = CalibrationToJson(run.result, context);
+  EXPECT_EQ(out["options"]["robust_loss"], "huber");
+  EXPECT_EQ(out["options"]["noise"]["odom_yaw_sigma_deg"], 0.7);
+  EXPECT_EQ(out["inputs"]["max_odometry_gap_s"], 0.5);
+  for (const OptionRow<CalibrationOptions>& row : CalibrationOptionFlags()) {
+    const json& object = row.echo_object.empty()
+                             ? out["options"]
+                             : out["options"][row.echo_object];
+    EXPECT_TRUE(object.contains(row.echo_key)) << row.name;
+  }
+  for (const OptionRow<AssociationOptions>& row : AssociationFlags()) {
+    EXPECT_TRUE(out["inputs"].contains(row.echo_key)) << row.name;
+  }
+  EXPECT_EQ(ReportContext().flag_echo, nullptr);
+  // An echo given is written as given.
+  context.flag_echo = json::object();
+  EXPECT_EQ(CalibrationToJson(run.result, context)["options"], json::object());
 }
 
 }  // namespace

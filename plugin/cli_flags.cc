@@ -1,8 +1,5 @@
 #include "odomcal/plugin/cli_flags.h"
 
-#include "odomcal/adapters/timestamp.h"
-#include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/command_line.h"
 #include "odomcal/solver/format_number.h"
 
 #include <cmath>
@@ -11,28 +8,20 @@
 namespace odomcal {
 namespace {
 
-using Inputs = CalibrateInputs;
 using Association = AssociationOptions;
 using Calibration = CalibrationOptions;
 
-const std::vector<std::string> kTimeUnits = {"s", "ms", "us", "ns"};
-
 // The offset is stored in integer nanoseconds: it must fit with room.
-CLI::Validator TimeOffsetCheck() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size()) {
-          return "must be a number, got '" + text + "'";
-        }
-        if (!std::isfinite(value) || std::abs(value) > 1e9) {
-          return "must be finite and within [-1e9, 1e9], got " +
-                 FormatNumber(value);
-        }
-        return "";
-      },
-      "");
+std::string TimeOffsetError(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) {
+    return "must be a number, got '" + text + "'";
+  }
+  if (!std::isfinite(value) || std::abs(value) > 1e9) {
+    return "must be finite and within [-1e9, 1e9], got " + FormatNumber(value);
+  }
+  return "";
 }
 
 OptionRow<Association> TimeOffsetRow() {
@@ -40,66 +29,27 @@ OptionRow<Association> TimeOffsetRow() {
   row.name = "camera_time_offset_s";
   row.echo_key = row.name;
   row.help = "added to camera times to get odometry times";
-  row.add = [row](CLI::App* app, Association* options) {
-    return app
-        ->add_option_function<double>(
-            "--" + row.name,
-            [options](double seconds) {
-              options->camera_time_offset_ns = std::llround(seconds * 1e9);
-            },
-            row.help)
-        ->check(TimeOffsetCheck())
-        ->default_str(FormatNumber(
-            1e-9 * static_cast<double>(options->camera_time_offset_ns)));
+  const auto seconds = [](const Association& options) {
+    return 1e-9 * static_cast<double>(options.camera_time_offset_ns);
   };
-  row.echo = [](const Association& options) {
-    return nlohmann::json(1e-9 *
-                          static_cast<double>(options.camera_time_offset_ns));
+  row.value = OptionText<Association>{
+      {},
+      [seconds](const Association& options) {
+        return FormatNumber(seconds(options));
+      },
+      [](Association* options, const std::string& text) {
+        options->camera_time_offset_ns =
+            std::llround(std::strtod(text.c_str(), nullptr) * 1e9);
+      },
+      "FLOAT"};
+  row.check = FlagCheck::Custom(TimeOffsetError);
+  row.echo = [seconds](const Association& options) {
+    return nlohmann::json(seconds(options));
   };
   return row;
 }
 
 }  // namespace
-
-const OptionTable<CalibrateInputs>& InputFormatFlags() {
-  static const OptionTable<Inputs> table = [] {
-    OptionTable<Inputs> rows = {
-        ChoiceRow<Inputs>(
-            "odometry_format",
-            "odometry file format",
-            {"auto", "tum", "csv"},
-            [](const Inputs& i) {
-              return OdometryFormatName(i.odometry_format);
-            },
-            [](Inputs* i, const std::string& name) {
-              i->odometry_format = ParseOdometryFormat(name);
-            }),
-        ChoiceRow<Inputs>(
-            "camera_time_unit",
-            "unit of the camera timestamps",
-            kTimeUnits,
-            [](const Inputs& i) { return TimeUnitName(i.camera_time_unit); },
-            [](Inputs* i, const std::string& name) {
-              i->camera_time_unit = ParseTimeUnit(name);
-            }),
-        // Given on the command line, a CSV header naming another unit is an
-        // error; the default gives way to the header.
-        ChoiceRow<Inputs>(
-            "odometry_time_unit",
-            "unit of the odometry timestamps (a CSV header's time_ms etc. "
-            "sets it per file)",
-            kTimeUnits,
-            [](const Inputs& i) { return TimeUnitName(i.odometry_time_unit); },
-            [](Inputs* i, const std::string& name) {
-              i->odometry_time_unit = ParseTimeUnit(name);
-              i->odometry_time_unit_given = true;
-            }),
-    };
-    for (OptionRow<Inputs>& row : rows) row.echo = nullptr;
-    return rows;
-  }();
-  return table;
-}
 
 const OptionTable<AssociationOptions>& AssociationFlags() {
   static const OptionTable<Association> table = {
@@ -184,7 +134,7 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
           "ransac_seed",
           "RANSAC random seed",
           [](auto& o) -> auto& { return o.ransac_seed; },
-          AtLeast(0)),
+          FlagCheck::AtLeast(0)),
       ChoiceRow<C>(
           "robust_loss",
           "robust loss of the refinement",
@@ -262,12 +212,6 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
           [](auto& o) -> auto& { return o.max_scale_stddev_rel; }),
   };
   return table;
-}
-
-void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs) {
-  AddFlags(InputFormatFlags(), app, inputs);
-  AddFlags(AssociationFlags(), app, &inputs->association);
-  AddFlags(CalibrationOptionFlags(), app, &inputs->calibration);
 }
 
 nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,

@@ -9,8 +9,10 @@
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
+#include "odomcal/plugin/scale_drift_warning.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -21,12 +23,6 @@ namespace odomcal {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string SignedPercent(double fraction) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%+.1f %%", 100.0 * fraction);
-  return text;
-}
 
 bool InDroppedStretch(const StretchCheckResult& check,
                       int input_segment,
@@ -95,40 +91,6 @@ ColmapModel TransformModel(const ColmapModel& model,
     point.xyz = origin_from_sfm * point.xyz;
   }
   return metric;
-}
-
-// "sub-model 0: COLMAP's scale drifts by +10.1 % (3 sigma 0.4 %) from
-// <t0> to <t1> s (seen in the step lengths against the odometry): calibrated
-// and exported as 4 stretches with scales of their own: <t0> .. <t> s
-// 0.3712 m/unit, ..."
-std::string ScaleDriftWarning(const std::string& sub_model,
-                              const ScaleDrift& drift,
-                              const CalibrationResult& result) {
-  char sigma[32];
-  std::snprintf(
-      sigma, sizeof(sigma), "%.1f %%", 300.0 * drift.relative_drift_stddev);
-  std::string text = "sub-model " + sub_model + ": COLMAP's scale drifts by " +
-                     SignedPercent(drift.relative_drift) + " (3 sigma " +
-                     sigma + ") from " +
-                     FormatTimestampSeconds(drift.first_stamp_ns) + " to " +
-                     FormatTimestampSeconds(drift.last_stamp_ns) +
-                     " s (seen in the step lengths against the odometry): "
-                     "calibrated and exported as " +
-                     std::to_string(drift.stretches.size()) +
-                     " stretches with scales of their own:";
-  for (size_t k = 0; k < drift.stretches.size(); ++k) {
-    const ScaleStretch& stretch = drift.stretches[k];
-    char scale[32];
-    std::snprintf(scale,
-                  sizeof(scale),
-                  "%.5g",
-                  result.metric_scales.at(stretch.output_segment));
-    text += std::string(k == 0 ? " " : ", ") +
-            FormatTimestampSeconds(stretch.first_stamp_ns) + " .. " +
-            FormatTimestampSeconds(stretch.last_stamp_ns) + " s " + scale +
-            " m/unit";
-  }
-  return text;
 }
 
 bool HasUsableExtrinsic(const CalibrationResult& result) {

@@ -5,8 +5,8 @@
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/colmap_calibration_outputs.h"
 #include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/command_flags.h"
 #include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/project_flags.h"
 
 #include <CLI/CLI.hpp>
 

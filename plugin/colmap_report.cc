@@ -1,6 +1,7 @@
 #include "odomcal/plugin/colmap_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/project_flags.h"
 #include "odomcal/plugin/svg_plot.h"
 #include "odomcal/solver/angles.h"
 
@@ -46,6 +47,12 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.calibration_options = inputs.calibration;
   context.flag_echo = std::move(flag_echo);
   return context;
+}
+
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const ColmapCalibrationRun& run,
+                                   const std::string& command) {
+  return ProjectReportContext(inputs, run, command, ProjectFlagsEcho(inputs));
 }
 
 json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
@@ -96,8 +103,12 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
         {{"sub_model", run.segments[drift.input_segment].sub_model},
          {"first_time_s", FormatTimestampSeconds(drift.first_stamp_ns)},
          {"last_time_s", FormatTimestampSeconds(drift.last_stamp_ns)},
-         {"relative_drift", drift.relative_drift},
-         {"relative_drift_stddev", drift.relative_drift_stddev},
+         // null: too few pairs to measure the trend.
+         {"relative_drift",
+          drift.trend_measured ? json(drift.relative_drift) : json(nullptr)},
+         {"relative_drift_stddev",
+          drift.trend_measured ? json(drift.relative_drift_stddev)
+                               : json(nullptr)},
          {"stretches", stretches_of_drift}});
   }
   json segment_sources = json::array();

@@ -14,13 +14,16 @@ namespace odomcal {
 
 // The report's account of a project calibration: `inputs`' paths, time
 // units and options, the sub-models and association of `run`, `command`
-// ("odomcal colmap") and the echo of its flags (ReportContext::flag_echo;
-// the command line's ProjectFlagsEcho, project_flags.h).
-ReportContext ProjectReportContext(
-    const ColmapCalibrationInputs& inputs,
-    const ColmapCalibrationRun& run,
-    const std::string& command,
-    nlohmann::json flag_echo = nlohmann::json::object());
+// ("odomcal colmap") and the echo of its flags, ProjectFlagsEcho(inputs)
+// (project_flags.h) unless another is given (`odomcal run` adds its own
+// flags', RunFlagsEcho).
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const ColmapCalibrationRun& run,
+                                   const std::string& command);
+ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
+                                   const ColmapCalibrationRun& run,
+                                   const std::string& command,
+                                   nlohmann::json flag_echo);
 
 nlohmann::json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
                                        const ReportContext& context);

@@ -1,12 +1,13 @@
 // The single source of truth for the flags of an options struct: one table
-// per struct, one row per flag. A row says the flag's name, its help text, its
-// check, the field it sets (whose value is the default shown by --help) and
-// the key under which the result JSON echoes the value. The CLI registers its
-// flags from these tables (cli_flags.cc, project_flags.cc, run_flags.cc) and
-// makes the echo of the values from them (CalibrationFlagsEcho,
-// ProjectFlagsEcho, RunFlagsEcho), which it hands the report writers in
-// ReportContext::flag_echo (calibration_report.h): the reports and the
-// library know nothing of flags. tests/flag_table_test.cc checks docs/cli.md
+// per struct, one row per flag. A row says the flag's name, its help text,
+// where its value goes (a field, whose value is the default shown by --help,
+// or a text parsed into the struct), its check, and the key under which the
+// result JSON echoes the value. This header needs no CLI11: the library
+// (option tables in cli_flags.h, project_flags.h, run_flags.h, target
+// odomcal::plugin) echoes the options from the tables (CalibrationFlagsEcho,
+// ProjectFlagsEcho, RunFlagsEcho), which the report writers use by default;
+// the command line registers its CLI11 flags from the same rows
+// (command_flags.h, AddFlags). tests/flag_table_test.cc checks docs/cli.md
 // and the echo against the CLI.
 //
 // Field names are the flag names without "--" (CalibrationOptions::Check
@@ -15,16 +16,90 @@
 // echo's key.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <functional>
-#include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace odomcal {
+
+// A check of a flag's value. The command line turns it into a CLI11
+// validator whose message names the limit ("--num_threads must be >= 1,
+// got 0", command_line.h's AtLeast and InRange).
+struct FlagCheck {
+  enum class Kind {
+    kNone,
+    kAtLeast,
+    kInRange,
+    kExistingFile,
+    kExistingDirectory,
+    kCustom,
+  };
+  Kind kind = Kind::kNone;
+  double min = 0.0;
+  double max = 0.0;
+  // kCustom: "" when `text` is a valid value, else what is wrong with it
+  // ("must be a number, got 'x'").
+  std::function<std::string(const std::string& text)> custom;
+
+  static FlagCheck None() { return {}; }
+  static FlagCheck AtLeast(double min) {
+    FlagCheck check;
+    check.kind = Kind::kAtLeast;
+    check.min = min;
+    return check;
+  }
+  static FlagCheck InRange(double min, double max) {
+    FlagCheck check;
+    check.kind = Kind::kInRange;
+    check.min = min;
+    check.max = max;
+    return check;
+  }
+  static FlagCheck ExistingFile() { return {Kind::kExistingFile, 0, 0, {}}; }
+  static FlagCheck ExistingDirectory() {
+    return {Kind::kExistingDirectory, 0, 0, {}};
+  }
+  static FlagCheck Custom(
+      std::function<std::string(const std::string& text)> custom) {
+    return {Kind::kCustom, 0, 0, std::move(custom)};
+  }
+};
+
+// Where a flag's value goes. A field of the struct (a number or a string),
+// bound directly: its current value is the default shown...
+template <typename Options, typename T>
+using OptionField = std::function<T&(Options&)>;
+// ...or a text that `set` stores in the struct in another form (a unit, an
+// enum, seconds as nanoseconds); `get` names the current value (the
+// default shown). `choices`, when not empty, are the valid texts;
+// `type_name` is --help's type ("" for TEXT).
+template <typename Options>
+struct OptionText {
+  std::vector<std::string> choices;
+  std::function<std::string(const Options&)> get;
+  std::function<void(Options*, const std::string&)> set;
+  std::string type_name;
+};
+// ...or a flag without a value: `set` runs when it is given.
+template <typename Options>
+struct OptionSwitch {
+  std::function<void(Options*)> set;
+};
+
+template <typename Options>
+using OptionValue = std::variant<OptionField<Options, double>,
+                                 OptionField<Options, int>,
+                                 OptionField<Options, int64_t>,
+                                 OptionField<Options, uint64_t>,
+                                 OptionField<Options, std::string>,
+                                 OptionText<Options>,
+                                 OptionSwitch<Options>>;
 
 template <typename Options>
 struct OptionRow {
@@ -32,24 +107,17 @@ struct OptionRow {
   std::string help;         // --help text
   std::string echo_key;     // key in the echo object
   std::string echo_object;  // "": the echo object itself, else a member
-  // Registers the flag on `app`, bound to the field of `options`, whose
-  // current value is shown as the default.
-  std::function<CLI::Option*(CLI::App* app, Options* options)> add;
-  // The value echoed in the result JSON; empty for rows whose value the
-  // report echoes from elsewhere (see the table's comment).
+  OptionValue<Options> value;
+  FlagCheck check;
+  bool required = false;
+  bool show_default = true;  // --help shows the current value
+  // The value echoed in the result JSON; empty for rows that are not
+  // echoed or whose value the report echoes from elsewhere.
   std::function<nlohmann::json(const Options& options)> echo;
 };
 
 template <typename Options>
 using OptionTable = std::vector<OptionRow<Options>>;
-
-// Registers every flag of `table`, in table order.
-template <typename Options>
-void AddFlags(const OptionTable<Options>& table,
-              CLI::App* app,
-              Options* options) {
-  for (const OptionRow<Options>& row : table) row.add(app, options);
-}
 
 // Writes every row's echo into `echo` (an object) under the row's key.
 template <typename Options>
@@ -75,23 +143,22 @@ inline void MergeFlagEcho(const nlohmann::json& more, nlohmann::json* echo) {
   }
 }
 
-// A number (or other type CLI11 converts) bound to a field. `field` maps an
-// options struct to the field, const or not, e.g.
+// A number or string field. `field` maps an options struct to the field,
+// const or not, e.g.
 //   [](auto& o) -> auto& { return o.noise.odom_yaw_sigma_deg; }
 template <typename Options, typename Field>
 OptionRow<Options> NumberRow(std::string name,
                              std::string help,
                              Field field,
-                             std::optional<CLI::Validator> check = {}) {
+                             FlagCheck check = {}) {
+  using T = std::remove_reference_t<decltype(field(std::declval<Options&>()))>;
   OptionRow<Options> row;
   row.name = name;
-  row.help = help;
-  row.echo_key = name;
-  row.add = [name, help, field, check](CLI::App* app, Options* options) {
-    CLI::Option* option = app->add_option("--" + name, field(*options), help);
-    if (check) option->check(*check);
-    return option->capture_default_str();
-  };
+  row.help = std::move(help);
+  row.echo_key = std::move(name);
+  row.value = OptionField<Options, T>(
+      [field](Options& options) -> T& { return field(options); });
+  row.check = std::move(check);
   row.echo = [field](const Options& options) {
     return nlohmann::json(field(options));
   };
@@ -110,17 +177,9 @@ OptionRow<Options> ChoiceRow(
     std::function<void(Options*, const std::string&)> set) {
   OptionRow<Options> row;
   row.name = name;
-  row.help = help;
-  row.echo_key = name;
-  row.add = [name, help, choices, get, set](CLI::App* app, Options* options) {
-    return app
-        ->add_option_function<std::string>(
-            "--" + name,
-            [options, set](const std::string& value) { set(options, value); },
-            help)
-        ->check(CLI::IsMember(choices))
-        ->default_str(get(*options));
-  };
+  row.help = std::move(help);
+  row.echo_key = std::move(name);
+  row.value = OptionText<Options>{std::move(choices), get, std::move(set), ""};
   row.echo = [get](const Options& options) {
     return nlohmann::json(get(options));
   };
@@ -136,18 +195,11 @@ OptionRow<Options> SwitchRow(std::string name,
                              Field field,
                              bool value_when_given) {
   OptionRow<Options> row;
-  row.name = name;
-  row.help = help;
-  row.echo_key = echo_key;
-  row.add = [name, help, field, value_when_given](CLI::App* app,
-                                                  Options* options) {
-    return app->add_flag_callback(
-        "--" + name,
-        [options, field, value_when_given]() {
-          field(*options) = value_when_given;
-        },
-        help);
-  };
+  row.name = std::move(name);
+  row.help = std::move(help);
+  row.echo_key = std::move(echo_key);
+  row.value = OptionSwitch<Options>{
+      [field, value_when_given](Options* o) { field(*o) = value_when_given; }};
   row.echo = [field](const Options& options) {
     return nlohmann::json(field(options));
   };

@@ -1,6 +1,6 @@
 #include "odomcal/plugin/project_flags.h"
 
-#include "odomcal/plugin/command_line.h"
+#include "odomcal/adapters/timestamp.h"
 
 namespace odomcal {
 namespace {
@@ -13,17 +13,16 @@ OptionRow<Project> PathRow(std::string name,
                            std::string help,
                            std::string Project::*field,
                            bool required,
-                           const CLI::Validator& check) {
+                           FlagCheck check) {
   OptionRow<Project> row;
   row.name = name;
-  row.help = help;
-  row.echo_key = name;
-  row.add = [name, help, field, required, check](CLI::App* app,
-                                                 Project* inputs) {
-    CLI::Option* option = app->add_option("--" + name, inputs->*field, help);
-    if (required) option->required();
-    return option->check(check);
-  };
+  row.help = std::move(help);
+  row.echo_key = std::move(name);
+  row.value = OptionField<Project, std::string>(
+      [field](Project& inputs) -> std::string& { return inputs.*field; });
+  row.check = std::move(check);
+  row.required = required;
+  row.show_default = false;
   row.echo = [field](const Project& inputs) {
     const std::string& path = inputs.*field;
     return path.empty() ? nlohmann::json(nullptr) : nlohmann::json(path);
@@ -40,13 +39,13 @@ const OptionTable<ColmapCalibrationInputs>& ColmapModelFlags() {
               "sub-models 0, 1, ...",
               &Project::model_path,
               true,
-              CLI::ExistingDirectory),
+              FlagCheck::ExistingDirectory()),
       PathRow("database_path",
               "the project's database.db (read-only; counts unregistered "
               "images)",
               &Project::database_path,
               false,
-              CLI::ExistingFile),
+              FlagCheck::ExistingFile()),
   };
   return table;
 }
@@ -58,13 +57,13 @@ const OptionTable<ColmapCalibrationInputs>& ProjectInputFlags() {
               "origin_from_odom",
               &Project::odometry_path,
               true,
-              CLI::ExistingFile),
+              FlagCheck::ExistingFile()),
       PathRow("image_timestamps",
               "CSV 'image_name,timestamp' (unit: --camera_time_unit); "
               "without it, times come from numeric image file names",
               &Project::image_timestamps_path,
               false,
-              CLI::ExistingFile),
+              FlagCheck::ExistingFile()),
       ChoiceRow<Project>(
           "file_name_time_unit",
           "unit of numeric image file names; auto: integer stems are ns, "
@@ -91,28 +90,9 @@ const OptionTable<StretchOptions>& StretchFlags() {
           "consecutive motion pairs contradicting the odometry that make a "
           "stretch to cut out or split off",
           [](auto& o) -> auto& { return o.min_run_pairs; },
-          AtLeast(1)),
+          FlagCheck::AtLeast(1)),
   };
   return table;
-}
-
-void AddProjectFlags(CLI::App* app,
-                     ColmapCalibrationInputs* inputs,
-                     ProjectFlags* flags) {
-  AddFlags(ProjectInputFlags(), app, inputs);
-  AddFlags(StretchFlags(), app, &inputs->stretch);
-  AddCalibrationFlags(app, &flags->calibrate);
-}
-
-void FinishProjectFlags(const ProjectFlags& flags,
-                        ColmapCalibrationInputs* inputs) {
-  const CalibrateInputs& calibrate = flags.calibrate;
-  inputs->odometry_format = calibrate.odometry_format;
-  inputs->odometry_time_unit = calibrate.odometry_time_unit;
-  inputs->odometry_time_unit_given = calibrate.odometry_time_unit_given;
-  inputs->image_time_unit = calibrate.camera_time_unit;
-  inputs->association = calibrate.association;
-  inputs->calibration = calibrate.calibration;
 }
 
 nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
@@ -122,17 +102,6 @@ nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
   EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
   EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);
   return echo;
-}
-
-void PrepareOutputFolder(const FlaggedPath& output,
-                         const std::vector<FlaggedPath>& inputs,
-                         const std::vector<std::string>& entries,
-                         ExistingOutputs existing) {
-  GuardedPaths paths;
-  paths.inputs = inputs;
-  paths.output_folders = {output};
-  CheckOutputsApartFromInputs(paths);
-  ClaimOutputFolder(output.path, entries, existing);
 }
 
 }  // namespace odomcal

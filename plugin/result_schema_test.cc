@@ -200,10 +200,9 @@ TEST(ResultSchema, ColmapOutputConforms) {
                          MapperAttempt()};  // as `odomcal run` fills it
   run.chosen_mapper_attempt = 0;
   const SchemaChecker checker(ReadSchema());
+  // The library's default echo (ProjectFlagsEcho) is the schema's.
   const json out = ColmapCalibrationToJson(
-      run,
-      ProjectReportContext(
-          inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs)));
+      run, ProjectReportContext(inputs, run, "odomcal colmap"));
   EXPECT_EQ(Lines(checker.Check(out)), "");
   EXPECT_TRUE(out.contains("colmap"));
   fs::remove_all(dir);

@@ -7,10 +7,9 @@
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/colmap_calibration_outputs.h"
 #include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/command_flags.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
-#include "odomcal/plugin/project_flags.h"
-#include "odomcal/plugin/run_flags.h"
 
 #include <CLI/CLI.hpp>
 

@@ -1,7 +1,5 @@
 #include "odomcal/plugin/run_flags.h"
 
-#include "odomcal/plugin/command_line.h"
-
 namespace odomcal {
 namespace {
 
@@ -13,33 +11,20 @@ bool Rematches(const Run& run) { return run.mapper.max_matching_rounds > 1; }
 
 const OptionTable<ReconstructionOptions>& RunFolderFlags() {
   static const OptionTable<Run> table = [] {
-    OptionRow<Run> image_path;
-    image_path.name = "image_path";
-    image_path.help = "folder of images (sub-folders too)";
-    image_path.echo_key = "image_path";
-    image_path.add = [](CLI::App* app, Run* run) {
-      return app
-          ->add_option("--image_path",
-                       run->image_path,
-                       "folder of images (sub-folders too)")
-          ->required()
-          ->check(CLI::ExistingDirectory);
-    };
-    image_path.echo = [](const Run& run) {
-      return nlohmann::json(run.image_path);
-    };
-    OptionRow<Run> workspace_path;
-    workspace_path.name = "workspace_path";
-    workspace_path.help =
-        "COLMAP workspace and outputs (created; reused on reruns)";
-    workspace_path.add = [](CLI::App* app, Run* run) {
-      return app
-          ->add_option(
-              "--workspace_path",
-              run->workspace_path,
-              "COLMAP workspace and outputs (created; reused on reruns)")
-          ->required();
-    };
+    OptionRow<Run> image_path = NumberRow<Run>(
+        "image_path",
+        "folder of images (sub-folders too)",
+        [](auto& r) -> auto& { return r.image_path; },
+        FlagCheck::ExistingDirectory());
+    image_path.required = true;
+    image_path.show_default = false;
+    OptionRow<Run> workspace_path = NumberRow<Run>(
+        "workspace_path",
+        "COLMAP workspace and outputs (created; reused on reruns)",
+        [](auto& r) -> auto& { return r.workspace_path; });
+    workspace_path.required = true;
+    workspace_path.show_default = false;
+    workspace_path.echo = nullptr;  // where the outputs go
     return OptionTable<Run>{image_path, workspace_path};
   }();
   return table;
@@ -61,15 +46,12 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           [](Run* run, const std::string& name) { run->camera_model = name; }),
       [] {
         // No default: without it the mapper estimates the intrinsics.
-        OptionRow<Run> row;
-        row.name = "camera_params";
-        row.echo_key = row.name;
-        row.help =
+        OptionRow<Run> row = NumberRow<Run>(
+            "camera_params",
             "intrinsics in COLMAP's order, e.g. fx,fy,cx,cy; kept fixed in "
-            "the mapper (strongly recommended)";
-        row.add = [help = row.help](CLI::App* app, Run* run) {
-          return app->add_option("--camera_params", run->camera_params, help);
-        };
+            "the mapper (strongly recommended)",
+            [](auto& r) -> auto& { return r.camera_params; });
+        row.show_default = false;
         row.echo = [](const Run& run) {
           return run.camera_params.empty() ? nlohmann::json(nullptr)
                                            : nlohmann::json(run.camera_params);
@@ -87,39 +69,39 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           "spatial_neighbors",
           "spatial matcher: neighbours per image",
           [](auto& r) -> auto& { return r.spatial_neighbors; },
-          AtLeast(1)),
+          FlagCheck::AtLeast(1)),
       NumberRow<Run>(
           "sequential_overlap",
           "sequential matcher: overlap",
           [](auto& r) -> auto& { return r.sequential_overlap; },
-          AtLeast(1)),
+          FlagCheck::AtLeast(1)),
       NumberRow<Run>(
           "max_num_features",
           "SIFT features per image (matching cost grows with its square)",
           [](auto& r) -> auto& { return r.max_num_features; },
-          AtLeast(1)),
+          FlagCheck::AtLeast(1)),
       NumberRow<Run>(
           "num_threads",
           "COLMAP threads",
           [](auto& r) -> auto& { return r.num_threads; },
-          AtLeast(1)),
+          FlagCheck::AtLeast(1)),
       NumberRow<Run>(
           "frame_min_translation_m",
           "frame selection: keep an image once the robot moved this far...",
           [](auto& r) -> auto& { return r.frames.min_translation_m; },
-          AtLeast(0)),
+          FlagCheck::AtLeast(0)),
       NumberRow<Run>(
           "frame_min_rotation_deg",
           "...or turned this much since the last kept image",
           [](auto& r) -> auto& { return r.frames.min_rotation_deg; },
-          AtLeast(0)),
+          FlagCheck::AtLeast(0)),
       NumberRow<Run>(
           "mapper_attempts",
           "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
           "contradicts motion pairs of the model; the model it contradicts "
           "least is kept; per matching",
           [](auto& r) -> auto& { return r.mapper.max_seeds; },
-          InRange(1, 20)),
+          FlagCheck::InRange(1, 20)),
       // --rematch on|off sets the matchings at most (2: match again once,
       // 1: never) and is echoed as the boolean "rematch".
       [] {
@@ -152,11 +134,6 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           true),
   };
   return table;
-}
-
-void AddRunFlags(CLI::App* app, ReconstructionOptions* settings) {
-  AddFlags(RunFolderFlags(), app, settings);
-  AddFlags(RunFlags(), app, settings);
 }
 
 nlohmann::json RunFlagsEcho(const ReconstructionOptions& settings) {

@@ -6,6 +6,7 @@
 
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/report_testing.h"
+#include "odomcal/plugin/scale_drift_warning.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <unistd.h>
@@ -151,6 +152,52 @@ TEST_F(ScaleDriftTest, NoneIsNamedWithoutDrift) {
                 1.0,
                 0.005);
   }
+}
+
+// The warning's wording follows what was measured and what is exported:
+// a trend fitted from fewer than 5 pairs is not stated as +0.0 % (3 sigma
+// 0.0 %), an undetermined extrinsic exports nothing, and an undetermined
+// scale is no number.
+TEST(ScaleDriftWarning, SaysOnlyWhatWasMeasuredAndExported) {
+  ScaleDrift drift;
+  drift.first_stamp_ns = 100000000000;
+  drift.last_stamp_ns = 140000000000;
+  drift.relative_drift = 0.101;
+  drift.relative_drift_stddev = 0.004 / 3.0;
+  drift.trend_measured = true;
+  ScaleStretch first;
+  first.output_segment = 0;
+  first.first_stamp_ns = 100000000000;
+  first.last_stamp_ns = 120000000000;
+  ScaleStretch second = first;
+  second.output_segment = 1;
+  second.first_stamp_ns = 120000000000;
+  second.last_stamp_ns = 140000000000;
+  drift.stretches = {first, second};
+  CalibrationResult result;
+  result.has_estimate = true;
+  result.metric_scales = {0.37, 0.4};
+  result.observability.metric_scales = {Determination::kEstimated,
+                                        Determination::kEstimated};
+  EXPECT_EQ(ScaleDriftWarning("0", drift, result),
+            "sub-model 0: COLMAP's scale drifts by +10.1 % (3 sigma 0.4 %) "
+            "from 100.000000000 to 140.000000000 s (seen in the step lengths "
+            "against the odometry): calibrated and exported as 2 stretches "
+            "with scales of their own: 100.000000000 .. 120.000000000 s 0.37 "
+            "m/unit, 120.000000000 .. 140.000000000 s 0.4 m/unit");
+
+  drift.trend_measured = false;  // fewer than 5 pairs for the trend fit
+  drift.relative_drift = 0.0;
+  drift.relative_drift_stddev = 0.0;
+  result.observability.translation_x = Determination::kUndetermined;
+  result.observability.metric_scales[1] = Determination::kUndetermined;
+  EXPECT_EQ(ScaleDriftWarning("0", drift, result),
+            "sub-model 0: COLMAP's scale changes from 100.000000000 to "
+            "140.000000000 s (seen in the step lengths against the odometry; "
+            "too few motion pairs to measure its trend): calibrated (nothing "
+            "exported: the extrinsic is not determined) as 2 stretches with "
+            "scales of their own: 100.000000000 .. 120.000000000 s 0.37 "
+            "m/unit, 120.000000000 .. 140.000000000 s scale undetermined");
 }
 
 }  // namespace

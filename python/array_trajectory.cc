@@ -41,6 +41,22 @@ class RowChecker {
                   const std::string& columns) const {
     bool allowed = false;
     for (const size_t cols : allowed_cols) allowed |= rows_.num_cols == cols;
+    if (!allowed && Paired()) {
+      // The values beside the times: the shapes without the time column.
+      std::string without_time = columns;
+      for (const size_t cols : allowed_cols) {
+        const std::string with = "(N, " + std::to_string(cols) + ") [t, ";
+        for (size_t at = without_time.find(with); at != std::string::npos;
+             at = without_time.find(with)) {
+          without_time.replace(
+              at, with.size(), "(N, " + std::to_string(cols - 1) + ") [");
+        }
+      }
+      throw FormatError(name_ + ": expected values of shape " + without_time +
+                        " beside the times, got (" +
+                        std::to_string(rows_.num_rows) + ", " +
+                        std::to_string(rows_.num_cols - 1) + ")");
+    }
     if (!allowed) {
       throw FormatError(name_ + ": expected an array of shape " + columns +
                         ", got (" + std::to_string(rows_.num_rows) + ", " +
@@ -62,17 +78,7 @@ class RowChecker {
 
   // Column 0 in nanoseconds, strictly after the previous row's.
   int64_t StampNs(size_t row) {
-    const int64_t per_unit = NanosecondsPer(unit_);
-    const double time = Value(row, 0, "timestamp");
-    const double ns = time * static_cast<double>(per_unit);
-    // 2^63 is exactly representable; anything at or above it overflows.
-    if (!(std::abs(ns) < 9223372036854775808.0)) {
-      Fail(row,
-           "time " + FormatNumber(time) + " " + TimeUnitName(unit_) +
-               " is beyond the int64 nanosecond range (about 292 years); "
-               "check the time unit");
-    }
-    const int64_t stamp_ns = std::llround(ns);
+    const int64_t stamp_ns = Paired() ? rows_.stamps_ns.at(row) : Rounded(row);
     if (row > 0 && stamp_ns <= previous_ns_) {
       Fail(row,
            std::string(stamp_ns == previous_ns_ ? "duplicate time"
@@ -105,11 +111,33 @@ class RowChecker {
   }
 
   std::string Source() const {
+    if (Paired()) {
+      return name_ + " (numpy arrays, " + std::to_string(rows_.num_rows) +
+             " int64 ns times and " + std::to_string(rows_.num_rows) + " x " +
+             std::to_string(rows_.num_cols - 1) + " values)";
+    }
     return name_ + " (numpy array, " + std::to_string(rows_.num_rows) + " x " +
            std::to_string(rows_.num_cols) + ")";
   }
 
  private:
+  bool Paired() const { return !rows_.stamps_ns.empty(); }
+
+  // Column 0 in `unit_`, rounded to nanoseconds.
+  int64_t Rounded(size_t row) const {
+    const int64_t per_unit = NanosecondsPer(unit_);
+    const double time = Value(row, 0, "timestamp");
+    const double ns = time * static_cast<double>(per_unit);
+    // 2^63 is exactly representable; anything at or above it overflows.
+    if (!(std::abs(ns) < 9223372036854775808.0)) {
+      Fail(row,
+           "time " + FormatNumber(time) + " " + TimeUnitName(unit_) +
+               " is beyond the int64 nanosecond range (about 292 years); "
+               "check the time unit");
+    }
+    return std::llround(ns);
+  }
+
   const NumericRows& rows_;
   TimeUnit unit_;
   std::string name_;

@@ -4,7 +4,8 @@
 //   "camera_poses row 3: quaternion (qx qy qz qw) has norm 0.5, more than
 //    0.01 away from 1"
 // Column 0 is the time in `unit`, rounded to integer nanoseconds (a float64
-// Unix time in seconds resolves about 0.2 us).
+// Unix time in seconds resolves about 0.2 us), unless the rows carry
+// stamps_ns.
 #pragma once
 
 #include "odomcal/adapters/timestamp.h"
@@ -16,11 +17,14 @@
 
 namespace odomcal {
 
-// A 2-D array of numbers, row-major.
+// A 2-D array of numbers, row-major. With stamps_ns (one per row: integer
+// nanoseconds given beside the values, e.g. numpy int64), column 0 is a
+// placeholder and the times are these, exact, whatever the time unit.
 struct NumericRows {
   size_t num_rows = 0;
   size_t num_cols = 0;
   std::vector<double> values;
+  std::vector<int64_t> stamps_ns;
 };
 
 // N x 8 [t, tx, ty, tz, qx, qy, qz, qw], world_from_cam (TUM order: scalar

@@ -1,12 +1,16 @@
-// The Python module `odomcal`: odomcal.calibrate(camera_poses=...,
-// odometry=...,
-// **options) runs the `odomcal calibrate` pipeline on files or numpy arrays
-// and returns the result JSON (docs/result_schema.md) as a dict.
+// The Python module `odomcal` (docs/python.md), each function a command's
+// pipeline returning its result JSON (docs/result_schema.md) as a dict:
+//   calibrate(camera_poses, odometry, **options): `odomcal calibrate` on
+//     files or numpy arrays;
+//   calibrate_project(model_path, odometry, **options): `odomcal colmap`
+//     (odomcal::plugin's CalibrateColmapProject), writing nothing;
+//   reconstruct_and_calibrate(image_path, odometry, workspace_path,
+//     progress, **options): `odomcal run` (ReconstructAndCalibrate).
 //
-// The keywords are the calibrate command's flags: the module builds the same
-// CLI11 app (AddCalibrationFlags) and parses "--name=value" made from the
-// keywords, so defaults, checks and the nearest-keyword suggestion for a typo
-// are the CLI's. Errors are raised, never printed: TypeError for an unknown
+// The keywords are the command's flags: the module builds the same CLI11
+// app (command_flags.h) and parses "--name=value" made from the keywords, so
+// defaults, checks and the nearest-keyword suggestion for a typo are the
+// CLI's. Errors are raised, never printed: TypeError for an unknown
 // keyword or an argument of the wrong type, ValueError for bad values, files
 // and arrays, each with the CLI's one-line message in keyword terms
 // ("--max_odometry_gap_s" reads "max_odometry_gap_s").
@@ -14,25 +18,28 @@
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/plugin/calibrate_command.h"
 #include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/command_flags.h"
 #include "odomcal/plugin/command_line.h"
+#include "odomcal/plugin/odomcal_plugin.h"
 #include "odomcal/python/array_trajectory.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <cctype>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace py = pybind11;
 
 namespace odomcal {
 namespace {
-
-constexpr const char* kCommand = "odomcal.calibrate";
 
 // The CLI's message in keyword terms: "unknown flag --x (did you mean --y?)"
 // -> "unknown keyword x (did you mean y?)". Drops "--" before a name at the
@@ -58,25 +65,34 @@ bool IsUnknownKeyword(const std::string& message) {
   return message.rfind("unknown flag ", 0) == 0;
 }
 
-// One calibrate app: the flags shared with the CLI's `calibrate` command.
-struct FlagApp {
-  CLI::App app{"", kCommand};
-  CalibrateInputs inputs;
-  FlagApp() { AddCalibrationFlags(&app, &inputs); }
+// The keywords of a function are the flags of its command: a CLI11 app
+// with the command's flags (command_flags.h) parses "--name=value" made
+// from them.
+struct FlagParser {
+  std::string function;  // "odomcal.calibrate", for the messages
+  CLI::App* app;
 };
 
+bool IsPath(const py::handle& object) {
+  return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
+}
+
+std::string PathText(const py::handle& object) {
+  return py::str(py::module_::import("os").attr("fspath")(object));
+}
+
 // "--name=value" for each keyword; a flag (no value) for True.
-std::vector<std::string> ArgumentsFromKeywords(const CLI::App& app,
+std::vector<std::string> ArgumentsFromKeywords(const FlagParser& parser,
                                                const py::kwargs& keywords) {
-  std::vector<std::string> arguments = {kCommand};
+  std::vector<std::string> arguments = {parser.function};
   for (const auto& [key, value] : keywords) {
     const std::string name = py::str(key);
     if (value.is_none()) continue;
     if (name == "help") {
-      throw py::type_error(
-          "unknown keyword help (see help(odomcal.calibrate))");
+      throw py::type_error("unknown keyword help (see help(" + parser.function +
+                           "))");
     }
-    const CLI::Option* option = app.get_option_no_throw("--" + name);
+    const CLI::Option* option = parser.app->get_option_no_throw("--" + name);
     const bool is_flag = option != nullptr && option->get_expected_max() == 0;
     if (is_flag) {
       if (!py::isinstance<py::bool_>(value)) {
@@ -87,8 +103,8 @@ std::vector<std::string> ArgumentsFromKeywords(const CLI::App& app,
       continue;
     }
     std::string text;
-    if (py::isinstance<py::str>(value)) {
-      text = value.cast<std::string>();
+    if (IsPath(value)) {
+      text = PathText(value);  // a str or an os.PathLike
     } else if (!py::isinstance<py::bool_>(value) &&
                (py::hasattr(value, "__index__") ||
                 py::hasattr(value, "__float__"))) {
@@ -103,17 +119,50 @@ std::vector<std::string> ArgumentsFromKeywords(const CLI::App& app,
   return arguments;
 }
 
-void ParseKeywords(FlagApp* flag_app, const py::kwargs& keywords) {
+void ParseKeywords(const FlagParser& parser, const py::kwargs& keywords) {
   const std::vector<std::string> arguments =
-      ArgumentsFromKeywords(flag_app->app, keywords);
+      ArgumentsFromKeywords(parser, keywords);
   std::vector<const char*> argv;
   for (const std::string& argument : arguments)
     argv.push_back(argument.c_str());
   const std::string error =
-      FlagError(&flag_app->app, static_cast<int>(argv.size()), argv.data());
+      FlagError(parser.app, static_cast<int>(argv.size()), argv.data());
   if (error.empty()) return;
   if (IsUnknownKeyword(error)) throw py::type_error(KeywordMessage(error));
   throw py::value_error(KeywordMessage(error));
+}
+
+// `keywords` with the named arguments added (a function's own parameters,
+// e.g. model_path, which are flags of its command too).
+py::kwargs WithArguments(
+    const py::kwargs& keywords,
+    const std::vector<std::pair<const char*, py::object>>& named) {
+  py::kwargs all;
+  for (const auto& [name, value] : named) all[name] = value;
+  for (const auto& [key, value] : keywords) all[key] = value;
+  return all;
+}
+
+// The library's rejections of input as the exceptions of the module: a
+// ValueError with the CLI's one-line message in keyword terms; COLMAP
+// failing is a RuntimeError.
+template <typename Body>
+std::string ReportingErrors(const Body& body) {
+  try {
+    return body();
+  } catch (const py::builtin_exception&) {
+    throw;  // already a TypeError or ValueError
+  } catch (const ColmapError& error) {
+    throw std::runtime_error(KeywordMessage(error.what()));
+  } catch (const std::invalid_argument& error) {
+    throw py::value_error(KeywordMessage(error.what()));
+  } catch (const std::runtime_error& error) {
+    throw py::value_error(KeywordMessage(error.what()));
+  }
+}
+
+py::object DictFromJson(const std::string& json_text) {
+  return py::module_::import("json").attr("loads")(json_text);
 }
 
 // A 2-D numpy array of real numbers as rows of doubles.
@@ -141,12 +190,52 @@ NumericRows RowsFromArray(const py::array& array, const std::string& name) {
   return rows;
 }
 
-bool IsPath(const py::handle& object) {
-  return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
+// (times, values): a tuple of two whose first item is a 1-D array (never a
+// segment's poses, which are 2-D).
+bool IsTimesPair(const py::handle& object) {
+  if (!py::isinstance<py::tuple>(object) || py::len(object) != 2) return false;
+  const py::object times = py::reinterpret_borrow<py::tuple>(object)[0];
+  return py::isinstance<py::array>(times) &&
+         py::reinterpret_borrow<py::array>(times).ndim() == 1;
 }
 
-std::string PathText(const py::handle& object) {
-  return py::str(py::module_::import("os").attr("fspath")(object));
+// (times, values): integer nanoseconds beside the other columns. The time
+// column of the rows is a placeholder; stamps_ns holds the times.
+NumericRows RowsFromTimesPair(const py::tuple& pair, const std::string& name) {
+  const py::array times = pair[0];
+  if (times.dtype().kind() != 'i') {
+    throw py::type_error(name +
+                         ": the times of (times, values) must be signed "
+                         "integer nanoseconds (int64), got dtype " +
+                         std::string(py::str(times.dtype())));
+  }
+  if (!py::isinstance<py::array>(pair[1])) {
+    throw py::type_error(
+        name + ": the values of (times, values) must be a numpy array, got " +
+        std::string(py::str(py::type::of(pair[1]).attr("__name__"))));
+  }
+  const NumericRows values =
+      RowsFromArray(py::reinterpret_borrow<py::array>(pair[1]), name);
+  if (static_cast<size_t>(times.shape(0)) != values.num_rows) {
+    throw FormatError(name + ": " + std::to_string(times.shape(0)) +
+                      " times for " + std::to_string(values.num_rows) +
+                      " rows of values");
+  }
+  const auto stamps =
+      py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(
+          times);
+  NumericRows rows;
+  rows.num_rows = values.num_rows;
+  rows.num_cols = values.num_cols + 1;
+  rows.values.reserve(rows.num_rows * rows.num_cols);
+  for (size_t row = 0; row < values.num_rows; ++row) {
+    rows.values.push_back(0.0);
+    for (size_t col = 0; col < values.num_cols; ++col) {
+      rows.values.push_back(values.values[row * values.num_cols + col]);
+    }
+  }
+  rows.stamps_ns.assign(stamps.data(), stamps.data() + rows.num_rows);
+  return rows;
 }
 
 // A path is read later (without the GIL); an array is converted now.
@@ -163,15 +252,22 @@ Input InputFrom(const py::handle& object, const std::string& name) {
             RowsFromArray(py::reinterpret_borrow<py::array>(object), name),
             name};
   }
+  if (IsTimesPair(object)) {
+    return {"",
+            RowsFromTimesPair(py::reinterpret_borrow<py::tuple>(object), name),
+            name};
+  }
   throw py::type_error(
       name + ": expected a file path or a numpy array, got " +
       std::string(py::str(py::type::of(object).attr("__name__"))));
 }
 
-// camera_poses: a path or array, or a list of them (one per SfM segment).
+// camera_poses: a path, array or (times, values), or a list of them (one
+// per SfM segment).
 std::vector<Input> CameraInputs(const py::object& camera_poses) {
-  if (py::isinstance<py::list>(camera_poses) ||
-      py::isinstance<py::tuple>(camera_poses)) {
+  if ((py::isinstance<py::list>(camera_poses) ||
+       py::isinstance<py::tuple>(camera_poses)) &&
+      !IsTimesPair(camera_poses)) {
     std::vector<Input> inputs;
     size_t index = 0;
     for (const py::handle item : camera_poses) {
@@ -185,14 +281,45 @@ std::vector<Input> CameraInputs(const py::object& camera_poses) {
   return {InputFrom(camera_poses, "camera_poses")};
 }
 
+// odomcal.calibrate: the calibrate command's flags.
+struct CalibrateFlags {
+  CLI::App app{"", "odomcal.calibrate"};
+  CalibrateInputs inputs;
+  CalibrateFlags() { AddCalibrationFlags(&app, &inputs); }
+  FlagParser Parser() { return {"odomcal.calibrate", &app}; }
+};
+
+// odomcal.calibrate_project: `odomcal colmap`'s, but for its outputs.
+struct ProjectFlagSet {
+  CLI::App app{"", "odomcal.calibrate_project"};
+  ColmapCalibrationInputs inputs;
+  ProjectFlags flags;
+  ProjectFlagSet() {
+    AddFlags(ColmapModelFlags(), &app, &inputs);
+    AddProjectFlags(&app, &inputs, &flags);
+  }
+  FlagParser Parser() { return {"odomcal.calibrate_project", &app}; }
+};
+
+// odomcal.reconstruct_and_calibrate: `odomcal run`'s.
+struct RunFlagSet {
+  CLI::App app{"", "odomcal.reconstruct_and_calibrate"};
+  ReconstructionOptions options;
+  ProjectFlags flags;
+  RunFlagSet() {
+    AddRunFlags(&app, &options);
+    AddProjectFlags(&app, &options.project, &flags);
+  }
+  FlagParser Parser() { return {"odomcal.reconstruct_and_calibrate", &app}; }
+};
+
 py::object Calibrate(const py::object& camera_poses,
                      const py::object& odometry,
                      const py::kwargs& keywords) {
-  FlagApp flag_app;
-  ParseKeywords(&flag_app, keywords);
-  CalibrateInputs& inputs = flag_app.inputs;
-  std::string json_text;
-  try {
+  CalibrateFlags flag_set;
+  ParseKeywords(flag_set.Parser(), keywords);
+  const CalibrateInputs& inputs = flag_set.inputs;
+  return DictFromJson(ReportingErrors([&] {
     const std::vector<Input> cameras_in = CameraInputs(camera_poses);
     const Input odometry_in = InputFrom(odometry, "odometry");
     inputs.association.Check();
@@ -216,26 +343,86 @@ py::object Calibrate(const py::object& camera_poses,
     // The calibrate command's pipeline and writer: the same JSON.
     const CalibrationRun run = CalibrateTrajectories(
         cameras, odometry_trajectory, inputs, "odomcal calibrate");
-    json_text = CalibrationToJson(run.result, run.context).dump();
-  } catch (const py::builtin_exception&) {
-    throw;  // already a TypeError or ValueError
-  } catch (const std::invalid_argument& error) {
-    throw py::value_error(KeywordMessage(error.what()));
-  } catch (const std::runtime_error& error) {
-    throw py::value_error(KeywordMessage(error.what()));
-  }
-  return py::module_::import("json").attr("loads")(json_text);
+    return CalibrationToJson(run.result, run.context).dump();
+  }));
 }
 
-// The keywords with their defaults and help, from the CLI's flags.
-std::string KeywordHelp() {
-  FlagApp flag_app;
+py::object CalibrateProject(const py::object& model_path,
+                            const py::object& odometry,
+                            const py::kwargs& keywords) {
+  ProjectFlagSet flag_set;
+  ParseKeywords(
+      flag_set.Parser(),
+      WithArguments(keywords,
+                    {{"model_path", model_path}, {"odometry", odometry}}));
+  FinishProjectFlags(flag_set.flags, &flag_set.inputs);
+  const ColmapCalibrationInputs& inputs = flag_set.inputs;
+  return DictFromJson(ReportingErrors([&] {
+    py::gil_scoped_release no_gil;
+    const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+    // The JSON of `odomcal colmap`, with the echo of these options.
+    return ColmapCalibrationToJson(
+               run, ProjectReportContext(inputs, run, "odomcal colmap"))
+        .dump();
+  }));
+}
+
+py::object ReconstructAndCalibrateFolder(const py::object& image_path,
+                                         const py::object& odometry,
+                                         const py::object& workspace_path,
+                                         const py::object& progress,
+                                         const py::kwargs& keywords) {
+  RunFlagSet flag_set;
+  ParseKeywords(flag_set.Parser(),
+                WithArguments(keywords,
+                              {{"image_path", image_path},
+                               {"odometry", odometry},
+                               {"workspace_path", workspace_path}}));
+  FinishProjectFlags(flag_set.flags, &flag_set.options.project);
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
+    throw py::type_error(
+        "progress: expected a callable or None, got " +
+        std::string(py::str(py::type::of(progress).attr("__name__"))));
+  }
+  const ReconstructionOptions& options = flag_set.options;
+  return DictFromJson(ReportingErrors([&] {
+    ProgressCallback callback;
+    if (!progress.is_none()) {
+      callback = [&progress](const PipelineProgress& step) {
+        py::gil_scoped_acquire gil;
+        progress(step.stage, step.num_stages, step.fraction, step.message);
+      };
+    }
+    py::gil_scoped_release no_gil;  // COLMAP takes minutes
+    const ReconstructionResult result =
+        ReconstructAndCalibrate(options, callback);
+    // As `odomcal run` echoes it: the model and database the pipeline made
+    // (null when it refused the drive before COLMAP) and the run's flags.
+    ColmapCalibrationInputs calibrated = options.project;
+    calibrated.model_path = result.model_path;
+    calibrated.database_path = result.database_path;
+    nlohmann::json flag_echo = ProjectFlagsEcho(calibrated);
+    MergeFlagEcho(RunFlagsEcho(options), &flag_echo);
+    return ColmapCalibrationToJson(result.calibration,
+                                   ProjectReportContext(calibrated,
+                                                        result.calibration,
+                                                        "odomcal run",
+                                                        std::move(flag_echo)))
+        .dump();
+  }));
+}
+
+// The keywords of `app` with their defaults and help, leaving out `skip`
+// (a function's own parameters).
+std::string KeywordHelp(const CLI::App& app,
+                        const std::vector<std::string>& skip) {
   std::string help;
-  for (const CLI::Option* option : flag_app.app.get_options()) {
+  for (const CLI::Option* option : app.get_options()) {
     const std::string name = option->get_lnames().empty()
                                  ? std::string()
                                  : option->get_lnames().front();
     if (name.empty() || name == "help") continue;
+    if (std::find(skip.begin(), skip.end(), name) != skip.end()) continue;
     help += "    " + name;
     if (option->get_expected_max() == 0) {
       help += "=False";
@@ -253,27 +440,83 @@ std::string KeywordHelp() {
 PYBIND11_MODULE(odomcal, module) {
   module.doc() =
       "odomcal: camera-to-odometry extrinsic (odom_from_cam) and metric scale "
-      "from a camera trajectory and wheel odometry. See docs/python.md.";
+      "from a camera trajectory, a COLMAP project or an image folder, and "
+      "wheel odometry. See docs/python.md.";
   module.attr("__version__") = ODOMCAL_VERSION;
-  const std::string doc =
+  static const std::string calibrate_doc =
       "calibrate(camera_poses, odometry, **options) -> dict\n\n"
       "Runs `odomcal calibrate` and returns its result JSON as a dict\n"
       "(docs/result_schema.md). Check result['status'] == 'success'.\n\n"
       "camera_poses: world_from_cam, a TUM file path or an (N, 8) array\n"
       "    [t, tx, ty, tz, qx, qy, qz, qw] (quaternion scalar LAST), or a "
+      "pair\n"
+      "    (times, values) of int64 nanoseconds and an (N, 7) array, or a "
       "list\n"
-      "    of them, one per SfM segment with its own scale.\n"
-      "odometry: origin_from_odom, a file path (CSV t,x,y,yaw or TUM) or an\n"
-      "    (M, 4) array [t, x, y, yaw] (m, rad) or (M, 8) TUM array.\n"
+      "    of these, one per SfM segment with its own scale.\n"
+      "odometry: origin_from_odom, a file path (CSV t,x,y,yaw or TUM), an\n"
+      "    (M, 4) array [t, x, y, yaw] (m, rad) or (M, 8) TUM array, or a "
+      "pair\n"
+      "    (times, values) of int64 nanoseconds and an (M, 3) or (M, 7) "
+      "array.\n"
       "Times: column 0 in camera_time_unit / odometry_time_unit (default s),\n"
-      "    as float64, rounded to integer nanoseconds.\n"
+      "    as float64, rounded to integer nanoseconds; the times of a pair\n"
+      "    are integer nanoseconds, exact, whatever the unit keywords say.\n"
       "Raises TypeError for an unknown keyword or a wrong argument type and\n"
       "ValueError for bad values, files or arrays.\n\n"
       "options (the calibrate command's flags, with their defaults):\n" +
-      odomcal::KeywordHelp();
+      [] {
+        odomcal::CalibrateFlags flag_set;
+        return odomcal::KeywordHelp(flag_set.app, {});
+      }();
   module.def("calibrate",
              &odomcal::Calibrate,
              py::arg("camera_poses"),
              py::arg("odometry"),
-             doc.c_str());
+             calibrate_doc.c_str());
+  static const std::string project_doc =
+      "calibrate_project(model_path, odometry, **options) -> dict\n\n"
+      "Runs `odomcal colmap` on an existing COLMAP project without writing\n"
+      "anything and returns its calibration.json as a dict, with the\n"
+      "'colmap' section (docs/result_schema.md).\n\n"
+      "model_path: a COLMAP sparse model folder (binary or text), or the\n"
+      "    mapper's output folder with sub-models 0, 1, ...\n"
+      "odometry: the odometry file (CSV t,x,y,yaw or TUM).\n"
+      "Image times come from image_timestamps (CSV image_name,timestamp)\n"
+      "or from numeric image file names.\n"
+      "Raises TypeError / ValueError as calibrate does.\n\n"
+      "options (`odomcal colmap`'s flags, with their defaults):\n" +
+      [] {
+        odomcal::ProjectFlagSet flag_set;
+        return odomcal::KeywordHelp(flag_set.app, {"model_path", "odometry"});
+      }();
+  module.def("calibrate_project",
+             &odomcal::CalibrateProject,
+             py::arg("model_path"),
+             py::arg("odometry"),
+             project_doc.c_str());
+  static const std::string run_doc =
+      "reconstruct_and_calibrate(image_path, odometry, workspace_path,\n"
+      "                          progress=None, **options) -> dict\n\n"
+      "Runs `odomcal run`'s pipeline (frame selection, COLMAP in\n"
+      "workspace_path, calibration; COLMAP must be on the PATH or given as\n"
+      "colmap_path) and returns its calibration.json as a dict. Writes only\n"
+      "COLMAP's files in workspace_path, not odomcal's reports. A drive whose\n"
+      "odometry cannot determine the calibration is refused before COLMAP:\n"
+      "the dict's status says why (force=True runs COLMAP anyway).\n\n"
+      "progress: None or a callable(stage, num_stages, fraction, message).\n"
+      "Raises TypeError / ValueError as calibrate does, RuntimeError when\n"
+      "COLMAP fails.\n\n"
+      "options (`odomcal run`'s flags, with their defaults):\n" +
+      [] {
+        odomcal::RunFlagSet flag_set;
+        return odomcal::KeywordHelp(
+            flag_set.app, {"image_path", "odometry", "workspace_path"});
+      }();
+  module.def("reconstruct_and_calibrate",
+             &odomcal::ReconstructAndCalibrateFolder,
+             py::arg("image_path"),
+             py::arg("odometry"),
+             py::arg("workspace_path"),
+             py::arg("progress") = py::none(),
+             run_doc.c_str());
 }

@@ -306,6 +306,7 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
       eig.eigenvalues().cwiseInverse().asDiagonal() *
       eig.eigenvectors().transpose() * inv_sqrt.asDiagonal();
   result->covariance = covariance;
+  result->covariance_segments = segments;
   const Eigen::Matrix3d rotation_covariance = covariance.topLeftCorner<3, 3>();
   result->stddev_rotation_axes_deg =
       rotation_covariance.diagonal().cwiseSqrt() * kRadToDeg;

@@ -101,7 +101,8 @@ struct CalibrationResult {
   Observability observability;
   std::vector<std::string> warnings;
 
-  // Covariance, order [rx, ry, rz, tx, ty, s_0 .. s_{K-1}] and, only when
+  // Covariance, order [rx, ry, rz, tx, ty, one scale per segment with used
+  // pairs (covariance_segments)] and, only when
   // translation z is estimated, tz last: rotation as a left perturbation
   // R = Exp(phi) R_hat in radians about the odometry axes, translation in
   // metres, scales in metres per reconstruction unit. A held z is excluded.
@@ -114,6 +115,11 @@ struct CalibrationResult {
   std::vector<double> stddev_metric_scales_rel;  // sigma_s / s
 
   CalibrationDiagnostics diagnostics;
+
+  // The segment of each scale row of `covariance` (s_k is
+  // metric_scales[covariance_segments[k]]): segments without used pairs
+  // have no row.
+  std::vector<int> covariance_segments;
 
   bool IsSuccess() const { return status == CalibrationStatus::kSuccess; }
 };

@@ -281,6 +281,7 @@ void MeasureDrift(const std::vector<PairMetricScale>& scales,
   drift->relative_drift_stddev =
       std::sqrt(variance_factor * std::max(0.0, covariance(1, 1))) *
       duration_s / std::abs(s0);
+  drift->trend_measured = true;
 }
 
 // One ScaleDrift per input segment with a scale cut, from the final fit.

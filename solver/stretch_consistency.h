@@ -64,6 +64,9 @@ struct ScaleDrift {
   double relative_drift = 0.0;
   double relative_drift_stddev = 0.0;   // scatter-scaled, first order
   std::vector<ScaleStretch> stretches;  // in time order
+  // False when too few pairs (< 5) fit the trend: relative_drift and its
+  // stddev are then not measured (0).
+  bool trend_measured = false;
 };
 
 struct InconsistentStretch {

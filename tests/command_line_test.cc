@@ -6,7 +6,7 @@
 #include "odomcal/plugin/command_line.h"
 
 #include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/command_flags.h"
 #include "odomcal/tests/odomcal_process.h"
 
 #include <CLI/CLI.hpp>

@@ -20,7 +20,6 @@
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/odomcal_plugin.h"
 #include "odomcal/plugin/output_folder.h"
-#include "odomcal/plugin/project_flags.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
@@ -155,14 +154,13 @@ int main(int argc, char** argv) {
   odomcal::ClaimOutputFolder(output,
                              odomcal::ColmapCalibrationOutputEntries(),
                              odomcal::ExistingOutputs::kReplaceOwn);
+  // The context's default echo: the options of `project`, as the CLI's.
+  const odomcal::ReportContext context =
+      odomcal::ProjectReportContext(project, calibrated, "consumer");
   const std::vector<std::string> written =
-      odomcal::WriteColmapCalibrationOutputs(
-          calibrated,
-          odomcal::ProjectReportContext(project,
-                                        calibrated,
-                                        "consumer",
-                                        odomcal::ProjectFlagsEcho(project)),
-          output);
+      odomcal::WriteColmapCalibrationOutputs(calibrated, context, output);
+  const nlohmann::json project_json =
+      odomcal::ColmapCalibrationToJson(calibrated, context);
 
   // cli: the `odomcal calibrate` pipeline on the files, and its JSON.
   odomcal::CalibrateInputs inputs;
@@ -173,23 +171,27 @@ int main(int argc, char** argv) {
   const nlohmann::json json =
       odomcal::CalibrationToJson(run.result, run.context);
 
-  const bool ok = Recovered(direct, drive, "solver") &&
-                  Recovered(chang_result, drive, "datasets_paper") &&
-                  Check(std::abs(wall_distance_m - 1.5) < 1e-12,
-                        "datasets_rendering: wall distance") &&
-                  Recovered(calibrated.check.result, drive, "plugin") &&
-                  Check(calibrated.metric_models.size() == 1 &&
-                            calibrated.metric_models[0].model.images.size() ==
-                                drive.camera.poses.size(),
-                        "plugin: one metric sub-model with every image") &&
-                  Check(written.size() == 5 &&
-                            std::filesystem::exists(
-                                std::filesystem::path(output) / "report.html"),
-                        "reports: calibration.json, .yaml, sparse_metric/, "
-                        "camera_in_odom.tum, report.html") &&
-                  Recovered(run.result, drive, "cli") &&
-                  Check(json.at("status") == "success" &&
-                            json.at("schema") == "odomcal.calibration",
-                        "plugin: result JSON " + json.dump());
+  const bool ok =
+      Recovered(direct, drive, "solver") &&
+      Recovered(chang_result, drive, "datasets_paper") &&
+      Check(std::abs(wall_distance_m - 1.5) < 1e-12,
+            "datasets_rendering: wall distance") &&
+      Recovered(calibrated.check.result, drive, "plugin") &&
+      Check(calibrated.metric_models.size() == 1 &&
+                calibrated.metric_models[0].model.images.size() ==
+                    drive.camera.poses.size(),
+            "plugin: one metric sub-model with every image") &&
+      Check(written.size() == 5 &&
+                std::filesystem::exists(std::filesystem::path(output) /
+                                        "report.html"),
+            "reports: calibration.json, .yaml, sparse_metric/, "
+            "camera_in_odom.tum, report.html") &&
+      Check(project_json.at("options").contains("min_inconsistent_run_pairs") &&
+                project_json.at("options").contains("noise"),
+            "reports: the options echo of the project") &&
+      Recovered(run.result, drive, "cli") &&
+      Check(json.at("status") == "success" &&
+                json.at("schema") == "odomcal.calibration",
+            "plugin: result JSON " + json.dump());
   return ok ? 0 : 1;
 }

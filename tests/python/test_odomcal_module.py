@@ -7,6 +7,7 @@ Run by ctest with Debian's /usr/bin/python3 and PYTHONPATH=<build>/python.
 """
 import math
 import os
+import pathlib
 import tempfile
 import unittest
 
@@ -101,6 +102,32 @@ def simulated_drive(start_s=100.0, duration_s=40.0, turning=True):
         p = SFM_FROM_ORIGIN_R @ p_origin_from_cam / METRIC_SCALE + SFM_FROM_ORIGIN_T
         camera.append(np.concatenate([[t[i]], p, matrix_to_quaternion_xyzw(r)]))
     return np.array(camera), odometry
+
+
+def write_colmap_project(folder, camera, odometry):
+    """A COLMAP text model (sparse/0) of the camera poses, image_timestamps.csv and
+    odometry.csv under folder; returns (model root, odometry path, timestamps path)."""
+    model = os.path.join(folder, "sparse", "0")
+    os.makedirs(model)
+    with open(os.path.join(model, "cameras.txt"), "w") as f:
+        f.write("1 PINHOLE 320 240 250 250 160 120\n")
+    with open(os.path.join(model, "images.txt"), "w") as f, \
+            open(os.path.join(folder, "image_timestamps.csv"), "w") as stamps:
+        stamps.write("image_name,timestamp\n")
+        for i, row in enumerate(camera):
+            r_world_from_cam = quaternion_xyzw_to_matrix(row[4:8])
+            r = r_world_from_cam.T  # cam_from_world, as COLMAP stores it
+            t = -r @ row[1:4]
+            x, y, z, w = matrix_to_quaternion_xyzw(r)
+            name = "frame%04d.png" % i
+            f.write("%d %.17g %.17g %.17g %.17g %.17g %.17g %.17g 1 %s\n\n" %
+                    (i + 1, w, x, y, z, t[0], t[1], t[2], name))
+            stamps.write("%s,%.9f\n" % (name, row[0]))
+    open(os.path.join(model, "points3D.txt"), "w").close()
+    odometry_path = os.path.join(folder, "odometry.csv")
+    np.savetxt(odometry_path, odometry, fmt="%.17g", delimiter=",")
+    return (os.path.join(folder, "sparse"), odometry_path,
+            os.path.join(folder, "image_timestamps.csv"))
 
 
 class CalibrateTest(unittest.TestCase):
@@ -233,8 +260,152 @@ class CalibrateTest(unittest.TestCase):
                     odomcal.calibrate(**arguments)
                 self.assertEqual(str(raised.exception), message)
 
+    def test_int64_nanosecond_pairs_recover_extrinsic_and_scale(self):
+        camera, odometry = simulated_drive(start_s=0.0)
+        start_ns = 1_700_000_000_123_456_789  # a Unix time in ns, as ROS stamps
+        camera_ns = start_ns + np.round(camera[:, 0] * 1e9).astype(np.int64)
+        odometry_ns = start_ns + np.round(odometry[:, 0] * 1e9).astype(np.int64)
+        # The unit keywords apply to float time columns, not to int64 times.
+        result = odomcal.calibrate(camera_poses=(camera_ns, camera[:, 1:]),
+                                   odometry=(odometry_ns, odometry[:, 1:]),
+                                   camera_time_unit="ms", fixed_translation_z_m=0.40)
+        self.assert_recovered(result)
+        self.assertEqual(result["inputs"]["camera_poses"],
+                         ["camera_poses (numpy arrays, %d int64 ns times and %d x 7 values)"
+                          % (len(camera), len(camera))])
+        # A list of segments may hold pairs too.
+        result = odomcal.calibrate(camera_poses=[(camera_ns, camera[:, 1:])],
+                                   odometry=(odometry_ns, odometry[:, 1:]),
+                                   fixed_translation_z_m=0.40)
+        self.assert_recovered(result)
+
+    def test_bad_nanosecond_pairs_raise_one_line(self):
+        camera, odometry = simulated_drive(duration_s=2)
+        t_ns = np.round(camera[:, 0] * 1e9).astype(np.int64)
+        with self.assertRaises(TypeError) as raised:
+            odomcal.calibrate(camera_poses=(camera[:, 0], camera[:, 1:]), odometry=odometry)
+        self.assertEqual(str(raised.exception),
+                         "camera_poses: the times of (times, values) must be signed integer "
+                         "nanoseconds (int64), got dtype float64")
+        cases = [
+            ((t_ns[:-1], camera[:, 1:]),
+             "camera_poses: %d times for %d rows of values" % (len(t_ns) - 1, len(t_ns))),
+            ((t_ns, camera[:, 1:7]),
+             "camera_poses: expected values of shape (N, 7) [tx, ty, tz, qx, qy, qz, qw] "
+             "beside the times, got (%d, 6)" % len(t_ns)),
+            ((t_ns[::-1].copy(), camera[:, 1:]),
+             "camera_poses row 1: time not increasing (101.900000000 s after "
+             "102.000000000 s in row 0)"),
+        ]
+        for pair, message in cases:
+            with self.subTest(message=message):
+                with self.assertRaises(ValueError) as raised:
+                    odomcal.calibrate(camera_poses=pair, odometry=odometry)
+                self.assertEqual(str(raised.exception), message)
+
     def test_version(self):
         self.assertRegex(odomcal.__version__, r"^\d+\.\d+\.\d+$")
+
+
+class CalibrateProjectTest(unittest.TestCase):
+    """odomcal.calibrate_project: `odomcal colmap` on a COLMAP text model."""
+
+    def test_project_recovers_extrinsic_and_scale_with_the_options_echo(self):
+        camera, odometry = simulated_drive()
+        with tempfile.TemporaryDirectory() as folder:
+            model, odometry_path, stamps = write_colmap_project(folder, camera, odometry)
+            result = odomcal.calibrate_project(
+                model_path=pathlib.Path(model), odometry=odometry_path,
+                image_timestamps=stamps, fixed_translation_z_m=0.40,
+                min_inconsistent_run_pairs=4, robust_loss="huber")
+        self.assertEqual(result["status"], "success", result["message"])
+        transform = np.array(result["odom_from_cam"]["matrix"])
+        self.assertLess(rotation_error_deg(transform[:3, :3], ODOM_FROM_CAM_R), 1e-6)
+        translation = np.array(result["odom_from_cam"]["translation_m"])
+        self.assertLess(np.max(np.abs(translation - ODOM_FROM_CAM_T)), 1e-6)
+        self.assertAlmostEqual(result["metric_scale"], METRIC_SCALE, delta=1e-9)
+        self.assertEqual(result["inputs"]["command"], "odomcal colmap")
+        self.assertEqual(result["inputs"]["model_path"], model)
+        self.assertEqual(result["inputs"]["image_timestamps"], stamps)
+        self.assertIsNone(result["inputs"]["database_path"])
+        # The echo of every option, as `odomcal colmap` writes it.
+        self.assertEqual(result["options"]["min_inconsistent_run_pairs"], 4)
+        self.assertEqual(result["options"]["robust_loss"], "huber")
+        self.assertIn("odom_yaw_sigma_deg", result["options"]["noise"])
+        self.assertIn("max_scale_stddev_rel", result["options"])
+        self.assertIn("keyframe_min_rotation_deg", result["inputs"])
+        self.assertEqual(len(result["colmap"]["sub_models"]), 1)
+
+    def test_project_errors_name_the_keyword(self):
+        with tempfile.TemporaryDirectory() as folder:
+            camera, odometry = simulated_drive(duration_s=2)
+            model, odometry_path, _ = write_colmap_project(folder, camera, odometry)
+            with self.assertRaises(ValueError) as raised:
+                odomcal.calibrate_project("/nonexistent/sparse", odometry_path)
+            self.assertEqual(str(raised.exception),
+                             "model_path: Directory does not exist: /nonexistent/sparse")
+            with self.assertRaises(TypeError) as raised:
+                odomcal.calibrate_project(model, odometry_path, min_inconsistent_run_pair=2)
+            self.assertEqual(str(raised.exception),
+                             "unknown keyword min_inconsistent_run_pair "
+                             "(did you mean min_inconsistent_run_pairs?)")
+            with self.assertRaises(ValueError) as raised:
+                odomcal.calibrate_project(model, odometry_path, min_inconsistent_run_pairs=0)
+            self.assertEqual(str(raised.exception),
+                             "min_inconsistent_run_pairs must be >= 1, got 0")
+
+
+class ReconstructAndCalibrateTest(unittest.TestCase):
+    """odomcal.reconstruct_and_calibrate without COLMAP: what happens before it runs."""
+
+    def image_folder(self, folder, camera):
+        images = os.path.join(folder, "images")
+        os.makedirs(images)
+        for row in camera:  # times from the names: seconds with a decimal point
+            open(os.path.join(images, "%.6f.png" % row[0]), "w").close()
+        return images
+
+    def test_a_straight_drive_is_refused_before_colmap(self):
+        camera, odometry = simulated_drive(turning=False)
+        steps = []
+        with tempfile.TemporaryDirectory() as folder:
+            images = self.image_folder(folder, camera)
+            odometry_path = os.path.join(folder, "odometry.csv")
+            np.savetxt(odometry_path, odometry, fmt="%.17g", delimiter=",")
+            workspace = os.path.join(folder, "work")
+            result = odomcal.reconstruct_and_calibrate(
+                images, odometry_path, workspace, progress=lambda *step: steps.append(step),
+                colmap_path="/nonexistent/colmap", mapper_attempts=2)
+        self.assertEqual(result["status"], "unobservable", result["message"])
+        self.assertIn("before COLMAP", result["message"])
+        self.assertEqual(result["inputs"]["command"], "odomcal run")
+        self.assertEqual(result["inputs"]["image_path"], images)
+        self.assertIsNone(result["inputs"]["model_path"])
+        self.assertEqual(result["options"]["run"]["mapper_attempts"], 2)
+        self.assertEqual(result["options"]["run"]["colmap_path"], "/nonexistent/colmap")
+        self.assertTrue(steps)
+        stage, num_stages, fraction, message = steps[0]
+        self.assertEqual(stage, 1)
+        self.assertGreater(num_stages, 1)
+        self.assertTrue(0.0 <= fraction <= 1.0)
+        self.assertIsInstance(message, str)
+
+    def test_colmap_failing_raises_runtime_error(self):
+        camera, odometry = simulated_drive(duration_s=20)
+        with tempfile.TemporaryDirectory() as folder:
+            images = self.image_folder(folder, camera)
+            odometry_path = os.path.join(folder, "odometry.csv")
+            np.savetxt(odometry_path, odometry, fmt="%.17g", delimiter=",")
+            with self.assertRaises(RuntimeError) as raised:
+                odomcal.reconstruct_and_calibrate(
+                    images, odometry_path, os.path.join(folder, "work"),
+                    colmap_path="/nonexistent/colmap")
+            self.assertIn("/nonexistent/colmap", str(raised.exception))
+            with self.assertRaises(TypeError) as raised:
+                odomcal.reconstruct_and_calibrate(images, odometry_path,
+                                                  os.path.join(folder, "work"), progress=3)
+            self.assertEqual(str(raised.exception),
+                             "progress: expected a callable or None, got int")
 
 
 if __name__ == "__main__":
