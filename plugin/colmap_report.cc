@@ -152,6 +152,27 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
       {"metric_models", metric_models},
       {"mapper_attempts", mapper_attempts},
   };
+  if (run.coverage) {
+    const ImageCoverage& coverage = *run.coverage;
+    json stretches_of_drive = json::array();
+    for (const CoverageStretch& stretch : coverage.stretches) {
+      stretches_of_drive.push_back(
+          {{"in_calibration", stretch.in_calibration},
+           {"first_time_s", FormatTimestampSeconds(stretch.first_stamp_ns)},
+           {"last_time_s", FormatTimestampSeconds(stretch.last_stamp_ns)},
+           {"num_images", stretch.num_images},
+           {"num_registered_images", stretch.num_registered},
+           {"num_in_calibration", stretch.num_in_calibration},
+           {"registered_fraction", stretch.Fraction()}});
+    }
+    out["colmap"]["registered_fraction"] = coverage.Fraction();
+    out["colmap"]["image_coverage"] = {
+        {"num_selected_images", coverage.num_selected_images},
+        {"num_registered_images", coverage.num_registered_images},
+        {"num_in_calibration", coverage.num_in_calibration},
+        {"duration_fraction", coverage.duration_fraction},
+        {"stretches", stretches_of_drive}};
+  }
   return out;
 }
 

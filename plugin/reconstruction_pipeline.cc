@@ -16,6 +16,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/image_coverage.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
@@ -360,6 +361,23 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
   return line.str();
 }
 
+// How many of the selected images made it into the calibration: in the
+// result's message (the summary line), as a warning when too few, and per
+// stretch in the run (the JSON's colmap.image_coverage).
+void AddImageCoverage(const std::vector<TimedImage>& selected,
+                      int64_t camera_time_offset_ns,
+                      ColmapCalibrationRun* run) {
+  run->coverage =
+      SummarizeImageCoverage(selected,
+                             RegisteredImages(*run),
+                             ImagesInCalibration(*run, camera_time_offset_ns));
+  CalibrationResult& result = run->check.result;
+  result.message += "; " + CoverageClause(*run->coverage);
+  if (const auto warning = CoverageWarning(*run->coverage)) {
+    result.warnings.push_back(*warning);
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> ReconstructionWorkspaceEntries() {
@@ -603,6 +621,8 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   if (const auto warning = policy.ContradictionWarning()) {
     result.calibration.check.result.warnings.push_back(*warning);
   }
+  AddImageCoverage(
+      images, inputs.association.camera_time_offset_ns, &result.calibration);
   clock.Done("calibrated");
   return result;
 }
