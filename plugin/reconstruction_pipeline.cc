@@ -17,6 +17,7 @@
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/colmap_runner.h"
 #include "odomcal/plugin/image_coverage.h"
+#include "odomcal/plugin/mapper_stretches.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
@@ -27,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace odomcal {
@@ -361,6 +363,179 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
   return line.str();
 }
 
+// "images 86-300".
+std::string ImageRange(int first, int last) {
+  return "images " + std::to_string(first + 1) + "-" + std::to_string(last + 1);
+}
+
+// [4] for the stretches the chosen model left out: each stretch of at least
+// kMinStretchModelImages unregistered images is matched along the odometry
+// (OdometryCandidatePairs: a baseline the nearest-neighbour matching lacks)
+// and mapped on its own, starting from a pair the odometry chooses
+// (ChooseInitialPair) with relaxed initialisation thresholds, and without a
+// given pair when that fails. Returns the mapper output folders with a model;
+// each becomes sub-models (segments with scales of their own) beside the
+// chosen model's.
+std::vector<fs::path> MapUnregisteredStretches(
+    ColmapRunner* colmap,
+    const ReconstructionOptions& run,
+    const std::vector<TimedImage>& images,
+    const Trajectory& odometry,
+    const MapperAttempt& best,
+    const std::string& database,
+    Progress* progress) {
+  const ColmapCalibrationInputs& inputs = run.project;
+  ColmapCalibrationInputs best_inputs = inputs;
+  best_inputs.model_path = best.model_path;
+  best_inputs.database_path = database;
+  const ColmapCalibrationRun calibrated = CalibrateColmapProject(best_inputs);
+  const std::set<std::string> registered = RegisteredImages(calibrated);
+  const ImageCoverage coverage = SummarizeImageCoverage(
+      images,
+      registered,
+      ImagesInCalibration(calibrated,
+                          inputs.association.camera_time_offset_ns));
+  std::map<std::string, uint32_t> image_ids;
+  for (const ColmapDatabaseImage& image : ReadColmapDatabaseImages(database)) {
+    image_ids[image.name] = image.image_id;
+  }
+  const fs::path workspace(run.workspace_path);
+  std::error_code error;
+  fs::create_directories(workspace / "stretches", error);
+  const std::string matching = FeatureMatchingPrefix(colmap->Version());
+  std::vector<fs::path> models;
+  int index = 0;
+  for (const CoverageStretch& stretch : coverage.stretches) {
+    if (stretch.in_calibration) continue;
+    std::vector<int> members;  // unregistered images of the stretch
+    std::vector<Rigid3d> poses;
+    for (int i = stretch.first_image; i <= stretch.last_image; ++i) {
+      if (registered.count(images[i].name) > 0) continue;
+      InterpolationFailure why;
+      const auto pose = InterpolateOdometry(
+          odometry,
+          images[i].stamp_ns + inputs.association.camera_time_offset_ns,
+          inputs.association.max_odometry_gap_s,
+          &why);
+      if (!pose || image_ids.count(images[i].name) == 0) continue;
+      members.push_back(i);
+      poses.push_back(*pose);
+    }
+    if (static_cast<int>(members.size()) < kMinStretchModelImages) continue;
+    const std::string name = "stretch_" + std::to_string(index++);
+    const std::string range =
+        ImageRange(stretch.first_image, stretch.last_image);
+    // Matches with a baseline, added to the database (pairs matched before
+    // are skipped by COLMAP).
+    const std::vector<std::pair<int, int>> pairs =
+        OdometryCandidatePairs(poses, run.candidate_pairs);
+    std::ostringstream pair_list, image_list;
+    for (const auto& [a, b] : pairs) {
+      pair_list << images[members[a]].name << " " << images[members[b]].name
+                << "\n";
+    }
+    for (const int i : members) image_list << images[i].name << "\n";
+    const fs::path pairs_path = workspace / "stretches" / (name + "_pairs.txt");
+    const fs::path list_path = workspace / "stretches" / (name + "_images.txt");
+    WriteFileAtomically(pairs_path.string(), pair_list.str());
+    WriteFileAtomically(list_path.string(), image_list.str());
+    {
+      StageClock clock(progress,
+                       3,
+                       "COLMAP matching " + std::to_string(pairs.size()) +
+                           " odometry pairs in the unregistered " + range);
+      clock.Done(Note(colmap->RunStage("matches_importer_" + name,
+                                       {"matches_importer",
+                                        "--database_path",
+                                        database,
+                                        "--match_list_path",
+                                        pairs_path.string(),
+                                        "--match_type",
+                                        "pairs",
+                                        "--" + matching + ".use_gpu",
+                                        "0",
+                                        "--" + matching + ".num_threads",
+                                        std::to_string(run.num_threads)},
+                                       {database})));
+    }
+    const std::optional<std::pair<int, int>> initial =
+        ChooseInitialPair(poses, pairs, run.initial_pair);
+    const bool fixed_intrinsics = !run.camera_params.empty();
+    // With the odometry's initial pair first, then COLMAP's own choice.
+    for (const bool given_pair : {true, false}) {
+      if (given_pair && !initial) continue;
+      const std::string stage = "mapper_" + name + (given_pair ? "" : "_free");
+      const fs::path output = workspace / "mapper_attempts" / stage.substr(7);
+      std::vector<std::string> arguments = {
+          "mapper",
+          "--database_path",
+          database,
+          "--image_path",
+          run.image_path,
+          "--output_path",
+          output.string(),
+          "--image_list_path",
+          list_path.string(),
+          "--Mapper.num_threads",
+          std::to_string(run.num_threads),
+          "--Mapper.ba_refine_focal_length",
+          fixed_intrinsics ? "0" : "1",
+          "--Mapper.ba_refine_principal_point",
+          "0",
+          "--Mapper.ba_refine_extra_params",
+          fixed_intrinsics ? "0" : "1",
+          // The default 16 deg and 0.95 refuse what a robot driving ahead
+          // sees; the odometry checks the model that results.
+          "--Mapper.init_min_tri_angle",
+          "8",
+          "--Mapper.init_max_forward_motion",
+          "0.99"};
+      std::string from = "COLMAP's choice of initial pair";
+      if (given_pair) {
+        const std::string& first = images[members[initial->first]].name;
+        const std::string& second = images[members[initial->second]].name;
+        arguments.insert(arguments.end(),
+                         {"--Mapper.init_image_id1",
+                          std::to_string(image_ids.at(first)),
+                          "--Mapper.init_image_id2",
+                          std::to_string(image_ids.at(second))});
+        from = "the odometry's initial pair " + first + ", " + second;
+      }
+      StageClock clock(progress,
+                       4,
+                       "COLMAP mapping the unregistered " + range + " (" +
+                           std::to_string(members.size()) + " images) from " +
+                           from);
+      const std::vector<std::string> outputs = {(output / "0").string()};
+      if (!colmap->WillReuse(stage, arguments, outputs)) {
+        RemoveOwnedOutput(run.workspace_path,
+                          "mapper_attempts/" + stage.substr(7));
+      }
+      fs::create_directories(output, error);
+      const ColmapStageResult result =
+          colmap->RunStage(stage, arguments, outputs);
+      if (!fs::exists(output / "0")) {
+        clock.Done("no model, log " + result.log_path);
+        continue;
+      }
+      size_t num_registered = 0;
+      const std::vector<std::string> folders =
+          FindColmapModelFolders(output.string());
+      for (const std::string& folder : folders) {
+        ColmapReadOptions read;
+        read.read_points3D = false;
+        num_registered += ReadColmapModel(folder, read).images.size();
+      }
+      clock.Done(Note(result) + "; " + std::to_string(folders.size()) +
+                 " sub-model(s), " + std::to_string(num_registered) +
+                 " images registered");
+      models.push_back(output);
+      break;
+    }
+  }
+  return models;
+}
+
 // How many of the selected images made it into the calibration: in the
 // result's message (the summary line), as a warning when too few, and per
 // stretch in the run (the JSON's colmap.image_coverage).
@@ -388,6 +563,7 @@ std::vector<std::string> ReconstructionWorkspaceEntries() {
           "stages",
           "commands.txt",
           "mapper_attempts",
+          "stretches",
           "sparse",
           "sparse.tmp"};
 }
@@ -600,14 +776,37 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                       "): too little texture or overlap, or wrong intrinsics");
   }
 
-  // [5] Calibration of the model the odometry contradicts least.
   const MapperAttempt& best = attempts[chosen];
+  std::vector<fs::path> stretch_models;
+  if (run.map_unregistered_stretches) {
+    stretch_models =
+        MapUnregisteredStretches(&colmap,
+                                 run,
+                                 images,
+                                 odometry,
+                                 best,
+                                 rounds.at(best.matching_round).database,
+                                 &progress);
+  }
+
+  // [5] Calibration of the model the odometry contradicts least, with the
+  // models of the stretches it left out.
   StageClock clock(&progress,
                    5,
                    "calibrating against the odometry (model of " +
                        MapperAttemptName(best) + ")");
   const fs::path sparse = workspace / "sparse";
   ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
+  // The stretch models become the next numbered sub-models.
+  int next_sub_model =
+      static_cast<int>(FindColmapModelFolders(sparse.string()).size());
+  for (const fs::path& root : stretch_models) {
+    for (const std::string& folder : FindColmapModelFolders(root.string())) {
+      fs::copy(folder,
+               sparse / std::to_string(next_sub_model++),
+               fs::copy_options::recursive);
+    }
+  }
   // Calibrated again (a fraction of a second) so that every path in the
   // outputs names sparse/, the model a later `odomcal colmap` would read.
   ColmapCalibrationInputs final_inputs = inputs;

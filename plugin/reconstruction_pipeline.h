@@ -19,6 +19,7 @@
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/mapper_policy.h"
+#include "odomcal/plugin/mapper_stretches.h"
 
 #include <functional>
 #include <string>
@@ -46,7 +47,16 @@ struct ReconstructionOptions {
   // The odometry, image times and calibration options; model_path and
   // database_path are ignored (the pipeline makes them).
   ColmapCalibrationInputs project;
+  // Stretches of at least kMinStretchModelImages images that the chosen
+  // model left unregistered are matched along the odometry and mapped as
+  // models of their own (segments with their own scale; mapper_stretches.h).
+  bool map_unregistered_stretches = true;
+  CandidatePairOptions candidate_pairs;
+  InitialPairOptions initial_pair;
 };
+
+// COLMAP's Mapper.min_model_size default: smaller stretches are not mapped.
+inline constexpr int kMinStretchModelImages = 10;
 
 // One step of the pipeline's progress.
 struct PipelineProgress {
