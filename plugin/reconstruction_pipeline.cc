@@ -15,6 +15,7 @@
 #include "odomcal/adapters/image_timestamps.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
+#include "odomcal/plugin/colmap_progress.h"
 #include "odomcal/plugin/colmap_runner.h"
 #include "odomcal/plugin/image_coverage.h"
 #include "odomcal/plugin/mapper_stretches.h"
@@ -59,7 +60,9 @@ std::vector<std::string> ListImages(const std::string& image_path) {
 }
 
 // Sends PipelineProgress to the caller's callback (if any), with a
-// fraction that never decreases (stages 3 and 4 may run again).
+// fraction that never decreases (stages 3 and 4 may run again), and, while a
+// COLMAP stage runs, what COLMAP prints about its progress (at most once a
+// second).
 class Progress {
  public:
   explicit Progress(const ProgressCallback& callback) : callback_(callback) {}
@@ -67,16 +70,23 @@ class Progress {
   void Send(PipelineProgress::Event event,
             int stage,
             const std::string& message,
-            double seconds = 0.0) {
+            double seconds = 0.0,
+            double stage_fraction = 0.0) {
     PipelineProgress progress;
     progress.event = event;
     progress.stage = stage;
     progress.num_stages = kReconstructionStages;
-    const int done =
-        event == PipelineProgress::Event::kStageStarted ? stage - 1 : stage;
-    fraction_ = std::max(
-        fraction_,
-        static_cast<double>(done) / static_cast<double>(kReconstructionStages));
+    double done = stage;
+    if (event == PipelineProgress::Event::kStageStarted) {
+      done = stage - 1;
+      live_stage_ = stage;
+      live_ = ColmapOutputProgress(num_images_);
+      live_start_ = std::chrono::steady_clock::now();
+      live_sent_ = live_start_ - std::chrono::seconds(1);
+    } else if (event == PipelineProgress::Event::kStageProgress) {
+      done = stage - 1 + std::clamp(stage_fraction, 0.0, 1.0);
+    }
+    fraction_ = std::max(fraction_, done / kReconstructionStages);
     progress.fraction = fraction_;
     progress.message = message;
     progress.seconds = seconds;
@@ -87,9 +97,31 @@ class Progress {
     Send(PipelineProgress::Event::kNote, stage, message);
   }
 
+  // The images COLMAP works on (the mapper's fraction).
+  void SetNumImages(int num_images) { num_images_ = num_images; }
+
+  // A line COLMAP printed during the current stage.
+  void ColmapLine(const std::string& line) {
+    if (!callback_ || !live_.Feed(line)) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - live_sent_ < std::chrono::seconds(1)) return;
+    live_sent_ = now;
+    const double elapsed =
+        std::chrono::duration<double>(now - live_start_).count();
+    Send(PipelineProgress::Event::kStageProgress,
+         live_stage_,
+         live_.Describe(elapsed),
+         elapsed,
+         std::max(0.0, live_.Fraction()));
+  }
+
  private:
   const ProgressCallback& callback_;
   double fraction_ = 0.0;
+  int num_images_ = 0;
+  int live_stage_ = 0;
+  ColmapOutputProgress live_;
+  std::chrono::steady_clock::time_point live_start_, live_sent_;
 };
 
 class StageClock {
@@ -675,6 +707,10 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   ColmapRunner::Options runner_options;
   runner_options.executable = run.colmap_path;
   runner_options.workspace = run.workspace_path;
+  progress.SetNumImages(static_cast<int>(images.size()));
+  runner_options.on_output_line = [&progress](const std::string& line) {
+    progress.ColmapLine(line);
+  };
   ColmapRunner colmap(runner_options);
   const ColmapVersion& version = colmap.Version();
 

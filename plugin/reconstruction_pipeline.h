@@ -64,6 +64,10 @@ struct PipelineProgress {
     kStageStarted,   // message: what the stage does
     kStageFinished,  // message: its outcome; seconds: its duration
     kNote,           // message: a line about the run between stages
+    // During a COLMAP stage, at most once a second: what COLMAP reports
+    // ("matching image 120/300, 45 s, about 68 s left"); seconds: since
+    // the stage started; fraction includes the stage's part done.
+    kStageProgress,
   };
   Event event = Event::kNote;
   int stage = 0;  // 1 .. num_stages; stages 3 and 4 may run more than once
