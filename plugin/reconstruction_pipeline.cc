@@ -217,19 +217,31 @@ struct MatchingRound {
   std::string database;
 };
 
+// --matcher odometry: the pairs chosen from the odometry
+// (OdometryCandidatePairs), one "name1 name2" per line.
+constexpr const char* kOdometryPairsFile = "odometry_pairs.txt";
+
 std::vector<std::string> MatcherArguments(const std::string& matcher,
                                           const MatchingRound& round,
                                           const ReconstructionOptions& run,
                                           const ColmapVersion& version) {
   const std::string matching = FeatureMatchingPrefix(version);
-  std::vector<std::string> arguments = {matcher + "_matcher",
-                                        "--database_path",
-                                        round.database,
-                                        "--" + matching + ".use_gpu",
-                                        "0",
-                                        "--" + matching + ".num_threads",
-                                        std::to_string(run.num_threads)};
-  if (matcher == "spatial") {
+  std::vector<std::string> arguments = {
+      matcher == "odometry" ? "matches_importer" : matcher + "_matcher",
+      "--database_path",
+      round.database,
+      "--" + matching + ".use_gpu",
+      "0",
+      "--" + matching + ".num_threads",
+      std::to_string(run.num_threads)};
+  if (matcher == "odometry") {
+    arguments.insert(
+        arguments.end(),
+        {"--match_list_path",
+         (fs::path(run.workspace_path) / kOdometryPairsFile).string(),
+         "--match_type",
+         "pairs"});
+  } else if (matcher == "spatial") {
     arguments.insert(arguments.end(),
                      {"--SpatialMatching.is_gps",
                       "0",
@@ -393,6 +405,13 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
                    : "no COLMAP stage is run (--force runs them anyway)");
   }
   return line.str();
+}
+
+// 1 -> "1", 0.5 -> "0.5".
+std::string FormatNumber(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
 }
 
 // "images 86-300".
@@ -589,6 +608,7 @@ void AddImageCoverage(const std::vector<TimedImage>& selected,
 
 std::vector<std::string> ReconstructionWorkspaceEntries() {
   return {"image_list.txt",
+          kOdometryPairsFile,
           "database.db",
           "database_rematched.db",
           "logs",
@@ -770,6 +790,35 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       if (pose) positions[image.name] = pose->translation;
     }
     WriteColmapDatabasePositionPriors(database, positions);
+  }
+  if (matcher == "odometry") {
+    std::vector<Rigid3d> poses;
+    std::vector<const TimedImage*> posed;
+    InterpolationFailure why;
+    for (const TimedImage& image : images) {
+      const auto pose = InterpolateOdometry(
+          odometry,
+          image.stamp_ns + inputs.association.camera_time_offset_ns,
+          inputs.association.max_odometry_gap_s,
+          &why);
+      if (!pose) continue;
+      poses.push_back(*pose);
+      posed.push_back(&image);
+    }
+    const std::vector<std::pair<int, int>> pairs =
+        OdometryCandidatePairs(poses, run.candidate_pairs);
+    std::ostringstream list;
+    for (const auto& [a, b] : pairs) {
+      list << posed[a]->name << " " << posed[b]->name << "\n";
+    }
+    WriteFileAtomically((workspace / kOdometryPairsFile).string(), list.str());
+    progress.Note(2,
+                  std::to_string(pairs.size()) +
+                      " image pairs chosen from the odometry (up to " +
+                      FormatNumber(run.candidate_pairs.max_distance_m) +
+                      " m along the path, " +
+                      FormatNumber(run.candidate_pairs.max_view_angle_deg) +
+                      " deg of viewing direction, and loops)");
   }
   std::vector<MatchingRound> rounds(1);
   rounds[0].database = database;

@@ -32,7 +32,9 @@ struct ReconstructionOptions {
   std::string workspace_path;  // created; reused on reruns
   std::string camera_model = "PINHOLE";
   std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
-  std::string matcher = "spatial";  // or "sequential"
+  // "spatial", "sequential" or "odometry" (pairs chosen from the odometry,
+  // candidate_pairs; mapper_stretches.h)
+  std::string matcher = "spatial";
   std::string colmap_path = "colmap";
   int max_num_features = 2048;
   int num_threads = 2;
@@ -51,7 +53,7 @@ struct ReconstructionOptions {
   // model left unregistered are matched along the odometry and mapped as
   // models of their own (segments with their own scale; mapper_stretches.h).
   bool map_unregistered_stretches = true;
-  CandidatePairOptions candidate_pairs;
+  CandidatePairOptions candidate_pairs;  // stretches and --matcher odometry
   InitialPairOptions initial_pair;
 };
 
