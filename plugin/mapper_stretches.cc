@@ -70,6 +70,13 @@ std::vector<std::pair<int, int>> OdometryCandidatePairs(
   return pairs;
 }
 
+double ViewAngleLimitDeg(double field_of_view_deg, double max_view_angle_deg) {
+  if (!(std::isfinite(field_of_view_deg) && field_of_view_deg > 0.0)) {
+    return max_view_angle_deg;
+  }
+  return std::min(max_view_angle_deg, 0.5 * field_of_view_deg);
+}
+
 std::optional<std::pair<int, int>> ChooseInitialPair(
     const std::vector<Rigid3d>& poses,
     const std::vector<std::pair<int, int>>& candidates,

@@ -47,6 +47,11 @@ std::vector<std::pair<int, int>> OdometryCandidatePairs(
     const std::vector<Rigid3d>& origin_from_odom,
     const CandidatePairOptions& options = {});
 
+// The viewing-direction limit for a camera whose horizontal field of view is
+// `field_of_view_deg`: at most half of it (so that two views share at least
+// half the image) and at most `max_view_angle_deg`.
+double ViewAngleLimitDeg(double field_of_view_deg, double max_view_angle_deg);
+
 struct InitialPairOptions {
   double min_baseline_m = 0.2;
   double max_baseline_m = 1.0;

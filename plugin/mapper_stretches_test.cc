@@ -127,5 +127,11 @@ TEST(ChooseInitialPair, PrefersATurnThenTheLongestBaseline) {
   EXPECT_FALSE(ChooseInitialPair(short_one, OdometryCandidatePairs(short_one)));
 }
 
+TEST(ViewAngleLimitDeg, HalfTheFieldOfViewAtMostTheMaximum) {
+  EXPECT_DOUBLE_EQ(ViewAngleLimitDeg(40.0, 30.0), 20.0);
+  EXPECT_DOUBLE_EQ(ViewAngleLimitDeg(63.0, 30.0), 30.0);
+  EXPECT_DOUBLE_EQ(ViewAngleLimitDeg(0.0, 30.0), 30.0);  // unknown
+}
+
 }  // namespace
 }  // namespace odomcal

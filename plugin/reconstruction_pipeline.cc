@@ -22,9 +22,11 @@
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
+#include "odomcal/solver/angles.h"
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -407,11 +409,11 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
   return line.str();
 }
 
-// 1 -> "1", 0.5 -> "0.5".
+// 1 -> "1", 31.4159 -> "31.4".
 std::string FormatNumber(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
 }
 
 // "images 86-300".
@@ -771,6 +773,22 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     clock.Done(Note(stage));
   }
 
+  // The pairs chosen from the odometry look at most half the camera's
+  // horizontal field of view apart (fx is every COLMAP model's first
+  // parameter).
+  ReconstructionOptions tuned = run;
+  const std::vector<ColmapDatabaseCamera> cameras =
+      ReadColmapDatabaseCameras(database);
+  if (cameras.size() == 1 && !cameras[0].camera.params.empty() &&
+      cameras[0].camera.params[0] > 0.0) {
+    const double fov_deg =
+        2.0 *
+        std::atan(0.5 * cameras[0].camera.width / cameras[0].camera.params[0]) *
+        kRadToDeg;
+    tuned.candidate_pairs.max_view_angle_deg =
+        ViewAngleLimitDeg(fov_deg, run.candidate_pairs.max_view_angle_deg);
+  }
+
   // [3] Matching, guided by odometry positions.
   std::string matcher = run.matcher;
   if (matcher == "spatial" && version.AtLeast(3, 10)) {
@@ -806,7 +824,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       posed.push_back(&image);
     }
     const std::vector<std::pair<int, int>> pairs =
-        OdometryCandidatePairs(poses, run.candidate_pairs);
+        OdometryCandidatePairs(poses, tuned.candidate_pairs);
     std::ostringstream list;
     for (const auto& [a, b] : pairs) {
       list << posed[a]->name << " " << posed[b]->name << "\n";
@@ -815,9 +833,9 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     progress.Note(2,
                   std::to_string(pairs.size()) +
                       " image pairs chosen from the odometry (up to " +
-                      FormatNumber(run.candidate_pairs.max_distance_m) +
+                      FormatNumber(tuned.candidate_pairs.max_distance_m) +
                       " m along the path, " +
-                      FormatNumber(run.candidate_pairs.max_view_angle_deg) +
+                      FormatNumber(tuned.candidate_pairs.max_view_angle_deg) +
                       " deg of viewing direction, and loops)");
   }
   std::vector<MatchingRound> rounds(1);
@@ -866,7 +884,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   if (run.map_unregistered_stretches) {
     stretch_models =
         MapUnregisteredStretches(&colmap,
-                                 run,
+                                 tuned,
                                  images,
                                  odometry,
                                  best,
