@@ -554,6 +554,7 @@ std::vector<fs::path> MapUnregisteredStretches(
                           std::to_string(image_ids.at(second))});
         from = "the odometry's initial pair " + first + ", " + second;
       }
+      progress->SetNumImages(static_cast<int>(members.size()));
       StageClock clock(progress,
                        4,
                        "COLMAP mapping the unregistered " + range + " (" +
@@ -586,6 +587,7 @@ std::vector<fs::path> MapUnregisteredStretches(
       break;
     }
   }
+  progress->SetNumImages(static_cast<int>(images.size()));
   return models;
 }
 
@@ -901,8 +903,16 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   const fs::path sparse = workspace / "sparse";
   ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
   // The stretch models become the next numbered sub-models.
-  int next_sub_model =
-      static_cast<int>(FindColmapModelFolders(sparse.string()).size());
+  int next_sub_model = 0;
+  for (const std::string& folder : FindColmapModelFolders(sparse.string())) {
+    const std::string name = fs::path(folder).filename().string();
+    if (!name.empty() && name.size() < 9 &&
+        std::all_of(name.begin(), name.end(), [](unsigned char c) {
+          return std::isdigit(c);
+        })) {
+      next_sub_model = std::max(next_sub_model, std::stoi(name) + 1);
+    }
+  }
   for (const fs::path& root : stretch_models) {
     for (const std::string& folder : FindColmapModelFolders(root.string())) {
       fs::copy(folder,
