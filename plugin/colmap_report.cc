@@ -483,6 +483,18 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
          << segment.num_registered_images << " registered images</li>";
   }
   html << "</ul>\n";
+  if (run.coverage) {
+    const ImageCoverage& coverage = *run.coverage;
+    html << "<p>" << EscapeMarkup(CoverageClause(coverage)) << ", covering "
+         << static_cast<int>(std::lround(100.0 * coverage.duration_fraction))
+         << " % of the drive's duration";
+    int num_gaps = 0;
+    for (const CoverageStretch& stretch : coverage.stretches) {
+      num_gaps += stretch.in_calibration ? 0 : 1;
+    }
+    html << "; " << num_gaps << (num_gaps == 1 ? " gap" : " gaps")
+         << " of 3 or more images not in it.</p>\n";
+  }
   if (!run.mapper_attempts.empty()) {
     html
         << "<h2>COLMAP mapper runs</h2>\n<p>The mapper runs again with another "
