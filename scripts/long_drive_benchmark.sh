@@ -9,7 +9,9 @@
 #
 #   scripts/long_drive_benchmark.sh [--odomcal build/plugin/odomcal]
 #       [--out /tmp/odomcal_long] [--sizes "100 300 1000"] [--plain_colmap]
-#       [--seed 1]
+#       [--seed 1] [--run_flags "--matcher odometry"]
+# --run_flags: more flags for `odomcal run` (e.g. to compare the matchers;
+# give each variant its own --out).
 set -euo pipefail
 
 odomcal=build/plugin/odomcal
@@ -17,6 +19,7 @@ out=/tmp/odomcal_long
 sizes="100 300 1000"
 plain=0
 seed=1
+run_flags=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --odomcal) odomcal=$2; shift 2 ;;
@@ -24,6 +27,7 @@ while [[ $# -gt 0 ]]; do
     --sizes) sizes=$2; shift 2 ;;
     --seed) seed=$2; shift 2 ;;
     --plain_colmap) plain=1; shift ;;
+    --run_flags) run_flags=$2; shift 2 ;;
     *) echo "long_drive_benchmark.sh: error: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -71,12 +75,13 @@ for n in $sizes; do
   start=$(date +%s.%N)
   "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
     --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
-    --workspace_path "$out/run_$n" > "$out/run_$n.log" 2>&1 || true
+    --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true
   end=$(date +%s.%N)
   echo "== $n images: odomcal run $(python3 -c "print('%.0f s' % ($end - $start))"), $(python3 -c "print('%.2f s/image' % (($end - $start) / $n))")"
-  # The stage lines: "[k/5] title ... note (12.3 s)".
-  grep -E '^\[[0-9]/[0-9]\]|\.\.\. .*\([0-9.]+ s\)$' "$out/run_$n.log" |
-    sed -E 's/^(\[[0-9]\/[0-9]\] [^.:]*).*\(([0-9.]+ s)\)$/  \1: \2/' || true
+  # The stage lines: "[k/5] title ... note (12.3 s)"; in a log (not a
+  # terminal) COLMAP's progress lines come between title and "... note".
+  grep -E '^\[[0-9]/[0-9]\]|^ +\.\.\. |^odomcal run:' "$out/run_$n.log" | cut -c1-160 |
+    sed 's/^/  /' || true
   echo "  $(summarize "$out/run_$n/calibration.json" "$data/ground_truth.json")"
   if [[ $plain == 1 ]]; then
     ws="$out/plain_$n"
