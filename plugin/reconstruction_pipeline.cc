@@ -497,19 +497,26 @@ std::vector<fs::path> MapUnregisteredStretches(
                        3,
                        "COLMAP matching " + std::to_string(pairs.size()) +
                            " odometry pairs in the unregistered " + range);
-      clock.Done(Note(colmap->RunStage("matches_importer_" + name,
-                                       {"matches_importer",
-                                        "--database_path",
-                                        database,
-                                        "--match_list_path",
-                                        pairs_path.string(),
-                                        "--match_type",
-                                        "pairs",
-                                        "--" + matching + ".use_gpu",
-                                        "0",
-                                        "--" + matching + ".num_threads",
-                                        std::to_string(run.num_threads)},
-                                       {database})));
+      // A stretch is extra: COLMAP failing on it (e.g. a CHECK on images
+      // without features) leaves it out and the run goes on.
+      try {
+        clock.Done(Note(colmap->RunStage("matches_importer_" + name,
+                                         {"matches_importer",
+                                          "--database_path",
+                                          database,
+                                          "--match_list_path",
+                                          pairs_path.string(),
+                                          "--match_type",
+                                          "pairs",
+                                          "--" + matching + ".use_gpu",
+                                          "0",
+                                          "--" + matching + ".num_threads",
+                                          std::to_string(run.num_threads)},
+                                         {database})));
+      } catch (const ColmapError& failure) {
+        clock.Done(std::string("left out: ") + failure.what());
+        continue;
+      }
     }
     const std::optional<std::pair<int, int>> initial =
         ChooseInitialPair(poses, pairs, run.initial_pair);
@@ -566,8 +573,13 @@ std::vector<fs::path> MapUnregisteredStretches(
                           "mapper_attempts/" + stage.substr(7));
       }
       fs::create_directories(output, error);
-      const ColmapStageResult result =
-          colmap->RunStage(stage, arguments, outputs);
+      ColmapStageResult result;
+      try {
+        result = colmap->RunStage(stage, arguments, outputs);
+      } catch (const ColmapError& failure) {
+        clock.Done(std::string("no model: ") + failure.what());
+        continue;
+      }
       if (!fs::exists(output / "0")) {
         clock.Done("no model, log " + result.log_path);
         continue;
