@@ -16,6 +16,7 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/plugin/image_coverage.h"
 #include "odomcal/plugin/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/similarity_alignment.h"
@@ -63,6 +64,9 @@ struct ColmapCalibrationRun {
   // `odomcal run` only: every mapper run and the one calibrated here.
   std::vector<MapperAttempt> mapper_attempts;
   int chosen_mapper_attempt = -1;
+  // `odomcal run` only: how many of the images selected for COLMAP are in
+  // the calibration, per stretch of the drive (image_coverage.h).
+  std::optional<ImageCoverage> coverage;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).

@@ -163,6 +163,27 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
       {"metric_models", metric_models},
       {"mapper_attempts", mapper_attempts},
   };
+  if (run.coverage) {
+    const ImageCoverage& coverage = *run.coverage;
+    json stretches_of_drive = json::array();
+    for (const CoverageStretch& stretch : coverage.stretches) {
+      stretches_of_drive.push_back(
+          {{"in_calibration", stretch.in_calibration},
+           {"first_time_s", FormatTimestampSeconds(stretch.first_stamp_ns)},
+           {"last_time_s", FormatTimestampSeconds(stretch.last_stamp_ns)},
+           {"num_images", stretch.num_images},
+           {"num_registered_images", stretch.num_registered},
+           {"num_in_calibration", stretch.num_in_calibration},
+           {"registered_fraction", stretch.Fraction()}});
+    }
+    out["colmap"]["registered_fraction"] = coverage.Fraction();
+    out["colmap"]["image_coverage"] = {
+        {"num_selected_images", coverage.num_selected_images},
+        {"num_registered_images", coverage.num_registered_images},
+        {"num_in_calibration", coverage.num_in_calibration},
+        {"duration_fraction", coverage.duration_fraction},
+        {"stretches", stretches_of_drive}};
+  }
   return out;
 }
 
@@ -473,6 +494,18 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
          << segment.num_registered_images << " registered images</li>";
   }
   html << "</ul>\n";
+  if (run.coverage) {
+    const ImageCoverage& coverage = *run.coverage;
+    html << "<p>" << EscapeMarkup(CoverageClause(coverage)) << ", covering "
+         << static_cast<int>(std::lround(100.0 * coverage.duration_fraction))
+         << " % of the drive's duration";
+    int num_gaps = 0;
+    for (const CoverageStretch& stretch : coverage.stretches) {
+      num_gaps += stretch.in_calibration ? 0 : 1;
+    }
+    html << "; " << num_gaps << (num_gaps == 1 ? " gap" : " gaps")
+         << " of 3 or more images not in it.</p>\n";
+  }
   if (!run.mapper_attempts.empty()) {
     html
         << "<h2>COLMAP mapper runs</h2>\n<p>The mapper runs again with another "

@@ -86,6 +86,19 @@ class ColmapReport : public ::testing::Test {
         "a <b>bold</b> & \"quoted\" warning that goes on and on without a "
         "single space: " +
         std::string(300, 'x'));
+    // As `odomcal run` fills it: the registered images and 4 more after.
+    std::vector<TimedImage> selected;
+    const ColmapSegment& segment = run_->segments[0];
+    for (size_t k = 0; k < segment.image_names.size(); ++k) {
+      selected.push_back(
+          {segment.image_names[k], segment.trajectory.poses[k].stamp_ns});
+    }
+    for (int k = 1; k <= 4; ++k) {
+      selected.push_back({"late_" + std::to_string(k),
+                          segment.trajectory.poses.back().stamp_ns + k});
+    }
+    run_->coverage = SummarizeImageCoverage(
+        selected, RegisteredImages(*run_), ImagesInCalibration(*run_, 0));
     context_ = new ReportContext(
         ProjectReportContext(inputs, *run_, "odomcal colmap"));
     html_ = new std::string(ColmapReportHtml(*run_, *context_));
@@ -274,6 +287,17 @@ TEST_F(ColmapReport, JsonHasTheColmapSectionOfTheRun) {
   EXPECT_TRUE(colmap["mapper_attempts"][1]["chosen"].get<bool>());
   EXPECT_TRUE(colmap["mapper_attempts"][2]["status"].is_null());  // no model
   EXPECT_EQ(json["warnings"].back(), run_->check.result.warnings.back());
+  const ImageCoverage& coverage = *run_->coverage;
+  EXPECT_DOUBLE_EQ(colmap["registered_fraction"].get<double>(),
+                   coverage.Fraction());
+  EXPECT_EQ(colmap["image_coverage"]["num_selected_images"],
+            coverage.num_selected_images);
+  EXPECT_EQ(colmap["image_coverage"]["stretches"].size(),
+            coverage.stretches.size());
+  EXPECT_FALSE(colmap["image_coverage"]["stretches"]
+                   .back()["in_calibration"]
+                   .get<bool>());
+  EXPECT_NE(html_->find(CoverageClause(coverage)), std::string::npos);
 }
 
 }  // namespace

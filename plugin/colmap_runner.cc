@@ -16,8 +16,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
+#include <thread>
+#include <utility>
 
 extern char** environ;
 
@@ -62,7 +65,46 @@ std::string LastNonEmptyLine(const fs::path& path) {
 
 // Runs argv with stdout/stderr appended to log_path; returns the exit code
 // (128 + signal for a signal, 127 when the program cannot be started).
-int Spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
+// Reads the lines appended to a log file since the last call.
+class LogFollower {
+ public:
+  LogFollower(fs::path path, const OutputLineCallback& on_line)
+      : path_(std::move(path)), on_line_(on_line) {}
+
+  void Poll() {
+    if (!on_line_) return;
+    std::ifstream file(path_, std::ios::binary);
+    if (!file) return;
+    file.seekg(offset_);
+    std::string chunk((std::istreambuf_iterator<char>(file)),
+                      std::istreambuf_iterator<char>());
+    offset_ += static_cast<std::streamoff>(chunk.size());
+    pending_ += chunk;
+    size_t end;
+    while ((end = pending_.find_first_of("\n\r")) != std::string::npos) {
+      const std::string line = pending_.substr(0, end);
+      pending_.erase(0, end + 1);
+      if (!line.empty()) on_line_(line);
+    }
+  }
+
+  // The last line, also without its end of line.
+  void Finish() {
+    Poll();
+    if (on_line_ && !pending_.empty()) on_line_(pending_);
+    pending_.clear();
+  }
+
+ private:
+  fs::path path_;
+  const OutputLineCallback& on_line_;
+  std::streamoff offset_ = 0;
+  std::string pending_;
+};
+
+int Spawn(const std::vector<std::string>& argv,
+          const fs::path& log_path,
+          const OutputLineCallback& on_line = {}) {
   const int log_fd =
       ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log_fd < 0) {
@@ -104,12 +146,21 @@ int Spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
   if (spawn_error != 0) {
     return kExitNotFound;
   }
+  // With a listener, the log is read every quarter second while COLMAP runs.
+  LogFollower follower(log_path, on_line);
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) {
+  for (;;) {
+    const pid_t waited = ::waitpid(pid, &status, on_line ? WNOHANG : 0);
+    if (waited == pid) break;
+    if (waited < 0 && errno != EINTR) {
       throw ColmapError(std::string("waitpid failed: ") + std::strerror(errno));
     }
+    if (waited == 0) {
+      follower.Poll();
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
   }
+  follower.Finish();
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
@@ -239,7 +290,7 @@ ColmapStageResult ColmapRunner::RunStage(
     commands << command_line << "\n";
   }
   const auto start = std::chrono::steady_clock::now();
-  const int code = Spawn(argv, result.log_path);
+  const int code = Spawn(argv, result.log_path, options_.on_output_line);
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();

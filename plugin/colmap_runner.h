@@ -49,12 +49,18 @@ struct ColmapStageResult {
   std::string log_path;
 };
 
+// Gets each line COLMAP prints while a stage runs (without its end of line).
+using OutputLineCallback = std::function<void(const std::string& line)>;
+
 class ColmapRunner {
  public:
   struct Options {
     std::string executable = "colmap";  // looked up on PATH if no '/'
     std::string workspace;              // must exist
     bool reuse_finished_stages = true;
+    // Called from RunStage's thread, within a quarter second of COLMAP
+    // writing the line to the stage's log; empty: the log is not followed.
+    OutputLineCallback on_output_line;
   };
 
   explicit ColmapRunner(Options options);

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -194,6 +196,44 @@ TEST(ColmapRunnerReal, DetectsInstalledColmap) {
     GTEST_SKIP() << error.what();
   }
   fs::remove_all(workspace);
+}
+
+}  // namespace
+}  // namespace odomcal
+
+namespace odomcal {
+namespace {
+
+// The listener gets COLMAP's lines while it runs, the last one also without
+// its end of line ("Matching image [2/2]" is printed before its time).
+TEST(ColmapRunnerOutput, FollowsTheLogWhileTheStageRuns) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "runner_output";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "ws");
+  const std::string fake = (dir / "fake_colmap").string();
+  {
+    std::ofstream script(fake);
+    script << "#!/bin/sh\n"
+           << "if [ \"$1\" = help ]; then echo 'COLMAP 3.8 -- "
+              "Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
+           << "echo 'Matching image [1/2] in 0.100s'\n"
+           << "sleep 0.4\n"
+           << "printf 'Matching image [2/2]'\n";
+  }
+  ::chmod(fake.c_str(), 0755);
+  std::vector<std::string> lines;
+  ColmapRunner::Options options;
+  options.executable = fake;
+  options.workspace = (dir / "ws").string();
+  options.on_output_line = [&lines](const std::string& line) {
+    lines.push_back(line);
+  };
+  ColmapRunner runner(options);
+  runner.RunStage("spatial_matcher", {"spatial_matcher"}, {});
+  EXPECT_EQ(lines,
+            (std::vector<std::string>{"Matching image [1/2] in 0.100s",
+                                      "Matching image [2/2]"}));
+  fs::remove_all(dir);
 }
 
 }  // namespace

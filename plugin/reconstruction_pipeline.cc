@@ -15,17 +15,23 @@
 #include "odomcal/adapters/image_timestamps.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
+#include "odomcal/plugin/colmap_progress.h"
 #include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/image_coverage.h"
+#include "odomcal/plugin/mapper_stretches.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
+#include "odomcal/solver/angles.h"
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace odomcal {
@@ -56,7 +62,9 @@ std::vector<std::string> ListImages(const std::string& image_path) {
 }
 
 // Sends PipelineProgress to the caller's callback (if any), with a
-// fraction that never decreases (stages 3 and 4 may run again).
+// fraction that never decreases (stages 3 and 4 may run again), and, while a
+// COLMAP stage runs, what COLMAP prints about its progress (at most once a
+// second).
 class Progress {
  public:
   explicit Progress(const ProgressCallback& callback) : callback_(callback) {}
@@ -64,16 +72,23 @@ class Progress {
   void Send(PipelineProgress::Event event,
             int stage,
             const std::string& message,
-            double seconds = 0.0) {
+            double seconds = 0.0,
+            double stage_fraction = 0.0) {
     PipelineProgress progress;
     progress.event = event;
     progress.stage = stage;
     progress.num_stages = kReconstructionStages;
-    const int done =
-        event == PipelineProgress::Event::kStageStarted ? stage - 1 : stage;
-    fraction_ = std::max(
-        fraction_,
-        static_cast<double>(done) / static_cast<double>(kReconstructionStages));
+    double done = stage;
+    if (event == PipelineProgress::Event::kStageStarted) {
+      done = stage - 1;
+      live_stage_ = stage;
+      live_ = ColmapOutputProgress(num_images_);
+      live_start_ = std::chrono::steady_clock::now();
+      live_sent_ = live_start_ - std::chrono::seconds(1);
+    } else if (event == PipelineProgress::Event::kStageProgress) {
+      done = stage - 1 + std::clamp(stage_fraction, 0.0, 1.0);
+    }
+    fraction_ = std::max(fraction_, done / kReconstructionStages);
     progress.fraction = fraction_;
     progress.message = message;
     progress.seconds = seconds;
@@ -84,9 +99,31 @@ class Progress {
     Send(PipelineProgress::Event::kNote, stage, message);
   }
 
+  // The images COLMAP works on (the mapper's fraction).
+  void SetNumImages(int num_images) { num_images_ = num_images; }
+
+  // A line COLMAP printed during the current stage.
+  void ColmapLine(const std::string& line) {
+    if (!callback_ || !live_.Feed(line)) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - live_sent_ < std::chrono::seconds(1)) return;
+    live_sent_ = now;
+    const double elapsed =
+        std::chrono::duration<double>(now - live_start_).count();
+    Send(PipelineProgress::Event::kStageProgress,
+         live_stage_,
+         live_.Describe(elapsed),
+         elapsed,
+         std::max(0.0, live_.Fraction()));
+  }
+
  private:
   const ProgressCallback& callback_;
   double fraction_ = 0.0;
+  int num_images_ = 0;
+  int live_stage_ = 0;
+  ColmapOutputProgress live_;
+  std::chrono::steady_clock::time_point live_start_, live_sent_;
 };
 
 class StageClock {
@@ -182,19 +219,31 @@ struct MatchingRound {
   std::string database;
 };
 
+// --matcher odometry: the pairs chosen from the odometry
+// (OdometryCandidatePairs), one "name1 name2" per line.
+constexpr const char* kOdometryPairsFile = "odometry_pairs.txt";
+
 std::vector<std::string> MatcherArguments(const std::string& matcher,
                                           const MatchingRound& round,
                                           const ReconstructionOptions& run,
                                           const ColmapVersion& version) {
   const std::string matching = FeatureMatchingPrefix(version);
-  std::vector<std::string> arguments = {matcher + "_matcher",
-                                        "--database_path",
-                                        round.database,
-                                        "--" + matching + ".use_gpu",
-                                        "0",
-                                        "--" + matching + ".num_threads",
-                                        std::to_string(run.num_threads)};
-  if (matcher == "spatial") {
+  std::vector<std::string> arguments = {
+      matcher == "odometry" ? "matches_importer" : matcher + "_matcher",
+      "--database_path",
+      round.database,
+      "--" + matching + ".use_gpu",
+      "0",
+      "--" + matching + ".num_threads",
+      std::to_string(run.num_threads)};
+  if (matcher == "odometry") {
+    arguments.insert(
+        arguments.end(),
+        {"--match_list_path",
+         (fs::path(run.workspace_path) / kOdometryPairsFile).string(),
+         "--match_type",
+         "pairs"});
+  } else if (matcher == "spatial") {
     arguments.insert(arguments.end(),
                      {"--SpatialMatching.is_gps",
                       "0",
@@ -360,16 +409,229 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
   return line.str();
 }
 
+// 1 -> "1", 31.4159 -> "31.4".
+std::string FormatNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
+}
+
+// "images 86-300".
+std::string ImageRange(int first, int last) {
+  return "images " + std::to_string(first + 1) + "-" + std::to_string(last + 1);
+}
+
+// [4] for the stretches the chosen model left out: each stretch of at least
+// kMinStretchModelImages unregistered images is matched along the odometry
+// (OdometryCandidatePairs: a baseline the nearest-neighbour matching lacks)
+// and mapped on its own, starting from a pair the odometry chooses
+// (ChooseInitialPair) with relaxed initialisation thresholds, and without a
+// given pair when that fails. Returns the mapper output folders with a model;
+// each becomes sub-models (segments with scales of their own) beside the
+// chosen model's.
+std::vector<fs::path> MapUnregisteredStretches(
+    ColmapRunner* colmap,
+    const ReconstructionOptions& run,
+    const std::vector<TimedImage>& images,
+    const Trajectory& odometry,
+    const MapperAttempt& best,
+    const std::string& database,
+    Progress* progress) {
+  const ColmapCalibrationInputs& inputs = run.project;
+  ColmapCalibrationInputs best_inputs = inputs;
+  best_inputs.model_path = best.model_path;
+  best_inputs.database_path = database;
+  const ColmapCalibrationRun calibrated = CalibrateColmapProject(best_inputs);
+  const std::set<std::string> registered = RegisteredImages(calibrated);
+  const ImageCoverage coverage = SummarizeImageCoverage(
+      images,
+      registered,
+      ImagesInCalibration(calibrated,
+                          inputs.association.camera_time_offset_ns));
+  std::map<std::string, uint32_t> image_ids;
+  for (const ColmapDatabaseImage& image : ReadColmapDatabaseImages(database)) {
+    image_ids[image.name] = image.image_id;
+  }
+  const fs::path workspace(run.workspace_path);
+  std::error_code error;
+  fs::create_directories(workspace / "stretches", error);
+  const std::string matching = FeatureMatchingPrefix(colmap->Version());
+  std::vector<fs::path> models;
+  int index = 0;
+  for (const CoverageStretch& stretch : coverage.stretches) {
+    if (stretch.in_calibration) continue;
+    std::vector<int> members;  // unregistered images of the stretch
+    std::vector<Rigid3d> poses;
+    for (int i = stretch.first_image; i <= stretch.last_image; ++i) {
+      if (registered.count(images[i].name) > 0) continue;
+      InterpolationFailure why;
+      const auto pose = InterpolateOdometry(
+          odometry,
+          images[i].stamp_ns + inputs.association.camera_time_offset_ns,
+          inputs.association.max_odometry_gap_s,
+          &why);
+      if (!pose || image_ids.count(images[i].name) == 0) continue;
+      members.push_back(i);
+      poses.push_back(*pose);
+    }
+    if (static_cast<int>(members.size()) < kMinStretchModelImages) continue;
+    const std::string name = "stretch_" + std::to_string(index++);
+    const std::string range =
+        ImageRange(stretch.first_image, stretch.last_image);
+    // Matches with a baseline, added to the database (pairs matched before
+    // are skipped by COLMAP).
+    const std::vector<std::pair<int, int>> pairs =
+        OdometryCandidatePairs(poses, run.candidate_pairs);
+    std::ostringstream pair_list, image_list;
+    for (const auto& [a, b] : pairs) {
+      pair_list << images[members[a]].name << " " << images[members[b]].name
+                << "\n";
+    }
+    for (const int i : members) image_list << images[i].name << "\n";
+    const fs::path pairs_path = workspace / "stretches" / (name + "_pairs.txt");
+    const fs::path list_path = workspace / "stretches" / (name + "_images.txt");
+    WriteFileAtomically(pairs_path.string(), pair_list.str());
+    WriteFileAtomically(list_path.string(), image_list.str());
+    {
+      StageClock clock(progress,
+                       3,
+                       "COLMAP matching " + std::to_string(pairs.size()) +
+                           " odometry pairs in the unregistered " + range);
+      // A stretch is extra: COLMAP failing on it (e.g. a CHECK on images
+      // without features) leaves it out and the run goes on.
+      try {
+        clock.Done(Note(colmap->RunStage("matches_importer_" + name,
+                                         {"matches_importer",
+                                          "--database_path",
+                                          database,
+                                          "--match_list_path",
+                                          pairs_path.string(),
+                                          "--match_type",
+                                          "pairs",
+                                          "--" + matching + ".use_gpu",
+                                          "0",
+                                          "--" + matching + ".num_threads",
+                                          std::to_string(run.num_threads)},
+                                         {database})));
+      } catch (const ColmapError& failure) {
+        clock.Done(std::string("left out: ") + failure.what());
+        continue;
+      }
+    }
+    const std::optional<std::pair<int, int>> initial =
+        ChooseInitialPair(poses, pairs, run.initial_pair);
+    const bool fixed_intrinsics = !run.camera_params.empty();
+    // With the odometry's initial pair first, then COLMAP's own choice.
+    for (const bool given_pair : {true, false}) {
+      if (given_pair && !initial) continue;
+      const std::string stage = "mapper_" + name + (given_pair ? "" : "_free");
+      const fs::path output = workspace / "mapper_attempts" / stage.substr(7);
+      std::vector<std::string> arguments = {
+          "mapper",
+          "--database_path",
+          database,
+          "--image_path",
+          run.image_path,
+          "--output_path",
+          output.string(),
+          "--image_list_path",
+          list_path.string(),
+          "--Mapper.num_threads",
+          std::to_string(run.num_threads),
+          "--Mapper.ba_refine_focal_length",
+          fixed_intrinsics ? "0" : "1",
+          "--Mapper.ba_refine_principal_point",
+          "0",
+          "--Mapper.ba_refine_extra_params",
+          fixed_intrinsics ? "0" : "1",
+          // The default 16 deg and 0.95 refuse what a robot driving ahead
+          // sees; the odometry checks the model that results.
+          "--Mapper.init_min_tri_angle",
+          "8",
+          "--Mapper.init_max_forward_motion",
+          "0.99"};
+      std::string from = "COLMAP's choice of initial pair";
+      if (given_pair) {
+        const std::string& first = images[members[initial->first]].name;
+        const std::string& second = images[members[initial->second]].name;
+        arguments.insert(arguments.end(),
+                         {"--Mapper.init_image_id1",
+                          std::to_string(image_ids.at(first)),
+                          "--Mapper.init_image_id2",
+                          std::to_string(image_ids.at(second))});
+        from = "the odometry's initial pair " + first + ", " + second;
+      }
+      progress->SetNumImages(static_cast<int>(members.size()));
+      StageClock clock(progress,
+                       4,
+                       "COLMAP mapping the unregistered " + range + " (" +
+                           std::to_string(members.size()) + " images) from " +
+                           from);
+      const std::vector<std::string> outputs = {(output / "0").string()};
+      if (!colmap->WillReuse(stage, arguments, outputs)) {
+        RemoveOwnedOutput(run.workspace_path,
+                          "mapper_attempts/" + stage.substr(7));
+      }
+      fs::create_directories(output, error);
+      ColmapStageResult result;
+      try {
+        result = colmap->RunStage(stage, arguments, outputs);
+      } catch (const ColmapError& failure) {
+        clock.Done(std::string("no model: ") + failure.what());
+        continue;
+      }
+      if (!fs::exists(output / "0")) {
+        clock.Done("no model, log " + result.log_path);
+        continue;
+      }
+      size_t num_registered = 0;
+      const std::vector<std::string> folders =
+          FindColmapModelFolders(output.string());
+      for (const std::string& folder : folders) {
+        ColmapReadOptions read;
+        read.read_points3D = false;
+        num_registered += ReadColmapModel(folder, read).images.size();
+      }
+      clock.Done(Note(result) + "; " + std::to_string(folders.size()) +
+                 " sub-model(s), " + std::to_string(num_registered) +
+                 " images registered");
+      models.push_back(output);
+      break;
+    }
+  }
+  progress->SetNumImages(static_cast<int>(images.size()));
+  return models;
+}
+
+// How many of the selected images made it into the calibration: in the
+// result's message (the summary line), as a warning when too few, and per
+// stretch in the run (the JSON's colmap.image_coverage).
+void AddImageCoverage(const std::vector<TimedImage>& selected,
+                      int64_t camera_time_offset_ns,
+                      ColmapCalibrationRun* run) {
+  run->coverage =
+      SummarizeImageCoverage(selected,
+                             RegisteredImages(*run),
+                             ImagesInCalibration(*run, camera_time_offset_ns));
+  CalibrationResult& result = run->check.result;
+  result.message += "; " + CoverageClause(*run->coverage);
+  if (const auto warning = CoverageWarning(*run->coverage)) {
+    result.warnings.push_back(*warning);
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> ReconstructionWorkspaceEntries() {
   return {"image_list.txt",
+          kOdometryPairsFile,
           "database.db",
           "database_rematched.db",
           "logs",
           "stages",
           "commands.txt",
           "mapper_attempts",
+          "stretches",
           "sparse",
           "sparse.tmp"};
 }
@@ -481,6 +743,10 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   ColmapRunner::Options runner_options;
   runner_options.executable = run.colmap_path;
   runner_options.workspace = run.workspace_path;
+  progress.SetNumImages(static_cast<int>(images.size()));
+  runner_options.on_output_line = [&progress](const std::string& line) {
+    progress.ColmapLine(line);
+  };
   ColmapRunner colmap(runner_options);
   const ColmapVersion& version = colmap.Version();
 
@@ -521,6 +787,22 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     clock.Done(Note(stage));
   }
 
+  // The pairs chosen from the odometry look at most half the camera's
+  // horizontal field of view apart (fx is every COLMAP model's first
+  // parameter).
+  ReconstructionOptions tuned = run;
+  const std::vector<ColmapDatabaseCamera> cameras =
+      ReadColmapDatabaseCameras(database);
+  if (cameras.size() == 1 && !cameras[0].camera.params.empty() &&
+      cameras[0].camera.params[0] > 0.0) {
+    const double fov_deg =
+        2.0 *
+        std::atan(0.5 * cameras[0].camera.width / cameras[0].camera.params[0]) *
+        kRadToDeg;
+    tuned.candidate_pairs.max_view_angle_deg =
+        ViewAngleLimitDeg(fov_deg, run.candidate_pairs.max_view_angle_deg);
+  }
+
   // [3] Matching, guided by odometry positions.
   std::string matcher = run.matcher;
   if (matcher == "spatial" && version.AtLeast(3, 10)) {
@@ -540,6 +822,35 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       if (pose) positions[image.name] = pose->translation;
     }
     WriteColmapDatabasePositionPriors(database, positions);
+  }
+  if (matcher == "odometry") {
+    std::vector<Rigid3d> poses;
+    std::vector<const TimedImage*> posed;
+    InterpolationFailure why;
+    for (const TimedImage& image : images) {
+      const auto pose = InterpolateOdometry(
+          odometry,
+          image.stamp_ns + inputs.association.camera_time_offset_ns,
+          inputs.association.max_odometry_gap_s,
+          &why);
+      if (!pose) continue;
+      poses.push_back(*pose);
+      posed.push_back(&image);
+    }
+    const std::vector<std::pair<int, int>> pairs =
+        OdometryCandidatePairs(poses, tuned.candidate_pairs);
+    std::ostringstream list;
+    for (const auto& [a, b] : pairs) {
+      list << posed[a]->name << " " << posed[b]->name << "\n";
+    }
+    WriteFileAtomically((workspace / kOdometryPairsFile).string(), list.str());
+    progress.Note(2,
+                  std::to_string(pairs.size()) +
+                      " image pairs chosen from the odometry (up to " +
+                      FormatNumber(tuned.candidate_pairs.max_distance_m) +
+                      " m along the path, " +
+                      FormatNumber(tuned.candidate_pairs.max_view_angle_deg) +
+                      " deg of viewing direction, and loops)");
   }
   std::vector<MatchingRound> rounds(1);
   rounds[0].database = database;
@@ -582,14 +893,45 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                       "): too little texture or overlap, or wrong intrinsics");
   }
 
-  // [5] Calibration of the model the odometry contradicts least.
   const MapperAttempt& best = attempts[chosen];
+  std::vector<fs::path> stretch_models;
+  if (run.map_unregistered_stretches) {
+    stretch_models =
+        MapUnregisteredStretches(&colmap,
+                                 tuned,
+                                 images,
+                                 odometry,
+                                 best,
+                                 rounds.at(best.matching_round).database,
+                                 &progress);
+  }
+
+  // [5] Calibration of the model the odometry contradicts least, with the
+  // models of the stretches it left out.
   StageClock clock(&progress,
                    5,
                    "calibrating against the odometry (model of " +
                        MapperAttemptName(best) + ")");
   const fs::path sparse = workspace / "sparse";
   ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
+  // The stretch models become the next numbered sub-models.
+  int next_sub_model = 0;
+  for (const std::string& folder : FindColmapModelFolders(sparse.string())) {
+    const std::string name = fs::path(folder).filename().string();
+    if (!name.empty() && name.size() < 9 &&
+        std::all_of(name.begin(), name.end(), [](unsigned char c) {
+          return std::isdigit(c);
+        })) {
+      next_sub_model = std::max(next_sub_model, std::stoi(name) + 1);
+    }
+  }
+  for (const fs::path& root : stretch_models) {
+    for (const std::string& folder : FindColmapModelFolders(root.string())) {
+      fs::copy(folder,
+               sparse / std::to_string(next_sub_model++),
+               fs::copy_options::recursive);
+    }
+  }
   // Calibrated again (a fraction of a second) so that every path in the
   // outputs names sparse/, the model a later `odomcal colmap` would read.
   ColmapCalibrationInputs final_inputs = inputs;
@@ -603,6 +945,8 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   if (const auto warning = policy.ContradictionWarning()) {
     result.calibration.check.result.warnings.push_back(*warning);
   }
+  AddImageCoverage(
+      images, inputs.association.camera_time_offset_ns, &result.calibration);
   clock.Done("calibrated");
   return result;
 }

@@ -19,6 +19,7 @@
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/mapper_policy.h"
+#include "odomcal/plugin/mapper_stretches.h"
 
 #include <functional>
 #include <string>
@@ -31,7 +32,9 @@ struct ReconstructionOptions {
   std::string workspace_path;  // created; reused on reruns
   std::string camera_model = "PINHOLE";
   std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
-  std::string matcher = "spatial";  // or "sequential"
+  // "spatial", "sequential" or "odometry" (pairs chosen from the odometry,
+  // candidate_pairs; mapper_stretches.h)
+  std::string matcher = "spatial";
   std::string colmap_path = "colmap";
   int max_num_features = 2048;
   int num_threads = 2;
@@ -46,7 +49,16 @@ struct ReconstructionOptions {
   // The odometry, image times and calibration options; model_path and
   // database_path are ignored (the pipeline makes them).
   ColmapCalibrationInputs project;
+  // Stretches of at least kMinStretchModelImages images that the chosen
+  // model left unregistered are matched along the odometry and mapped as
+  // models of their own (segments with their own scale; mapper_stretches.h).
+  bool map_unregistered_stretches = true;
+  CandidatePairOptions candidate_pairs;  // stretches and --matcher odometry
+  InitialPairOptions initial_pair;
 };
+
+// COLMAP's Mapper.min_model_size default: smaller stretches are not mapped.
+inline constexpr int kMinStretchModelImages = 10;
 
 // One step of the pipeline's progress.
 struct PipelineProgress {
@@ -54,6 +66,10 @@ struct PipelineProgress {
     kStageStarted,   // message: what the stage does
     kStageFinished,  // message: its outcome; seconds: its duration
     kNote,           // message: a line about the run between stages
+    // During a COLMAP stage, at most once a second: what COLMAP reports
+    // ("matching image 120/300, 45 s, about 68 s left"); seconds: since
+    // the stage started; fraction includes the stage's part done.
+    kStageProgress,
   };
   Event event = Event::kNote;
   int stage = 0;  // 1 .. num_stages; stages 3 and 4 may run more than once

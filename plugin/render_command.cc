@@ -82,6 +82,12 @@ int RunRender(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag(
       "--overwrite", overwrite, "replace a dataset already in output_path");
+  int num_images = 0;
+  app.add_option("--num_images",
+                 num_images,
+                 "images to render instead of the preset's number (the drive "
+                 "is as long as they take at the preset's camera rate)")
+      ->check(CLI::Range(2, 100000));
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
@@ -93,7 +99,8 @@ int RunRender(int argc, char** argv) {
       return std::chrono::duration<double>(Clock::now() - start).count();
     };
     PrepareOutputFolder(output_path, overwrite);
-    const RenderedDatasetOptions options = MakeDatasetPreset(preset, seed);
+    RenderedDatasetOptions options = MakeDatasetPreset(preset, seed);
+    if (num_images > 0) options.num_images = num_images;
     std::cout << "odomcal render: preset " << preset << ", seed " << seed
               << ", " << options.num_images << " images "
               << options.camera.width << "x" << options.camera.height << " -> "

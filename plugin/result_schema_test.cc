@@ -199,6 +199,21 @@ TEST(ResultSchema, ColmapOutputConforms) {
   run.mapper_attempts = {with_model,
                          MapperAttempt()};  // as `odomcal run` fills it
   run.chosen_mapper_attempt = 0;
+  // The selected images: those registered, then a gap of 5 unregistered.
+  std::vector<TimedImage> selected;
+  for (size_t k = 0; k < run.segments[0].image_names.size(); ++k) {
+    selected.push_back({run.segments[0].image_names[k],
+                        run.segments[0].trajectory.poses[k].stamp_ns});
+  }
+  for (int k = 1; k <= 5; ++k) {
+    selected.push_back(
+        {"unregistered_" + std::to_string(k), selected.back().stamp_ns + k});
+  }
+  run.coverage = SummarizeImageCoverage(
+      selected, RegisteredImages(run), ImagesInCalibration(run, 0));
+  // The folded stretch the check rejected is a gap too.
+  ASSERT_GE(run.coverage->stretches.size(), 2u);
+  EXPECT_FALSE(run.coverage->stretches.back().in_calibration);
   const SchemaChecker checker(ReadSchema());
   // The library's default echo (ProjectFlagsEcho) is the schema's.
   const json out = ColmapCalibrationToJson(

@@ -11,6 +11,8 @@
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -27,10 +29,12 @@ namespace fs = std::filesystem;
 
 // Prints the pipeline's progress: "[2/5] COLMAP feature extraction ... done,
 // log <path> (3.2 s)", and the notes between stages on lines of their own.
+// While COLMAP runs, what it reports: on a terminal in place after the
+// stage's title (\r), otherwise (a log) as indented lines every 10 s.
 // The last stage's line is ended by Finish, once the outputs are written.
 class ProgressPrinter {
  public:
-  ProgressPrinter() = default;
+  ProgressPrinter() : terminal_(::isatty(STDOUT_FILENO) == 1) {}
   ProgressPrinter(const ProgressPrinter&) = delete;
   ProgressPrinter& operator=(const ProgressPrinter&) = delete;
   // An exception between a stage's title and its end still ends the line.
@@ -41,10 +45,16 @@ class ProgressPrinter {
   void Print(const PipelineProgress& progress) {
     switch (progress.event) {
       case PipelineProgress::Event::kStageStarted:
-        std::cout << "[" << progress.stage << "/" << progress.num_stages << "] "
-                  << progress.message << std::flush;
+        title_ = "[" + std::to_string(progress.stage) + "/" +
+                 std::to_string(progress.num_stages) + "] " + progress.message;
+        std::cout << title_ << std::flush;
         open_ = true;
+        live_shown_ = false;
         start_ = std::chrono::steady_clock::now();
+        last_line_ = start_;
+        break;
+      case PipelineProgress::Event::kStageProgress:
+        Live(progress.message);
         break;
       case PipelineProgress::Event::kStageFinished:
         if (progress.stage < progress.num_stages) Finish(progress.message);
@@ -64,12 +74,38 @@ class ProgressPrinter {
         "%.1f s",
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
             .count());
+    if (live_shown_ && terminal_) {
+      std::cout << "\r" << title_ << kClearToEndOfLine;
+    } else if (live_shown_) {
+      std::cout << "   ";
+    }
     std::cout << " ... " << note << " (" << seconds << ")\n" << std::flush;
   }
 
  private:
+  static constexpr const char* kClearToEndOfLine = "\033[K";
+
+  void Live(const std::string& message) {
+    if (!open_) return;
+    if (terminal_) {
+      std::cout << "\r" << title_ << ": " << message << kClearToEndOfLine
+                << std::flush;
+      live_shown_ = true;
+      return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_line_ < std::chrono::seconds(10)) return;
+    last_line_ = now;
+    if (!live_shown_) std::cout << "\n";
+    std::cout << "    " << message << "\n" << std::flush;
+    live_shown_ = true;
+  }
+
+  bool terminal_ = false;
   bool open_ = false;
-  std::chrono::steady_clock::time_point start_;
+  bool live_shown_ = false;
+  std::string title_;
+  std::chrono::steady_clock::time_point start_, last_line_;
 };
 
 std::string JoinNames(const std::vector<std::string>& names) {

@@ -11,6 +11,7 @@
 #include "odomcal/datasets/simulation/camera_mount.h"
 
 #include <stdexcept>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -80,6 +81,9 @@ std::vector<DatasetPresetInfo> DatasetPresets() {
        "two rooms + featureless corridor (model splits), noisy odometry, "
        "time offset and jitter; 130 images 320x240 at 2.5 Hz"},
       {"straight", "straight driving only (rotation unobservable), 40 images"},
+      {"long",
+       "long drive: room, textured corridor, second room and back (a loop), "
+       "1000 images 320x240 at 3.3 Hz (5 min)"},
   };
 }
 
@@ -133,6 +137,36 @@ RenderedDatasetOptions MakeDatasetPreset(const std::string& name,
         MakeCameraMount(15.0, 0.0, 0.0, Eigen::Vector3d(0.25, 0.05, 0.40));
     o.path.straight_only = true;
     o.path.start = {0.9, 2.5, 0.0};
+  } else if (name == "long") {
+    // A long drive (issue 18): room A, the corridor (textured here), room B,
+    // back through the corridor into room A (a loop), turning both ways;
+    // 1000 images at 3.3 Hz are 5 minutes. Mild wheel noise.
+    o.layout = MakeTwoRoomsWithCorridor(2.5,
+                                        /*ceiling=*/true,
+                                        /*textured_corridor=*/true);
+    const std::vector<Eigen::Vector2d> there = TwoRoomsCorridorWaypoints();
+    const std::vector<Eigen::Vector2d> back(there.rbegin(), there.rend());
+    PathLeg room_a;
+    room_a.region_min = Eigen::Vector2d(0.0, 0.0);
+    room_a.region_max = Eigen::Vector2d(5.0, 4.5);
+    room_a.wander_duration_s = 60.0;
+    room_a.waypoints = there;
+    PathLeg room_b;
+    room_b.region_min = Eigen::Vector2d(5.2, 0.0);
+    room_b.region_max = Eigen::Vector2d(10.2, 4.5);
+    room_b.wander_duration_s = 120.0;
+    room_b.waypoints = back;
+    PathLeg room_a_again = room_a;
+    room_a_again.wander_duration_s = 0.0;  // the rest of the drive
+    room_a_again.waypoints.clear();
+    o.path.legs = {room_a, room_b, room_a_again};
+    o.path.start = {2.0, 2.2, 0.0};
+    o.path.robot_clearance_m = 0.5;
+    o.path.camera_clearance_m = 0.24;
+    o.path.more_turns_when_stuck = true;
+    o.num_images = 1000;
+    o.camera_rate_hz = 10.0 / 3.0;
+    o.odometry_noise = MildNoise();
   } else {
     std::string names;
     for (const DatasetPresetInfo& info : DatasetPresets()) {

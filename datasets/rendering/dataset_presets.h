@@ -8,6 +8,9 @@
 //             splits in two), 1-1.5 % wheel errors, slip, yaw drift, 25 ms
 //             time offset and 2 ms jitter; 130 images 320x240 at 2.5 Hz
 //   straight  straight driving only (rotation unobservable), 40 images
+//   long      room A, textured corridor, room B and back into A (a loop),
+//             turns both ways, mild wheel noise; 1000 images 320x240 at
+//             3.3 Hz (5 minutes); `odomcal render --num_images` shortens it
 //
 // All share the 50 Hz odometry and the default texture density (6 mm texels).
 #pragma once

@@ -136,7 +136,9 @@ RoomLayout MakeRectangularRoom(double length_m,
   return layout;
 }
 
-RoomLayout MakeTwoRoomsWithCorridor(double height_m, bool ceiling) {
+RoomLayout MakeTwoRoomsWithCorridor(double height_m,
+                                    bool ceiling,
+                                    bool textured_corridor) {
   using V = Eigen::Vector2d;
   RoomLayout layout;
   const auto wall = [&](V a, V b, bool textured) {
@@ -154,16 +156,18 @@ RoomLayout MakeTwoRoomsWithCorridor(double height_m, bool ceiling) {
   wall(V(10.2, 0), V(10.2, 4.5), true);
   wall(V(10.2, 4.5), V(6.4, 4.5), true);  // door at x in [5.2, 6.4]
   wall(V(5.2, 4.5), V(5.2, 0), true);
-  // Corridor: flat colour on every surface, so its views have no features.
-  layout.floors.push_back({V(3.8, 4.5), V(5.0, 5.1), false});
-  layout.floors.push_back({V(3.8, 5.1), V(6.4, 6.3), false});
-  layout.floors.push_back({V(5.2, 4.5), V(6.4, 5.1), false});
-  wall(V(3.8, 4.5), V(3.8, 6.3), false);
-  wall(V(3.8, 6.3), V(6.4, 6.3), false);
-  wall(V(6.4, 6.3), V(6.4, 4.5), false);
-  wall(V(5.0, 4.5), V(5.0, 5.1), false);
-  wall(V(5.0, 5.1), V(5.2, 5.1), false);
-  wall(V(5.2, 5.1), V(5.2, 4.5), false);
+  // Corridor: flat colour on every surface, so its views have no features
+  // (unless textured_corridor).
+  const bool t = textured_corridor;
+  layout.floors.push_back({V(3.8, 4.5), V(5.0, 5.1), t});
+  layout.floors.push_back({V(3.8, 5.1), V(6.4, 6.3), t});
+  layout.floors.push_back({V(5.2, 4.5), V(6.4, 5.1), t});
+  wall(V(3.8, 4.5), V(3.8, 6.3), t);
+  wall(V(3.8, 6.3), V(6.4, 6.3), t);
+  wall(V(6.4, 6.3), V(6.4, 4.5), t);
+  wall(V(5.0, 4.5), V(5.0, 5.1), t);
+  wall(V(5.0, 5.1), V(5.2, 5.1), t);
+  wall(V(5.2, 5.1), V(5.2, 4.5), t);
   // Parallax near the walls, away from the corridor route.
   layout.boxes = {
       {V(0.9, 0.9), 0.35, Eigen::Vector3d(0.8, 0.6, 0.7), true},

@@ -77,7 +77,9 @@ RoomLayout MakeRectangularRoom(double length_m,
 // straight line of sight joins the rooms: every view of A and every view of
 // B are separated by views of the flat-coloured corridor. Used by the `hard`
 // preset to split the reconstruction in two.
-RoomLayout MakeTwoRoomsWithCorridor(double height_m, bool ceiling);
+RoomLayout MakeTwoRoomsWithCorridor(double height_m,
+                                    bool ceiling,
+                                    bool textured_corridor = false);
 
 // Centre-line waypoints through that corridor, from inside A to inside B.
 std::vector<Eigen::Vector2d> TwoRoomsCorridorWaypoints();

@@ -127,9 +127,12 @@ class Planner {
            ++attempt) {
         // Kinds cycle so that every stretch mixes them; after some rejections
         // any kind is tried, with shorter manoeuvres.
+        // (With more_turns_when_stuck a stop is no way out: the handling of
+        // being stuck below is.)
         int kind = attempt < 10
                        ? kind_ % 5
-                       : std::uniform_int_distribution<int>(0, 4)(rng_);
+                       : std::uniform_int_distribution<int>(
+                             0, options_.more_turns_when_stuck ? 3 : 4)(rng_);
         if (options_.straight_only) kind = (kind == 4) ? 4 : 0;
         double duration =
             Uniform(options_.min_manoeuvre_s, options_.max_manoeuvre_s);
@@ -173,15 +176,40 @@ class Planner {
       double angle =
           WrapAngle(std::atan2(to_centre.y(), to_centre.x()) - pose_.yaw_rad);
       if (std::abs(angle) < 0.3) angle = turn_sign_ * 0.5 * kPi;
-      const double w = std::copysign(options_.max_yaw_rate_radps, angle);
-      const int64_t duration_ns =
-          ToNs(std::abs(angle) / options_.max_yaw_rate_radps);
-      if (!options_.straight_only &&
-          ManoeuvreValid(0.0, w, duration_ns, &leg, false)) {
-        Append(0.0, w, duration_ns);
-      } else {
-        Append(0.0, 0.0, ToNs(1.0));  // stop; always valid
+      // With more_turns_when_stuck, else a quarter or half turn: measured
+      // on the `long` preset (seed 1), the robot otherwise stood still for
+      // the last 26 s of a 36 s drive, no turn to the centre being valid.
+      bool turned = false;
+      std::vector<double> turns = {angle};
+      if (options_.more_turns_when_stuck) {
+        turns.insert(
+            turns.end(),
+            {0.5 * kPi, -0.5 * kPi, kPi, -kPi, 0.25 * kPi, -0.25 * kPi});
       }
+      for (const double turn : turns) {
+        const double w = std::copysign(options_.max_yaw_rate_radps, turn);
+        const int64_t duration_ns =
+            ToNs(std::abs(turn) / options_.max_yaw_rate_radps);
+        if (!options_.straight_only &&
+            ManoeuvreValid(0.0, w, duration_ns, &leg, false)) {
+          Append(0.0, w, duration_ns);
+          turned = true;
+          break;
+        }
+      }
+      // Backing away (a turn in place can sweep the camera too close to a
+      // wall or box): measured on `long`, seeds 1 and 2, the robot still
+      // stood for 50 s beside a box without it.
+      for (int k = 0; k < 6 && !turned && options_.more_turns_when_stuck; ++k) {
+        const double w = (k % 3 - 1) * 0.3;  // -0.3, 0, 0.3 rad/s
+        const int64_t duration_ns = ToNs(k < 3 ? 1.0 : 2.0);
+        if (ManoeuvreValid(
+                -options_.min_speed_mps, w, duration_ns, &leg, false)) {
+          Append(-options_.min_speed_mps, w, duration_ns);
+          turned = true;
+        }
+      }
+      if (!turned) Append(0.0, 0.0, ToNs(1.0));  // stop; always valid
     }
   }
 

@@ -53,6 +53,10 @@ struct RoomPathOptions {
   // its (x, y) position and its optical axis.
   Eigen::Vector3d camera_position_in_odom = Eigen::Vector3d::Zero();
   Eigen::Vector3d camera_axis_in_odom = Eigen::Vector3d::UnitX();
+  // When no manoeuvre and no turn towards the region's centre is valid, try
+  // quarter and half turns before standing still (off in the older presets,
+  // whose paths stay as they were).
+  bool more_turns_when_stuck = false;
   void Check() const;  // throws std::invalid_argument naming the field
 };
 

@@ -67,10 +67,14 @@ TEST_P(PresetPath, StaysInsideWithClearanceAndIsContinuous) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    RoomPath,
-    PresetPath,
-    ::testing::Values("small", "default", "tilted", "hard", "straight"));
+INSTANTIATE_TEST_SUITE_P(RoomPath,
+                         PresetPath,
+                         ::testing::Values("small",
+                                           "default",
+                                           "tilted",
+                                           "hard",
+                                           "straight",
+                                           "long"));
 
 // Every seed turns both ways and mixes straight runs, stops and turns in
 // place; arc radii vary across seeds.
@@ -134,6 +138,38 @@ TEST(PlanRoomPath, RejectsAStartInsideAnObstacle) {
   RenderedDatasetOptions options = MakeDatasetPreset("small", 0);
   options.path.start = {0.1, 0.1, 0.0};  // in the corner
   EXPECT_THROW(SimulateDatasetMotion(options), std::invalid_argument);
+}
+
+// The `long` preset drives 5 minutes: into room B through the corridor and
+// back into room A, turning both ways, and never stands still for long
+// (before more_turns_when_stuck it stood still for 26 of 36 s, seed 1).
+TEST(LongPreset, DrivesThroughBothRoomsAndBackWithoutLongStops) {
+  for (const uint64_t seed : {1u, 2u}) {
+    const RenderedDataset motion =
+        SimulateDatasetMotion(MakeDatasetPreset("long", seed));
+    const UnicyclePath& path = motion.path;
+    EXPECT_GE(1e-9 * path.duration_ns(), 300.0);
+    double max_x = 0.0, left = 0.0, right = 0.0, stop_s = 0.0,
+           longest_stop_s = 0.0;
+    for (const PathManoeuvre& m : path.manoeuvres()) {
+      max_x = std::max(max_x, m.start.x);
+      const double seconds = 1e-9 * m.duration_ns;
+      if (m.yaw_rate_radps > 0.0) left += seconds;
+      if (m.yaw_rate_radps < 0.0) right += seconds;
+      if (m.speed_mps == 0.0 && m.yaw_rate_radps == 0.0) {
+        stop_s += seconds;
+        longest_stop_s = std::max(longest_stop_s, stop_s);
+      } else {
+        stop_s = 0.0;
+      }
+    }
+    // Room B starts at x = 5.2 m in the room frame; the path ends in A.
+    EXPECT_GT(max_x, 6.5) << "seed " << seed;
+    EXPECT_LT(path.PoseAt(path.duration_ns()).x, 5.0) << "seed " << seed;
+    EXPECT_GT(left, 20.0) << "seed " << seed;
+    EXPECT_GT(right, 20.0) << "seed " << seed;
+    EXPECT_LE(longest_stop_s, 3.0) << "seed " << seed;
+  }
 }
 
 }  // namespace

@@ -1,0 +1,72 @@
+// Image pairs chosen from the odometry, for matching and for starting COLMAP
+// models where the mapper registered nothing.
+//
+// Matching: COLMAP's spatial matcher pairs each image with its k nearest
+// neighbours; at 8 cm spacing, k = 8 spans about +-30 cm, too short a
+// baseline for the mapper's initial pair (16 deg triangulation angle) and
+// for robust triangulation at room depths (measured in issue 18: 85 of 300
+// images registered). Here an image is paired with every image up to
+// max_distance_m away along the path (both sides) whose viewing direction
+// differs by at most max_view_angle_deg (the odometry's rotation between the
+// two is the camera's, whatever the mounting, so views that far apart still
+// overlap within a 60-90 deg field of view), plus loop pairs: images close in
+// place and direction but far apart along the path, where the robot returns.
+//
+// Initial pairs: in a stretch of images the mapper left unregistered, the
+// pair to start a model from, chosen from the odometry: a baseline long
+// enough to triangulate and a turn between the two, since COLMAP refuses
+// initial pairs that moved (nearly) along the optical axis
+// (Mapper.init_max_forward_motion), as a robot driving straight does.
+#pragma once
+
+#include "odomcal/solver/rigid3.h"
+
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace odomcal {
+
+struct CandidatePairOptions {
+  double max_distance_m = 1.0;
+  double max_view_angle_deg = 30.0;
+  // The nearest images in time on each side are always paired (odometry
+  // noise or a pure turn must not leave an image without neighbours).
+  int min_neighbors_each_side = 2;
+  // Loop pairs: at most this far apart in place and direction, and at least
+  // loop_min_path_m apart along the path.
+  double loop_max_distance_m = 0.5;
+  double loop_max_view_angle_deg = 20.0;
+  double loop_min_path_m = 3.0;
+  void Check() const;  // throws std::invalid_argument naming the field
+};
+
+// Pairs (i, j), i < j, of `origin_from_odom` poses (one per image, in time
+// order), sorted, without repeats.
+std::vector<std::pair<int, int>> OdometryCandidatePairs(
+    const std::vector<Rigid3d>& origin_from_odom,
+    const CandidatePairOptions& options = {});
+
+// The viewing-direction limit for a camera whose horizontal field of view is
+// `field_of_view_deg`: at most half of it (so that two views share at least
+// half the image) and at most `max_view_angle_deg`.
+double ViewAngleLimitDeg(double field_of_view_deg, double max_view_angle_deg);
+
+struct InitialPairOptions {
+  double min_baseline_m = 0.2;
+  double max_baseline_m = 1.0;
+  double min_turn_deg = 8.0;   // preferred: a turn between the two images
+  double max_turn_deg = 30.0;  // views still overlap
+};
+
+// The initial pair for a stretch, one of `candidates` (so that it has been
+// matched): among those with a baseline
+// in [min, max] and a turn of at most max_turn_deg, those turning at least
+// min_turn_deg first, then the longest baseline, then the one nearest the
+// stretch's middle. nullopt when no pair qualifies.
+std::optional<std::pair<int, int>> ChooseInitialPair(
+    const std::vector<Rigid3d>& origin_from_odom,
+    const std::vector<std::pair<int, int>>& candidates,
+    const InitialPairOptions& options = {});
+
+}  // namespace odomcal

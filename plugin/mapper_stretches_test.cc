@@ -1,0 +1,137 @@
+#include "odomcal/plugin/mapper_stretches.h"
+
+#include "odomcal/solver/angles.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+using Pairs = std::vector<std::pair<int, int>>;
+
+Rigid3d Planar(double x, double y, double yaw_deg) {
+  return Rigid3d(YawRotation(yaw_deg * kDegToRad), Eigen::Vector3d(x, y, 0));
+}
+
+// `n` poses 8 cm apart straight ahead (issue 18's spacing).
+std::vector<Rigid3d> Straight(int n) {
+  std::vector<Rigid3d> poses;
+  for (int i = 0; i < n; ++i) poses.push_back(Planar(0.08 * i, 0, 0));
+  return poses;
+}
+
+bool Has(const Pairs& pairs, int i, int j) {
+  for (const auto& pair : pairs) {
+    if (pair == std::make_pair(i, j)) return true;
+  }
+  return false;
+}
+
+// Along a straight drive every image is paired up to 1 m on both sides:
+// 12 images of 8 cm (0.96 m), not the 13th (1.04 m).
+TEST(OdometryCandidatePairs, PairUpToTheBaselineOnBothSides) {
+  const int n = 40;
+  const Pairs pairs = OdometryCandidatePairs(Straight(n));
+  size_t expected = 0;
+  for (int i = 0; i < n; ++i) expected += std::min(12, n - 1 - i);
+  EXPECT_EQ(pairs.size(), expected);
+  EXPECT_TRUE(Has(pairs, 20, 32));
+  EXPECT_FALSE(Has(pairs, 20, 33));
+  EXPECT_TRUE(Has(pairs, 8, 20));  // image 20's side before it
+  EXPECT_FALSE(Has(pairs, 7, 20));
+}
+
+// Turning in place: close in place but looking elsewhere is no pair,
+// except for the nearest neighbours in time.
+TEST(OdometryCandidatePairs, ViewingDirectionsTooFarApartAreNotPaired) {
+  std::vector<Rigid3d> poses;
+  for (int i = 0; i < 12; ++i) poses.push_back(Planar(0, 0, 20.0 * i));
+  const Pairs pairs = OdometryCandidatePairs(poses);
+  EXPECT_TRUE(Has(pairs, 0, 1));  // 20 deg
+  EXPECT_TRUE(Has(pairs, 0, 2));  // 40 deg, but a nearest neighbour
+  EXPECT_FALSE(Has(pairs, 0, 3));
+  EXPECT_EQ(pairs.size(), 11u + 10u);
+}
+
+// A 4 m square driven once and back to the start: the last images are
+// paired with the first ones (a loop), not with the far corners.
+TEST(OdometryCandidatePairs, ALoopPairsTheReturnWithTheStart) {
+  std::vector<Rigid3d> poses;
+  for (int side = 0; side < 4; ++side) {
+    for (int k = 0; k < 20; ++k) {
+      const double s = 0.2 * k;
+      const double x[4] = {s, 4.0, 4.0 - s, 0.0};
+      const double y[4] = {0.0, s, 4.0, 4.0 - s};
+      poses.push_back(Planar(x[side], y[side], 90.0 * side));
+    }
+  }
+  poses.push_back(Planar(0.0, 0.0, 360.0));  // back at the start
+  const int last = static_cast<int>(poses.size()) - 1;
+  const Pairs pairs = OdometryCandidatePairs(poses);
+  EXPECT_TRUE(Has(pairs, 0, last));
+  EXPECT_TRUE(Has(pairs, 1, last));   // 0.2 m
+  EXPECT_FALSE(Has(pairs, 3, last));  // 0.6 m
+  EXPECT_FALSE(Has(pairs, 20, 60));   // the opposite corners
+  // Without the loop test only neighbours along the path.
+  CandidatePairOptions no_loops;
+  no_loops.loop_min_path_m = 1e9;
+  EXPECT_FALSE(Has(OdometryCandidatePairs(poses, no_loops), 0, last));
+}
+
+TEST(OdometryCandidatePairs, BadOptionsNameTheField) {
+  CandidatePairOptions options;
+  options.max_distance_m = 0.0;
+  try {
+    OdometryCandidatePairs(Straight(3), options);
+    FAIL();
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(),
+                 "max_distance_m must be finite and > 0, got 0.000000");
+  }
+}
+
+// Straight driving, then a left turn of 4 deg per image: the initial pair
+// is the longest baseline with a turn of at least 8 deg.
+TEST(ChooseInitialPair, PrefersATurnThenTheLongestBaseline) {
+  std::vector<Rigid3d> poses = Straight(20);
+  double yaw = 0.0;
+  Eigen::Vector3d at = poses.back().translation;
+  for (int i = 0; i < 10; ++i) {
+    yaw += 4.0;
+    at += 0.08 * Eigen::Vector3d(
+                     std::cos(yaw * kDegToRad), std::sin(yaw * kDegToRad), 0.0);
+    poses.push_back(Planar(at.x(), at.y(), yaw));
+  }
+  const Pairs candidates = OdometryCandidatePairs(poses);
+  const auto pair = ChooseInitialPair(poses, candidates);
+  ASSERT_TRUE(pair.has_value());
+  // A pair ending in the turn: j - 19 turns of 4 deg, at least 8 deg.
+  EXPECT_GE(pair->second, 21);
+  const double baseline =
+      (poses[pair->first].translation - poses[pair->second].translation).norm();
+  EXPECT_GT(baseline, 0.9);
+  EXPECT_LE(baseline, 1.0);
+  // Straight only: the longest baseline (12 images, 0.96 m), mid-stretch.
+  const std::vector<Rigid3d> straight = Straight(31);
+  const auto middle =
+      ChooseInitialPair(straight, OdometryCandidatePairs(straight));
+  ASSERT_TRUE(middle.has_value());
+  EXPECT_EQ(*middle, std::make_pair(9, 21));
+  // Too short a stretch for the minimum baseline: none.
+  const std::vector<Rigid3d> short_one = Straight(2);
+  EXPECT_FALSE(ChooseInitialPair(short_one, OdometryCandidatePairs(short_one)));
+}
+
+TEST(ViewAngleLimitDeg, HalfTheFieldOfViewAtMostTheMaximum) {
+  EXPECT_DOUBLE_EQ(ViewAngleLimitDeg(40.0, 30.0), 20.0);
+  EXPECT_DOUBLE_EQ(ViewAngleLimitDeg(63.0, 30.0), 30.0);
+  EXPECT_DOUBLE_EQ(ViewAngleLimitDeg(0.0, 30.0), 30.0);  // unknown
+}
+
+}  // namespace
+}  // namespace odomcal

@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# Long drives (issue 18): renders the `long` preset cut to 100, 300 and 1000
+# images, runs `odomcal run` on each, and prints per drive the time of every
+# stage, the registered fraction, the part of the drive covered and the
+# calibration error against the ground truth. With --plain_colmap, also plain
+# COLMAP (feature_extractor, sequential_matcher with its default overlap,
+# mapper) and `odomcal colmap` on its model, for the wall time and accuracy
+# comparison. Minutes to hours on 2 cores; not part of CI.
+#
+#   scripts/long_drive_benchmark.sh [--odomcal build/plugin/odomcal]
+#       [--out /tmp/odomcal_long] [--sizes "100 300 1000"] [--plain_colmap]
+#       [--seed 1] [--run_flags "--matcher odometry"]
+# --run_flags: more flags for `odomcal run` (e.g. to compare the matchers;
+# give each variant its own --out).
+set -euo pipefail
+
+odomcal=build/plugin/odomcal
+out=/tmp/odomcal_long
+sizes="100 300 1000"
+plain=0
+seed=1
+run_flags=""
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --odomcal) odomcal=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --sizes) sizes=$2; shift 2 ;;
+    --seed) seed=$2; shift 2 ;;
+    --plain_colmap) plain=1; shift ;;
+    --run_flags) run_flags=$2; shift 2 ;;
+    *) echo "long_drive_benchmark.sh: error: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+odomcal=$(realpath "$odomcal")
+mkdir -p "$out"
+
+# Rotation (deg) and translation (mm) error of calibration.json's
+# odom_from_cam against the ground truth, the registered fraction and the
+# covered duration.
+summarize() {
+  python3 - "$1" "$2" <<'PY'
+import json, math, sys
+result = json.load(open(sys.argv[1]))
+truth = json.load(open(sys.argv[2]))["odom_from_cam"]
+def quat_mul(a, b):
+    w1, x1, y1, z1 = a; w2, x2, y2, z2 = b
+    return [w1*w2 - x1*x2 - y1*y2 - z1*z2, w1*x2 + x1*w2 + y1*z2 - z1*y2,
+            w1*y2 - x1*z2 + y1*w2 + z1*x2, w1*z2 + x1*y2 - y1*x2 + z1*w2]
+estimate = result.get("odom_from_cam")
+line = "status %s" % result["status"]
+if estimate:
+    q = estimate["quaternion_wxyz"]; t = truth["quaternion_wxyz"]
+    d = quat_mul([q[0], -q[1], -q[2], -q[3]], t)
+    angle = math.degrees(2 * math.atan2(math.sqrt(sum(c * c for c in d[1:])), abs(d[0])))
+    dx = [a - b for a, b in zip(estimate["translation_m"][:2], truth["translation_m"][:2])]
+    line += ", error %.3f deg, %.1f mm (x, y)" % (angle, 1000 * math.hypot(*dx))
+colmap = result.get("colmap", {})
+coverage = colmap.get("image_coverage")
+if coverage:
+    line += ", registered fraction %.3f (%d of %d), duration covered %.3f" % (
+        colmap["registered_fraction"], coverage["num_in_calibration"],
+        coverage["num_selected_images"], coverage["duration_fraction"])
+print(line)
+PY
+}
+
+for n in $sizes; do
+  data="$out/long_$n"
+  if [[ ! -f "$data/ground_truth.json" ]]; then
+    "$odomcal" render --preset long --num_images "$n" --seed "$seed" \
+      --output_path "$data" --overwrite > "$out/render_$n.log"
+  fi
+  # Intrinsics of the preset (ground_truth.json camera.params).
+  params=$(python3 -c "import json,sys; print(','.join(str(p) for p in json.load(open(sys.argv[1]))['camera']['params']))" "$data/ground_truth.json")
+  start=$(date +%s.%N)
+  "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
+    --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
+    --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true
+  end=$(date +%s.%N)
+  echo "== $n images: odomcal run $(python3 -c "print('%.0f s' % ($end - $start))"), $(python3 -c "print('%.2f s/image' % (($end - $start) / $n))")"
+  # The stage lines: "[k/5] title ... note (12.3 s)"; in a log (not a
+  # terminal) COLMAP's progress lines come between title and "... note".
+  grep -E '^\[[0-9]/[0-9]\]|^ +\.\.\. |^odomcal run:' "$out/run_$n.log" | cut -c1-160 |
+    sed 's/^/  /' || true
+  echo "  $(summarize "$out/run_$n/calibration.json" "$data/ground_truth.json")"
+  if [[ $plain == 1 ]]; then
+    ws="$out/plain_$n"
+    rm -rf "$ws"; mkdir -p "$ws/sparse"
+    start=$(date +%s.%N)
+    colmap feature_extractor --database_path "$ws/db.db" --image_path "$data/images" \
+      --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
+      --ImageReader.camera_params "$params" --SiftExtraction.use_gpu 0 \
+      --SiftExtraction.max_num_features 2048 > "$ws/extract.log" 2>&1
+    colmap sequential_matcher --database_path "$ws/db.db" --SiftMatching.use_gpu 0 \
+      > "$ws/match.log" 2>&1
+    colmap mapper --database_path "$ws/db.db" --image_path "$data/images" \
+      --output_path "$ws/sparse" --Mapper.ba_refine_focal_length 0 \
+      --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
+      > "$ws/map.log" 2>&1
+    end=$(date +%s.%N)
+    "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/db.db" \
+      --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
+      --output_path "$ws/calibration" > "$ws/calibrate.log" 2>&1 || true
+    echo "  plain COLMAP: $(python3 -c "print('%.0f s' % ($end - $start))"); $(summarize "$ws/calibration/calibration.json" "$data/ground_truth.json")"
+  fi
+done
