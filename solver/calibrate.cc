@@ -9,6 +9,7 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 #include "odomcal/solver/hand_eye_refine.h"
 #include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/noise_refinement.h"
 #include "odomcal/solver/planarity_check.h"
 
 #include <Eigen/Dense>
@@ -392,6 +393,20 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
 }
 
+// Used pairs per segment; a segment left without pairs is undetermined.
+void CountPairsPerSegment(const MotionPairs& pairs,
+                          const std::vector<int>& used,
+                          CalibrationResult* result) {
+  std::vector<int>& count = result->diagnostics.num_pairs_per_segment;
+  count.assign(count.size(), 0);
+  for (const int i : used) ++count[pairs[i].segment];
+  for (size_t k = 0; k < count.size(); ++k) {
+    if (count[k] == 0) {
+      result->observability.metric_scales[k] = Determination::kUndetermined;
+    }
+  }
+}
+
 CalibrationResult Refuse(CalibrationResult result,
                          CalibrationStatus status,
                          const std::string& message) {
@@ -567,9 +582,28 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // Refinement.
   std::vector<int> information_segments;
   Eigen::MatrixXd information;
+  // With the noise estimated from the data, everything below weighs the
+  // pairs with it: `weighted_pairs` / `weighted` (covariances scaled).
+  MotionPairs weighted_pairs = pairs;
+  CalibrationOptions weighted = options;
   if (options.refine) {
-    const RefinementResult refined = RefineOdomFromCam(
-        pairs, used, result.odom_from_cam, result.metric_scales, options);
+    RefinementResult refined;
+    if (options.estimate_noise) {
+      const NoiseRefinement noise_refinement = RefineWithNoiseEstimation(
+          pairs, used, result.odom_from_cam, result.metric_scales, options);
+      refined = noise_refinement.refinement;
+      if (refined.usable) {
+        used = noise_refinement.used;
+        result.noise_estimate = noise_refinement.noise;
+        weighted.noise = noise_refinement.noise.noise;
+        weighted_pairs =
+            ScaleCovariances(pairs, noise_refinement.noise.variance_factors);
+        CountPairsPerSegment(pairs, used, &result);
+      }
+    } else {
+      refined = RefineOdomFromCam(
+          pairs, used, result.odom_from_cam, result.metric_scales, options);
+    }
     d.refinement_report = refined.report;
     d.refinement_num_iterations = refined.num_iterations;
     bool refined_finite = IsFinite(refined.odom_from_cam);
@@ -589,36 +623,37 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     }
   }
   if (information.size() == 0) {
-    information = HandEyeInformation(pairs,
+    information = HandEyeInformation(weighted_pairs,
                                      used,
                                      result.odom_from_cam,
                                      result.metric_scales,
-                                     options,
+                                     weighted,
                                      &information_segments);
   }
   // SE(3) odometry: z may be determined as well.
   if (result.status != CalibrationStatus::kRefinementFailed &&
       OdometryTilts(pairs, used)) {
-    EstimateTranslationZ(
-        pairs, &used, options, &result, &information, &information_segments);
-    d.num_pairs_per_segment.assign(num_segments, 0);
-    for (const int i : used) ++d.num_pairs_per_segment[pairs[i].segment];
-    for (int k = 0; k < num_segments; ++k) {
-      if (d.num_pairs_per_segment[k] == 0) {
-        result.observability.metric_scales[k] = Determination::kUndetermined;
-      }
-    }
+    EstimateTranslationZ(weighted_pairs,
+                         &used,
+                         weighted,
+                         &result,
+                         &information,
+                         &information_segments);
+    CountPairsPerSegment(pairs, used, &result);
   }
   for (const int i : used) d.inlier_mask[i] = 1;
   d.num_pairs_used = static_cast<int>(used.size());
 
-  ComputeResiduals(pairs, used, options, &result);
+  ComputeResiduals(weighted_pairs, used, weighted, &result);
   // Planar odometry cannot see slopes: a camera motion that leaves the plane
   // biases roll/pitch and x/y beyond the planar covariance. Named, and the
   // covariance inflated by the measured excess (planarity_check.h) before
   // the standard deviations are tested against their limits.
-  d.planarity = CheckPlanarity(
-      pairs, used, result.odom_from_cam, result.metric_scales, options.noise);
+  d.planarity = CheckPlanarity(weighted_pairs,
+                               used,
+                               result.odom_from_cam,
+                               result.metric_scales,
+                               weighted.noise);
   if (d.planarity.checked && !d.planarity.consistent) {
     result.warnings.push_back(
         PlanarityWarning(d.planarity, pairs.front().stamp_i_ns));
