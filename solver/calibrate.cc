@@ -393,6 +393,12 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
 }
 
+// The refinement estimates the noise and makes the final inlier test
+// (noise_refinement.h).
+bool EstimatesNoise(const CalibrationOptions& options) {
+  return options.estimate_noise && options.refine;
+}
+
 // Used pairs per segment; a segment left without pairs is undetermined.
 void CountPairsPerSegment(const MotionPairs& pairs,
                           const std::vector<int>& used,
@@ -425,6 +431,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   CalibrationResult result;
   CalibrationDiagnostics& d = result.diagnostics;
   const int num_pairs = static_cast<int>(pairs.size());
+  auto TooFewInliers = [num_pairs](const std::vector<int>& inliers) {
+    return "only " + std::to_string(inliers.size()) + " of " +
+           std::to_string(num_pairs) +
+           " motion pairs agree on one extrinsic (RANSAC); check the pose "
+           "convention (world_from_cam), the time association and the noise "
+           "parameters";
+  };
   const int num_segments = NumSegments(pairs);
   result.observability.metric_scales.assign(num_segments,
                                             Determination::kEstimated);
@@ -509,15 +522,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     for (int i = 0; i < num_pairs; ++i) {
       if (ransac.inlier_mask[i]) used.push_back(i);
     }
-    if (ransac.num_inliers < options.ransac_min_inlier_ratio * num_pairs) {
+    // With the noise estimated from the data, the final inlier test decides
+    // (RANSAC's choice under a given noise that is too small is partial).
+    if (ransac.num_inliers < options.ransac_min_inlier_ratio * num_pairs &&
+        !EstimatesNoise(options)) {
       for (const int i : used) d.inlier_mask[i] = 1;
-      return Refuse(result,
-                    CalibrationStatus::kInconsistentData,
-                    "only " + std::to_string(ransac.num_inliers) + " of " +
-                        std::to_string(num_pairs) +
-                        " motion pairs agree on one extrinsic (RANSAC); "
-                        "check the pose convention (world_from_cam), the "
-                        "time association and the noise parameters");
+      return Refuse(
+          result, CalibrationStatus::kInconsistentData, TooFewInliers(used));
     }
   } else {
     used = all;
@@ -588,7 +599,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   CalibrationOptions weighted = options;
   if (options.refine) {
     RefinementResult refined;
-    if (options.estimate_noise) {
+    if (EstimatesNoise(options)) {
       const NoiseRefinement noise_refinement = RefineWithNoiseEstimation(
           pairs, used, result.odom_from_cam, result.metric_scales, options);
       refined = noise_refinement.refinement;
@@ -599,6 +610,14 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
         weighted_pairs =
             ScaleCovariances(pairs, noise_refinement.noise.variance_factors);
         CountPairsPerSegment(pairs, used, &result);
+      }
+      if (used.size() < options.ransac_min_inlier_ratio * num_pairs) {
+        for (const int i : used) d.inlier_mask[i] = 1;
+        return Refuse(result,
+                      CalibrationStatus::kInconsistentData,
+                      TooFewInliers(used) +
+                          " (under the noise estimated "
+                          "from the data)");
       }
     } else {
       refined = RefineOdomFromCam(
