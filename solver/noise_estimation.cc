@@ -21,7 +21,11 @@ using Matrix6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 
 constexpr int kMaxIterations = 100;
 constexpr double kConvergence = 1e-5;
-constexpr double kMinMultiplier = 1e-6;
+// The given noise is a prior, not only a start: an estimate at most 10x below
+// it (in standard deviation). Exact or over-fitted data (simulations, a
+// handful of pairs) would otherwise claim a near-zero noise, a covariance of
+// zero and a gate that rejects every pair off by rounding.
+constexpr double kMinMultiplier = 0.01;
 constexpr double kMaxMultiplier = 1e6;
 
 int Index(NoiseGroup group) { return static_cast<int>(group); }

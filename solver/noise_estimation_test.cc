@@ -137,6 +137,26 @@ TEST(NoiseEstimation, KeepsTheGivenNoiseWithTooFewPairs) {
             "translation (zero or not determined by these pairs)");
 }
 
+// Exact pairs: the estimate stops at its floor, 0.1x the given standard
+// deviations, instead of claiming zero noise.
+TEST(NoiseEstimation, StopsAtTheFloorOnExactData) {
+  std::mt19937_64 rng(TestSeed(146));
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 100;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  const NoiseModel prior;
+  std::vector<int> used(truth.pairs.size());
+  for (size_t i = 0; i < used.size(); ++i) used[i] = static_cast<int>(i);
+  const NoiseEstimate noise = EstimateNoise(truth.pairs,
+                                            used,
+                                            truth.odom_from_cam,
+                                            truth.metric_scales,
+                                            OptionsFor(truth, prior));
+  for (const NoiseGroup group : kGroups) {
+    EXPECT_NEAR(noise.SigmaRatio(group), 0.1, 1e-12) << ToString(group);
+  }
+}
+
 TEST(NoiseEstimation, ScalesThePairsOwnCovariances) {
   MotionPair pair;
   MotionCovariance covariance = MotionCovariance::Identity();
