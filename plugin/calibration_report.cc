@@ -137,6 +137,40 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
   return out;
 }
 
+// The estimated noise under the keys of options.noise, and per group its
+// ratio to the given noise and how it was determined.
+json NoiseToJson(const NoiseEstimate& estimate) {
+  const NoiseModel& n = estimate.noise;
+  json groups = json::array();
+  for (int g = 0; g < kNumNoiseGroups; ++g) {
+    json tied = json::array();
+    for (int h = 0; h < kNumNoiseGroups; ++h) {
+      if (h != g && estimate.estimated[g] && estimate.estimated[h] &&
+          estimate.tie[h] == estimate.tie[g]) {
+        tied.push_back(ToString(static_cast<NoiseGroup>(h)));
+      }
+    }
+    groups.push_back({
+        {"group", ToString(static_cast<NoiseGroup>(g))},
+        {"estimated", estimate.estimated[g]},
+        {"sigma_ratio", estimate.SigmaRatio(static_cast<NoiseGroup>(g))},
+        {"tied_with", tied},
+        {"redundancy", estimate.redundancy[g]},
+    });
+  }
+  return {
+      {"odom_yaw_sigma_deg", n.odom_yaw_sigma_deg},
+      {"odom_yaw_sigma_rel", n.odom_yaw_sigma_rel},
+      {"odom_tilt_sigma_deg", n.odom_tilt_sigma_deg},
+      {"odom_translation_sigma_m", n.odom_translation_sigma_m},
+      {"odom_translation_sigma_rel", n.odom_translation_sigma_rel},
+      {"cam_rotation_sigma_deg", n.cam_rotation_sigma_deg},
+      {"cam_translation_sigma_rel", n.cam_translation_sigma_rel},
+      {"num_pairs", estimate.num_pairs},
+      {"groups", groups},
+  };
+}
+
 std::string Format(const char* format, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), format, value);
@@ -247,6 +281,8 @@ json CalibrationToJson(const CalibrationResult& result,
     out["stddev"] = nullptr;
     out["covariance"] = nullptr;
   }
+  if (result.noise_estimate)
+    out["noise_estimated"] = NoiseToJson(*result.noise_estimate);
   out["warnings"] = result.warnings;
   json diagnostics = DiagnosticsToJson(result.diagnostics);
   const AssociationResult& a = context.association;
@@ -450,6 +486,9 @@ std::string CalibrationSummary(const CalibrationResult& result,
         << ", " << Format("%.1f mm", 1000.0 * d.rms_translation_residual_m)
         << "; yaw increments " << Format("%.1f", d.yaw_increment_min_deg)
         << " .. " << Format("%.1f deg", d.yaw_increment_max_deg) << "\n";
+    if (result.noise_estimate) {
+      out << "  " << NoiseSummary(*result.noise_estimate) << "\n";
+    }
   }
   for (const std::string& warning : result.warnings) {
     out << "  warning: " << warning << "\n";

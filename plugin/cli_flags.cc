@@ -210,6 +210,23 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
           "max_scale_stddev_rel",
           "larger: scale reported unobservable",
           [](auto& o) -> auto& { return o.max_scale_stddev_rel; }),
+      // Noise estimated from the data; echoed as the boolean
+      // "estimate_noise".
+      [] {
+        OptionRow<C> row = ChoiceRow<C>(
+            "estimate_noise",
+            "estimate the noise levels from the data (the noise flags are "
+            "the starting point)",
+            {"on", "off"},
+            [](const C& o) {
+              return std::string(o.estimate_noise ? "on" : "off");
+            },
+            [](C* o, const std::string& name) {
+              o->estimate_noise = name == "on";
+            });
+        row.echo = [](const C& o) { return nlohmann::json(o.estimate_noise); };
+        return row;
+      }(),
   };
   return table;
 }

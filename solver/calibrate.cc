@@ -9,6 +9,7 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 #include "odomcal/solver/hand_eye_refine.h"
 #include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/noise_refinement.h"
 #include "odomcal/solver/planarity_check.h"
 
 #include <Eigen/Dense>
@@ -393,6 +394,26 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
 }
 
+// The refinement estimates the noise and makes the final inlier test
+// (noise_refinement.h).
+bool EstimatesNoise(const CalibrationOptions& options) {
+  return options.estimate_noise && options.refine;
+}
+
+// Used pairs per segment; a segment left without pairs is undetermined.
+void CountPairsPerSegment(const MotionPairs& pairs,
+                          const std::vector<int>& used,
+                          CalibrationResult* result) {
+  std::vector<int>& count = result->diagnostics.num_pairs_per_segment;
+  count.assign(count.size(), 0);
+  for (const int i : used) ++count[pairs[i].segment];
+  for (size_t k = 0; k < count.size(); ++k) {
+    if (count[k] == 0) {
+      result->observability.metric_scales[k] = Determination::kUndetermined;
+    }
+  }
+}
+
 CalibrationResult Refuse(CalibrationResult result,
                          CalibrationStatus status,
                          const std::string& message) {
@@ -411,6 +432,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   CalibrationResult result;
   CalibrationDiagnostics& d = result.diagnostics;
   const int num_pairs = static_cast<int>(pairs.size());
+  auto TooFewInliers = [num_pairs](const std::vector<int>& inliers) {
+    return "only " + std::to_string(inliers.size()) + " of " +
+           std::to_string(num_pairs) +
+           " motion pairs agree on one extrinsic (RANSAC); check the pose "
+           "convention (world_from_cam), the time association and the noise "
+           "parameters";
+  };
   const int num_segments = NumSegments(pairs);
   result.observability.metric_scales.assign(num_segments,
                                             Determination::kEstimated);
@@ -495,15 +523,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     for (int i = 0; i < num_pairs; ++i) {
       if (ransac.inlier_mask[i]) used.push_back(i);
     }
-    if (ransac.num_inliers < options.ransac_min_inlier_ratio * num_pairs) {
+    // With the noise estimated from the data, the final inlier test decides
+    // (RANSAC's choice under a given noise that is too small is partial).
+    if (ransac.num_inliers < options.ransac_min_inlier_ratio * num_pairs &&
+        !EstimatesNoise(options)) {
       for (const int i : used) d.inlier_mask[i] = 1;
-      return Refuse(result,
-                    CalibrationStatus::kInconsistentData,
-                    "only " + std::to_string(ransac.num_inliers) + " of " +
-                        std::to_string(num_pairs) +
-                        " motion pairs agree on one extrinsic (RANSAC); "
-                        "check the pose convention (world_from_cam), the "
-                        "time association and the noise parameters");
+      return Refuse(
+          result, CalibrationStatus::kInconsistentData, TooFewInliers(used));
     }
   } else {
     used = all;
@@ -568,9 +594,36 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // Refinement.
   std::vector<int> information_segments;
   Eigen::MatrixXd information;
+  // With the noise estimated from the data, everything below weighs the
+  // pairs with it: `weighted_pairs` / `weighted` (covariances scaled).
+  MotionPairs weighted_pairs = pairs;
+  CalibrationOptions weighted = options;
   if (options.refine) {
-    const RefinementResult refined = RefineOdomFromCam(
-        pairs, used, result.odom_from_cam, result.metric_scales, options);
+    RefinementResult refined;
+    if (EstimatesNoise(options)) {
+      const NoiseRefinement noise_refinement = RefineWithNoiseEstimation(
+          pairs, used, result.odom_from_cam, result.metric_scales, options);
+      refined = noise_refinement.refinement;
+      if (refined.usable) {
+        used = noise_refinement.used;
+        result.noise_estimate = noise_refinement.noise;
+        weighted.noise = noise_refinement.noise.noise;
+        weighted_pairs =
+            ScaleCovariances(pairs, noise_refinement.noise.variance_factors);
+        CountPairsPerSegment(pairs, used, &result);
+      }
+      if (used.size() < options.ransac_min_inlier_ratio * num_pairs) {
+        for (const int i : used) d.inlier_mask[i] = 1;
+        return Refuse(result,
+                      CalibrationStatus::kInconsistentData,
+                      TooFewInliers(used) +
+                          " (under the noise estimated "
+                          "from the data)");
+      }
+    } else {
+      refined = RefineOdomFromCam(
+          pairs, used, result.odom_from_cam, result.metric_scales, options);
+    }
     d.refinement_report = refined.report;
     d.refinement_num_iterations = refined.num_iterations;
     bool refined_finite = IsFinite(refined.odom_from_cam);
@@ -590,36 +643,37 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     }
   }
   if (information.size() == 0) {
-    information = HandEyeInformation(pairs,
+    information = HandEyeInformation(weighted_pairs,
                                      used,
                                      result.odom_from_cam,
                                      result.metric_scales,
-                                     options,
+                                     weighted,
                                      &information_segments);
   }
   // SE(3) odometry: z may be determined as well.
   if (result.status != CalibrationStatus::kRefinementFailed &&
       OdometryTilts(pairs, used)) {
-    EstimateTranslationZ(
-        pairs, &used, options, &result, &information, &information_segments);
-    d.num_pairs_per_segment.assign(num_segments, 0);
-    for (const int i : used) ++d.num_pairs_per_segment[pairs[i].segment];
-    for (int k = 0; k < num_segments; ++k) {
-      if (d.num_pairs_per_segment[k] == 0) {
-        result.observability.metric_scales[k] = Determination::kUndetermined;
-      }
-    }
+    EstimateTranslationZ(weighted_pairs,
+                         &used,
+                         weighted,
+                         &result,
+                         &information,
+                         &information_segments);
+    CountPairsPerSegment(pairs, used, &result);
   }
   for (const int i : used) d.inlier_mask[i] = 1;
   d.num_pairs_used = static_cast<int>(used.size());
 
-  ComputeResiduals(pairs, used, options, &result);
+  ComputeResiduals(weighted_pairs, used, weighted, &result);
   // Planar odometry cannot see slopes: a camera motion that leaves the plane
   // biases roll/pitch and x/y beyond the planar covariance. Named, and the
   // covariance inflated by the measured excess (planarity_check.h) before
   // the standard deviations are tested against their limits.
-  d.planarity = CheckPlanarity(
-      pairs, used, result.odom_from_cam, result.metric_scales, options.noise);
+  d.planarity = CheckPlanarity(weighted_pairs,
+                               used,
+                               result.odom_from_cam,
+                               result.metric_scales,
+                               weighted.noise);
   if (d.planarity.checked && !d.planarity.consistent) {
     result.warnings.push_back(
         PlanarityWarning(d.planarity, pairs.front().stamp_i_ns));

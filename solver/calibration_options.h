@@ -86,6 +86,12 @@ struct CalibrationOptions {
   // world_from_cam was expected).
   double max_relative_translation_residual = 0.2;
 
+  // Noise levels estimated from the data (noise_estimation.h), starting from
+  // `noise` and the pairs' own covariances; the covariance of the result and
+  // the final inlier test (chi-square on the whitened residual) use them.
+  // Off: the given noise is trusted and the pairs RANSAC chose are kept.
+  bool estimate_noise = true;
+
   // Throws std::invalid_argument whose message starts with the field's name
   // ("ransac_min_inlier_ratio must be in [0, 1], got 1.5"); the field names
   // of the noise model and of this struct are the CLI's flag names without

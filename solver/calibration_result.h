@@ -1,6 +1,7 @@
 // Result of the odometer-camera calibration (see calibrate.h).
 #pragma once
 
+#include "odomcal/solver/noise_estimation.h"
 #include "odomcal/solver/observability.h"
 #include "odomcal/solver/planarity_check.h"
 #include "odomcal/solver/rigid3.h"
@@ -120,6 +121,10 @@ struct CalibrationResult {
   // metric_scales[covariance_segments[k]]): segments without used pairs
   // have no row.
   std::vector<int> covariance_segments;
+
+  // The noise estimated from the data (options.estimate_noise), which the
+  // covariance above uses; absent when not estimated.
+  std::optional<NoiseEstimate> noise_estimate;
 
   bool IsSuccess() const { return status == CalibrationStatus::kSuccess; }
 };

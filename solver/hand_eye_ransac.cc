@@ -1,6 +1,7 @@
 #include "odomcal/solver/hand_eye_ransac.h"
 
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/chi_square.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_residual.h"
 
@@ -49,7 +50,7 @@ double NormalizedError(const MotionPair& pair,
                        const Rigid3d& odom_from_cam,
                        double metric_scale,
                        const CalibrationOptions& options) {
-  constexpr double kChiSquare3Dof999 = 16.266;
+  static const double kChiSquare3Dof999 = ChiSquare999(3);
   const Vector6d residual = HandEyeResidual(pair, odom_from_cam, metric_scale);
   double rotation = residual.head<3>().norm() * kRadToDeg /
                     options.ransac_max_rotation_error_deg;

@@ -1,6 +1,7 @@
 #include "odomcal/solver/planarity_check.h"
 
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/chi_square.h"
 #include "odomcal/solver/hand_eye_residual.h"
 
 #include <Eigen/Dense>
@@ -13,8 +14,6 @@ namespace odomcal {
 namespace {
 
 constexpr double kPlanarTolerance = 1e-9;
-// Standard normal quantile of 0.999.
-constexpr double kZ999 = 3.090232306167813;
 
 std::string Format(const char* format, double value) {
   char text[64];
@@ -67,13 +66,6 @@ bool IsPlanarOdometry(const MotionPairs& pairs) {
     }
   }
   return true;
-}
-
-double ChiSquare999(int dof) {
-  if (dof <= 0) return 0.0;
-  const double k = static_cast<double>(dof);
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + kZ999 * std::sqrt(a), 3);
 }
 
 PlanarityCheck CheckPlanarity(const MotionPairs& pairs,

@@ -86,8 +86,4 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
 std::string PlanarityWarning(const PlanarityCheck& check,
                              int64_t first_stamp_ns);
 
-// Upper 99.9 % point of the chi-square distribution with `dof` degrees of
-// freedom (Wilson-Hilferty; within 1 % above 10 degrees of freedom).
-double ChiSquare999(int dof);
-
 }  // namespace odomcal

@@ -406,6 +406,7 @@ class FlagEcho : public ScratchFolderTest {
         {"--max_rotation_stddev_deg", {"2.5", 2.5}},
         {"--max_translation_stddev_m", {"0.06", 0.06}},
         {"--max_scale_stddev_rel", {"0.06", 0.06}},
+        {"--estimate_noise", {"off", false}},
     };
   }
 

@@ -1,0 +1,255 @@
+// Consistency of the default calibration over many simulated runs: RMSE
+// against the noise-weighted batch reference (GT-B: the refinement started at
+// the truth with the true per-pair covariances), coverage of the stated
+// 3 sigma and the mean NEES. Not a timed benchmark; docs/statistics.md has
+// the commands and the numbers.
+//
+//   statistics_benchmark paper [seeds] [motions] [outlier_fraction]
+//   statistics_benchmark drive [seeds] [odometry_hz] [camera_hz] [noise_factor]
+//
+// paper: the paper protocol with parametric camera noise (odometry 0.01 rad
+// yaw / 2 % translation, camera 0.005 rad rotation / 0.01 rad translation
+// direction), pairs given to CalibrateOdomCam without their covariances (as
+// the CLI sees them). drive: 2-minute drives of the drive simulator
+// (differential drive, both turn directions), associated like the CLI does,
+// camera pose noise 0.02 deg / 2 mm times noise_factor.
+
+#include "odomcal/adapters/association.h"
+#include "odomcal/datasets/paper/paper_simulation.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/hand_eye_refine.h"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+struct Errors {
+  double rotation_deg = 0.0;
+  double translation_m = 0.0;
+  double scale_rel = 0.0;
+};
+
+Errors ErrorsOf(const Rigid3d& estimate,
+                double scale,
+                const Rigid3d& truth,
+                double true_scale) {
+  Errors e;
+  e.rotation_deg =
+      RotationAngle(estimate.rotation.conjugate() * truth.rotation) * kRadToDeg;
+  e.translation_m = (estimate.translation - truth.translation).head<2>().norm();
+  e.scale_rel = (scale - true_scale) / true_scale;
+  return e;
+}
+
+// Sums over runs of one configuration.
+struct Tally {
+  int runs = 0, failures = 0, with_covariance = 0;
+  double rotation2 = 0.0, translation2 = 0.0, scale2 = 0.0;
+  int rotation_covered = 0, x_covered = 0, y_covered = 0, scale_covered = 0;
+  double nees = 0.0;
+  double used_fraction = 0.0;
+
+  void Add(const CalibrationResult& result,
+           const Rigid3d& truth,
+           double true_scale) {
+    ++runs;
+    if (!result.has_estimate || result.metric_scales.empty() ||
+        !std::isfinite(result.metric_scales[0])) {
+      ++failures;
+      return;
+    }
+    const Errors e = ErrorsOf(
+        result.odom_from_cam, result.metric_scales[0], truth, true_scale);
+    rotation2 += e.rotation_deg * e.rotation_deg;
+    translation2 += e.translation_m * e.translation_m;
+    scale2 += e.scale_rel * e.scale_rel;
+    used_fraction += static_cast<double>(result.diagnostics.num_pairs_used) /
+                     result.diagnostics.num_pairs_in;
+    if (!result.covariance || result.covariance->rows() < 6) return;
+    ++with_covariance;
+    const Eigen::MatrixXd& c = *result.covariance;
+    Eigen::VectorXd error(6);
+    error.head<3>() =
+        LogRotation(truth.rotation * result.odom_from_cam.rotation.conjugate());
+    error.segment<2>(3) =
+        (truth.translation - result.odom_from_cam.translation).head<2>();
+    error(5) = true_scale - result.metric_scales[0];
+    auto within = [&](int k) {
+      return std::abs(error(k)) <= 3.0 * std::sqrt(c(k, k));
+    };
+    rotation_covered += within(0) && within(1) && within(2);
+    x_covered += within(3);
+    y_covered += within(4);
+    scale_covered += within(5);
+    nees += error.dot(c.topLeftCorner<6, 6>().ldlt().solve(error));
+  }
+
+  double Rmse(double sum) const {
+    return std::sqrt(sum / std::max(1, runs - failures));
+  }
+  void Print(const char* name) const {
+    const double n = std::max(1, with_covariance);
+    std::printf(
+        "%-22s runs %3d fail %2d | RMSE rot %.4f deg  xy %.2f mm  scale "
+        "%.3f %% | within 3 sigma: rot %3.0f %%  x %3.0f %%  y %3.0f %%  "
+        "scale %3.0f %% | mean NEES %.2f (6) | pairs used %.1f %%\n",
+        name,
+        runs,
+        failures,
+        Rmse(rotation2),
+        1000.0 * Rmse(translation2),
+        100.0 * Rmse(scale2),
+        100.0 * rotation_covered / n,
+        100.0 * x_covered / n,
+        100.0 * y_covered / n,
+        100.0 * scale_covered / n,
+        nees / n,
+        100.0 * used_fraction / std::max(1, runs - failures));
+  }
+};
+
+int RunPaper(int seeds, int motions, double outlier_fraction) {
+  PaperSimulationOptions simulation;
+  simulation.num_motions = motions;
+  simulation.odom_yaw_sigma_rad = 0.01;
+  simulation.odom_translation_sigma_rel = 0.02;
+  simulation.camera_noise = CameraNoiseMode::kParametric;
+  simulation.cam_rotation_sigma_rad = 0.005;
+  simulation.cam_direction_sigma_rad = 0.01;
+  simulation.outlier_fraction = outlier_fraction;
+  Tally estimated, given;
+  double gt_rotation2 = 0.0, gt_translation2 = 0.0, gt_scale2 = 0.0;
+  int gt_runs = 0;
+  for (int seed = 0; seed < seeds; ++seed) {
+    std::mt19937_64 rng(1000 + seed);
+    const Rigid3d truth = RandomOdomFromCam(&rng);
+    const double scale = std::exp(std::uniform_real_distribution<double>(
+        std::log(0.5), std::log(2.0))(rng));
+    const PaperSimulation sim =
+        SimulatePaperMotions(simulation, truth, {scale}, &rng);
+    // GT-B on the inliers, with the true covariances.
+    CalibrationOptions options;
+    options.fixed_translation_z_m = truth.translation.z();
+    std::vector<int> inliers;
+    for (size_t i = 0; i < sim.pairs.size(); ++i) {
+      if (!sim.is_outlier[i]) inliers.push_back(static_cast<int>(i));
+    }
+    const RefinementResult gt =
+        RefineOdomFromCam(sim.pairs, inliers, truth, {scale}, options);
+    if (gt.usable) {
+      const Errors e =
+          ErrorsOf(gt.odom_from_cam, gt.metric_scales[0], truth, scale);
+      gt_rotation2 += e.rotation_deg * e.rotation_deg;
+      gt_translation2 += e.translation_m * e.translation_m;
+      gt_scale2 += e.scale_rel * e.scale_rel;
+      ++gt_runs;
+    }
+    MotionPairs plain = sim.pairs;
+    for (MotionPair& pair : plain) {
+      pair.odom_covariance.reset();
+      pair.cam_covariance.reset();
+    }
+    estimated.Add(CalibrateOdomCam(plain, options), truth, scale);
+    options.estimate_noise = false;
+    given.Add(CalibrateOdomCam(plain, options), truth, scale);
+  }
+  std::printf("paper protocol: %d seeds, %d motions, %.0f %% outliers\n",
+              seeds,
+              motions,
+              100.0 * outlier_fraction);
+  const double n = std::max(1, gt_runs);
+  const double gt_r = std::sqrt(gt_rotation2 / n);
+  const double gt_t = std::sqrt(gt_translation2 / n);
+  const double gt_s = std::sqrt(gt_scale2 / n);
+  std::printf(
+      "%-22s runs %3d         | RMSE rot %.4f deg  xy %.2f mm  scale "
+      "%.3f %%\n",
+      "GT-B (inliers)",
+      gt_runs,
+      gt_r,
+      1000.0 * gt_t,
+      100.0 * gt_s);
+  for (const auto& [name, tally] :
+       {std::pair<const char*, const Tally&>{"default", estimated},
+        std::pair<const char*, const Tally&>{"--estimate_noise off", given}}) {
+    tally.Print(name);
+    std::printf("%-22s RMSE / GT-B: rot %.3f  xy %.3f  scale %.3f\n",
+                "",
+                tally.Rmse(tally.rotation2) / gt_r,
+                tally.Rmse(tally.translation2) / gt_t,
+                tally.Rmse(tally.scale2) / gt_s);
+  }
+  return 0;
+}
+
+int RunDrive(int seeds,
+             double odometry_hz,
+             double camera_hz,
+             double noise_factor) {
+  Tally estimated, given;
+  for (int seed = 0; seed < seeds; ++seed) {
+    DriveSimulatorOptions options;
+    options.seed = 2000 + seed;
+    options.duration_s = 120.0;
+    options.odometry_rate_hz = odometry_hz;
+    options.camera_rate_hz = camera_hz;
+    options.camera_rotation_noise_deg = 0.02 * noise_factor;
+    options.camera_position_noise = 0.002 * noise_factor;
+    const SimulatedDrive drive = SimulateDrive(options);
+    const AssociationResult association = AssociateCameraWithOdometry(
+        {drive.camera}, drive.odometry, AssociationOptions());
+    CalibrationOptions calibration;
+    calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+    estimated.Add(CalibrateOdomCam(association.pairs, calibration),
+                  drive.odom_from_cam,
+                  drive.metric_scale);
+    calibration.estimate_noise = false;
+    given.Add(CalibrateOdomCam(association.pairs, calibration),
+              drive.odom_from_cam,
+              drive.metric_scale);
+  }
+  std::printf(
+      "drives: %d seeds, 120 s, odometry %g Hz, camera %g Hz, camera noise "
+      "%g x (0.02 deg, 2 mm)\n",
+      seeds,
+      odometry_hz,
+      camera_hz,
+      noise_factor);
+  estimated.Print("default");
+  given.Print("--estimate_noise off");
+  return 0;
+}
+
+}  // namespace
+}  // namespace odomcal
+
+int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "";
+  auto arg = [&](int k, double fallback) {
+    return argc > k ? std::atof(argv[k]) : fallback;
+  };
+  if (mode == "paper") {
+    return odomcal::RunPaper(static_cast<int>(arg(2, 30)),
+                             static_cast<int>(arg(3, 20)),
+                             arg(4, 0.0));
+  }
+  if (mode == "drive") {
+    return odomcal::RunDrive(
+        static_cast<int>(arg(2, 30)), arg(3, 50.0), arg(4, 5.0), arg(5, 1.0));
+  }
+  std::fprintf(stderr,
+               "usage: statistics_benchmark paper [seeds] [motions] "
+               "[outlier_fraction] | drive [seeds] [odometry_hz] "
+               "[camera_hz] [noise_factor]\n");
+  return 2;
+}

@@ -1,0 +1,175 @@
+#include "odomcal/solver/noise_estimation.h"
+
+#include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/calibrate.h"
+#include "odomcal/tests/test_seed.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace odomcal {
+namespace {
+
+constexpr NoiseGroup kGroups[] = {NoiseGroup::kOdometryRotation,
+                                  NoiseGroup::kOdometryTranslation,
+                                  NoiseGroup::kCameraRotation,
+                                  NoiseGroup::kCameraTranslation};
+
+// Pairs simulated with the prior noise scaled by `true_factors`.
+// With `zero_lever_arm` the extrinsic has no translation, so that camera
+// and odometry steps have the same length.
+SimulatedMotions Simulate(const NoiseModel& prior,
+                          const NoiseFactors& true_factors,
+                          int num_pairs,
+                          uint64_t seed,
+                          bool zero_lever_arm = false) {
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = num_pairs;
+  simulation.add_noise = true;
+  simulation.noise = ScaleNoise(prior, true_factors);
+  std::mt19937_64 rng(seed);
+  Rigid3d odom_from_cam = RandomOdomFromCam(&rng);
+  if (zero_lever_arm) odom_from_cam.translation.setZero();
+  return SimulateMotions(simulation, odom_from_cam, {0.5}, &rng);
+}
+
+CalibrationOptions OptionsFor(const SimulatedMotions& truth,
+                              const NoiseModel& prior) {
+  CalibrationOptions options;
+  options.noise = prior;
+  options.fixed_translation_z_m = truth.odom_from_cam.translation.z();
+  return options;
+}
+
+// Noise 2x and 0.5x the given model (standard deviations), separable groups:
+// each group's ratio recovered within 10 % through the whole pipeline.
+TEST(NoiseEstimation, RecoversPerGroupNoiseThroughTheCalibration) {
+  const uint64_t seed = TestSeed(141);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  NoiseModel prior;
+  prior.odom_yaw_sigma_deg = 0.3;
+  prior.odom_yaw_sigma_rel = 0.0;
+  prior.odom_translation_sigma_m = 0.01;
+  prior.odom_translation_sigma_rel = 0.0;
+  prior.cam_rotation_sigma_deg = 0.1;
+  prior.cam_translation_sigma_rel = 0.02;
+  const NoiseFactors truth_factors = {4.0, 0.25, 0.25, 4.0};
+  const SimulatedMotions truth = Simulate(prior, truth_factors, 1500, seed);
+  const CalibrationResult result =
+      CalibrateOdomCam(truth.pairs, OptionsFor(truth, prior));
+  ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
+  ASSERT_TRUE(result.noise_estimate.has_value());
+  const NoiseEstimate& noise = *result.noise_estimate;
+  SCOPED_TRACE(NoiseSummary(noise));
+  for (const NoiseGroup group : kGroups) {
+    const int g = static_cast<int>(group);
+    EXPECT_TRUE(noise.estimated[g]) << ToString(group);
+    EXPECT_EQ(noise.tie[g], g) << ToString(group);
+    EXPECT_NEAR(noise.SigmaRatio(group) / std::sqrt(truth_factors[g]), 1.0, 0.1)
+        << ToString(group);
+  }
+  EXPECT_NEAR(result.diagnostics.reduced_chi_square, 1.0, 0.1);
+  // The estimated model is the given one with scaled standard deviations.
+  EXPECT_NEAR(noise.noise.odom_yaw_sigma_deg,
+              prior.odom_yaw_sigma_deg * noise.SigmaRatio(kGroups[0]),
+              1e-12);
+  EXPECT_NE(NoiseSummary(noise).find("noise estimated from "),
+            std::string::npos);
+}
+
+// Odometry and camera translation noise both proportional to the step
+// length, and (no lever arm) the steps equally long: their contributions have
+// the same shape, so they are tied and share one factor, which matches the
+// common true ratio. (With a lever arm of a few centimetres, the camera steps
+// differ enough in length for 800 pairs to separate them.)
+TEST(NoiseEstimation, TiesGroupsTheDataCannotSeparate) {
+  const uint64_t seed = TestSeed(142);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  NoiseModel prior;
+  prior.odom_translation_sigma_m = 1e-7;  // must be > 0
+  prior.odom_translation_sigma_rel = 0.02;
+  prior.cam_translation_sigma_rel = 0.02;
+  const NoiseFactors truth_factors = {1.0, 2.25, 1.0, 2.25};
+  const SimulatedMotions truth =
+      Simulate(prior, truth_factors, 800, seed, /*zero_lever_arm=*/true);
+  const CalibrationResult result =
+      CalibrateOdomCam(truth.pairs, OptionsFor(truth, prior));
+  ASSERT_EQ(result.status, CalibrationStatus::kSuccess) << result.message;
+  ASSERT_TRUE(result.noise_estimate.has_value());
+  const NoiseEstimate& noise = *result.noise_estimate;
+  const std::string summary = NoiseSummary(noise);
+  SCOPED_TRACE(summary);
+  EXPECT_TRUE(noise.Tied(NoiseGroup::kOdometryTranslation,
+                         NoiseGroup::kCameraTranslation));
+  EXPECT_FALSE(
+      noise.Tied(NoiseGroup::kOdometryRotation, NoiseGroup::kCameraRotation));
+  EXPECT_NEAR(noise.SigmaRatio(NoiseGroup::kCameraTranslation), 1.5, 0.15);
+  EXPECT_EQ(noise.SigmaRatio(NoiseGroup::kCameraTranslation),
+            noise.SigmaRatio(NoiseGroup::kOdometryTranslation));
+  EXPECT_NE(summary.find("odometry translation and camera translation (tied: "
+                         "not separable) x1."),
+            std::string::npos);
+}
+
+// Two pairs: 12 residuals, 6 parameters. No group, not even all tied
+// together, is determined to within kMaxRelativeStddev (one common factor
+// from 6 degrees of freedom: sqrt(2 / 6) = 0.58): the given noise is kept,
+// and the summary says so.
+TEST(NoiseEstimation, KeepsTheGivenNoiseWithTooFewPairs) {
+  const uint64_t seed = TestSeed(143);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  const NoiseModel prior;
+  const SimulatedMotions truth = Simulate(prior, {4.0, 4.0, 4.0, 4.0}, 2, seed);
+  const NoiseEstimate noise = EstimateNoise(truth.pairs,
+                                            {0, 1},
+                                            truth.odom_from_cam,
+                                            truth.metric_scales,
+                                            OptionsFor(truth, prior));
+  for (const NoiseGroup group : kGroups) {
+    EXPECT_FALSE(noise.estimated[static_cast<int>(group)]) << ToString(group);
+    EXPECT_EQ(noise.SigmaRatio(group), 1.0);
+  }
+  EXPECT_EQ(NoiseSummary(noise),
+            "noise estimated from 2 pairs (standard deviations relative to "
+            "the given noise): none determined; kept as given: odometry "
+            "rotation, odometry translation, camera rotation, camera "
+            "translation (zero or not determined by these pairs)");
+}
+
+// Exact pairs: the estimate stops at its floor, 0.1x the given standard
+// deviations, instead of claiming zero noise.
+TEST(NoiseEstimation, StopsAtTheFloorOnExactData) {
+  std::mt19937_64 rng(TestSeed(146));
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 100;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  const NoiseModel prior;
+  std::vector<int> used(truth.pairs.size());
+  for (size_t i = 0; i < used.size(); ++i) used[i] = static_cast<int>(i);
+  const NoiseEstimate noise = EstimateNoise(truth.pairs,
+                                            used,
+                                            truth.odom_from_cam,
+                                            truth.metric_scales,
+                                            OptionsFor(truth, prior));
+  for (const NoiseGroup group : kGroups) {
+    EXPECT_NEAR(noise.SigmaRatio(group), 0.1, 1e-12) << ToString(group);
+  }
+}
+
+TEST(NoiseEstimation, ScalesThePairsOwnCovariances) {
+  MotionPair pair;
+  MotionCovariance covariance = MotionCovariance::Identity();
+  covariance(0, 3) = covariance(3, 0) = 0.5;
+  pair.odom_covariance = covariance;
+  pair.cam_covariance = covariance;
+  const MotionPairs scaled = ScaleCovariances({pair}, {4.0, 9.0, 0.25, 1.0});
+  EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(0, 0), 4.0);
+  EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(4, 4), 9.0);
+  EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(0, 3), 0.5 * 6.0);
+  EXPECT_DOUBLE_EQ((*scaled[0].cam_covariance)(2, 2), 0.25);
+  EXPECT_DOUBLE_EQ((*scaled[0].cam_covariance)(5, 5), 1.0);
+}
+
+}  // namespace
+}  // namespace odomcal

@@ -1,0 +1,107 @@
+#include "odomcal/solver/noise_refinement.h"
+
+#include "odomcal/solver/chi_square.h"
+#include "odomcal/solver/hand_eye_residual.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace odomcal {
+namespace {
+
+constexpr int kMaxRounds = 6;
+constexpr double kFactorTolerance = 0.01;
+
+double LargestChange(const NoiseFactors& a, const NoiseFactors& b) {
+  double change = 0.0;
+  for (int g = 0; g < kNumNoiseGroups; ++g) {
+    change = std::max(change, std::abs(b[g] / a[g] - 1.0));
+  }
+  return change;
+}
+
+}  // namespace
+
+double WhitenedChiSquare(const MotionPair& pair,
+                         const Rigid3d& odom_from_cam,
+                         double metric_scale,
+                         const NoiseModel& noise) {
+  return (HandEyeSqrtInformation(pair, odom_from_cam, metric_scale, noise) *
+          HandEyeResidual(pair, odom_from_cam, metric_scale))
+      .squaredNorm();
+}
+
+bool IsWithinNoise(const MotionPair& pair,
+                   const Rigid3d& odom_from_cam,
+                   double metric_scale,
+                   const NoiseModel& noise) {
+  static const double kThreshold = ChiSquare999(6);
+  return WhitenedChiSquare(pair, odom_from_cam, metric_scale, noise) <
+         kThreshold;
+}
+
+NoiseRefinement RefineWithNoiseEstimation(
+    const MotionPairs& pairs,
+    const std::vector<int>& used,
+    const Rigid3d& initial,
+    const std::vector<double>& initial_scales,
+    const CalibrationOptions& options) {
+  NoiseRefinement result;
+  result.used = used;
+  result.noise.noise = options.noise;
+  Rigid3d estimate = initial;
+  std::vector<double> scales = initial_scales;
+  NoiseFactors factors = kUnitNoiseFactors;
+  std::vector<int> refined_used = used;
+  NoiseEstimate refined_noise = result.noise;
+  for (int round = 0;; ++round) {
+    CalibrationOptions weighted = options;
+    weighted.noise = ScaleNoise(options.noise, factors);
+    const MotionPairs weighted_pairs = ScaleCovariances(pairs, factors);
+    RefinementResult refined = RefineOdomFromCam(
+        weighted_pairs, result.used, estimate, scales, weighted);
+    if (!refined.usable) {
+      // Keep the last usable refinement (the caller reports a failure when
+      // the first one fails).
+      if (round == 0) result.refinement = refined;
+      result.used = refined_used;
+      result.noise = refined_noise;
+      break;
+    }
+    result.refinement = refined;
+    refined_used = result.used;
+    refined_noise = result.noise;
+    result.num_rounds = round + 1;
+    estimate = refined.odom_from_cam;
+    scales = refined.metric_scales;
+    if (round == kMaxRounds) break;
+
+    result.noise = EstimateNoise(pairs, result.used, estimate, scales, options);
+    const NoiseFactors next = result.noise.variance_factors;
+    std::vector<int> inliers = result.used;
+    if (options.use_ransac) {
+      inliers.clear();
+      const NoiseModel noise = ScaleNoise(options.noise, next);
+      const MotionPairs next_pairs = ScaleCovariances(pairs, next);
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        const int segment = pairs[i].segment;
+        if (static_cast<size_t>(segment) < scales.size() &&
+            scales[segment] > 0.0 &&
+            IsWithinNoise(next_pairs[i], estimate, scales[segment], noise)) {
+          inliers.push_back(static_cast<int>(i));
+        }
+      }
+      if (static_cast<int>(inliers.size()) < options.min_num_pairs) {
+        inliers = result.used;
+      }
+    }
+    const bool converged = inliers == result.used &&
+                           LargestChange(factors, next) < kFactorTolerance;
+    factors = next;
+    result.used = inliers;
+    if (converged) break;
+  }
+  return result;
+}
+
+}  // namespace odomcal
