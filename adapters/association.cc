@@ -8,6 +8,7 @@
 // whenever the odometry has moved past either threshold since that keyframe.
 #include "odomcal/adapters/association.h"
 
+#include "odomcal/adapters/odometry_interpolation_error.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
@@ -103,7 +104,8 @@ void CheckNonNegative(double value, const char* field) {
   }
 }
 
-void CheckMaxGap(double max_gap_s, const char* field) {
+void CheckMaxGap(double max_gap_s, const char* field, bool zero_allowed) {
+  if (zero_allowed && max_gap_s == 0.0) return;
   if (!std::isfinite(max_gap_s) || max_gap_s <= 0.0) {
     throw std::invalid_argument(std::string(field) +
                                 " must be finite and > 0, got " +
@@ -118,16 +120,42 @@ void SetFailure(InterpolationFailure* why, InterpolationFailure failure) {
 }  // namespace
 
 void AssociationOptions::Check() const {
-  CheckMaxGap(max_odometry_gap_s, "max_odometry_gap_s");
+  CheckMaxGap(max_odometry_gap_s, "max_odometry_gap_s", true);
   CheckNonNegative(keyframe_min_rotation_deg, "keyframe_min_rotation_deg");
   CheckNonNegative(keyframe_min_translation_m, "keyframe_min_translation_m");
+}
+
+double MedianSampleIntervalS(const Trajectory& odometry) {
+  const std::vector<StampedPose>& poses = odometry.poses;
+  if (poses.size() < 2) return 0.0;
+  std::vector<double> intervals_s;
+  intervals_s.reserve(poses.size() - 1);
+  for (size_t i = 1; i < poses.size(); ++i) {
+    intervals_s.push_back(
+        ElapsedSeconds(poses[i - 1].stamp_ns, poses[i].stamp_ns));
+  }
+  const auto middle = intervals_s.begin() + intervals_s.size() / 2;
+  std::nth_element(intervals_s.begin(), middle, intervals_s.end());
+  return *middle;
+}
+
+double AutomaticOdometryGapS(const Trajectory& odometry) {
+  return std::clamp(2.5 * MedianSampleIntervalS(odometry),
+                    kMinAutomaticOdometryGapS,
+                    kMaxAutomaticOdometryGapS);
+}
+
+double OdometryGapLimitS(double max_odometry_gap_s,
+                         const Trajectory& odometry) {
+  return max_odometry_gap_s > 0.0 ? max_odometry_gap_s
+                                  : AutomaticOdometryGapS(odometry);
 }
 
 std::optional<Rigid3d> InterpolateOdometry(const Trajectory& odometry,
                                            int64_t stamp_ns,
                                            double max_gap_s,
                                            InterpolationFailure* why) {
-  CheckMaxGap(max_gap_s, "max_gap_s");
+  CheckMaxGap(max_gap_s, "max_gap_s", false);
   const std::vector<StampedPose>& poses = odometry.poses;
   // First sample strictly after the stamp.
   const auto after =
@@ -175,6 +203,13 @@ AssociationResult AssociateCameraWithOdometry(
 
   AssociationResult result;
   result.num_pairs_per_segment.assign(camera_segments.size(), 0);
+  const double median_interval_s = MedianSampleIntervalS(odometry);
+  result.odometry_rate_hz =
+      median_interval_s > 0.0 ? 1.0 / median_interval_s : 0.0;
+  result.max_odometry_gap_automatic =
+      options.max_odometry_gap_s == kAutomaticOdometryGap;
+  result.max_odometry_gap_s =
+      OdometryGapLimitS(options.max_odometry_gap_s, odometry);
   for (size_t segment = 0; segment < camera_segments.size(); ++segment) {
     const Trajectory& camera = camera_segments[segment];
     CheckIncreasing(camera, "camera_segments[" + std::to_string(segment) + "]");
@@ -183,6 +218,7 @@ AssociationResult AssociateCameraWithOdometry(
     int64_t keyframe_stamp_ns = 0;
     Rigid3d keyframe_origin_from_odom;
     Rigid3d keyframe_world_from_cam;
+    Eigen::Matrix3d keyframe_interpolation_covariance;
     for (const StampedPose& camera_pose : camera.poses) {
       ++result.num_camera_poses;
       int64_t odometry_stamp_ns = 0;
@@ -193,7 +229,7 @@ AssociationResult AssociateCameraWithOdometry(
                                   options.camera_time_offset_ns,
                                   &odometry_stamp_ns)) {
         origin_from_odom = InterpolateOdometry(
-            odometry, odometry_stamp_ns, options.max_odometry_gap_s, &why);
+            odometry, odometry_stamp_ns, result.max_odometry_gap_s, &why);
       }
       if (!origin_from_odom) {
         if (why == InterpolationFailure::kInGap) {
@@ -205,6 +241,8 @@ AssociationResult AssociateCameraWithOdometry(
         continue;
       }
       ++result.num_usable_camera_poses;
+      const Eigen::Matrix3d interpolation_covariance =
+          OdometryInterpolationCovariance(odometry, odometry_stamp_ns);
 
       bool new_keyframe = !have_keyframe;
       if (have_keyframe) {
@@ -222,6 +260,15 @@ AssociationResult AssociateCameraWithOdometry(
           pair.segment = static_cast<int>(segment);
           pair.stamp_i_ns = keyframe_stamp_ns;
           pair.stamp_j_ns = odometry_stamp_ns;
+          if (!keyframe_interpolation_covariance.isZero(0.0) ||
+              !interpolation_covariance.isZero(0.0)) {
+            pair.odom_interpolation_covariance =
+                RelativeMotionInterpolationCovariance(
+                    keyframe_origin_from_odom,
+                    keyframe_interpolation_covariance,
+                    *origin_from_odom,
+                    interpolation_covariance);
+          }
           result.pairs.push_back(pair);
           ++result.num_pairs_per_segment[segment];
         }
@@ -231,6 +278,7 @@ AssociationResult AssociateCameraWithOdometry(
         keyframe_stamp_ns = odometry_stamp_ns;
         keyframe_origin_from_odom = *origin_from_odom;
         keyframe_world_from_cam = camera_pose.world_from_sensor;
+        keyframe_interpolation_covariance = interpolation_covariance;
         ++result.num_keyframes;
         result.keyframe_stamps_ns.push_back(odometry_stamp_ns);
         result.keyframe_segments.push_back(static_cast<int>(segment));

@@ -22,13 +22,22 @@
 
 namespace odomcal {
 
+// max_odometry_gap_s's "automatic" value: the limit then follows the log's
+// own sampling (AutomaticOdometryGapS).
+constexpr double kAutomaticOdometryGap = 0.0;
+
 struct AssociationOptions {
   // A camera time between two odometry samples further apart than this is
-  // refused (the vehicle may have done anything in between). Seconds, > 0.
-  double max_odometry_gap_s = 0.25;
+  // refused (the vehicle may have done anything in between). Seconds, > 0,
+  // or kAutomaticOdometryGap (the default): AutomaticOdometryGapS(odometry).
+  double max_odometry_gap_s = kAutomaticOdometryGap;
   // A new keyframe once the odometry has moved by either threshold since the
   // previous keyframe (rotation angle in degrees, translation norm in metres).
-  // Both >= 0; zero makes every usable camera pose a keyframe.
+  // Both >= 0; zero makes every usable camera pose a keyframe. 1 deg / 2 cm
+  // pairs every frame the robot moved to with the next: best for drifting
+  // (VO-like) camera poses, but short steps of globally consistent poses (a
+  // COLMAP model) bias the scale, so the defaults stay at 5 deg / 10 cm
+  // (docs/benchmarks.md, "Which frames make the motion pairs").
   double keyframe_min_rotation_deg = 5.0;
   double keyframe_min_translation_m = 0.10;
   // Added to camera times before the odometry lookup:
@@ -40,6 +49,25 @@ struct AssociationOptions {
   // ("max_odometry_gap_s must be finite and > 0, got -1").
   void Check() const;
 };
+
+// Median interval between consecutive samples, seconds (0 for fewer than two
+// samples). The median ignores dropouts and jitter.
+double MedianSampleIntervalS(const Trajectory& odometry);
+
+// The automatic gap limit: 2.5 median sample intervals (one missing sample
+// is tolerated, two are not, and jitter of +-25 % never trips it), kept
+// within [kMinAutomaticOdometryGapS, kMaxAutomaticOdometryGapS]. The floor is
+// the old fixed default, so logs of 10 Hz and more behave as they always did;
+// above the ceiling constant-velocity interpolation is a guess (a robot
+// turning at 0.8 rad/s turns 46 degrees in a second) and the acceleration
+// seen by the neighbouring samples no longer bounds its error (see
+// odometry_interpolation_error.h).
+constexpr double kMinAutomaticOdometryGapS = 0.25;
+constexpr double kMaxAutomaticOdometryGapS = 1.0;
+double AutomaticOdometryGapS(const Trajectory& odometry);
+
+// max_odometry_gap_s if > 0, else AutomaticOdometryGapS(odometry).
+double OdometryGapLimitS(double max_odometry_gap_s, const Trajectory& odometry);
 
 // Why InterpolateOdometry returned no pose.
 enum class InterpolationFailure {
@@ -92,6 +120,11 @@ struct AssociationResult {
   std::vector<int> keyframe_segments;
   // Number of pairs per camera segment (size = number of segments).
   std::vector<int> num_pairs_per_segment;
+  // The odometry's sampling rate (1 / median sample interval; 0 for fewer
+  // than two samples), the gap limit used, and whether it was automatic.
+  double odometry_rate_hz = 0.0;
+  double max_odometry_gap_s = 0.0;
+  bool max_odometry_gap_automatic = false;
 };
 
 // Builds MotionPairs from camera trajectories (one per SfM segment, each with

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -229,14 +230,14 @@ TEST(InterpolateOdometry, RefusesOutsideSpanAndInGaps) {
 TEST(AssociationOptions, CheckNamesTheField) {
   AssociationOptions options;
   EXPECT_NO_THROW(options.Check());
-  options.max_odometry_gap_s = 0.0;
+  options.max_odometry_gap_s = -1.0;  // 0 is automatic
   try {
     options.Check();
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& error) {
     // The field's name first, which the CLI turns into its flag.
     EXPECT_EQ(std::string(error.what()),
-              "max_odometry_gap_s must be finite and > 0, got 0");
+              "max_odometry_gap_s must be finite and > 0, got -1");
   }
   options = AssociationOptions();
   options.keyframe_min_rotation_deg = -1.5;
@@ -505,6 +506,139 @@ TEST(AssociateCameraWithOdometry, PlanarInterpolatedPairsSatisfyHandEye) {
   EXPECT_EQ(result.num_usable_camera_poses, result.num_camera_poses);
   EXPECT_GT(result.pairs.size(), 20u);
   ExpectHandEyeHolds(result, odom_from_cam, {0.5});
+}
+
+}  // namespace
+}  // namespace odomcal
+
+namespace odomcal {
+namespace {
+
+// Samples at base + i * period_s (+ jitter_s[i] when given).
+Trajectory StraightLog(double period_s,
+                       int count,
+                       const std::vector<double>& jitter_s = {}) {
+  Trajectory log;
+  log.planar = true;
+  for (int i = 0; i < count; ++i) {
+    const double t = i * period_s + (jitter_s.empty() ? 0.0 : jitter_s[i]);
+    log.poses.push_back({kBaseNs + std::llround(t * 1e9),
+                         Rigid3d(Eigen::Quaterniond::Identity(),
+                                 Eigen::Vector3d(0.5 * t, 0.0, 0.0))});
+  }
+  return log;
+}
+
+TEST(AutomaticOdometryGap, FollowsTheSamplingWithinFloorAndCeiling) {
+  // 50 Hz: 2.5 intervals = 0.05 s, below the floor (the old fixed default).
+  EXPECT_DOUBLE_EQ(AutomaticOdometryGapS(StraightLog(0.02, 100)), 0.25);
+  // 4 Hz: 2.5 x 0.25 s.
+  EXPECT_NEAR(AutomaticOdometryGapS(StraightLog(0.25, 40)), 0.625, 1e-9);
+  // 0.5 Hz: capped.
+  EXPECT_DOUBLE_EQ(AutomaticOdometryGapS(StraightLog(2.0, 10)), 1.0);
+  // Too few samples for an interval: the floor.
+  EXPECT_DOUBLE_EQ(AutomaticOdometryGapS(StraightLog(0.25, 1)), 0.25);
+  // An explicit value wins.
+  EXPECT_DOUBLE_EQ(OdometryGapLimitS(0.3, StraightLog(0.25, 40)), 0.3);
+  EXPECT_NEAR(OdometryGapLimitS(kAutomaticOdometryGap, StraightLog(0.25, 40)),
+              0.625,
+              1e-9);
+}
+
+TEST(AutomaticOdometryGap, IgnoresJitterAndStillRefusesDropouts) {
+  // 4 Hz with +-20 % jitter on every stamp and a 1.25 s dropout (4 samples
+  // missing) in the middle.
+  std::vector<double> jitter_s;
+  for (int i = 0; i < 60; ++i) jitter_s.push_back(0.05 * std::sin(1.7 * i));
+  Trajectory log = StraightLog(0.25, 60, jitter_s);
+  log.poses.erase(log.poses.begin() + 30, log.poses.begin() + 34);
+  const double median_s = MedianSampleIntervalS(log);
+  EXPECT_NEAR(median_s, 0.25, 0.03);
+  EXPECT_NEAR(AutomaticOdometryGapS(log), 2.5 * median_s, 1e-12);
+  // A camera time in the dropout is refused, one between two jittered
+  // samples is not.
+  Trajectory camera;
+  const int64_t in_dropout =
+      (log.poses[29].stamp_ns + log.poses[30].stamp_ns) / 2;
+  const int64_t regular = (log.poses[10].stamp_ns + log.poses[11].stamp_ns) / 2;
+  camera.poses = {{regular, Rigid3d()}, {in_dropout, Rigid3d()}};
+  const AssociationResult result =
+      AssociateCameraWithOdometry({camera}, log, AssociationOptions());
+  EXPECT_EQ(result.num_usable_camera_poses, 1);
+  EXPECT_EQ(result.num_in_odometry_gaps, 1);
+  EXPECT_EQ(result.num_outside_odometry_span, 0);
+  EXPECT_TRUE(result.max_odometry_gap_automatic);
+  EXPECT_NEAR(result.max_odometry_gap_s, 2.5 * median_s, 1e-12);
+}
+
+// The MAPIR case: 3.8 Hz wheel odometry, a 7 Hz camera inside its span.
+TEST(AutomaticOdometryGap, LowRateOdometryIsUsableAndCountedApart) {
+  const double period_s = 1.0 / 3.8;
+  const Trajectory odometry = StraightLog(period_s, 160);  // ~42 s
+  Trajectory camera;
+  for (int i = 0; i < 281; ++i) {
+    camera.poses.push_back(
+        {kBaseNs + std::llround((0.1 + i / 7.0) * 1e9), Rigid3d()});
+  }
+  camera.poses.push_back({kBaseNs - kSecond, Rigid3d()});  // before the log
+  std::rotate(camera.poses.begin(), camera.poses.end() - 1, camera.poses.end());
+  AssociationOptions options;
+  AssociationResult result =
+      AssociateCameraWithOdometry({camera}, odometry, options);
+  EXPECT_NEAR(result.odometry_rate_hz, 3.8, 1e-6);
+  EXPECT_NEAR(result.max_odometry_gap_s, 2.5 * period_s, 1e-6);
+  EXPECT_EQ(result.num_camera_poses, 282);
+  EXPECT_EQ(result.num_outside_odometry_span, 1);
+  EXPECT_EQ(result.num_in_odometry_gaps, 0);
+  EXPECT_EQ(result.num_usable_camera_poses, 281);
+  // The old fixed 0.25 s: every pose between samples is "in a gap", none
+  // outside the span but the one before it.
+  options.max_odometry_gap_s = 0.25;
+  result = AssociateCameraWithOdometry({camera}, odometry, options);
+  EXPECT_FALSE(result.max_odometry_gap_automatic);
+  EXPECT_DOUBLE_EQ(result.max_odometry_gap_s, 0.25);
+  EXPECT_EQ(result.num_outside_odometry_span, 1);
+  EXPECT_EQ(result.num_in_odometry_gaps + result.num_usable_camera_poses, 281);
+  EXPECT_GT(result.num_in_odometry_gaps, 270);
+}
+
+// 1 deg / 2 cm keyframes (for VO-like poses): every frame the robot moved
+// to, consecutively; frames while it stands still merge into one keyframe.
+TEST(AssociateCameraWithOdometry, MovingFramePairsAreConsecutiveFrames) {
+  // 50 Hz odometry: 1 s straight at 0.5 m/s, 1 s standing, 1 s turning in
+  // place at 0.3 rad/s; 5 Hz camera on odometry stamps.
+  Trajectory odometry;
+  odometry.planar = true;
+  for (int i = 0; i <= 150; ++i) {
+    const double t = i / 50.0;
+    const double x = 0.5 * std::min(t, 1.0);
+    const double yaw = 0.3 * std::max(t - 2.0, 0.0);
+    odometry.poses.push_back(
+        {kBaseNs + i * kSecond / 50,
+         Rigid3d(YawRotation(yaw), Eigen::Vector3d(x, 0.0, 0.0))});
+  }
+  Trajectory camera;
+  for (int i = 0; i <= 150; i += 10) camera.poses.push_back(odometry.poses[i]);
+  AssociationOptions options;
+  options.keyframe_min_rotation_deg = 1.0;
+  options.keyframe_min_translation_m = 0.02;
+  const AssociationResult result =
+      AssociateCameraWithOdometry({camera}, odometry, options);
+  EXPECT_EQ(result.num_usable_camera_poses, 16);
+  // Frames at 0 .. 1 s (6), the standing ones merged into the one at 1 s,
+  // then 2.2 .. 3 s (5; 3.4 degrees each): 5 + 5 pairs.
+  ASSERT_EQ(result.pairs.size(), 10u);
+  for (size_t p = 0; p < result.pairs.size(); ++p) {
+    const MotionPair& pair = result.pairs[p];
+    if (p > 0) {
+      EXPECT_EQ(pair.stamp_i_ns, result.pairs[p - 1].stamp_j_ns);
+    }
+    // Camera times on odometry samples: nothing interpolated.
+    EXPECT_FALSE(pair.odom_interpolation_covariance.has_value());
+  }
+  EXPECT_EQ(result.pairs[4].stamp_j_ns - kBaseNs, kSecond);
+  EXPECT_EQ(result.pairs[5].stamp_i_ns - kBaseNs, kSecond);
+  EXPECT_EQ(result.pairs[5].stamp_j_ns - kBaseNs, 22 * kSecond / 10);
 }
 
 }  // namespace

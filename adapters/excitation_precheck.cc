@@ -33,15 +33,14 @@ ExcitationPrecheck PrecheckExcitation(
   // metres); images without an odometry pose keep their place in time, so
   // that the association breaks its chains there as it would after SfM.
   const Rigid3d odom_from_cam = NominalOdomFromCam();
+  const double max_gap_s =
+      OdometryGapLimitS(association.max_odometry_gap_s, odometry);
   Trajectory camera;
   camera.source = "images";
   for (const int64_t stamp : stamps) {
     InterpolationFailure why;
-    const auto origin_from_odom =
-        InterpolateOdometry(odometry,
-                            stamp + association.camera_time_offset_ns,
-                            association.max_odometry_gap_s,
-                            &why);
+    const auto origin_from_odom = InterpolateOdometry(
+        odometry, stamp + association.camera_time_offset_ns, max_gap_s, &why);
     StampedPose pose;
     pose.stamp_ns = stamp;
     pose.world_from_sensor =

@@ -22,7 +22,9 @@ void FrameSelectionOptions::Check() const {
   };
   check(min_translation_m, true, "min_translation_m");
   check(min_rotation_deg, true, "min_rotation_deg");
-  check(max_odometry_gap_s, false, "max_odometry_gap_s");
+  if (max_odometry_gap_s != kAutomaticOdometryGap) {
+    check(max_odometry_gap_s, false, "max_odometry_gap_s");
+  }
 }
 
 FrameSelection SelectFrames(std::vector<TimedImage> images,
@@ -34,6 +36,8 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
                    [](const TimedImage& a, const TimedImage& b) {
                      return a.stamp_ns < b.stamp_ns;
                    });
+  const double max_gap_s =
+      OdometryGapLimitS(options.max_odometry_gap_s, odometry);
   FrameSelection selection;
   selection.num_images = static_cast<int>(images.size());
   bool have_last = false;
@@ -43,7 +47,7 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
     const auto pose =
         InterpolateOdometry(odometry,
                             image.stamp_ns + options.camera_time_offset_ns,
-                            options.max_odometry_gap_s,
+                            max_gap_s,
                             &why);
     if (!pose) {
       ++selection.num_outside_odometry;

@@ -16,7 +16,8 @@ namespace odomcal {
 struct FrameSelectionOptions {
   double min_translation_m = 0.05;  // keep once moved this far...
   double min_rotation_deg = 3.0;    // ...or turned this much
-  double max_odometry_gap_s = 0.25;
+  // As AssociationOptions' (0: automatic, from the odometry's sampling).
+  double max_odometry_gap_s = 0.0;
   int64_t camera_time_offset_ns = 0;  // odometry time = image time + offset
   void Check() const;  // throws std::invalid_argument naming the field
 };

@@ -58,13 +58,13 @@ TEST(SelectFrames, RejectsBadThresholds) {
   EXPECT_THROW(SelectFrames({}, MakeOdometry(), options),
                std::invalid_argument);
   options = FrameSelectionOptions();
-  options.max_odometry_gap_s = 0.0;
+  options.max_odometry_gap_s = -1.0;  // 0 is automatic
   try {
     options.Check();
     ADD_FAILURE() << "accepted a zero gap";
   } catch (const std::invalid_argument& error) {
     EXPECT_EQ(std::string(error.what()),
-              "max_odometry_gap_s must be finite and > 0, got 0");
+              "max_odometry_gap_s must be finite and > 0, got -1");
   }
 }
 

@@ -77,7 +77,7 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
   if (context.association.num_outside_odometry_span > 0 ||
       context.association.num_in_odometry_gaps > 0) {
     std::ostringstream max_gap_s;  // "0.25", not std::to_string's "0.250000"
-    max_gap_s << inputs.association.max_odometry_gap_s;
+    max_gap_s << context.association.max_odometry_gap_s;
     run.result.warnings.push_back(
         std::to_string(context.association.num_outside_odometry_span +
                        context.association.num_in_odometry_gaps) +

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <sstream>
 
 namespace odomcal {
@@ -293,6 +294,7 @@ json CalibrationToJson(const CalibrationResult& result,
       {"num_in_odometry_gaps", a.num_in_odometry_gaps},
       {"num_keyframes", a.num_keyframes},
       {"num_pairs_per_segment", a.num_pairs_per_segment},
+      {"odometry_rate_hz", a.odometry_rate_hz},
   };
   if (result.has_estimate) {
     const CalibrationDiagnostics& d = result.diagnostics;
@@ -324,6 +326,12 @@ json CalibrationToJson(const CalibrationResult& result,
                                                     context.calibration_options)
                              : context.flag_echo;
   inputs.update(flag_echo.value("inputs", json::object()));
+  if (context.association.max_odometry_gap_s > 0.0) {
+    // The gap limit used, and whether it came from the odometry's sampling.
+    inputs["max_odometry_gap_s"] = context.association.max_odometry_gap_s;
+    inputs["max_odometry_gap_automatic"] =
+        context.association.max_odometry_gap_automatic;
+  }
   const json options = flag_echo.value("options", json::object());
   out["inputs"] = inputs;
   out["options"] = options;
@@ -383,6 +391,18 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
   return fs.releaseAndGetString();
 }
 
+std::string AssociationSummary(const AssociationResult& a) {
+  std::ostringstream out;
+  out << std::setprecision(3) << a.num_camera_poses
+      << " camera poses: " << a.num_usable_camera_poses << " used, "
+      << a.num_outside_odometry_span << " outside the odometry's span, "
+      << a.num_in_odometry_gaps << " in its gaps (> " << a.max_odometry_gap_s
+      << " s" << (a.max_odometry_gap_automatic ? ", automatic" : "")
+      << "); odometry at " << a.odometry_rate_hz << " Hz; " << a.num_keyframes
+      << " keyframes, " << a.pairs.size() << " motion pairs";
+  return out.str();
+}
+
 std::string CalibrationSummary(const CalibrationResult& result,
                                const ReportContext& context) {
   std::ostringstream out;
@@ -397,10 +417,7 @@ std::string CalibrationSummary(const CalibrationResult& result,
         << "): " << result.message << "\n";
   }
   const AssociationResult& a = context.association;
-  out << "  input: " << a.num_camera_poses << " camera poses, "
-      << a.num_usable_camera_poses << " inside the odometry, "
-      << a.num_keyframes << " keyframes, " << a.pairs.size()
-      << " motion pairs\n";
+  out << "  input: " << AssociationSummary(a) << "\n";
   if (!result.has_estimate) {
     out << "  no estimate; undetermined:";
     for (const std::string& name : UnobservableNames(result.observability)) {

@@ -42,6 +42,11 @@ nlohmann::json CalibrationToJson(const CalibrationResult& result,
 // OpenCV FileStorage YAML ("%YAML:1.0"), readable with cv::FileStorage.
 std::string CalibrationToYaml(const CalibrationResult& result);
 
+// The association in one line: "281 camera poses: 281 used, 0 outside the
+// odometry's span, 0 in its gaps (> 0.658 s, automatic); odometry at 3.8 Hz;
+// 281 keyframes, 280 motion pairs".
+std::string AssociationSummary(const AssociationResult& association);
+
 // Multi-line human summary: status, rotation as roll/pitch/yaw and
 // quaternion, translation in cm with 3-sigma bounds, scales, residuals,
 // warnings.

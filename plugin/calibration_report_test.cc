@@ -188,5 +188,28 @@ TEST(CalibrationToJson, TheOptionsEchoDefaultsToTheContextsOptions) {
   EXPECT_EQ(CalibrationToJson(run.result, context)["options"], json::object());
 }
 
+// The summary's input line counts the poses outside the odometry's span and
+// in its gaps apart, and says the odometry's rate and the gap limit used.
+TEST(AssociationSummary, CountsOutsideAndInGapsApart) {
+  AssociationResult a;
+  a.num_camera_poses = 282;
+  a.num_usable_camera_poses = 4;
+  a.num_outside_odometry_span = 1;
+  a.num_in_odometry_gaps = 277;
+  a.num_keyframes = 4;
+  a.pairs.resize(3);
+  a.odometry_rate_hz = 3.8;
+  a.max_odometry_gap_s = 0.25;
+  EXPECT_EQ(AssociationSummary(a),
+            "282 camera poses: 4 used, 1 outside the odometry's span, 277 in "
+            "its gaps (> 0.25 s); odometry at 3.8 Hz; 4 keyframes, 3 motion "
+            "pairs");
+  a.max_odometry_gap_s = 2.5 / 3.8;
+  a.max_odometry_gap_automatic = true;
+  EXPECT_NE(AssociationSummary(a).find("(> 0.658 s, automatic)"),
+            std::string::npos)
+      << AssociationSummary(a);
+}
+
 }  // namespace
 }  // namespace odomcal

@@ -49,15 +49,58 @@ OptionRow<Association> TimeOffsetRow() {
   return row;
 }
 
+// "auto" (the default: from the odometry's sampling, see
+// AutomaticOdometryGapS) or seconds > 0, the form the flag always had.
+OptionRow<Association> OdometryGapRow() {
+  OptionRow<Association> row;
+  row.name = "max_odometry_gap_s";
+  row.echo_key = row.name;
+  row.help =
+      "camera times in odometry gaps longer than this are skipped (auto: 2.5 "
+      "odometry sample intervals, within [0.25, 1] s)";
+  row.add = [row](CLI::App* app, Association* options) {
+    return app
+        ->add_option_function<std::string>(
+            "--" + row.name,
+            [options](const std::string& text) {
+              options->max_odometry_gap_s =
+                  text == "auto" ? kAutomaticOdometryGap : std::stod(text);
+            },
+            row.help)
+        ->type_name("FLOAT")  // or auto
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+              if (text == "auto") return "";
+              char* end = nullptr;
+              const double value = std::strtod(text.c_str(), &end);
+              if (text.empty() || end != text.c_str() + text.size()) {
+                return "must be auto or a number, got '" + text + "'";
+              }
+              if (!std::isfinite(value) || value <= 0.0) {
+                return "must be finite and > 0, got " + FormatNumber(value);
+              }
+              return "";
+            },
+            ""))
+        ->default_str(options->max_odometry_gap_s == kAutomaticOdometryGap
+                          ? "auto"
+                          : FormatNumber(options->max_odometry_gap_s));
+  };
+  // The report replaces "auto" by the value used (calibration_report.cc).
+  row.echo = [](const Association& options) {
+    return options.max_odometry_gap_s == kAutomaticOdometryGap
+               ? nlohmann::json("auto")
+               : nlohmann::json(options.max_odometry_gap_s);
+  };
+  return row;
+}
+
 }  // namespace
 
 const OptionTable<AssociationOptions>& AssociationFlags() {
   static const OptionTable<Association> table = {
       TimeOffsetRow(),
-      NumberRow<Association>(
-          "max_odometry_gap_s",
-          "camera times in odometry gaps longer than this are skipped",
-          [](auto& o) -> auto& { return o.max_odometry_gap_s; }),
+      OdometryGapRow(),
       NumberRow<Association>(
           "keyframe_min_rotation_deg",
           "next keyframe after this much odometry rotation...",

@@ -255,7 +255,7 @@ ColmapCalibrationRun CalibrateColmapProject(
       }
       InterpolationFailure why;
       const auto origin_from_odom = InterpolateOdometry(
-          run.odometry, stamp, inputs.association.max_odometry_gap_s, &why);
+          run.odometry, stamp, run.association.max_odometry_gap_s, &why);
       if (!origin_from_odom) continue;
       origin_from_cam.push_back(*origin_from_odom * result.odom_from_cam);
       sfm_from_cam.push_back(pose.world_from_sensor);

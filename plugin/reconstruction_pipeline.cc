@@ -813,11 +813,13 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   if (matcher == "spatial") {
     std::map<std::string, Eigen::Vector3d> positions;
     InterpolationFailure why;
+    const double max_gap_s =
+        OdometryGapLimitS(inputs.association.max_odometry_gap_s, odometry);
     for (const TimedImage& image : images) {
       const auto pose = InterpolateOdometry(
           odometry,
           image.stamp_ns + inputs.association.camera_time_offset_ns,
-          inputs.association.max_odometry_gap_s,
+          max_gap_s,
           &why);
       if (pose) positions[image.name] = pose->translation;
     }

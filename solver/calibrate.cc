@@ -72,8 +72,9 @@ void ValidatePairs(const MotionPairs& pairs) {
       throw std::invalid_argument(where + " has a negative segment index " +
                                   std::to_string(pair.segment));
     }
-    for (const auto* covariance :
-         {&pair.odom_covariance, &pair.cam_covariance}) {
+    for (const auto* covariance : {&pair.odom_covariance,
+                                   &pair.cam_covariance,
+                                   &pair.odom_interpolation_covariance}) {
       if (*covariance && !(*covariance)->allFinite()) {
         throw std::invalid_argument(where + " has a non-finite covariance");
       }

@@ -32,8 +32,10 @@ Vector6d HandEyeResidual(const MotionPair& pair,
   return residual;
 }
 
-MotionCovariance OdometryCovariance(const MotionPair& pair,
-                                    const NoiseModel& noise) {
+namespace {
+
+MotionCovariance OdometryNoiseCovariance(const MotionPair& pair,
+                                         const NoiseModel& noise) {
   if (pair.odom_covariance) {
     return *pair.odom_covariance;
   }
@@ -49,6 +51,17 @@ MotionCovariance OdometryCovariance(const MotionPair& pair,
   covariance.diagonal() << tilt_sigma * tilt_sigma, tilt_sigma * tilt_sigma,
       yaw_sigma * yaw_sigma, t_sigma * t_sigma, t_sigma * t_sigma,
       t_sigma * t_sigma;
+  return covariance;
+}
+
+}  // namespace
+
+MotionCovariance OdometryCovariance(const MotionPair& pair,
+                                    const NoiseModel& noise) {
+  MotionCovariance covariance = OdometryNoiseCovariance(pair, noise);
+  if (pair.odom_interpolation_covariance) {
+    covariance += *pair.odom_interpolation_covariance;
+  }
   return covariance;
 }
 

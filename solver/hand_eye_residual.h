@@ -31,7 +31,8 @@ Vector6d HandEyeResidual(const MotionPair& pair,
                          const Rigid3d& odom_from_cam,
                          double metric_scale);
 
-// The pair's odometry covariance, or the one NoiseModel implies.
+// The pair's odometry covariance, or the one NoiseModel implies, plus the
+// pair's odom_interpolation_covariance.
 MotionCovariance OdometryCovariance(const MotionPair& pair,
                                     const NoiseModel& noise);
 // The pair's camera covariance (reconstruction units), or NoiseModel's.

@@ -32,6 +32,10 @@ struct MotionPair {
   // parameters define them.
   std::optional<MotionCovariance> odom_covariance;
   std::optional<MotionCovariance> cam_covariance;
+  // Added to the odometry covariance, whichever defines it: the error of
+  // interpolating the odometry at the camera times (measured by the data, so
+  // not scaled with the noise model).
+  std::optional<MotionCovariance> odom_interpolation_covariance;
 };
 
 using MotionPairs = std::vector<MotionPair>;

@@ -44,11 +44,16 @@ std::array<Matrix6d, kNumNoiseGroups> GroupContributions(
     const Rigid3d& odom_from_cam,
     double scale,
     const NoiseModel& noise) {
-  const MotionCovariance odom = OdometryCovariance(pair, noise);
+  // The odometry's interpolation error is measured from the data, not a
+  // noise level: it belongs to no group (InterpolationContribution).
+  MotionPair without_interpolation = pair;
+  without_interpolation.odom_interpolation_covariance.reset();
+  const MotionCovariance odom =
+      OdometryCovariance(without_interpolation, noise);
   const MotionCovariance cam = CameraCovariance(pair, noise);
   std::array<Matrix6d, kNumNoiseGroups> contributions;
   for (int g = 0; g < kNumNoiseGroups; ++g) {
-    MotionPair masked = pair;
+    MotionPair masked = without_interpolation;
     const bool is_odometry = g < 2;
     masked.odom_covariance =
         is_odometry ? OnlyBlock(odom, g % 2) : MotionCovariance::Zero();
@@ -58,6 +63,19 @@ std::array<Matrix6d, kNumNoiseGroups> GroupContributions(
         HandEyeResidualCovariance(masked, odom_from_cam, scale, noise);
   }
   return contributions;
+}
+
+// Contribution of the odometry's interpolation error to Cov(r), which no
+// noise factor scales (zero for pairs without one).
+Matrix6d InterpolationContribution(const MotionPair& pair,
+                                   const Rigid3d& odom_from_cam,
+                                   double scale,
+                                   const NoiseModel& noise) {
+  if (!pair.odom_interpolation_covariance) return Matrix6d::Zero();
+  MotionPair only = pair;
+  only.odom_covariance = MotionCovariance::Zero();
+  only.cam_covariance = MotionCovariance::Zero();
+  return HandEyeResidualCovariance(only, odom_from_cam, scale, noise);
 }
 
 // d r / d [phi(3), p_x, p_y, (p_z), s_k...] by central differences.
@@ -100,6 +118,7 @@ struct PairTerms {
   Vector6d residual;
   Matrix6X jacobian;
   std::array<Matrix6d, kNumNoiseGroups> contributions;
+  Matrix6d interpolation;  // unscaled
 };
 
 // Sums of one pass over the pairs at the given component multipliers.
@@ -120,7 +139,7 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
   for (size_t i = 0; i < terms.size(); ++i) {
-    Matrix6d covariance = Matrix6d::Zero();
+    Matrix6d covariance = terms[i].interpolation;
     for (const int g : fixed) {
       covariance += start[g] * terms[i].contributions[g];
     }
@@ -269,6 +288,8 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
                                      estimate_z);
     term.contributions =
         GroupContributions(pair, odom_from_cam, scale, options.noise);
+    term.interpolation =
+        InterpolationContribution(pair, odom_from_cam, scale, options.noise);
     for (int g = 0; g < kNumNoiseGroups; ++g) {
       group_trace[g] += term.contributions[g].trace();
     }

@@ -195,8 +195,10 @@ const std::set<std::string> kNotEchoed = {"--help",
 // sub-models they read as camera_poses, and `run` the model and database of
 // its workspace that it calibrates as `colmap` would.
 std::set<std::string> EchoOnlyKeys(const std::string& command) {
-  std::set<std::string> keys = {
-      "command", "camera_pose_convention", "camera_poses"};
+  std::set<std::string> keys = {"command",
+                                "camera_pose_convention",
+                                "camera_poses",
+                                "max_odometry_gap_automatic"};
   if (command == "run") keys.insert({"model_path", "database_path"});
   return keys;
 }

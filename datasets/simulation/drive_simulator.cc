@@ -164,6 +164,11 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   drive.sfm_from_origin_rotation_translation =
       Rigid3d(sfm_rotation, sfm_translation);
 
+  // Its own generator, so that drives without this noise stay as they were.
+  std::mt19937_64 step_rng(options.seed ^ 0x5eed5eed5eed5eedULL);
+  bool have_previous_camera = false;
+  Rigid3d previous_true_world_from_cam, previous_vo_world_from_cam;
+
   const int64_t period_ns =
       static_cast<int64_t>(std::llround(1e9 / options.odometry_rate_hz));
   const double dt = 1e-9 * static_cast<double>(period_ns);
@@ -183,6 +188,30 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
           sfm_rotation * origin_from_cam.rotation,
           (sfm_rotation * origin_from_cam.translation + sfm_translation) /
               options.metric_scale);
+      if (options.camera_step_rotation_noise_deg > 0.0 ||
+          options.camera_step_translation_noise_rel > 0.0) {
+        const Rigid3d true_world_from_cam = world_from_cam;
+        if (have_previous_camera) {
+          Rigid3d step =
+              Inverse(previous_true_world_from_cam) * true_world_from_cam;
+          const Eigen::Vector3d rotation_noise(
+              gauss(step_rng), gauss(step_rng), gauss(step_rng));
+          const Eigen::Vector3d translation_noise(
+              gauss(step_rng), gauss(step_rng), gauss(step_rng));
+          step.rotation =
+              (ExpRotation(rotation_noise *
+                           options.camera_step_rotation_noise_deg * deg) *
+               step.rotation)
+                  .normalized();
+          step.translation += translation_noise *
+                              options.camera_step_translation_noise_rel *
+                              step.translation.norm();
+          world_from_cam = previous_vo_world_from_cam * step;
+        }
+        have_previous_camera = true;
+        previous_true_world_from_cam = true_world_from_cam;
+        previous_vo_world_from_cam = world_from_cam;
+      }
       const Eigen::Vector3d rotation_noise(gauss(rng), gauss(rng), gauss(rng));
       const Eigen::Vector3d position_noise(gauss(rng), gauss(rng), gauss(rng));
       world_from_cam.rotation =
@@ -202,10 +231,14 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
     }
     const Manoeuvre& m = plan[manoeuvre];
     truth = UnicycleStep(truth, m.speed_mps, m.yaw_rate_radps, dt);
-    const double left = (m.speed_mps - 0.5 * kWheelBaseM * m.yaw_rate_radps) *
-                        (1.0 + options.wheel_scale_error_left);
-    const double right = (m.speed_mps + 0.5 * kWheelBaseM * m.yaw_rate_radps) *
-                         (1.0 + options.wheel_scale_error_right);
+    double left = (m.speed_mps - 0.5 * kWheelBaseM * m.yaw_rate_radps) *
+                  (1.0 + options.wheel_scale_error_left);
+    double right = (m.speed_mps + 0.5 * kWheelBaseM * m.yaw_rate_radps) *
+                   (1.0 + options.wheel_scale_error_right);
+    if (options.wheel_travel_noise_rel > 0.0) {
+      left *= 1.0 + options.wheel_travel_noise_rel * gauss(step_rng);
+      right *= 1.0 + options.wheel_travel_noise_rel * gauss(step_rng);
+    }
     measured =
         UnicycleStep(measured,
                      0.5 * (left + right),

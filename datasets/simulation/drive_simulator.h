@@ -59,6 +59,19 @@ struct DriveSimulatorOptions {
   // units).
   double camera_rotation_noise_deg = 0.0;
   double camera_position_noise = 0.0;
+
+  // Visual-odometry-like camera: every relative motion between consecutive
+  // camera poses gets noise, and the poses are composed from the noisy
+  // motions (they drift, as VO does; the per-pose noise above is for
+  // globally consistent poses, as from a COLMAP model): rotation noise per
+  // axis in degrees, translation noise per axis as a fraction of the step's
+  // length.
+  double camera_step_rotation_noise_deg = 0.0;
+  double camera_step_translation_noise_rel = 0.0;
+  // Random wheel odometry error: each wheel's travel per odometry period is
+  // scaled by (1 + wheel_travel_noise_rel * N(0, 1)), so odometry errors
+  // accumulate as a random walk with the distance driven.
+  double wheel_travel_noise_rel = 0.0;
 };
 
 struct SimulatedDrive {
