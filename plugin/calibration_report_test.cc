@@ -168,11 +168,14 @@ TEST(CalibrationToJson, TheOptionsEchoDefaultsToTheContextsOptions) {
   context.flag_echo = nullptr;  // as a default-constructed context's
   context.calibration_options.robust_loss = RobustLoss::kHuber;
   context.calibration_options.noise.odom_yaw_sigma_deg = 0.7;
-  context.association_options.max_odometry_gap_s = 0.5;
+  context.association_options.keyframe_min_rotation_deg = 7.5;
   const json out = CalibrationToJson(run.result, context);
   EXPECT_EQ(out["options"]["robust_loss"], "huber");
   EXPECT_EQ(out["options"]["noise"]["odom_yaw_sigma_deg"], 0.7);
-  EXPECT_EQ(out["inputs"]["max_odometry_gap_s"], 0.5);
+  EXPECT_EQ(out["inputs"]["keyframe_min_rotation_deg"], 7.5);
+  // The gap limit is the one the association used, not the option's "auto".
+  EXPECT_EQ(out["inputs"]["max_odometry_gap_s"],
+            context.association.max_odometry_gap_s);
   for (const OptionRow<CalibrationOptions>& row : CalibrationOptionFlags()) {
     const json& object = row.echo_object.empty()
                              ? out["options"]

@@ -58,34 +58,31 @@ OptionRow<Association> OdometryGapRow() {
   row.help =
       "camera times in odometry gaps longer than this are skipped (auto: 2.5 "
       "odometry sample intervals, within [0.25, 1] s)";
-  row.add = [row](CLI::App* app, Association* options) {
-    return app
-        ->add_option_function<std::string>(
-            "--" + row.name,
-            [options](const std::string& text) {
-              options->max_odometry_gap_s =
-                  text == "auto" ? kAutomaticOdometryGap : std::stod(text);
-            },
-            row.help)
-        ->type_name("FLOAT")  // or auto
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-              if (text == "auto") return "";
-              char* end = nullptr;
-              const double value = std::strtod(text.c_str(), &end);
-              if (text.empty() || end != text.c_str() + text.size()) {
-                return "must be auto or a number, got '" + text + "'";
-              }
-              if (!std::isfinite(value) || value <= 0.0) {
-                return "must be finite and > 0, got " + FormatNumber(value);
-              }
-              return "";
-            },
-            ""))
-        ->default_str(options->max_odometry_gap_s == kAutomaticOdometryGap
-                          ? "auto"
-                          : FormatNumber(options->max_odometry_gap_s));
-  };
+  row.value = OptionText<Association>{
+      {},
+      [](const Association& options) {
+        return options.max_odometry_gap_s == kAutomaticOdometryGap
+                   ? std::string("auto")
+                   : FormatNumber(options.max_odometry_gap_s);
+      },
+      [](Association* options, const std::string& text) {
+        options->max_odometry_gap_s = text == "auto"
+                                          ? kAutomaticOdometryGap
+                                          : std::strtod(text.c_str(), nullptr);
+      },
+      "FLOAT"};  // or auto
+  row.check = FlagCheck::Custom([](const std::string& text) -> std::string {
+    if (text == "auto") return "";
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) {
+      return "must be auto or a number, got '" + text + "'";
+    }
+    if (!std::isfinite(value) || value <= 0.0) {
+      return "must be finite and > 0, got " + FormatNumber(value);
+    }
+    return "";
+  });
   // The report replaces "auto" by the value used (calibration_report.cc).
   row.echo = [](const Association& options) {
     return options.max_odometry_gap_s == kAutomaticOdometryGap
