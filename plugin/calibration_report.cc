@@ -6,6 +6,7 @@
 #include "odomcal/plugin/calibration_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/systematics_report.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 
@@ -264,6 +265,7 @@ json CalibrationToJson(const CalibrationResult& result,
     };
   }
   out["diagnostics"] = diagnostics;
+  if (context.systematics) AddSystematicsJson(*context.systematics, &out);
   // The paths and units as read, then the flags' values as the command line
   // echoed them (ReportContext::flag_echo, from its option tables).
   json inputs = {
@@ -440,6 +442,7 @@ std::string CalibrationSummary(const CalibrationResult& result,
         << "; yaw increments " << Format("%.1f", d.yaw_increment_min_deg)
         << " .. " << Format("%.1f deg", d.yaw_increment_max_deg) << "\n";
   }
+  if (context.systematics) out << SystematicsSummary(*context.systematics);
   for (const std::string& warning : result.warnings) {
     out << "  warning: " << warning << "\n";
   }

@@ -4,12 +4,14 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,9 @@ struct ReportContext {
   // so that it lists exactly the flags; without it the result's `options`
   // is empty.
   nlohmann::json flag_echo = nlohmann::json::object();
+  // Clock offset and odometry intrinsics, when the command estimated them
+  // (JSON camera_time_offset_s, odometry_intrinsics, diagnostics.time_offset).
+  std::optional<SystematicsEstimate> systematics;
 };
 
 constexpr int kResultSchemaVersion = 1;

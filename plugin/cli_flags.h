@@ -26,13 +26,19 @@ const OptionTable<AssociationOptions>& AssociationFlags();
 // `options`, the noise model in `options.noise`).
 const OptionTable<CalibrationOptions>& CalibrationOptionFlags();
 
+// --estimate_time_offset, --time_offset_search_s,
+// --estimate_odometry_intrinsics, --wheel_track_m (echoed in `options`).
+const OptionTable<SystematicsEstimationOptions>& SystematicsFlags();
+
 // Registers the tables above, in the order of docs/cli.md, bound to
 // `inputs`: after parsing, `inputs` holds every value given.
 void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs);
 
 // The echo of the association and calibration flags, for
 // ReportContext::flag_echo: {"inputs": {...}, "options": {...}}.
-nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
-                                    const CalibrationOptions& calibration);
+nlohmann::json CalibrationFlagsEcho(
+    const AssociationOptions& association,
+    const CalibrationOptions& calibration,
+    const SystematicsEstimationOptions& systematics = {});
 
 }  // namespace odomcal

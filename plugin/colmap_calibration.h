@@ -13,6 +13,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_segments.h"
 #include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
@@ -40,6 +41,8 @@ struct ColmapCalibrationInputs {
   AssociationOptions association;
   CalibrationOptions calibration;
   StretchOptions stretch;
+  // Clock offset and odometry intrinsics estimated with the extrinsic.
+  SystematicsEstimationOptions systematics;
 };
 
 // One sub-model in metres in the odometry's origin frame.
@@ -63,6 +66,9 @@ struct ColmapCalibrationRun {
   // `odomcal run` only: every mapper run and the one calibrated here.
   std::vector<MapperAttempt> mapper_attempts;
   int chosen_mapper_attempt = -1;
+  // The clock offset and odometry intrinsics used; `odometry` above is the
+  // odometry corrected with them (what the metric models are aligned to).
+  SystematicsEstimate systematics;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).

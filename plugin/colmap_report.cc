@@ -45,6 +45,7 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.association = run.association;
   context.calibration_options = inputs.calibration;
   context.flag_echo = std::move(flag_echo);
+  context.systematics = run.systematics;
   return context;
 }
 

@@ -113,11 +113,12 @@ void FinishProjectFlags(const ProjectFlags& flags,
   inputs->image_time_unit = calibrate.camera_time_unit;
   inputs->association = calibrate.association;
   inputs->calibration = calibrate.calibration;
+  inputs->systematics = calibrate.systematics;
 }
 
 nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
-  nlohmann::json echo =
-      CalibrationFlagsEcho(inputs.association, inputs.calibration);
+  nlohmann::json echo = CalibrationFlagsEcho(
+      inputs.association, inputs.calibration, inputs.systematics);
   EchoOptions(ColmapModelFlags(), inputs, &echo["inputs"]);
   EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
   EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);

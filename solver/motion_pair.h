@@ -6,6 +6,7 @@
 // s of the camera's segment (metres per reconstruction unit).
 #pragma once
 
+#include "odomcal/solver/odometry_intrinsics.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -32,6 +33,10 @@ struct MotionPair {
   // parameters define them.
   std::optional<MotionCovariance> odom_covariance;
   std::optional<MotionCovariance> cam_covariance;
+  // Optional: the logged planar odometry between the endpoints, for
+  // estimating the clock offset and the odometry intrinsics with the
+  // extrinsic (solver/systematics_refine.h).
+  std::optional<OdometrySamples> odometry_samples;
 };
 
 using MotionPairs = std::vector<MotionPair>;

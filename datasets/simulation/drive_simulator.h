@@ -59,6 +59,11 @@ struct DriveSimulatorOptions {
   // units).
   double camera_rotation_noise_deg = 0.0;
   double camera_position_noise = 0.0;
+  // True wheel track over the nominal 0.4 m the odometry assumes, minus 1.
+  double wheel_track_error = 0.0;
+  // Clock offset: camera stamps are true time - this, so that
+  // odometry_time = camera_time + camera_time_offset_s (odomcal's convention).
+  double camera_time_offset_s = 0.0;
 };
 
 struct SimulatedDrive {
