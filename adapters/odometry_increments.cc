@@ -74,7 +74,7 @@ Trajectory CorrectOdometry(const Trajectory& odometry,
   for (size_t k = 0; k < increments.size(); ++k) {
     const PlanarIncrement& increment = increments[k];
     pose = Compose(pose,
-                   PlanarExp(increment.forward_m,
+                   PlanarExp(CorrectedForward(increment, intrinsics),
                              increment.lateral_m,
                              CorrectedYaw(increment, intrinsics)));
     Rigid3d& out = corrected.poses[k + 1].world_from_sensor;

@@ -12,6 +12,8 @@
 namespace odomcal {
 namespace {
 
+// wheel_track_m alone changes nothing (the forward term scales with
+// yaw_per_metre_rad).
 bool IsIdentity(const OdometryIntrinsics& intrinsics) {
   return intrinsics.yaw_scale == 1.0 && intrinsics.yaw_per_metre_rad == 0.0 &&
          intrinsics.yaw_rate_bias_rad_s == 0.0;
@@ -123,6 +125,7 @@ SystematicsEstimate EstimateSystematics(
   limits.estimate_time_offset = estimate_offset;
   limits.estimate_intrinsics = options.estimate_odometry_intrinsics;
   OdometryIntrinsics intrinsics;
+  intrinsics.wheel_track_m = options.wheel_track_m;
   std::optional<SystematicsRefinement> last;
   CalibrationResult* result = nullptr;
   for (int round = 1; round <= options.max_rounds; ++round) {

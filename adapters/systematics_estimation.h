@@ -35,7 +35,9 @@ struct SystematicsEstimationOptions {
   bool estimate_time_offset = true;
   double time_offset_search_s = 1.0;
   bool estimate_odometry_intrinsics = true;
-  double wheel_track_m = 0.0;  // > 0: report right_over_left
+  // Nominal wheel track, > 0 when given: report right_over_left and correct
+  // the forward distance of turns (odometry_intrinsics.h).
+  double wheel_track_m = 0.0;
   int max_rounds = 8;
   double tolerance_s = 1e-4;
   SystematicsOptions limits;

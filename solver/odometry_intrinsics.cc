@@ -10,4 +10,12 @@ double CorrectedYaw(const PlanarIncrement& increment,
                       intrinsics.yaw_rate_bias_rad_s);
 }
 
+double CorrectedForward(const PlanarIncrement& increment,
+                        const OdometryIntrinsics& intrinsics) {
+  const double track = intrinsics.wheel_track_m;
+  return increment.forward_m + intrinsics.yaw_per_metre_rad * 0.25 * track *
+                                   track / intrinsics.yaw_scale *
+                                   increment.yaw_rad;
+}
+
 }  // namespace odomcal

@@ -8,8 +8,13 @@
 //                 + yaw_rate_bias_rad_s * dt
 // with yaw_scale = ((k_left + k_right) / 2) / k_track and
 // yaw_per_metre_rad = (k_right - k_left) / (k_track * b). The true distance is
-// the mean wheel factor times ds; a monocular camera cannot separate it from
-// the metric scale, so it is held at 1.
+// (k_left + k_right) / 2 * ds + (k_right - k_left) / 2 * (b / 2) * dtheta:
+// its mean wheel factor a monocular camera cannot separate from the metric
+// scale (held at 1: the extrinsic translation is in the odometry's metres);
+// the second term, relative to the first, is
+// forward_per_yaw_m = yaw_per_metre_rad * b^2 / (4 yaw_scale), known when the
+// nominal track b is given (else 0: a turn then shifts the extrinsic y by
+// about that much; it is nearly inseparable from y over short turns).
 //
 // The odometry between two times is the composition of its sample increments,
 // each an SE(2) twist (forward, lateral, yaw) integrated over the sample
@@ -28,6 +33,8 @@ struct OdometryIntrinsics {
   double yaw_scale = 1.0;
   double yaw_per_metre_rad = 0.0;
   double yaw_rate_bias_rad_s = 0.0;
+  // Nominal wheel track b in metres, known (not estimated); 0: not given.
+  double wheel_track_m = 0.0;
 };
 
 // One sample period (or the part of it between a pair's endpoints) of the
@@ -101,23 +108,27 @@ PlanarMotion<T> Compose(const PlanarMotion<T>& left,
 // intrinsics, both endpoints shifted later in time by offset_change_s
 // (first order in the shift, through the endpoint twists):
 //   Exp(-d xi_i) * T_ij * Exp(d xi_j).
-// parameters = [yaw_scale, yaw_per_metre_rad, yaw_rate_bias_rad_s].
+// parameters = [yaw_scale, yaw_per_metre_rad, yaw_rate_bias_rad_s];
+// wheel_track_m: the nominal track (0: not given, no forward correction).
 template <typename T>
 PlanarMotion<T> CorrectedOdometryMotion(const OdometrySamples& samples,
                                         const T* intrinsics,
-                                        const T& offset_change_s) {
+                                        const T& offset_change_s,
+                                        double wheel_track_m) {
+  const T forward_per_yaw_m =
+      intrinsics[1] * (0.25 * wheel_track_m * wheel_track_m) / intrinsics[0];
   PlanarMotion<T> motion{T(0.0), T(0.0), T(0.0)};
   for (const PlanarIncrement& increment : samples.increments) {
     motion = Compose(
         motion,
-        PlanarExp(T(increment.forward_m),
+        PlanarExp(increment.forward_m + forward_per_yaw_m * increment.yaw_rad,
                   T(increment.lateral_m),
                   CorrectedYaw(
                       increment, intrinsics[0], intrinsics[1], intrinsics[2])));
   }
   const auto shift = [&](const PlanarIncrement& twist, const T& d) {
     return PlanarExp(
-        d * twist.forward_m,
+        d * (twist.forward_m + forward_per_yaw_m * twist.yaw_rad),
         d * twist.lateral_m,
         d * CorrectedYaw(twist, intrinsics[0], intrinsics[1], intrinsics[2]));
   };
@@ -125,8 +136,11 @@ PlanarMotion<T> CorrectedOdometryMotion(const OdometrySamples& samples,
                  shift(samples.twist_j, offset_change_s));
 }
 
-// Heading of the corrected odometry (intrinsics as doubles).
+// Heading change of the corrected odometry (intrinsics as doubles).
 double CorrectedYaw(const PlanarIncrement& increment,
                     const OdometryIntrinsics& intrinsics);
+// Forward distance of the corrected odometry (see forward_per_yaw_m above).
+double CorrectedForward(const PlanarIncrement& increment,
+                        const OdometryIntrinsics& intrinsics);
 
 }  // namespace odomcal

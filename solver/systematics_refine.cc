@@ -29,8 +29,11 @@ namespace {
 
 class SystematicsCost {
  public:
-  SystematicsCost(const MotionPair& pair, const Matrix6d& sqrt_information)
+  SystematicsCost(const MotionPair& pair,
+                  const Matrix6d& sqrt_information,
+                  double wheel_track_m)
       : samples_(*pair.odometry_samples),
+        wheel_track_m_(wheel_track_m),
         z_a_(pair.odom_i_from_odom_j.translation.z()),
         q_b_(pair.cam_i_from_cam_j.rotation),
         t_b_(pair.cam_i_from_cam_j.translation),
@@ -47,8 +50,8 @@ class SystematicsCost {
     using std::cos;
     using std::exp;
     using std::sin;
-    const PlanarMotion<T> a =
-        CorrectedOdometryMotion(samples_, intrinsics, offset_change[0]);
+    const PlanarMotion<T> a = CorrectedOdometryMotion(
+        samples_, intrinsics, offset_change[0], wheel_track_m_);
     const Eigen::Quaternion<T> q_a(
         cos(0.5 * a.yaw), T(0.0), T(0.0), sin(0.5 * a.yaw));
     const Eigen::Matrix<T, 3, 1> t_a(a.x, a.y, T(z_a_));
@@ -68,6 +71,7 @@ class SystematicsCost {
 
  private:
   OdometrySamples samples_;
+  double wheel_track_m_;
   double z_a_;
   Eigen::Quaterniond q_b_;
   Eigen::Vector3d t_b_;
@@ -92,7 +96,7 @@ class SystematicsProblem {
                      double offset_change_s,
                      const std::array<bool, kNumSystematics>& free,
                      const CalibrationOptions& options)
-      : free_(free) {
+      : free_(free), wheel_track_m_(intrinsics.wheel_track_m) {
     const Eigen::Quaterniond q0 = initial.rotation.normalized();
     for (int k = 0; k < 4; ++k) quaternion_[k] = q0.coeffs()[k];
     p_xy_[0] = initial.translation.x();
@@ -115,7 +119,8 @@ class SystematicsProblem {
           pair, initial, initial_scales.at(pair.segment), options.noise);
       problem_->AddResidualBlock(
           new ceres::AutoDiffCostFunction<SystematicsCost, 6, 4, 2, 1, 1, 1, 3>(
-              new SystematicsCost(pair, sqrt_information)),
+              new SystematicsCost(
+                  pair, sqrt_information, intrinsics.wheel_track_m)),
           nullptr,
           quaternion_,
           p_xy_,
@@ -176,7 +181,7 @@ class SystematicsProblem {
   }
   double offset() const { return offset_; }
   OdometryIntrinsics Intrinsics() const {
-    return {intrinsics_[0], intrinsics_[1], intrinsics_[2]};
+    return {intrinsics_[0], intrinsics_[1], intrinsics_[2], wheel_track_m_};
   }
 
  private:
@@ -222,6 +227,7 @@ class SystematicsProblem {
   }
 
   std::array<bool, kNumSystematics> free_;
+  double wheel_track_m_;
   std::unique_ptr<ceres::Problem> problem_;
   ceres::EigenQuaternionManifold quaternion_manifold_;
   std::unique_ptr<ceres::SubsetManifold> subset_;
