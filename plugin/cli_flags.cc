@@ -284,7 +284,7 @@ const OptionTable<SystematicsEstimationOptions>& SystematicsFlags() {
           "time_offset_search_s",
           "coarse offset search over +- this around --camera_time_offset_s",
           [](auto& o) -> auto& { return o.time_offset_search_s; },
-          CLI::PositiveNumber),
+          InRange(0.001, 3600)),
       on_off("estimate_odometry_intrinsics",
              "estimate yaw scale, yaw per metre and yaw-rate bias of the "
              "odometry",
@@ -294,7 +294,7 @@ const OptionTable<SystematicsEstimationOptions>& SystematicsFlags() {
           "nominal wheel track: report the right/left wheel radius ratio "
           "(0: not given)",
           [](auto& o) -> auto& { return o.wheel_track_m; },
-          CLI::NonNegativeNumber),
+          AtLeast(0)),
   };
   return table;
 }

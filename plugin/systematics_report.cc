@@ -121,15 +121,8 @@ void AddSystematicsWarnings(const SystematicsEstimate& estimate,
         "): kept at " + FormatNumber(Seconds(estimate.camera_time_offset_ns)) +
         " s");
   }
-  for (const std::string& reason : estimate.intrinsics_reasons) {
-    if (reason.find("option off") != std::string::npos ||
-        reason.find("--estimate_odometry_intrinsics off") !=
-            std::string::npos) {
-      continue;
-    }
-    result->warnings.push_back("odometry intrinsics: " + reason +
-                               "; held at identity");
-  }
+  // Held intrinsics are named in odometry_intrinsics.held and the summary
+  // only: a short drive rarely determines all three, which is no fault.
 }
 
 }  // namespace odomcal

@@ -21,7 +21,8 @@ void AddSystematicsJson(const SystematicsEstimate& estimate,
 // sigma), estimated\n  odometry intrinsics: yaw_scale ..." lines.
 std::string SystematicsSummary(const SystematicsEstimate& estimate);
 
-// One warning per requested estimate the data did not allow (with why).
+// A warning when the clock offset was to be estimated and could not be
+// (with why); held intrinsics are listed in the JSON and the summary.
 void AddSystematicsWarnings(const SystematicsEstimate& estimate,
                             CalibrationResult* result);
 
