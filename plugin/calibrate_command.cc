@@ -5,6 +5,7 @@
 #include "odomcal/plugin/command_flags.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_guard.h"
+#include "odomcal/plugin/systematics_report.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <CLI/CLI.hpp>
@@ -51,23 +52,33 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
   context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
-  context.flag_echo =
-      CalibrationFlagsEcho(inputs.association, inputs.calibration);
-  context.association =
-      AssociateCameraWithOdometry(cameras, odometry, inputs.association);
-  if (context.association.num_usable_camera_poses == 0) {
-    throw FormatError(
-        "no camera timestamp falls inside the odometry (" +
-        std::to_string(context.association.num_outside_odometry_span) +
-        " outside its span, " +
-        std::to_string(context.association.num_in_odometry_gaps) +
-        " in gaps): " +
-        TimeSpansText(
-            cameras, "", inputs.association.camera_time_offset_ns, odometry) +
-        "; check the time units and --camera_time_offset_s");
-  }
-  CheckRotationAngleUnits(context.association.pairs, odometry.source);
-  run.result = CalibrateOdomCam(context.association.pairs, inputs.calibration);
+  context.systematics_options = inputs.systematics;
+  context.flag_echo = CalibrationFlagsEcho(
+      inputs.association, inputs.calibration, inputs.systematics);
+  // The association and calibration, once or in the systematics loop.
+  const auto calibrate = [&](const AssociationResult& association) {
+    if (association.num_usable_camera_poses == 0) {
+      throw FormatError(
+          "no camera timestamp falls inside the odometry (" +
+          std::to_string(association.num_outside_odometry_span) +
+          " outside its span, " +
+          std::to_string(association.num_in_odometry_gaps) + " in gaps): " +
+          TimeSpansText(
+              cameras, "", inputs.association.camera_time_offset_ns, odometry) +
+          "; check the time units and --camera_time_offset_s");
+    }
+    CheckRotationAngleUnits(association.pairs, odometry.source);
+    run.result = CalibrateOdomCam(association.pairs, inputs.calibration);
+    return std::make_pair(&association.pairs, &run.result);
+  };
+  context.systematics = EstimateSystematics(cameras,
+                                            odometry,
+                                            inputs.association,
+                                            inputs.calibration,
+                                            inputs.systematics,
+                                            calibrate,
+                                            &context.association);
+  AddSystematicsWarnings(*context.systematics, &run.result);
   if (run.result.status == CalibrationStatus::kSuccess) {
     if (const auto warning =
             ExtrinsicDistanceWarning(run.result.odom_from_cam)) {

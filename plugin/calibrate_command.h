@@ -4,6 +4,7 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/plugin/calibration_report.h"
@@ -25,6 +26,8 @@ struct CalibrateInputs {
   bool odometry_time_unit_given = false;  // by the user, not the default
   AssociationOptions association;
   CalibrationOptions calibration;
+  // Clock offset and odometry intrinsics estimated with the extrinsic.
+  SystematicsEstimationOptions systematics;
 };
 
 struct CalibrationRun {

@@ -7,6 +7,7 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/systematics_report.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 
@@ -308,6 +309,7 @@ json CalibrationToJson(const CalibrationResult& result,
     };
   }
   out["diagnostics"] = diagnostics;
+  if (context.systematics) AddSystematicsJson(*context.systematics, &out);
   // The paths and units as read, then the flags' values from the option
   // tables (ReportContext::flag_echo; by default those of the options the
   // context holds).
@@ -323,7 +325,8 @@ json CalibrationToJson(const CalibrationResult& result,
   };
   const json flag_echo = context.flag_echo.is_null()
                              ? CalibrationFlagsEcho(context.association_options,
-                                                    context.calibration_options)
+                                                    context.calibration_options,
+                                                    context.systematics_options)
                              : context.flag_echo;
   inputs.update(flag_echo.value("inputs", json::object()));
   if (context.association.max_odometry_gap_s > 0.0) {
@@ -507,6 +510,7 @@ std::string CalibrationSummary(const CalibrationResult& result,
       out << "  " << NoiseSummary(*result.noise_estimate) << "\n";
     }
   }
+  if (context.systematics) out << SystematicsSummary(*context.systematics);
   for (const std::string& warning : result.warnings) {
     out << "  warning: " << warning << "\n";
   }

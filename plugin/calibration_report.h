@@ -4,12 +4,14 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,12 +28,17 @@ struct ReportContext {
   AssociationOptions association_options;
   AssociationResult association;  // counts; pairs are not echoed
   CalibrationOptions calibration_options;
+  SystematicsEstimationOptions systematics_options;
   // The values of the command's flags, {"inputs": {...}, "options": {...}},
   // written into the result's `inputs` (after the paths and units above) and
   // `options`, as made from the option tables (CalibrationFlagsEcho in
   // cli_flags.h, ProjectFlagsEcho, RunFlagsEcho). Null (the default): the
-  // echo of association_options and calibration_options.
+  // echo of association_options, calibration_options and
+  // systematics_options.
   nlohmann::json flag_echo;
+  // Clock offset and odometry intrinsics, when the command estimated them
+  // (JSON camera_time_offset_s, odometry_intrinsics, diagnostics.time_offset).
+  std::optional<SystematicsEstimate> systematics;
 };
 
 constexpr int kResultSchemaVersion = 1;

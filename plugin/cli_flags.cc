@@ -271,12 +271,50 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
   return table;
 }
 
-nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
-                                    const CalibrationOptions& calibration) {
+const OptionTable<SystematicsEstimationOptions>& SystematicsFlags() {
+  using S = SystematicsEstimationOptions;
+  const auto on_off = [](const char* name, const char* help, bool S::*field) {
+    OptionRow<S> row = ChoiceRow<S>(
+        name,
+        help,
+        {"on", "off"},
+        [field](const S& o) { return std::string(o.*field ? "on" : "off"); },
+        [field](S* o, const std::string& value) { o->*field = value == "on"; });
+    row.echo = [field](const S& o) { return nlohmann::json(o.*field); };
+    return row;
+  };
+  static const OptionTable<S> table = {
+      on_off("estimate_time_offset",
+             "estimate the clock offset (--camera_time_offset_s is the start)",
+             &S::estimate_time_offset),
+      NumberRow<S>(
+          "time_offset_search_s",
+          "coarse offset search over +- this around --camera_time_offset_s",
+          [](auto& o) -> auto& { return o.time_offset_search_s; },
+          FlagCheck::InRange(0.001, 3600)),
+      on_off("estimate_odometry_intrinsics",
+             "estimate yaw scale, yaw per metre and yaw-rate bias of the "
+             "odometry",
+             &S::estimate_odometry_intrinsics),
+      NumberRow<S>(
+          "wheel_track_m",
+          "nominal wheel track: report the right/left wheel radius ratio "
+          "(0: not given)",
+          [](auto& o) -> auto& { return o.wheel_track_m; },
+          FlagCheck::AtLeast(0)),
+  };
+  return table;
+}
+
+nlohmann::json CalibrationFlagsEcho(
+    const AssociationOptions& association,
+    const CalibrationOptions& calibration,
+    const SystematicsEstimationOptions& systematics) {
   nlohmann::json echo = {{"inputs", nlohmann::json::object()},
                          {"options", nlohmann::json::object()}};
   EchoOptions(AssociationFlags(), association, &echo["inputs"]);
   EchoOptions(CalibrationOptionFlags(), calibration, &echo["options"]);
+  EchoOptions(SystematicsFlags(), systematics, &echo["options"]);
   return echo;
 }
 

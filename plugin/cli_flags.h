@@ -7,6 +7,7 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/plugin/option_table.h"
 #include "odomcal/solver/calibration_options.h"
 
@@ -21,10 +22,16 @@ const OptionTable<AssociationOptions>& AssociationFlags();
 // `options`, the noise model in `options.noise`).
 const OptionTable<CalibrationOptions>& CalibrationOptionFlags();
 
-// The echo of the association and calibration flags, for
+// --estimate_time_offset, --time_offset_search_s,
+// --estimate_odometry_intrinsics, --wheel_track_m (echoed in `options`).
+const OptionTable<SystematicsEstimationOptions>& SystematicsFlags();
+
+// The echo of the association, calibration and systematics flags, for
 // ReportContext::flag_echo (the default of CalibrationToJson):
 // {"inputs": {...}, "options": {...}}.
-nlohmann::json CalibrationFlagsEcho(const AssociationOptions& association,
-                                    const CalibrationOptions& calibration);
+nlohmann::json CalibrationFlagsEcho(
+    const AssociationOptions& association,
+    const CalibrationOptions& calibration,
+    const SystematicsEstimationOptions& systematics = {});
 
 }  // namespace odomcal

@@ -10,6 +10,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/plugin/scale_drift_warning.h"
+#include "odomcal/plugin/systematics_report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -136,28 +137,41 @@ ColmapCalibrationRun CalibrateColmapProject(
     CheckImageTimesAreNotFrameNumbers(
         image_stamps_ns, inputs.model_path, timestamps.how_read());
   }
-  run.association =
-      AssociateCameraWithOdometry(cameras, run.odometry, inputs.association);
-  if (run.association.num_usable_camera_poses == 0) {
-    throw FormatError(
-        inputs.model_path +
-        ": no registered image time falls inside the "
-        "odometry " +
-        inputs.odometry_path + " (" +
-        std::to_string(run.association.num_outside_odometry_span) +
-        " outside its span, " +
-        std::to_string(run.association.num_in_odometry_gaps) + " in gaps): " +
-        TimeSpansText(cameras,
-                      timestamps.how_read(),
-                      inputs.association.camera_time_offset_ns,
-                      run.odometry) +
-        "; check the image timestamps, their unit and "
-        "--camera_time_offset_s");
-  }
-  CheckRotationAngleUnits(run.association.pairs, run.odometry.source);
-
-  run.check = CalibrateWithStretchCheck(
-      run.association.pairs, inputs.calibration, inputs.stretch);
+  // The association and calibration, once or in the systematics loop.
+  const auto calibrate = [&](const AssociationResult& association) {
+    if (association.num_usable_camera_poses == 0) {
+      throw FormatError(inputs.model_path +
+                        ": no registered image time falls inside the "
+                        "odometry " +
+                        inputs.odometry_path + " (" +
+                        std::to_string(association.num_outside_odometry_span) +
+                        " outside its span, " +
+                        std::to_string(association.num_in_odometry_gaps) +
+                        " in gaps): " +
+                        TimeSpansText(cameras,
+                                      timestamps.how_read(),
+                                      inputs.association.camera_time_offset_ns,
+                                      run.odometry) +
+                        "; check the image timestamps, their unit and "
+                        "--camera_time_offset_s");
+    }
+    CheckRotationAngleUnits(association.pairs, run.odometry.source);
+    run.check = CalibrateWithStretchCheck(
+        association.pairs, inputs.calibration, inputs.stretch);
+    return std::make_pair(&run.check.pairs, &run.check.result);
+  };
+  run.systematics = EstimateSystematics(cameras,
+                                        run.odometry,
+                                        inputs.association,
+                                        inputs.calibration,
+                                        inputs.systematics,
+                                        calibrate,
+                                        &run.association);
+  // From here on: the odometry corrected with the estimated intrinsics, and
+  // the estimated clock offset.
+  run.odometry = run.systematics.corrected_odometry;
+  const int64_t camera_time_offset_ns = run.systematics.camera_time_offset_ns;
+  AddSystematicsWarnings(run.systematics, &run.check.result);
   CalibrationResult& result = run.check.result;
   if (result.status == CalibrationStatus::kSuccess) {
     if (const auto warning = ExtrinsicDistanceWarning(result.odom_from_cam)) {
@@ -240,8 +254,7 @@ ColmapCalibrationRun CalibrateColmapProject(
     std::vector<std::string> left_out;
     for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
       const StampedPose& pose = segment.trajectory.poses[i];
-      const int64_t stamp =
-          pose.stamp_ns + inputs.association.camera_time_offset_ns;
+      const int64_t stamp = pose.stamp_ns + camera_time_offset_ns;
       const std::vector<int> owners =
           OutputSegmentsOfImage(run.check, spans, k, stamp);
       if (std::find(owners.begin(), owners.end(), static_cast<int>(output)) ==

@@ -13,6 +13,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_segments.h"
 #include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
@@ -41,6 +42,8 @@ struct ColmapCalibrationInputs {
   AssociationOptions association;
   CalibrationOptions calibration;
   StretchOptions stretch;
+  // Clock offset and odometry intrinsics estimated with the extrinsic.
+  SystematicsEstimationOptions systematics;
 };
 
 // One sub-model in metres in the odometry's origin frame.
@@ -67,6 +70,9 @@ struct ColmapCalibrationRun {
   // `odomcal run` only: how many of the images selected for COLMAP are in
   // the calibration, per stretch of the drive (image_coverage.h).
   std::optional<ImageCoverage> coverage;
+  // The clock offset and odometry intrinsics used; `odometry` above is the
+  // odometry corrected with them (what the metric models are aligned to).
+  SystematicsEstimate systematics;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).

@@ -45,7 +45,9 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.association_options = inputs.association;
   context.association = run.association;
   context.calibration_options = inputs.calibration;
+  context.systematics_options = inputs.systematics;
   context.flag_echo = std::move(flag_echo);
+  context.systematics = run.systematics;
   return context;
 }
 

@@ -77,6 +77,7 @@ void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs) {
   AddFlags(InputFormatFlags(), app, inputs);
   AddFlags(AssociationFlags(), app, &inputs->association);
   AddFlags(CalibrationOptionFlags(), app, &inputs->calibration);
+  AddFlags(SystematicsFlags(), app, &inputs->systematics);
 }
 
 void AddProjectFlags(CLI::App* app,
@@ -96,6 +97,7 @@ void FinishProjectFlags(const ProjectFlags& flags,
   inputs->image_time_unit = calibrate.camera_time_unit;
   inputs->association = calibrate.association;
   inputs->calibration = calibrate.calibration;
+  inputs->systematics = calibrate.systematics;
 }
 
 void AddRunFlags(CLI::App* app, ReconstructionOptions* settings) {

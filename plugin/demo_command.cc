@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace odomcal {
@@ -46,7 +47,9 @@ nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
         {"camera_rotation_noise_deg", options.camera_rotation_noise_deg},
         {"camera_position_noise", options.camera_position_noise},
         {"ground_tilt_deg", options.ground_tilt_deg},
-        {"ground_wavelength_m", options.ground_wavelength_m}}},
+        {"ground_wavelength_m", options.ground_wavelength_m},
+        {"wheel_track_error", options.wheel_track_error},
+        {"camera_time_offset_s", options.camera_time_offset_s}}},
   };
 }
 
@@ -108,6 +111,30 @@ int RunSimulatedDemo(const std::string& workspace,
               1000.0 * translation_error.x(),
               1000.0 * translation_error.y());
   std::printf("      scale error        %+8.4f %%\n", 100.0 * scale_error);
+  if (run.context.systematics) {
+    // The simulator's encoders report travel * (1 + e) over a track of
+    // 0.4 m * (1 + track error) and add a yaw-rate bias b: the correction of
+    // odometry_intrinsics.h is yaw_scale = (k_l + k_r) / (2 k_t), yaw_per_metre
+    // = (k_r - k_l) / (k_t 0.4 m), yaw_rate_bias = -yaw_scale * b with
+    // k = 1 / (1 + e).
+    const SystematicsEstimate& estimate = *run.context.systematics;
+    const double k_left = 1.0 / (1.0 + simulation.wheel_scale_error_left);
+    const double k_right = 1.0 / (1.0 + simulation.wheel_scale_error_right);
+    const double k_track = 1.0 + simulation.wheel_track_error;
+    const double yaw_scale = 0.5 * (k_left + k_right) / k_track;
+    std::printf(
+        "      time offset error  %+8.3f ms\n",
+        1e3 * (1e-9 * static_cast<double>(estimate.camera_time_offset_ns) -
+               simulation.camera_time_offset_s));
+    std::printf("      yaw_scale error    %+8.4f %%\n",
+                100.0 * (estimate.intrinsics.yaw_scale / yaw_scale - 1.0));
+    std::printf("      yaw_per_metre error %+8.5f rad/m\n",
+                estimate.intrinsics.yaw_per_metre_rad -
+                    (k_right - k_left) / (k_track * 0.4));
+    std::printf("      yaw_rate_bias error %+8.6f rad/s\n",
+                estimate.intrinsics.yaw_rate_bias_rad_s +
+                    yaw_scale * simulation.yaw_rate_bias_radps);
+  }
   return ExitCodeFor(result);
 }
 
@@ -282,6 +309,34 @@ int RunDemo(int argc, char** argv) {
                  "stays planar)")
       ->check(InRange(0, 30))
       ->capture_default_str();
+  // The simulated drive's systematic errors (true over nominal), for
+  // measuring their estimation (docs/systematics.md).
+  std::optional<double> wheel_left, wheel_right;
+  app.add_option("--sim_wheel_radius_left",
+                 wheel_left,
+                 "--simulated: true left wheel radius over nominal (default "
+                 "1 / 1.003)");
+  app.add_option("--sim_wheel_radius_right",
+                 wheel_right,
+                 "--simulated: true right wheel radius over nominal (default "
+                 "1 / 0.998)");
+  app.add_option("--sim_wheel_track",
+                 simulation.wheel_track_error,
+                 "--simulated: true wheel track over nominal, minus 1")
+      ->capture_default_str();
+  app.add_option("--sim_yaw_rate_bias_radps",
+                 simulation.yaw_rate_bias_radps,
+                 "--simulated: heading drift added by the odometry")
+      ->capture_default_str();
+  app.add_option("--sim_camera_time_offset_s",
+                 simulation.camera_time_offset_s,
+                 "--simulated: true clock offset (odometry_time = camera_time "
+                 "+ offset)")
+      ->capture_default_str();
+  app.add_option("--sim_camera_rate_hz",
+                 simulation.camera_rate_hz,
+                 "--simulated: camera rate (must divide the 50 Hz odometry)")
+      ->capture_default_str();
   CalibrateInputs inputs;
   AddCalibrationFlags(&app, &inputs);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
@@ -290,6 +345,11 @@ int RunDemo(int argc, char** argv) {
   return RunReportingErrors(app, [&]() -> int {
     if (simulated) {
       simulation.seed = seed;
+      if (wheel_left)
+        simulation.wheel_scale_error_left = 1.0 / *wheel_left - 1.0;
+      if (wheel_right) {
+        simulation.wheel_scale_error_right = 1.0 / *wheel_right - 1.0;
+      }
       return RunSimulatedDemo(workspace, simulation, inputs);
     }
     return RunRenderedDemo(workspace, preset, seed, inputs);

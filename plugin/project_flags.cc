@@ -96,8 +96,8 @@ const OptionTable<StretchOptions>& StretchFlags() {
 }
 
 nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
-  nlohmann::json echo =
-      CalibrationFlagsEcho(inputs.association, inputs.calibration);
+  nlohmann::json echo = CalibrationFlagsEcho(
+      inputs.association, inputs.calibration, inputs.systematics);
   EchoOptions(ColmapModelFlags(), inputs, &echo["inputs"]);
   EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
   EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);

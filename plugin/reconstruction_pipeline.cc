@@ -468,7 +468,7 @@ std::vector<fs::path> MapUnregisteredStretches(
       const auto pose = InterpolateOdometry(
           odometry,
           images[i].stamp_ns + inputs.association.camera_time_offset_ns,
-          inputs.association.max_odometry_gap_s,
+          OdometryGapLimitS(inputs.association.max_odometry_gap_s, odometry),
           &why);
       if (!pose || image_ids.count(images[i].name) == 0) continue;
       members.push_back(i);
@@ -833,7 +833,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       const auto pose = InterpolateOdometry(
           odometry,
           image.stamp_ns + inputs.association.camera_time_offset_ns,
-          inputs.association.max_odometry_gap_s,
+          OdometryGapLimitS(inputs.association.max_odometry_gap_s, odometry),
           &why);
       if (!pose) continue;
       poses.push_back(*pose);

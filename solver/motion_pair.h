@@ -6,6 +6,7 @@
 // s of the camera's segment (metres per reconstruction unit).
 #pragma once
 
+#include "odomcal/solver/odometry_intrinsics.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -36,6 +37,10 @@ struct MotionPair {
   // interpolating the odometry at the camera times (measured by the data, so
   // not scaled with the noise model).
   std::optional<MotionCovariance> odom_interpolation_covariance;
+  // Optional: the logged planar odometry between the endpoints, for
+  // estimating the clock offset and the odometry intrinsics with the
+  // extrinsic (solver/systematics_refine.h).
+  std::optional<OdometrySamples> odometry_samples;
 };
 
 using MotionPairs = std::vector<MotionPair>;

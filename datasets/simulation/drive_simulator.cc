@@ -172,6 +172,9 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   const int64_t period_ns =
       static_cast<int64_t>(std::llround(1e9 / options.odometry_rate_hz));
   const double dt = 1e-9 * static_cast<double>(period_ns);
+  const double true_track_m = kWheelBaseM * (1.0 + options.wheel_track_error);
+  const int64_t camera_offset_ns =
+      static_cast<int64_t>(std::llround(1e9 * options.camera_time_offset_s));
   PlanarPose truth, measured;
   size_t manoeuvre = 0;
   double time_in_manoeuvre = 0.0;
@@ -221,7 +224,8 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
               .normalized();
       world_from_cam.translation +=
           position_noise * options.camera_position_noise;
-      drive.camera.poses.push_back({stamp_ns, world_from_cam});
+      drive.camera.poses.push_back(
+          {stamp_ns - camera_offset_ns, world_from_cam});
     }
     // Advance both the truth and the wheel-odometry estimate by one period.
     while (manoeuvre + 1 < plan.size() &&
@@ -231,9 +235,9 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
     }
     const Manoeuvre& m = plan[manoeuvre];
     truth = UnicycleStep(truth, m.speed_mps, m.yaw_rate_radps, dt);
-    double left = (m.speed_mps - 0.5 * kWheelBaseM * m.yaw_rate_radps) *
+    double left = (m.speed_mps - 0.5 * true_track_m * m.yaw_rate_radps) *
                   (1.0 + options.wheel_scale_error_left);
-    double right = (m.speed_mps + 0.5 * kWheelBaseM * m.yaw_rate_radps) *
+    double right = (m.speed_mps + 0.5 * true_track_m * m.yaw_rate_radps) *
                    (1.0 + options.wheel_scale_error_right);
     if (options.wheel_travel_noise_rel > 0.0) {
       left *= 1.0 + options.wheel_travel_noise_rel * gauss(step_rng);

@@ -72,6 +72,11 @@ struct DriveSimulatorOptions {
   // scaled by (1 + wheel_travel_noise_rel * N(0, 1)), so odometry errors
   // accumulate as a random walk with the distance driven.
   double wheel_travel_noise_rel = 0.0;
+  // True wheel track over the nominal 0.4 m the odometry assumes, minus 1.
+  double wheel_track_error = 0.0;
+  // Clock offset: camera stamps are true time - this, so that
+  // odometry_time = camera_time + camera_time_offset_s (odomcal's convention).
+  double camera_time_offset_s = 0.0;
 };
 
 struct SimulatedDrive {

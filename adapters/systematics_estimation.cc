@@ -1,0 +1,222 @@
+// See the header for the loop. Held intrinsics return to identity for the
+// next round, so that a parameter the motion does not determine never keeps
+// a value from an earlier round.
+#include "odomcal/adapters/systematics_estimation.h"
+
+#include "odomcal/adapters/odometry_increments.h"
+#include "odomcal/solver/format_number.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace odomcal {
+namespace {
+
+// wheel_track_m alone changes nothing (the forward term scales with
+// yaw_per_metre_rad).
+bool IsIdentity(const OdometryIntrinsics& intrinsics) {
+  return intrinsics.yaw_scale == 1.0 && intrinsics.yaw_per_metre_rad == 0.0 &&
+         intrinsics.yaw_rate_bias_rad_s == 0.0;
+}
+
+// Inflates the result's standard deviations and covariance to the joint
+// ones, marginalised over the estimated systematics.
+void ApplyMarginalCovariance(const SystematicsRefinement& refined,
+                             CalibrationResult* result) {
+  if (!result->covariance || refined.extrinsic_covariance.size() == 0) return;
+  Eigen::MatrixXd& covariance = *result->covariance;
+  const Eigen::MatrixXd& marginal = refined.extrinsic_covariance;
+  const int n = static_cast<int>(marginal.rows());
+  if (covariance.rows() < n) return;
+  const auto ratio = [&](int k) {
+    return covariance(k, k) > 0.0
+               ? std::max(1.0, std::sqrt(marginal(k, k) / covariance(k, k)))
+               : 1.0;
+  };
+  double max_rotation_ratio = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    result->stddev_rotation_axes_deg(k) *= ratio(k);
+    max_rotation_ratio = std::max(max_rotation_ratio, ratio(k));
+  }
+  result->stddev_roll_pitch_yaw_deg *= max_rotation_ratio;
+  for (int k = 0; k < 2; ++k)
+    result->stddev_translation_xy_m(k) *= ratio(3 + k);
+  for (size_t k = 0; k < refined.information_segments.size(); ++k) {
+    const size_t segment = refined.information_segments[k];
+    if (segment < result->stddev_metric_scales_rel.size()) {
+      result->stddev_metric_scales_rel[segment] *= ratio(5 + k);
+    }
+  }
+  // Scaled rather than replaced, so that the matrix keeps agreeing with the
+  // standard deviations (which are only ever inflated).
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(covariance.rows());
+  for (int k = 0; k < n; ++k) scale(k) = ratio(k);
+  covariance = scale.asDiagonal() * covariance * scale.asDiagonal();
+}
+
+}  // namespace
+
+SystematicsEstimate EstimateSystematics(
+    const std::vector<Trajectory>& cameras,
+    const Trajectory& odometry,
+    const AssociationOptions& association_options,
+    const CalibrationOptions& calibration_options,
+    const SystematicsEstimationOptions& options,
+    const CalibrateAssociation& calibrate,
+    AssociationResult* association) {
+  SystematicsEstimate estimate;
+  estimate.camera_time_offset_ns = association_options.camera_time_offset_ns;
+  estimate.corrected_odometry = odometry;
+  const bool planar = odometry.planar && odometry.poses.size() >= 2;
+
+  const auto run = [&](int64_t offset_ns,
+                       const OdometryIntrinsics& intrinsics) {
+    AssociationOptions shifted = association_options;
+    shifted.camera_time_offset_ns = offset_ns;
+    estimate.corrected_odometry = IsIdentity(intrinsics)
+                                      ? odometry
+                                      : CorrectOdometry(odometry, intrinsics);
+    *association = AssociateCameraWithOdometry(
+        cameras, estimate.corrected_odometry, shifted);
+    if (planar) AttachOdometrySamples(odometry, &association->pairs);
+    estimate.camera_time_offset_ns = offset_ns;
+    estimate.intrinsics = intrinsics;
+    return calibrate(*association);
+  };
+
+  const bool any =
+      options.estimate_time_offset || options.estimate_odometry_intrinsics;
+  if (!options.estimate_time_offset) {
+    estimate.time_offset_reason = "--estimate_time_offset off";
+  }
+  if (!options.estimate_odometry_intrinsics) {
+    estimate.intrinsics_reasons.push_back("--estimate_odometry_intrinsics off");
+  }
+  if (!any || !planar) {
+    if (any) {
+      const std::string why =
+          "the odometry is not planar (x, y, yaw): not estimated";
+      if (options.estimate_time_offset) estimate.time_offset_reason = why;
+      if (options.estimate_odometry_intrinsics) {
+        estimate.intrinsics_reasons.push_back(why);
+      }
+    }
+    run(estimate.camera_time_offset_ns, OdometryIntrinsics());
+    estimate.num_rounds = 1;
+    return estimate;
+  }
+
+  int64_t offset_ns = association_options.camera_time_offset_ns;
+  bool estimate_offset = options.estimate_time_offset;
+  if (estimate_offset) {
+    TimeOffsetSearchOptions search_options;
+    search_options.center_ns = offset_ns;
+    search_options.range_s = options.time_offset_search_s;
+    search_options.max_odometry_gap_s =
+        OdometryGapLimitS(association_options.max_odometry_gap_s, odometry);
+    estimate.coarse = SearchTimeOffset(cameras, odometry, search_options);
+    estimate.coarse_search_ran = true;
+    estimate.search_range_s = options.time_offset_search_s;
+    if (estimate.coarse.resolved) {
+      offset_ns = estimate.coarse.peak_ns;
+    } else {
+      estimate_offset = false;
+      estimate.time_offset_reason =
+          "not resolved by the coarse search: " + estimate.coarse.reason;
+    }
+  }
+
+  SystematicsOptions limits = options.limits;
+  limits.estimate_time_offset = estimate_offset;
+  limits.estimate_intrinsics = options.estimate_odometry_intrinsics;
+  OdometryIntrinsics intrinsics;
+  intrinsics.wheel_track_m = options.wheel_track_m;
+  std::optional<SystematicsRefinement> last;
+  CalibrationResult* result = nullptr;
+  for (int round = 1; round <= options.max_rounds; ++round) {
+    estimate.num_rounds = round;
+    const auto [pairs, calibrated] = run(offset_ns, intrinsics);
+    result = calibrated;
+    last.reset();
+    if (!result->has_estimate || !result->observability.ExtrinsicDetermined()) {
+      break;
+    }
+    std::vector<int> indices;
+    const std::vector<char>& mask = result->diagnostics.inlier_mask;
+    for (size_t k = 0; k < pairs->size(); ++k) {
+      if (k < mask.size() && mask[k]) indices.push_back(static_cast<int>(k));
+    }
+    // Under the noise the calibration estimated from the data, when it did.
+    CalibrationOptions refine_options = calibration_options;
+    if (result->noise_estimate) {
+      refine_options.noise = result->noise_estimate->noise;
+    }
+    const SystematicsRefinement refined =
+        RefineSystematics(*pairs,
+                          indices,
+                          result->odom_from_cam,
+                          result->metric_scales,
+                          intrinsics,
+                          refine_options,
+                          limits);
+    if (!refined.usable) break;
+    last = refined;
+    OdometryIntrinsics next = refined.intrinsics;
+    if (!refined.estimated[1]) next.yaw_scale = 1.0;
+    if (!refined.estimated[2]) next.yaw_per_metre_rad = 0.0;
+    if (!refined.estimated[3]) next.yaw_rate_bias_rad_s = 0.0;
+    const double change_s = refined.time_offset_change_s;
+    const bool converged =
+        std::abs(change_s) < options.tolerance_s &&
+        std::abs(next.yaw_scale - intrinsics.yaw_scale) < 1e-6 &&
+        std::abs(next.yaw_per_metre_rad - intrinsics.yaw_per_metre_rad) <
+            1e-6 &&
+        std::abs(next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s) <
+            1e-7;
+    if (converged) break;
+    if (round == options.max_rounds) {
+      estimate.time_offset_reason =
+          "the estimate did not settle within " + std::to_string(round) +
+          " rounds (last change " + FormatNumber(change_s) + " s)";
+      last.reset();
+      break;
+    }
+    offset_ns += static_cast<int64_t>(std::llround(change_s * 1e9));
+    intrinsics = next;
+  }
+
+  if (!last) {
+    if (estimate.time_offset_reason.empty() && options.estimate_time_offset) {
+      estimate.time_offset_reason =
+          "the calibration did not determine the extrinsic";
+    }
+    return estimate;
+  }
+  estimate.time_offset_estimated = last->estimated[0];
+  estimate.camera_time_offset_stddev_s = last->stddev[0];
+  if (estimate_offset && !last->estimated[0]) {
+    estimate.time_offset_reason = last->held_reason[0];
+  }
+  for (int k = 0; k < 3; ++k) {
+    estimate.intrinsics_estimated[k] = last->estimated[1 + k];
+    estimate.intrinsics_stddev[k] = last->stddev[1 + k];
+    if (options.estimate_odometry_intrinsics && !last->estimated[1 + k]) {
+      estimate.intrinsics_reasons.push_back(last->held_reason[1 + k]);
+    }
+  }
+  if (options.wheel_track_m > 0.0) {
+    const double ys = estimate.intrinsics.yaw_scale;
+    const double x = options.wheel_track_m *
+                     estimate.intrinsics.yaw_per_metre_rad / (2.0 * ys);
+    estimate.right_over_left = (1.0 + x) / (1.0 - x);
+    // First order, correlations between the two parameters neglected.
+    const double sx = std::hypot(
+        options.wheel_track_m / (2.0 * ys) * estimate.intrinsics_stddev[1],
+        x / ys * estimate.intrinsics_stddev[0]);
+    estimate.right_over_left_stddev = 2.0 / ((1.0 - x) * (1.0 - x)) * sx;
+  }
+  ApplyMarginalCovariance(*last, result);
+  return estimate;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,175 @@
+// Clock offset search and the joint estimation of offset and odometry
+// intrinsics on simulated drives (datasets/simulation/drive_simulator.h).
+#include "odomcal/adapters/systematics_estimation.h"
+
+#include "odomcal/adapters/odometry_increments.h"
+#include "odomcal/adapters/time_offset_search.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/solver/calibrate.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace odomcal {
+namespace {
+
+DriveSimulatorOptions Drive(double odometry_hz, double camera_hz) {
+  DriveSimulatorOptions options;
+  options.seed = 3;
+  options.duration_s = 60.0;
+  options.odometry_rate_hz = odometry_hz;
+  options.camera_rate_hz = camera_hz;
+  return options;
+}
+
+double OffsetSeconds(int64_t ns) { return 1e-9 * static_cast<double>(ns); }
+
+TEST(OdometryIncrements, IdentityIntrinsicsGiveBackTheOdometry) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.duration_s = 20.0;
+  const SimulatedDrive drive = SimulateDrive(options);
+  const Trajectory corrected =
+      CorrectOdometry(drive.odometry, OdometryIntrinsics());
+  ASSERT_EQ(corrected.poses.size(), drive.odometry.poses.size());
+  for (size_t k = 0; k < corrected.poses.size(); ++k) {
+    const Rigid3d& a = corrected.poses[k].world_from_sensor;
+    const Rigid3d& b = drive.odometry.poses[k].world_from_sensor;
+    EXPECT_LT((a.translation - b.translation).norm(), 1e-9) << k;
+    EXPECT_LT(RotationAngle(a.rotation.conjugate() * b.rotation), 1e-9) << k;
+  }
+}
+
+// The correlation peak lands near the true offset whatever the odometry
+// rate; the refinement then needs only to start within its basin.
+TEST(TimeOffsetSearch, FindsTheOffsetWithOdometryAt4And20And100Hz) {
+  const double truth_s = 0.2371;
+  for (const auto& [odometry_hz, camera_hz, tolerance_s] :
+       {std::tuple{4.0, 4.0, 0.03},
+        std::tuple{20.0, 5.0, 0.01},
+        std::tuple{100.0, 5.0, 0.01}}) {
+    DriveSimulatorOptions options = Drive(odometry_hz, camera_hz);
+    options.camera_time_offset_s = truth_s;
+    const SimulatedDrive drive = SimulateDrive(options);
+    TimeOffsetSearchOptions search_options;
+    search_options.max_odometry_gap_s = 0.3;
+    const TimeOffsetSearch search =
+        SearchTimeOffset({drive.camera}, drive.odometry, search_options);
+    EXPECT_TRUE(search.resolved) << odometry_hz << " Hz: " << search.reason;
+    EXPECT_NEAR(OffsetSeconds(search.peak_ns), truth_s, tolerance_s)
+        << odometry_hz << " Hz";
+  }
+}
+
+TEST(TimeOffsetSearch, RefusesSparseOdometry) {
+  DriveSimulatorOptions options = Drive(2.0, 2.0);
+  const SimulatedDrive drive = SimulateDrive(options);
+  const TimeOffsetSearch search =
+      SearchTimeOffset({drive.camera}, drive.odometry, {});
+  EXPECT_FALSE(search.resolved);
+  EXPECT_EQ(search.reason,
+            "odometry too sparse (median period 0.5 s > max_odometry_gap_s "
+            "0.25 s)");
+}
+
+TEST(TimeOffsetSearch, RefusesAStraightDrive) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.straight_only = true;
+  options.camera_rotation_noise_deg = 0.02;
+  const SimulatedDrive drive = SimulateDrive(options);
+  const TimeOffsetSearch search =
+      SearchTimeOffset({drive.camera}, drive.odometry, {});
+  EXPECT_FALSE(search.resolved);
+  EXPECT_FALSE(search.reason.empty());
+}
+
+// Noise-free drive whose odometry model is exact (equal wheels, a track 3 %
+// wider than nominal, a yaw-rate bias) and whose camera clock is 0.3013 s
+// behind: offset, intrinsics and extrinsic come back to 1e-6.
+TEST(SystematicsEstimation, RecoversOffsetAndIntrinsicsNoiseFree) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.wheel_track_error = 0.03;
+  options.yaw_rate_bias_radps = 0.002;
+  options.camera_time_offset_s = 0.3013;
+  const SimulatedDrive drive = SimulateDrive(options);
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  SystematicsEstimationOptions systematics;
+  systematics.tolerance_s = 1e-8;
+  CalibrationResult result;
+  const auto calibrate = [&](const AssociationResult& association) {
+    result = CalibrateOdomCam(association.pairs, calibration);
+    return std::make_pair(&association.pairs, &result);
+  };
+  AssociationResult association;
+  const SystematicsEstimate estimate = EstimateSystematics({drive.camera},
+                                                           drive.odometry,
+                                                           AssociationOptions(),
+                                                           calibration,
+                                                           systematics,
+                                                           calibrate,
+                                                           &association);
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  EXPECT_TRUE(estimate.time_offset_estimated) << estimate.time_offset_reason;
+  EXPECT_NEAR(OffsetSeconds(estimate.camera_time_offset_ns), 0.3013, 1e-6);
+  const double yaw_scale = 1.0 / 1.03;
+  EXPECT_TRUE(estimate.intrinsics_estimated[0]);
+  EXPECT_NEAR(estimate.intrinsics.yaw_scale, yaw_scale, 1e-6);
+  EXPECT_NEAR(estimate.intrinsics.yaw_per_metre_rad, 0.0, 1e-6);
+  EXPECT_NEAR(
+      estimate.intrinsics.yaw_rate_bias_rad_s, -yaw_scale * 0.002, 1e-6);
+  EXPECT_LT(RotationAngle(result.odom_from_cam.rotation.conjugate() *
+                          drive.odom_from_cam.rotation),
+            1e-6);
+  EXPECT_LT((result.odom_from_cam.translation - drive.odom_from_cam.translation)
+                .norm(),
+            1e-6);
+  EXPECT_NEAR(result.metric_scales[0], drive.metric_scale, 1e-6);
+  EXPECT_GT(estimate.camera_time_offset_stddev_s, 0.0);
+}
+
+// Unequal wheels with the track given: yaw_per_metre and the forward
+// distance of turns are corrected, right_over_left comes back.
+TEST(SystematicsEstimation, RecoversUnequalWheelsWithTheTrackGiven) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  const double k_left = 1.015, k_right = 0.99;
+  options.wheel_scale_error_left = 1.0 / k_left - 1.0;
+  options.wheel_scale_error_right = 1.0 / k_right - 1.0;
+  const SimulatedDrive drive = SimulateDrive(options);
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  SystematicsEstimationOptions systematics;
+  systematics.wheel_track_m = 0.4;
+  systematics.tolerance_s = 1e-8;
+  CalibrationResult result;
+  const auto calibrate = [&](const AssociationResult& association) {
+    result = CalibrateOdomCam(association.pairs, calibration);
+    return std::make_pair(&association.pairs, &result);
+  };
+  AssociationResult association;
+  const SystematicsEstimate estimate = EstimateSystematics({drive.camera},
+                                                           drive.odometry,
+                                                           AssociationOptions(),
+                                                           calibration,
+                                                           systematics,
+                                                           calibrate,
+                                                           &association);
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  EXPECT_NEAR(estimate.intrinsics.yaw_scale, 0.5 * (k_left + k_right), 1e-6);
+  EXPECT_NEAR(
+      estimate.intrinsics.yaw_per_metre_rad, (k_right - k_left) / 0.4, 1e-6);
+  ASSERT_TRUE(estimate.right_over_left.has_value());
+  EXPECT_NEAR(*estimate.right_over_left, k_right / k_left, 1e-6);
+  EXPECT_LT(RotationAngle(result.odom_from_cam.rotation.conjugate() *
+                          drive.odom_from_cam.rotation),
+            1e-6);
+  // The odometry's metre is the mean wheel's: the translation scales by it.
+  const double mean = 0.5 * (k_left + k_right);
+  EXPECT_LT((result.odom_from_cam.translation.head<2>() -
+             drive.odom_from_cam.translation.head<2>() / mean)
+                .norm(),
+            1e-6);
+}
+
+}  // namespace
+}  // namespace odomcal
