@@ -19,18 +19,27 @@ bool IsIdentity(const OdometryIntrinsics& intrinsics) {
          intrinsics.yaw_rate_bias_rad_s == 0.0;
 }
 
-// Inflates the result's standard deviations and covariance to the joint
-// ones, marginalised over the estimated systematics.
+// Inflates the result's standard deviations and covariance by what
+// estimating the systematics adds: per parameter, the joint estimate's
+// marginal standard deviation over its conditional one (systematics held),
+// both from the same information, so that the result's own inflation (the
+// planarity check's) is kept. Then the limits are tested again: a quantity
+// whose inflated standard deviation exceeds its limit is undetermined.
 void ApplyMarginalCovariance(const SystematicsRefinement& refined,
+                             const CalibrationOptions& options,
                              CalibrationResult* result) {
-  if (!result->covariance || refined.extrinsic_covariance.size() == 0) return;
+  if (!result->covariance || refined.extrinsic_covariance.size() == 0 ||
+      refined.extrinsic_conditional_covariance.size() == 0) {
+    return;
+  }
   Eigen::MatrixXd& covariance = *result->covariance;
   const Eigen::MatrixXd& marginal = refined.extrinsic_covariance;
+  const Eigen::MatrixXd& conditional = refined.extrinsic_conditional_covariance;
   const int n = static_cast<int>(marginal.rows());
-  if (covariance.rows() < n) return;
+  if (covariance.rows() < n || conditional.rows() != n) return;
   const auto ratio = [&](int k) {
-    return covariance(k, k) > 0.0
-               ? std::max(1.0, std::sqrt(marginal(k, k) / covariance(k, k)))
+    return conditional(k, k) > 0.0
+               ? std::max(1.0, std::sqrt(marginal(k, k) / conditional(k, k)))
                : 1.0;
   };
   double max_rotation_ratio = 1.0;
@@ -47,11 +56,36 @@ void ApplyMarginalCovariance(const SystematicsRefinement& refined,
       result->stddev_metric_scales_rel[segment] *= ratio(5 + k);
     }
   }
-  // Scaled rather than replaced, so that the matrix keeps agreeing with the
-  // standard deviations (which are only ever inflated).
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(covariance.rows());
   for (int k = 0; k < n; ++k) scale(k) = ratio(k);
   covariance = scale.asDiagonal() * covariance * scale.asDiagonal();
+
+  if (!result->IsSuccess()) return;
+  std::vector<std::string> above;
+  if (result->stddev_rotation_axes_deg.maxCoeff() >
+      options.max_rotation_stddev_deg) {
+    result->observability.rotation = Determination::kUndetermined;
+    above.push_back("rotation");
+  }
+  if (result->stddev_translation_xy_m.x() > options.max_translation_stddev_m) {
+    result->observability.translation_x = Determination::kUndetermined;
+    above.push_back("translation_x");
+  }
+  if (result->stddev_translation_xy_m.y() > options.max_translation_stddev_m) {
+    result->observability.translation_y = Determination::kUndetermined;
+    above.push_back("translation_y");
+  }
+  if (above.empty()) return;
+  std::string names;
+  for (const std::string& name : above) {
+    names += (names.empty() ? "" : ", ") + name;
+  }
+  result->status = CalibrationStatus::kUnobservable;
+  result->message =
+      "the motion does not determine: " + names +
+      " (standard deviation above the limit once the uncertainty of the "
+      "clock offset and odometry intrinsics is included; drive turns of "
+      "different sizes in both directions and straight stretches)";
 }
 
 }  // namespace
@@ -186,9 +220,24 @@ SystematicsEstimate EstimateSystematics(
   }
 
   if (!last) {
+    const std::string why =
+        result != nullptr && result->has_estimate &&
+                result->observability.ExtrinsicDetermined()
+            ? "the joint refinement did not succeed"
+            : "the calibration did not determine the extrinsic";
     if (estimate.time_offset_reason.empty() && options.estimate_time_offset) {
-      estimate.time_offset_reason =
-          "the calibration did not determine the extrinsic";
+      estimate.time_offset_reason = why;
+    }
+    if (options.estimate_odometry_intrinsics) {
+      estimate.intrinsics_reasons.push_back(why);
+    }
+    // Nothing estimated: what the caller gets must be the calibration at
+    // the given values, which the outputs name, not at a coarse peak or at
+    // the values of an unfinished round.
+    if (estimate.camera_time_offset_ns !=
+            association_options.camera_time_offset_ns ||
+        !IsIdentity(estimate.intrinsics)) {
+      run(association_options.camera_time_offset_ns, OdometryIntrinsics());
     }
     return estimate;
   }
@@ -204,7 +253,8 @@ SystematicsEstimate EstimateSystematics(
       estimate.intrinsics_reasons.push_back(last->held_reason[1 + k]);
     }
   }
-  if (options.wheel_track_m > 0.0) {
+  // The ratio rests on yaw_per_metre_rad: none when it is held.
+  if (options.wheel_track_m > 0.0 && estimate.intrinsics_estimated[1]) {
     const double ys = estimate.intrinsics.yaw_scale;
     const double x = options.wheel_track_m *
                      estimate.intrinsics.yaw_per_metre_rad / (2.0 * ys);
@@ -215,7 +265,7 @@ SystematicsEstimate EstimateSystematics(
         x / ys * estimate.intrinsics_stddev[0]);
     estimate.right_over_left_stddev = 2.0 / ((1.0 - x) * (1.0 - x)) * sx;
   }
-  ApplyMarginalCovariance(*last, result);
+  ApplyMarginalCovariance(*last, calibration_options, result);
   return estimate;
 }
 

@@ -171,5 +171,35 @@ TEST(SystematicsEstimation, RecoversUnequalWheelsWithTheTrackGiven) {
             1e-6);
 }
 
+// With the intrinsics held, the track gives no wheel ratio: 1.0 +- 0 would
+// be a confident answer to a question the run did not ask.
+TEST(SystematicsEstimation, NoWheelRatioWhenTheIntrinsicsAreHeld) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.wheel_scale_error_left = 1.0 / 1.015 - 1.0;
+  options.wheel_scale_error_right = 1.0 / 0.99 - 1.0;
+  const SimulatedDrive drive = SimulateDrive(options);
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  SystematicsEstimationOptions systematics;
+  systematics.wheel_track_m = 0.4;
+  systematics.estimate_odometry_intrinsics = false;
+  CalibrationResult result;
+  const auto calibrate = [&](const AssociationResult& association) {
+    result = CalibrateOdomCam(association.pairs, calibration);
+    return std::make_pair(&association.pairs, &result);
+  };
+  AssociationResult association;
+  const SystematicsEstimate estimate = EstimateSystematics({drive.camera},
+                                                           drive.odometry,
+                                                           AssociationOptions(),
+                                                           calibration,
+                                                           systematics,
+                                                           calibrate,
+                                                           &association);
+  ASSERT_TRUE(result.has_estimate) << result.message;
+  EXPECT_FALSE(estimate.intrinsics_estimated[1]);
+  EXPECT_FALSE(estimate.right_over_left.has_value());
+}
+
 }  // namespace
 }  // namespace odomcal

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -156,7 +157,16 @@ int Spawn(const std::vector<std::string>& argv,
       throw ColmapError(std::string("waitpid failed: ") + std::strerror(errno));
     }
     if (waited == 0) {
-      follower.Poll();
+      try {
+        follower.Poll();
+      } catch (...) {
+        // The listener threw (e.g. a Python progress callback raised): stop
+        // COLMAP and reap it before the exception leaves.
+        ::kill(pid, SIGTERM);
+        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        throw;
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
     }
   }

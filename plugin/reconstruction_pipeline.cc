@@ -447,7 +447,7 @@ std::vector<fs::path> MapUnregisteredStretches(
       images,
       registered,
       ImagesInCalibration(calibrated,
-                          inputs.association.camera_time_offset_ns));
+                          calibrated.systematics.camera_time_offset_ns));
   std::map<std::string, uint32_t> image_ids;
   for (const ColmapDatabaseImage& image : ReadColmapDatabaseImages(database)) {
     image_ids[image.name] = image.image_id;
@@ -947,8 +947,10 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   if (const auto warning = policy.ContradictionWarning()) {
     result.calibration.check.result.warnings.push_back(*warning);
   }
-  AddImageCoverage(
-      images, inputs.association.camera_time_offset_ns, &result.calibration);
+  // At the clock offset the calibration used (estimated, or as given).
+  AddImageCoverage(images,
+                   result.calibration.systematics.camera_time_offset_ns,
+                   &result.calibration);
   clock.Done("calibrated");
   return result;
 }

@@ -368,6 +368,12 @@ SystematicsRefinement RefineSystematics(
     result.intrinsics = problem.Intrinsics();
     result.information_segments = solved.segments;
     result.extrinsic_covariance = covariance.topLeftCorner(first, first);
+    const Eigen::LDLT<Eigen::MatrixXd> held(
+        solved.information.topLeftCorner(first, first));
+    if (held.info() == Eigen::Success && held.isPositive()) {
+      result.extrinsic_conditional_covariance =
+          held.solve(Eigen::MatrixXd::Identity(first, first));
+    }
     for (size_t k = 0; k < solved.free_systematics.size(); ++k) {
       const int parameter = solved.free_systematics[k];
       result.estimated[parameter] = true;

@@ -65,6 +65,10 @@ struct SystematicsRefinement {
   // parameters (same units as RefinementResult::information); empty when the
   // information is singular.
   Eigen::MatrixXd extrinsic_covariance;
+  // The same block with the systematic parameters held (the inverse of the
+  // extrinsic's block of the information): extrinsic_covariance over it is
+  // what estimating them adds.
+  Eigen::MatrixXd extrinsic_conditional_covariance;
   std::vector<int> information_segments;
 };
 
