@@ -6,15 +6,27 @@
 //
 //   statistics_benchmark paper [seeds] [motions] [outlier_fraction]
 //   statistics_benchmark drive [seeds] [odometry_hz] [camera_hz] [noise_factor]
+//                              [vo] [odometry_keep_every] [wheel_scale_errors]
 //
 // paper: the paper protocol with parametric camera noise (odometry 0.01 rad
 // yaw / 2 % translation, camera 0.005 rad rotation / 0.01 rad translation
 // direction), pairs given to CalibrateOdomCam without their covariances (as
 // the CLI sees them). drive: 2-minute drives of the drive simulator
 // (differential drive, both turn directions), associated like the CLI does,
-// camera pose noise 0.02 deg / 2 mm times noise_factor.
+// camera pose noise 0.02 deg / 2 mm times noise_factor. vo = 1: instead,
+// camera poses composed from noisy relative motions (0.05 deg per axis and
+// 1 % of the step length per step) and random wheel travel noise (2 % per
+// odometry period), all times noise_factor (pair_formation_study's levels;
+// its systematic wheel scale errors, +0.3 % / -0.2 %, with
+// wheel_scale_errors = 1). odometry_keep_every = k keeps
+// every k-th odometry sample after simulating (the simulator's camera rate
+// must divide its odometry rate: 28 Hz / 7 Hz with k = 7 gives 4 Hz odometry
+// and a 7 Hz camera). The drive mode also prints the plain batch over all
+// consecutive frames (no keyframes, no RANSAC), the rotation
+// reference.
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/datasets/paper/paper_simulation.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/datasets/simulation/motion_simulator.h"
@@ -24,6 +36,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -195,17 +208,35 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
 int RunDrive(int seeds,
              double odometry_hz,
              double camera_hz,
-             double noise_factor) {
-  Tally estimated, given;
+             double noise_factor,
+             bool vo,
+             int keep_every,
+             bool wheel_scale_errors) {
+  Tally estimated, given, batch, cli;
   for (int seed = 0; seed < seeds; ++seed) {
     DriveSimulatorOptions options;
     options.seed = 2000 + seed;
     options.duration_s = 120.0;
     options.odometry_rate_hz = odometry_hz;
     options.camera_rate_hz = camera_hz;
-    options.camera_rotation_noise_deg = 0.02 * noise_factor;
-    options.camera_position_noise = 0.002 * noise_factor;
-    const SimulatedDrive drive = SimulateDrive(options);
+    if (vo) {
+      options.camera_step_rotation_noise_deg = 0.05 * noise_factor;
+      options.camera_step_translation_noise_rel = 0.01 * noise_factor;
+      options.wheel_travel_noise_rel = 0.02 * noise_factor;
+    } else {
+      options.camera_rotation_noise_deg = 0.02 * noise_factor;
+      options.camera_position_noise = 0.002 * noise_factor;
+    }
+    if (wheel_scale_errors) {
+      options.wheel_scale_error_left = 0.003;
+      options.wheel_scale_error_right = -0.002;
+    }
+    SimulatedDrive drive = SimulateDrive(options);
+    std::vector<StampedPose> kept;
+    for (size_t i = 0; i < drive.odometry.poses.size(); i += keep_every) {
+      kept.push_back(drive.odometry.poses[i]);
+    }
+    drive.odometry.poses = kept;
     const AssociationResult association = AssociateCameraWithOdometry(
         {drive.camera}, drive.odometry, AssociationOptions());
     CalibrationOptions calibration;
@@ -217,16 +248,63 @@ int RunDrive(int seeds,
     given.Add(CalibrateOdomCam(association.pairs, calibration),
               drive.odom_from_cam,
               drive.metric_scale);
+    // As `odomcal calibrate` with its defaults: the clock offset and the
+    // odometry intrinsics estimated with the extrinsic.
+    {
+      CalibrationOptions defaults;
+      defaults.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+      MotionPairs pairs;
+      CalibrationResult result;
+      AssociationResult final_association;
+      EstimateSystematics(
+          {drive.camera},
+          drive.odometry,
+          AssociationOptions(),
+          defaults,
+          SystematicsEstimationOptions(),
+          [&](const AssociationResult& associated) {
+            pairs = associated.pairs;
+            result = CalibrateOdomCam(pairs, defaults);
+            return std::make_pair(static_cast<const MotionPairs*>(&pairs),
+                                  &result);
+          },
+          &final_association);
+      cli.Add(result, drive.odom_from_cam, drive.metric_scale);
+    }
+    // The reference: every consecutive camera frame, no RANSAC.
+    AssociationOptions all_frames;
+    all_frames.keyframe_min_rotation_deg = 0.0;
+    all_frames.keyframe_min_translation_m = 0.0;
+    CalibrationOptions plain;
+    plain.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+    plain.use_ransac = false;
+    batch.Add(CalibrateOdomCam(AssociateCameraWithOdometry(
+                                   {drive.camera}, drive.odometry, all_frames)
+                                   .pairs,
+                               plain),
+              drive.odom_from_cam,
+              drive.metric_scale);
   }
   std::printf(
-      "drives: %d seeds, 120 s, odometry %g Hz, camera %g Hz, camera noise "
-      "%g x (0.02 deg, 2 mm)\n",
+      "drives: %d seeds, 120 s, odometry %g Hz, camera %g Hz, noise %g x "
+      "(%s)%s\n",
       seeds,
-      odometry_hz,
+      odometry_hz / keep_every,
       camera_hz,
-      noise_factor);
+      noise_factor,
+      vo ? "VO-like camera 0.05 deg, 1 %/step; wheel travel 2 %"
+         : "camera pose 0.02 deg, 2 mm",
+      wheel_scale_errors ? ", wheel scale errors +0.3 % / -0.2 %" : "");
   estimated.Print("default");
   given.Print("--estimate_noise off");
+  cli.Print("default + systematics");
+  batch.Print("plain batch, all frames");
+  std::printf(
+      "%-22s rotation RMSE / plain batch: default %.3f, default + "
+      "systematics %.3f\n",
+      "",
+      estimated.Rmse(estimated.rotation2) / batch.Rmse(batch.rotation2),
+      cli.Rmse(cli.rotation2) / batch.Rmse(batch.rotation2));
   return 0;
 }
 
@@ -244,12 +322,18 @@ int main(int argc, char** argv) {
                              arg(4, 0.0));
   }
   if (mode == "drive") {
-    return odomcal::RunDrive(
-        static_cast<int>(arg(2, 30)), arg(3, 50.0), arg(4, 5.0), arg(5, 1.0));
+    return odomcal::RunDrive(static_cast<int>(arg(2, 30)),
+                             arg(3, 50.0),
+                             arg(4, 5.0),
+                             arg(5, 1.0),
+                             arg(6, 0.0) != 0.0,
+                             std::max(1, static_cast<int>(arg(7, 1))),
+                             arg(8, 0.0) != 0.0);
   }
   std::fprintf(stderr,
                "usage: statistics_benchmark paper [seeds] [motions] "
                "[outlier_fraction] | drive [seeds] [odometry_hz] "
-               "[camera_hz] [noise_factor]\n");
+               "[camera_hz] [noise_factor] [vo] [odometry_keep_every] "
+               "[wheel_scale_errors]\n");
   return 2;
 }
