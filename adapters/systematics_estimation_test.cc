@@ -83,6 +83,27 @@ TEST(TimeOffsetSearch, RefusesAStraightDrive) {
   EXPECT_FALSE(search.reason.empty());
 }
 
+// EstimateSystematics on a simulated drive with the default association and
+// CalibrateOdomCam as the calibration; *result is the final calibration.
+SystematicsEstimate EstimateOnDrive(
+    const SimulatedDrive& drive,
+    const CalibrationOptions& calibration,
+    const SystematicsEstimationOptions& systematics,
+    CalibrationResult* result) {
+  const auto calibrate = [&](const AssociationResult& association) {
+    *result = CalibrateOdomCam(association.pairs, calibration);
+    return std::make_pair(&association.pairs, result);
+  };
+  AssociationResult association;
+  return EstimateSystematics({drive.camera},
+                             drive.odometry,
+                             AssociationOptions(),
+                             calibration,
+                             systematics,
+                             calibrate,
+                             &association);
+}
+
 // Noise-free drive whose odometry model is exact (equal wheels, a track 3 %
 // wider than nominal, a yaw-rate bias) and whose camera clock is 0.3013 s
 // behind: offset, intrinsics and extrinsic come back to 1e-6.
@@ -97,18 +118,8 @@ TEST(SystematicsEstimation, RecoversOffsetAndIntrinsicsNoiseFree) {
   SystematicsEstimationOptions systematics;
   systematics.tolerance_s = 1e-8;
   CalibrationResult result;
-  const auto calibrate = [&](const AssociationResult& association) {
-    result = CalibrateOdomCam(association.pairs, calibration);
-    return std::make_pair(&association.pairs, &result);
-  };
-  AssociationResult association;
-  const SystematicsEstimate estimate = EstimateSystematics({drive.camera},
-                                                           drive.odometry,
-                                                           AssociationOptions(),
-                                                           calibration,
-                                                           systematics,
-                                                           calibrate,
-                                                           &association);
+  const SystematicsEstimate estimate =
+      EstimateOnDrive(drive, calibration, systematics, &result);
   ASSERT_TRUE(result.IsSuccess()) << result.message;
   EXPECT_TRUE(estimate.time_offset_estimated) << estimate.time_offset_reason;
   EXPECT_NEAR(OffsetSeconds(estimate.camera_time_offset_ns), 0.3013, 1e-6);
@@ -142,18 +153,8 @@ TEST(SystematicsEstimation, RecoversUnequalWheelsWithTheTrackGiven) {
   systematics.wheel_track_m = 0.4;
   systematics.tolerance_s = 1e-8;
   CalibrationResult result;
-  const auto calibrate = [&](const AssociationResult& association) {
-    result = CalibrateOdomCam(association.pairs, calibration);
-    return std::make_pair(&association.pairs, &result);
-  };
-  AssociationResult association;
-  const SystematicsEstimate estimate = EstimateSystematics({drive.camera},
-                                                           drive.odometry,
-                                                           AssociationOptions(),
-                                                           calibration,
-                                                           systematics,
-                                                           calibrate,
-                                                           &association);
+  const SystematicsEstimate estimate =
+      EstimateOnDrive(drive, calibration, systematics, &result);
   ASSERT_TRUE(result.IsSuccess()) << result.message;
   EXPECT_NEAR(estimate.intrinsics.yaw_scale, 0.5 * (k_left + k_right), 1e-6);
   EXPECT_NEAR(
@@ -184,18 +185,8 @@ TEST(SystematicsEstimation, NoWheelRatioWhenTheIntrinsicsAreHeld) {
   systematics.wheel_track_m = 0.4;
   systematics.estimate_odometry_intrinsics = false;
   CalibrationResult result;
-  const auto calibrate = [&](const AssociationResult& association) {
-    result = CalibrateOdomCam(association.pairs, calibration);
-    return std::make_pair(&association.pairs, &result);
-  };
-  AssociationResult association;
-  const SystematicsEstimate estimate = EstimateSystematics({drive.camera},
-                                                           drive.odometry,
-                                                           AssociationOptions(),
-                                                           calibration,
-                                                           systematics,
-                                                           calibrate,
-                                                           &association);
+  const SystematicsEstimate estimate =
+      EstimateOnDrive(drive, calibration, systematics, &result);
   ASSERT_TRUE(result.has_estimate) << result.message;
   EXPECT_FALSE(estimate.intrinsics_estimated[1]);
   EXPECT_FALSE(estimate.right_over_left.has_value());

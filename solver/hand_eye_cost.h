@@ -4,11 +4,18 @@
 
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/rotation.h>
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <map>
+#include <vector>
 
 namespace odomcal {
 
@@ -64,5 +71,29 @@ class HandEyeCost {
   Eigen::Vector3d t_b_;
   Matrix6d sqrt_information_;
 };
+
+// odom_from_cam from the refinement's parameter blocks above.
+inline Rigid3d OdomFromCamParameters(const double quaternion[4],
+                                     const double p_xy[2],
+                                     double p_z) {
+  return Rigid3d(Eigen::Quaterniond(
+                     quaternion[3], quaternion[0], quaternion[1], quaternion[2])
+                     .normalized(),
+                 Eigen::Vector3d(p_xy[0], p_xy[1], p_z));
+}
+
+// Metric scales by segment from the log-scale blocks; NaN for segments
+// without a block.
+inline std::vector<double> ScalesFromLogScales(
+    const std::map<int, double>& log_scales, size_t num_segments) {
+  std::vector<double> scales(num_segments,
+                             std::numeric_limits<double>::quiet_NaN());
+  for (const auto& [segment, log_scale] : log_scales) {
+    if (segment >= 0 && static_cast<size_t>(segment) < num_segments) {
+      scales[segment] = std::exp(log_scale);
+    }
+  }
+  return scales;
+}
 
 }  // namespace odomcal

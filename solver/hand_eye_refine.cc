@@ -72,22 +72,11 @@ class HandEyeProblem {
   ceres::Problem& problem() { return *problem_; }
 
   Rigid3d OdomFromCam() const {
-    return Rigid3d(
-        Eigen::Quaterniond(
-            quaternion_[3], quaternion_[0], quaternion_[1], quaternion_[2])
-            .normalized(),
-        Eigen::Vector3d(p_xy_[0], p_xy_[1], p_z_));
+    return OdomFromCamParameters(quaternion_, p_xy_, p_z_);
   }
 
   std::vector<double> Scales(size_t num_segments) const {
-    std::vector<double> scales(num_segments,
-                               std::numeric_limits<double>::quiet_NaN());
-    for (const auto& [segment, log_scale] : log_scales_) {
-      if (segment >= 0 && static_cast<size_t>(segment) < num_segments) {
-        scales[segment] = std::exp(log_scale);
-      }
-    }
-    return scales;
+    return ScalesFromLogScales(log_scales_, num_segments);
   }
 
   // J^T J in the reported coordinates, see the file comment.
