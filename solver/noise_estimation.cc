@@ -134,7 +134,8 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
               const NoiseFactors& start,
               const Eigen::VectorXd& multipliers) {
   const int num_components = static_cast<int>(components.size());
-  std::vector<std::vector<Matrix6d>> bases(terms.size());
+  // bases[i * num_components + c]: V_c of pair i at the starting noise.
+  std::vector<Matrix6d> bases(terms.size() * num_components);
   std::vector<Matrix6d> precisions(terms.size());
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
@@ -144,11 +145,11 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
       covariance += start[g] * terms[i].contributions[g];
     }
     for (int c = 0; c < num_components; ++c) {
-      Matrix6d base = Matrix6d::Zero();
+      Matrix6d& base = bases[i * num_components + c];
+      base.setZero();
       for (const int g : components[c]) {
         base += start[g] * terms[i].contributions[g];
       }
-      bases[i].push_back(base);
       covariance += multipliers(c) * base;
     }
     covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
@@ -157,24 +158,32 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   }
   const Eigen::MatrixXd normal_inverse =
       normal.completeOrthogonalDecomposition().pseudoInverse();
+  // tr(A B) without forming A B: the sum of A .* B^T (36 products, not 216).
+  const auto trace_of_product = [](const Matrix6d& a, const Matrix6d& b) {
+    return a.cwiseProduct(b.transpose()).sum();
+  };
   Pass pass;
   pass.weighted_sum = Eigen::VectorXd::Zero(num_components);
   pass.redundancy_part = Eigen::VectorXd::Zero(num_components);
   pass.helmert = Eigen::MatrixXd::Zero(num_components, num_components);
+  std::vector<Matrix6d> mv(num_components);
   for (size_t i = 0; i < terms.size(); ++i) {
     const Matrix6d& p = precisions[i];
     const Matrix6X pj = p * terms[i].jacobian;
     const Matrix6d m = p - pj * normal_inverse * pj.transpose();
     const Vector6d pe = p * terms[i].residual;
-    std::vector<Matrix6d> mv;
     for (int c = 0; c < num_components; ++c) {
-      pass.weighted_sum(c) += pe.dot(bases[i][c] * pe);
-      pass.redundancy_part(c) += (bases[i][c] * m).trace();
-      mv.push_back(m * bases[i][c]);
+      const Matrix6d& base = bases[i * num_components + c];
+      pass.weighted_sum(c) += pe.dot(base * pe);
+      pass.redundancy_part(c) += trace_of_product(base, m);
+      mv[c] = m * base;
     }
+    // H is symmetric: tr(M V_c M V_d) = tr(M V_d M V_c).
     for (int c = 0; c < num_components; ++c) {
-      for (int d = 0; d < num_components; ++d) {
-        pass.helmert(c, d) += (mv[c] * mv[d]).trace();
+      for (int d = c; d < num_components; ++d) {
+        const double trace = trace_of_product(mv[c], mv[d]);
+        pass.helmert(c, d) += trace;
+        if (d != c) pass.helmert(d, c) += trace;
       }
     }
   }
