@@ -20,7 +20,12 @@ namespace {
 using Matrix6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 
 constexpr int kMaxIterations = 100;
+// Converged when each multiplier's step is below 1e-5 of its value or 1 % of
+// its own standard deviation: a component the data hardly determine (about to
+// be tied) otherwise creeps for the whole iteration budget under Foerstner's
+// step, by amounts far below anything the data can tell apart.
 constexpr double kConvergence = 1e-5;
+constexpr double kStepOfStddev = 0.01;
 // The given noise is a prior, not only a start: an estimate at most 10x below
 // it (in standard deviation). Exact or over-fitted data (simulations, a
 // handful of pairs) would otherwise claim a near-zero noise, a covariance of
@@ -335,7 +340,9 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
               pass.weighted_sum);
       const bool helmert_positive =
           helmert.allFinite() && (helmert.array() > 0.0).all();
-      double change = 0.0;
+      const Eigen::MatrixXd multiplier_covariance =
+          2.0 * pass.helmert.completeOrthogonalDecomposition().pseudoInverse();
+      bool converged = true;
       for (int c = 0; c < num_components; ++c) {
         double next = multipliers(c);
         if (helmert_positive) {
@@ -345,10 +352,14 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
               multipliers(c) * pass.weighted_sum(c) / pass.redundancy_part(c);
         }
         next = std::clamp(next, kMinMultiplier, kMaxMultiplier);
-        change = std::max(change, std::abs(next / multipliers(c) - 1.0));
+        const double stddev =
+            std::sqrt(std::max(0.0, multiplier_covariance(c, c)));
+        const double tolerance =
+            std::max(kConvergence * multipliers(c), kStepOfStddev * stddev);
+        if (!(std::abs(next - multipliers(c)) <= tolerance)) converged = false;
         multipliers(c) = next;
       }
-      if (change < kConvergence) break;
+      if (converged) break;
     }
     estimate.num_iterations += iteration + 1;
     pass = Evaluate(terms, components, fixed, start, multipliers);
