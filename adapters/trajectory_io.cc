@@ -632,4 +632,15 @@ void WriteOdometryCsv(const Trajectory& trajectory, const std::string& path) {
   FinishWriting(stream, path);
 }
 
+void WriteWheelTravelCsv(const WheelTravels& travels, const std::string& path) {
+  std::ofstream stream = OpenForWriting(path);
+  stream << kWheelColumnList << "\n";
+  for (const WheelTravelSample& sample : travels.samples) {
+    stream << FormatTimestampSeconds(sample.stamp_ns) << ','
+           << FormatValue(sample.left_m) << ',' << FormatValue(sample.right_m)
+           << '\n';
+  }
+  FinishWriting(stream, path);
+}
+
 }  // namespace odomcal

@@ -120,4 +120,9 @@ void WriteTumTrajectory(const Trajectory& trajectory, const std::string& path);
 // is thrown before the file is touched. I/O errors throw FormatError.
 void WriteOdometryCsv(const Trajectory& trajectory, const std::string& path);
 
+// Writes a "timestamp,left_m,right_m" wheel-travel CSV (header line, exact
+// decimal seconds, %.17g metres) that ReadOdometry reads back to the same
+// travels. I/O errors throw FormatError.
+void WriteWheelTravelCsv(const WheelTravels& travels, const std::string& path);
+
 }  // namespace odomcal
