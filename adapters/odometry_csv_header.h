@@ -51,4 +51,42 @@ struct OdometryCsvColumns {
 std::optional<OdometryCsvColumns> ParseOdometryCsvHeader(
     const std::vector<std::string_view>& fields, std::string* error);
 
+// The header of a wheel-travel CSV (wheel_travel.h): three names, any order,
+// any case: the time as above, and the cumulative travel of each wheel with
+// a unit suffix that is required (a bare "left" could be metres or ticks):
+//   left, right   suffix _m | _cm | _mm | _ticks (both the same kind)
+// e.g. "timestamp,left_m,right_m", "time_ns,left_ticks,right_ticks".
+inline constexpr char kWheelCsvHeaderGrammar[] =
+    "t|time|timestamp[_s|_ms|_us|_ns], left_m|left_cm|left_mm|left_ticks, "
+    "right_m|right_cm|right_mm|right_ticks (any order, any case; both wheels "
+    "in distance or both in ticks)";
+
+struct WheelCsvColumns {
+  int time = 0;
+  int left = 1;
+  int right = 2;
+  std::string time_name = "timestamp";
+  std::string left_name = "left_m";
+  std::string right_name = "right_m";
+  std::optional<TimeUnit> time_unit;
+  // Encoder counts (integers, converted with the ticks per metre the caller
+  // is given) instead of distances.
+  bool ticks = false;
+  // Distances: factor to metres (both wheels use the same unit or not, each
+  // its own factor).
+  double left_to_m = 1.0;
+  double right_to_m = 1.0;
+};
+
+// True when `fields` look like a wheel-travel header rather than an odometry
+// pose header: one of them names a left or right wheel column (with any or
+// no suffix), so that its errors list the wheel grammar.
+bool LooksLikeWheelCsvHeader(const std::vector<std::string_view>& fields);
+
+// Columns of a wheel-travel header; as ParseOdometryCsvHeader, the error
+// lists kWheelCsvHeaderGrammar. Also refused: one wheel in ticks and the other
+// in a distance.
+std::optional<WheelCsvColumns> ParseWheelCsvHeader(
+    const std::vector<std::string_view>& fields, std::string* error);
+
 }  // namespace odomcal

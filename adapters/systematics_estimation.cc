@@ -208,6 +208,31 @@ SystematicsEstimate EstimateSystematics(
         std::abs(next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s) <
             1e-7;
     if (converged) break;
+    // Re-association, RANSAC and the noise estimate change the pair set from
+    // round to round, which can leave a limit cycle of changes about as
+    // large as the parameters' standard deviations (seen: 0.17 ms against
+    // 0.13 ms, wheels 1.015 / 0.99, seed 23). Holding everything at identity
+    // then costs far more (0.23 deg of rotation) than the cycle: the last
+    // round's refined values are the estimate, calibrated once more at them.
+    const double changes[kNumSystematics] = {
+        change_s,
+        next.yaw_scale - intrinsics.yaw_scale,
+        next.yaw_per_metre_rad - intrinsics.yaw_per_metre_rad,
+        next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s};
+    bool within_noise = true;
+    for (int k = 0; k < kNumSystematics; ++k) {
+      const double limit = refined.estimated[k] ? 3.0 * refined.stddev[k] : 0.0;
+      if (!(std::abs(changes[k]) <= limit)) within_noise = false;
+    }
+    if (round == options.max_rounds && within_noise) {
+      offset_ns += static_cast<int64_t>(std::llround(change_s * 1e9));
+      result = run(offset_ns, next).second;
+      if (!result->has_estimate ||
+          !result->observability.ExtrinsicDetermined()) {
+        last.reset();
+      }
+      break;
+    }
     if (round == options.max_rounds) {
       estimate.time_offset_reason =
           "the estimate did not settle within " + std::to_string(round) +

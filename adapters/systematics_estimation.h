@@ -19,6 +19,7 @@
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/time_offset_search.h"
 #include "odomcal/adapters/trajectory.h"
+#include "odomcal/adapters/wheel_travel.h"
 #include "odomcal/solver/calibration_result.h"
 #include "odomcal/solver/odometry_intrinsics.h"
 #include "odomcal/solver/systematics_refine.h"
@@ -41,7 +42,16 @@ struct SystematicsEstimationOptions {
   int max_rounds = 8;
   double tolerance_s = 1e-4;
   SystematicsOptions limits;
+  // Encoder ticks per metre of a wheel-tick odometry log (wheel_travel.h),
+  // > 0 when given.
+  double wheel_ticks_per_m = 0.0;
 };
+
+// What reading a wheel-travel log needs from these options.
+inline WheelTravelOptions WheelTravelOptionsOf(
+    const SystematicsEstimationOptions& options) {
+  return {options.wheel_track_m, options.wheel_ticks_per_m};
+}
 
 struct SystematicsEstimate {
   // Camera time offset the final association used (odometry_time =

@@ -15,6 +15,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/odometry_csv_header.h"
 #include "odomcal/adapters/text_reader.h"
+#include "odomcal/adapters/wheel_travel.h"
 
 #include <algorithm>
 #include <cctype>
@@ -41,6 +42,7 @@ constexpr const char* kTumColumns[] = {
     "timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
 constexpr const char* kTumColumnList = "timestamp tx ty tz qx qy qz qw";
 constexpr const char* kCsvColumnList = "timestamp,x,y,yaw";
+constexpr const char* kWheelColumnList = "timestamp,left_m,right_m";
 
 std::string SystemReason() {
   return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string();
@@ -86,6 +88,7 @@ class LineReader {
   }
 
   int line_number() const { return line_number_; }
+  const std::string& path() const { return path_; }
 
   [[noreturn]] void Fail(const std::string& what) const {
     ThrowAt(path_, line_number_, what);
@@ -196,6 +199,30 @@ int64_t ParseStamp(const LineReader& reader,
   return *stamp_ns;
 }
 
+int64_t ParseTicks(const LineReader& reader,
+                   std::string_view field,
+                   const std::string& column) {
+  const std::string name = "column '" + column + "'";
+  if (field.empty()) reader.Fail(name + " is empty");
+  std::string_view digits = field;
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' &&
+      digits[1] != '+') {
+    digits.remove_prefix(1);
+  }
+  int64_t value = 0;
+  const auto [end, ec] =
+      std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ec == std::errc::result_out_of_range) {
+    reader.Fail(name + " is out of the 64-bit integer range: '" +
+                std::string(field) + "'");
+  }
+  if (ec != std::errc() || end != digits.data() + digits.size()) {
+    reader.Fail(name + " is not an integer tick count: '" + std::string(field) +
+                "'");
+  }
+  return value;
+}
+
 // Refuses duplicate and decreasing timestamps, naming both lines.
 class IncreasingStamps {
  public:
@@ -263,6 +290,7 @@ std::optional<OdometryFormat> FormatByContent(const std::string& path,
   while (reader.Next(&line)) {
     const std::vector<std::string_view> fields = SplitFields(line);
     if (first && !fields.empty() && !LooksNumeric(fields[0])) {
+      if (LooksLikeWheelCsvHeader(fields)) return OdometryFormat::kCsv;
       first = false;
       continue;  // a header
     }
@@ -337,9 +365,91 @@ TimeUnit TimeColumnUnit(const LineReader& reader,
   return *columns.time_unit;
 }
 
+// The rows of a wheel-travel CSV after its header `fields`, integrated with
+// the nominal track (wheel_travel.h). Ticks are converted from their count
+// relative to the first row, in integers, so that large counters keep their
+// precision; a difference beyond the int64 range is refused.
+Trajectory ReadWheelRows(LineReader* reader,
+                         const std::vector<std::string_view>& fields,
+                         TimeUnit unit,
+                         bool unit_given,
+                         const WheelTravelOptions& wheels,
+                         const std::string& format_hint) {
+  std::string error;
+  const std::optional<WheelCsvColumns> columns =
+      ParseWheelCsvHeader(fields, &error);
+  if (!columns) reader->Fail(error + format_hint);
+  const std::string column_list =
+      columns->time_name + "," + columns->left_name + "," + columns->right_name;
+  if (!(wheels.track_m > 0.0)) {
+    reader->Fail("wheel travels (" + column_list +
+                 ") are integrated with the nominal wheel track: pass "
+                 "--wheel_track_m");
+  }
+  if (columns->ticks && !(wheels.ticks_per_m > 0.0)) {
+    reader->Fail("wheel ticks (" + column_list +
+                 ") need the encoder ticks per metre: pass "
+                 "--wheel_ticks_per_m");
+  }
+  const TimeUnit time_unit = [&] {
+    OdometryCsvColumns time_column;
+    time_column.time_name = columns->time_name;
+    time_column.time_unit = columns->time_unit;
+    return TimeColumnUnit(*reader, time_column, unit, unit_given);
+  }();
+  WheelTravels travels;
+  travels.source = reader->path();
+  IncreasingStamps increasing;
+  int64_t first_left_ticks = 0, first_right_ticks = 0;
+  const auto ticks_to_m =
+      [&](int64_t ticks, int64_t first, const std::string& column) {
+        int64_t count = 0;
+        if (__builtin_sub_overflow(ticks, first, &count)) {
+          reader->Fail("column '" + column + "': " + std::to_string(ticks) +
+                       " is more than the 64-bit integer range away from the "
+                       "first row's " +
+                       std::to_string(first));
+        }
+        return static_cast<double>(count) / wheels.ticks_per_m;
+      };
+  std::string line;
+  while (reader->Next(&line)) {
+    const std::vector<std::string_view> row = SplitFields(line);
+    CheckFieldCount(*reader, row, 3, column_list, false, "");
+    WheelTravelSample sample;
+    sample.stamp_ns =
+        ParseStamp(*reader, row[columns->time], time_unit, columns->time_name);
+    if (columns->ticks) {
+      const int64_t left =
+          ParseTicks(*reader, row[columns->left], columns->left_name);
+      const int64_t right =
+          ParseTicks(*reader, row[columns->right], columns->right_name);
+      if (travels.samples.empty()) {
+        first_left_ticks = left;
+        first_right_ticks = right;
+      }
+      sample.left_m = ticks_to_m(left, first_left_ticks, columns->left_name);
+      sample.right_m =
+          ticks_to_m(right, first_right_ticks, columns->right_name);
+    } else {
+      sample.left_m =
+          columns->left_to_m *
+          ParseValue(*reader, row[columns->left], columns->left_name);
+      sample.right_m =
+          columns->right_to_m *
+          ParseValue(*reader, row[columns->right], columns->right_name);
+    }
+    increasing.Check(*reader, sample.stamp_ns, row[columns->time]);
+    travels.samples.push_back(sample);
+  }
+  if (travels.samples.empty()) reader->FailNoData();
+  return IntegrateWheelTravels(travels, wheels.track_m);
+}
+
 Trajectory ReadCsv(const std::string& path,
                    TimeUnit unit,
                    bool unit_given,
+                   const WheelTravelOptions& wheels,
                    const std::string& format_hint) {
   Trajectory trajectory;
   trajectory.source = path;
@@ -359,10 +469,14 @@ Trajectory ReadCsv(const std::string& path,
     const bool first_data_line = first;
     first = false;
     if (is_header) {
+      if (LooksLikeWheelCsvHeader(fields)) {
+        return ReadWheelRows(
+            &reader, fields, unit, unit_given, wheels, format_hint);
+      }
       if (fields.size() != 4) {
         reader.Fail("header has " + std::to_string(fields.size()) +
-                    " fields, expected 4 (" + kCsvColumnList + ")" +
-                    format_hint);
+                    " fields, expected 4 (" + kCsvColumnList + ") or 3 (" +
+                    kWheelColumnList + ")" + format_hint);
       }
       std::string error;
       const std::optional<OdometryCsvColumns> named =
@@ -414,8 +528,9 @@ Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit) {
 
 Trajectory ReadOdometryCsv(const std::string& path,
                            TimeUnit unit,
-                           bool unit_given) {
-  return ReadCsv(path, unit, unit_given, "");
+                           bool unit_given,
+                           const WheelTravelOptions& wheels) {
+  return ReadCsv(path, unit, unit_given, wheels, "");
 }
 
 OdometryFormat ParseOdometryFormat(const std::string& name) {
@@ -441,7 +556,8 @@ const char* OdometryFormatName(OdometryFormat format) {
 Trajectory ReadOdometry(const std::string& path,
                         OdometryFormat format,
                         TimeUnit unit,
-                        bool unit_given) {
+                        bool unit_given,
+                        const WheelTravelOptions& wheels) {
   std::string reason;
   if (format == OdometryFormat::kAuto) {
     size_t num_fields = 0;
@@ -472,7 +588,7 @@ Trajectory ReadOdometry(const std::string& path,
                                   FormatName(format) + " because of " + reason +
                                   "; --odometry_format csv or tum chooses)";
   return format == OdometryFormat::kCsv
-             ? ReadCsv(path, unit, unit_given, format_hint)
+             ? ReadCsv(path, unit, unit_given, wheels, format_hint)
              : ReadTum(path, unit, format_hint);
 }
 
@@ -512,6 +628,17 @@ void WriteOdometryCsv(const Trajectory& trajectory, const std::string& path) {
     const double yaw = 2.0 * std::atan2(q.z(), q.w());
     stream << FormatTimestampSeconds(pose.stamp_ns) << ',' << FormatValue(t.x())
            << ',' << FormatValue(t.y()) << ',' << FormatValue(yaw) << '\n';
+  }
+  FinishWriting(stream, path);
+}
+
+void WriteWheelTravelCsv(const WheelTravels& travels, const std::string& path) {
+  std::ofstream stream = OpenForWriting(path);
+  stream << kWheelColumnList << "\n";
+  for (const WheelTravelSample& sample : travels.samples) {
+    stream << FormatTimestampSeconds(sample.stamp_ns) << ','
+           << FormatValue(sample.left_m) << ',' << FormatValue(sample.right_m)
+           << '\n';
   }
   FinishWriting(stream, path);
 }

@@ -26,6 +26,22 @@
 // of more than pi between consecutive samples that is not a 2 pi wrap
 // (degrees read as radians; input_plausibility.h).
 //
+// Wheel-travel CSV (wheel_travel.h), recognised by its header, which it
+// needs (odometry_csv_header.h: a name whose base is left or right):
+//   timestamp,left_m,right_m        cumulative travel of each wheel
+//   timestamp,left_ticks,right_ticks cumulative encoder counts (int64)
+// (any order, any case; time suffixes as above; distances also in _cm or
+// _mm). The travels are integrated with the nominal track
+// WheelTravelOptions::track_m into the planar trajectory, counts with
+// ticks_per_m; without either one needed the header line's error names the
+// flag: "path:1: wheel travels (timestamp,left_m,right_m) are integrated
+// with the nominal wheel track: pass --wheel_track_m", "path:1: wheel ticks
+// (timestamp,left_ticks,right_ticks) need the encoder ticks per metre: pass
+// --wheel_ticks_per_m". Counts are not assumed to wrap around; a decreasing
+// count is driving backwards. Rows are checked as for the pose CSV (a tick
+// that is not an integer: "column 'left_ticks' is not an integer tick
+// count: '12.5'").
+//
 // Both readers: timestamps are parsed exactly in `unit` (see timestamp.h);
 // lines whose first non-blank character is '#' and blank lines are skipped;
 // trailing '\r' and a UTF-8 byte order mark before the first line are
@@ -48,6 +64,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
+#include "odomcal/adapters/wheel_travel.h"
 
 #include <string>
 
@@ -59,9 +76,11 @@ Trajectory ReadTumTrajectory(const std::string& path, TimeUnit unit);
 // Reads an odometry CSV (see above). planar = true. `unit` applies to a time
 // column without a unit suffix; when `unit_given` (the user chose it with
 // --odometry_time_unit), a header suffix naming another unit is an error.
+// `wheels` integrates a wheel-travel CSV (see above).
 Trajectory ReadOdometryCsv(const std::string& path,
                            TimeUnit unit,
-                           bool unit_given = false);
+                           bool unit_given = false,
+                           const WheelTravelOptions& wheels = {});
 
 enum class OdometryFormat { kAuto, kTum, kCsv };
 
@@ -79,11 +98,13 @@ const char* OdometryFormatName(OdometryFormat format);
 // header says how the format was chosen and names --odometry_format, e.g.
 //   "path:1: expected 8 fields (...), got 4 (read as tum because of
 //    --odometry_format tum; --odometry_format csv or tum chooses)".
-// `unit` and `unit_given` as for ReadOdometryCsv.
+// A wheel-travel header makes it CSV. `unit`, `unit_given` and `wheels` as
+// for ReadOdometryCsv.
 Trajectory ReadOdometry(const std::string& path,
                         OdometryFormat format,
                         TimeUnit unit,
-                        bool unit_given = false);
+                        bool unit_given = false,
+                        const WheelTravelOptions& wheels = {});
 
 // Writes a TUM trajectory: a '#' header comment, then one line per pose with
 // the timestamp in exact decimal seconds (FormatTimestampSeconds) and the
@@ -98,5 +119,10 @@ void WriteTumTrajectory(const Trajectory& trajectory, const std::string& path);
 // x, y quaternion components at most 1e-9), otherwise std::invalid_argument
 // is thrown before the file is touched. I/O errors throw FormatError.
 void WriteOdometryCsv(const Trajectory& trajectory, const std::string& path);
+
+// Writes a "timestamp,left_m,right_m" wheel-travel CSV (header line, exact
+// decimal seconds, %.17g metres) that ReadOdometry reads back to the same
+// travels. I/O errors throw FormatError.
+void WriteWheelTravelCsv(const WheelTravels& travels, const std::string& path);
 
 }  // namespace odomcal

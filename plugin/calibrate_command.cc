@@ -25,10 +25,12 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
   for (const std::string& path : inputs.camera_paths) {
     cameras.push_back(ReadTumTrajectory(path, inputs.camera_time_unit));
   }
-  const Trajectory odometry = ReadOdometry(inputs.odometry_path,
-                                           inputs.odometry_format,
-                                           inputs.odometry_time_unit,
-                                           inputs.odometry_time_unit_given);
+  const Trajectory odometry =
+      ReadOdometry(inputs.odometry_path,
+                   inputs.odometry_format,
+                   inputs.odometry_time_unit,
+                   inputs.odometry_time_unit_given,
+                   WheelTravelOptionsOf(inputs.systematics));
   return CalibrateTrajectories(cameras, odometry, inputs, command);
 }
 

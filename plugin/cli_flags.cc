@@ -302,6 +302,12 @@ const OptionTable<SystematicsEstimationOptions>& SystematicsFlags() {
           "(0: not given)",
           [](auto& o) -> auto& { return o.wheel_track_m; },
           FlagCheck::AtLeast(0)),
+      NumberRow<S>(
+          "wheel_ticks_per_m",
+          "encoder ticks per metre of wheel travel, for an odometry CSV "
+          "timestamp,left_ticks,right_ticks (0: not given)",
+          [](auto& o) -> auto& { return o.wheel_ticks_per_m; },
+          FlagCheck::AtLeast(0)),
   };
   return table;
 }

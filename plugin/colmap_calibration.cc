@@ -122,7 +122,8 @@ ColmapCalibrationRun CalibrateColmapProject(
   run.odometry = ReadOdometry(inputs.odometry_path,
                               inputs.odometry_format,
                               inputs.odometry_time_unit,
-                              inputs.odometry_time_unit_given);
+                              inputs.odometry_time_unit_given,
+                              WheelTravelOptionsOf(inputs.systematics));
   CheckOdometrySpeed(run.odometry);
 
   std::vector<Trajectory> cameras;

@@ -54,13 +54,18 @@ nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
 }
 
 // The trajectory-only demo: simulated drive -> TUM/CSV files -> calibrate.
+// With `wheel_travels` the odometry is written as the drive's wheel travels
+// (wheels.csv, timestamp,left_m,right_m: no yaw-rate bias, that is a gyro's)
+// and calibrated from them with --wheel_track_m.
 int RunSimulatedDemo(const std::string& workspace,
                      const DriveSimulatorOptions& simulation,
+                     bool wheel_travels,
                      CalibrateInputs inputs) {
   // Every run replaces the demo's own files (and only those).
   ClaimOutputFolder(workspace,
                     {"camera.tum",
                      "odometry.csv",
+                     "wheels.csv",
                      "ground_truth.json",
                      "calibration.json",
                      "calibration.yaml"},
@@ -70,10 +75,15 @@ int RunSimulatedDemo(const std::string& workspace,
             << " s drive (seed " << simulation.seed << ")\n";
   const SimulatedDrive drive = SimulateDrive(simulation);
   const std::string camera_path = (root / "camera.tum").string();
-  const std::string odometry_path = (root / "odometry.csv").string();
+  const std::string odometry_path =
+      (root / (wheel_travels ? "wheels.csv" : "odometry.csv")).string();
   const std::string truth_path = (root / "ground_truth.json").string();
   WriteTumTrajectory(drive.camera, camera_path);
-  WriteOdometryCsv(drive.odometry, odometry_path);
+  if (wheel_travels) {
+    WriteWheelTravelCsv(drive.wheel_travels, odometry_path);
+  } else {
+    WriteOdometryCsv(drive.odometry, odometry_path);
+  }
   WriteFileAtomically(
       truth_path, SimulatedGroundTruthJson(drive, simulation).dump(2) + "\n");
   std::cout << "      wrote " << camera_path << " ("
@@ -131,9 +141,17 @@ int RunSimulatedDemo(const std::string& workspace,
     std::printf("      yaw_per_metre error %+8.5f rad/m\n",
                 estimate.intrinsics.yaw_per_metre_rad -
                     (k_right - k_left) / (k_track * 0.4));
-    std::printf("      yaw_rate_bias error %+8.6f rad/s\n",
-                estimate.intrinsics.yaw_rate_bias_rad_s +
-                    yaw_scale * simulation.yaw_rate_bias_radps);
+    const double odometry_bias =
+        wheel_travels ? 0.0 : simulation.yaw_rate_bias_radps;
+    std::printf(
+        "      yaw_rate_bias error %+8.6f rad/s\n",
+        estimate.intrinsics.yaw_rate_bias_rad_s + yaw_scale * odometry_bias);
+    if (estimate.right_over_left) {
+      std::printf(
+          "      right_over_left error %+8.4f %% (3 sigma %.4f %%)\n",
+          100.0 * (*estimate.right_over_left / (k_right / k_left) - 1.0),
+          300.0 * estimate.right_over_left_stddev / (k_right / k_left));
+    }
   }
   return ExitCodeFor(result);
 }
@@ -337,6 +355,12 @@ int RunDemo(int argc, char** argv) {
                  simulation.camera_rate_hz,
                  "--simulated: camera rate (must divide the 50 Hz odometry)")
       ->capture_default_str();
+  bool wheel_travels = false;
+  app.add_flag("--sim_wheel_travels",
+               wheel_travels,
+               "--simulated: write the odometry as wheel travels (wheels.csv, "
+               "timestamp,left_m,right_m; no yaw-rate bias) and calibrate "
+               "from them (needs --wheel_track_m)");
   CalibrateInputs inputs;
   AddCalibrationFlags(&app, &inputs);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
@@ -350,7 +374,7 @@ int RunDemo(int argc, char** argv) {
       if (wheel_right) {
         simulation.wheel_scale_error_right = 1.0 / *wheel_right - 1.0;
       }
-      return RunSimulatedDemo(workspace, simulation, inputs);
+      return RunSimulatedDemo(workspace, simulation, wheel_travels, inputs);
     }
     return RunRenderedDemo(workspace, preset, seed, inputs);
   });

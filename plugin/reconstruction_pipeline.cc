@@ -654,10 +654,12 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                     ExistingOutputs::kReplaceOwn);
 
   // [1] Frame selection.
-  const Trajectory odometry = ReadOdometry(inputs.odometry_path,
-                                           inputs.odometry_format,
-                                           inputs.odometry_time_unit,
-                                           inputs.odometry_time_unit_given);
+  const Trajectory odometry =
+      ReadOdometry(inputs.odometry_path,
+                   inputs.odometry_format,
+                   inputs.odometry_time_unit,
+                   inputs.odometry_time_unit_given,
+                   WheelTravelOptionsOf(inputs.systematics));
   CheckOdometrySpeed(odometry);
   std::vector<TimedImage> images;
   {

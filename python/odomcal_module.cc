@@ -333,13 +333,15 @@ py::object Calibrate(const py::object& camera_poses,
                   : ReadTumTrajectory(in.path, inputs.camera_time_unit));
     }
     const Trajectory odometry_trajectory =
-        odometry_in.rows ? OdometryFromRows(*odometry_in.rows,
-                                            inputs.odometry_time_unit,
-                                            odometry_in.name)
-                         : ReadOdometry(odometry_in.path,
-                                        inputs.odometry_format,
-                                        inputs.odometry_time_unit,
-                                        inputs.odometry_time_unit_given);
+        odometry_in.rows
+            ? OdometryFromRows(*odometry_in.rows,
+                               inputs.odometry_time_unit,
+                               odometry_in.name)
+            : ReadOdometry(odometry_in.path,
+                           inputs.odometry_format,
+                           inputs.odometry_time_unit,
+                           inputs.odometry_time_unit_given,
+                           WheelTravelOptionsOf(inputs.systematics));
     // The calibrate command's pipeline and writer: the same JSON.
     const CalibrationRun run = CalibrateTrajectories(
         cameras, odometry_trajectory, inputs, "odomcal calibrate");

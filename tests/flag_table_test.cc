@@ -413,6 +413,7 @@ class FlagEcho : public ScratchFolderTest {
         {"--time_offset_search_s", {"0.5", 0.5}},
         {"--estimate_odometry_intrinsics", {"off", false}},
         {"--wheel_track_m", {"0.4", 0.4}},
+        {"--wheel_ticks_per_m", {"1000", 1000}},
     };
   }
 

@@ -16,7 +16,7 @@
 namespace odomcal {
 namespace {
 
-constexpr double kWheelBaseM = 0.4;
+constexpr double kWheelBaseM = kSimulatedWheelTrackM;
 
 struct Manoeuvre {
   double speed_mps = 0.0;
@@ -154,6 +154,7 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   drive.true_odometry.planar = !tilted;
   drive.true_odometry.source = "simulated true odometry";
   drive.camera.source = "simulated camera";
+  drive.wheel_travels.source = "simulated wheel travels";
 
   // Random similarity from the odometry origin into the SfM frame.
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -176,6 +177,7 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   const int64_t camera_offset_ns =
       static_cast<int64_t>(std::llround(1e9 * options.camera_time_offset_s));
   PlanarPose truth, measured;
+  double left_m = 0.0, right_m = 0.0;  // cumulative measured wheel travels
   size_t manoeuvre = 0;
   double time_in_manoeuvre = 0.0;
   const int64_t num_steps =
@@ -185,6 +187,7 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
     const int64_t stamp_ns = options.start_stamp_ns + k * period_ns;
     drive.true_odometry.poses.push_back({stamp_ns, true_pose(truth)});
     drive.odometry.poses.push_back({stamp_ns, measured.ToRigid3d()});
+    drive.wheel_travels.samples.push_back({stamp_ns, left_m, right_m});
     if (k % odometry_per_camera == 0) {
       const Rigid3d origin_from_cam = true_pose(truth) * options.odom_from_cam;
       Rigid3d world_from_cam(
@@ -243,6 +246,8 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
       left *= 1.0 + options.wheel_travel_noise_rel * gauss(step_rng);
       right *= 1.0 + options.wheel_travel_noise_rel * gauss(step_rng);
     }
+    left_m += left * dt;
+    right_m += right * dt;
     measured =
         UnicycleStep(measured,
                      0.5 * (left + right),

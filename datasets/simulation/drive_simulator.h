@@ -18,11 +18,15 @@
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
+#include "odomcal/adapters/wheel_travel.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <cstdint>
 
 namespace odomcal {
+
+// The nominal wheel track the simulated odometry assumes.
+inline constexpr double kSimulatedWheelTrackM = 0.4;
 
 struct DriveSimulatorOptions {
   uint64_t seed = 0;
@@ -80,7 +84,12 @@ struct DriveSimulatorOptions {
 };
 
 struct SimulatedDrive {
-  Trajectory odometry;       // measured, planar, metres
+  Trajectory odometry;  // measured, planar, metres
+  // The measured cumulative wheel travels at the odometry's stamps (wheel
+  // scale errors and travel noise, not the yaw-rate bias): integrated with
+  // the nominal 0.4 m track (adapters/wheel_travel.h) they give `odometry`
+  // when yaw_rate_bias_radps is 0.
+  WheelTravels wheel_travels;
   Trajectory true_odometry;  // exact, same stamps (3-D on tilted ground)
   Trajectory camera;         // world_from_cam in the SfM frame and units
   Rigid3d odom_from_cam;
