@@ -106,6 +106,9 @@ bool LandmarkCameraMeasurement(const Rigid3d& metric_motion,
   two_view.focal_length_px = options.focal_length_px;
   two_view.pixel_sigma = options.pixel_sigma;
   two_view.multi_start = options.two_view_multi_start;
+  two_view.num_minimal_samples = options.two_view_minimal_samples;
+  two_view.covariance_of_other_minima =
+      options.two_view_covariance_of_other_minima;
   for (int attempt = 0; attempt < options.max_two_view_attempts; ++attempt) {
     std::vector<Eigen::Vector2d> observed_i, observed_j;
     for (int k = 0; k < options.num_landmarks; ++k) {
@@ -186,6 +189,10 @@ void PaperSimulationOptions::Check() const {
   CheckPositive(max_normalized_coordinate, "max_normalized_coordinate");
   if (max_two_view_attempts < 1) {
     throw std::invalid_argument("max_two_view_attempts must be >= 1");
+  }
+  if (two_view_minimal_samples < 0) {
+    throw std::invalid_argument("two_view_minimal_samples must be >= 0, got " +
+                                std::to_string(two_view_minimal_samples));
   }
   if (!(outlier_fraction >= 0.0 && outlier_fraction <= 1.0)) {
     throw std::invalid_argument("outlier_fraction must be in [0, 1], got " +

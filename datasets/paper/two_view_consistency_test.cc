@@ -6,9 +6,11 @@
 #include "odomcal/solver/angles.h"
 #include "odomcal/tests/test_seed.h"
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -68,7 +70,7 @@ TEST(TwoViewConsistency, MultiStartShortensTheTailOnTheNominalProtocol) {
     options.two_view_multi_start = multi_start;
     auto rng = SeededRng(700);
     TwoViewErrors errors;
-    for (int k = 0; k < 50; ++k) {
+    for (int k = 0; k < 30; ++k) {
       AddTwoViewErrors(SimulatePaperMotions(options, &rng), &errors);
     }
     summaries[multi_start] = SummarizeTwoViewErrors(errors);
@@ -80,7 +82,7 @@ TEST(TwoViewConsistency, MultiStartShortensTheTailOnTheNominalProtocol) {
   }
   const TwoViewConsistency& eight_point = summaries[0];
   const TwoViewConsistency& multi_start = summaries[1];
-  ASSERT_GT(multi_start.num_motions, 950);
+  ASSERT_GT(multi_start.num_motions, 570);
   // The bulk follows chi-square(5) (median 4.35) either way.
   EXPECT_NEAR(multi_start.nees_median, kChiSquare5Median, 0.8);
   EXPECT_LE(multi_start.gross_error_rate, eight_point.gross_error_rate);
@@ -88,7 +90,9 @@ TEST(TwoViewConsistency, MultiStartShortensTheTailOnTheNominalProtocol) {
 }
 
 // The winner's cost is never above the 8-point start's, and on some motions
-// another start reaches a lower minimum.
+// another start reaches a lower minimum; the covariance is the bundle
+// adjustment's at the winner, widened (never narrowed) where other minima
+// fit the data almost as well.
 TEST(EstimateTwoViewPose, EveryStartNeverEndsAboveTheEightPointStart) {
   PaperSimulationOptions options =
       NominalPaperSimulation(CameraNoiseMode::kParametric);
@@ -98,6 +102,7 @@ TEST(EstimateTwoViewPose, EveryStartNeverEndsAboveTheEightPointStart) {
   std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
   const double sigma = 1.0 / 400.0;
   int num_lower = 0;
+  int num_widened = 0;
   int num_motions = 0;
   for (int s = 0; s < 25; ++s) {
     const PaperSimulation simulation = SimulatePaperMotions(options, &rng);
@@ -123,16 +128,38 @@ TEST(EstimateTwoViewPose, EveryStartNeverEndsAboveTheEightPointStart) {
       const TwoViewEstimate eight_point =
           EstimateTwoViewPose(u_i, u_j, two_view);
       two_view.multi_start = true;
+      two_view.num_minimal_samples = 0;  // speed: 8-point and 5-point starts
       const TwoViewEstimate every_start =
           EstimateTwoViewPose(u_i, u_j, two_view);
       if (!eight_point.success || !every_start.success) continue;
       ++num_motions;
       EXPECT_LE(every_start.final_cost, eight_point.final_cost + 1e-9);
       if (every_start.final_cost < eight_point.final_cost - 1e-3) ++num_lower;
+      // The other minima only widen the covariance of the best one.
+      const std::optional<MotionCovariance> at_best =
+          TwoViewPoseCovarianceAt(u_i,
+                                  u_j,
+                                  every_start.cam_i_from_cam_j,
+                                  every_start.points_in_cam_i,
+                                  two_view);
+      ASSERT_TRUE(at_best.has_value());
+      const MotionCovariance widening = every_start.covariance - *at_best;
+      const double scale = at_best->trace();
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<MotionCovariance>(widening)
+                    .eigenvalues()
+                    .minCoeff(),
+                -1e-9 * scale);
+      if (every_start.num_other_minima > 0) {
+        ++num_widened;
+        EXPECT_GT(widening.trace(), 1e-6 * scale);
+      } else {
+        EXPECT_LT(widening.cwiseAbs().maxCoeff(), 1e-12 * scale);
+      }
     }
   }
   EXPECT_GT(num_motions, 450);
   EXPECT_GT(num_lower, 0);
+  EXPECT_GT(num_widened, 0);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -38,6 +39,11 @@ constexpr double kMinInformationRatio = 1e-14;
 // Two starts closer than this (rotation, and angle between translation
 // lines) are one start.
 constexpr double kSameStartRad = 1e-3;
+// Other minima less likely than this relative to the best one are ignored
+// by the covariance (their weight would be below it).
+constexpr double kMinMinimumLikelihoodRatio = 1e-4;
+// Seed of the minimal-sample subsets: the estimate depends on the data only.
+constexpr unsigned kMinimalSampleSeed = 5489u;
 // RANSAC of OpenCV's 5-point essential-matrix estimation: confidence, and
 // the inlier threshold in image noise standard deviations (at least
 // kFivePointMinSigmaPx pixels, so that noise-free data have a threshold).
@@ -269,6 +275,90 @@ std::vector<Rigid3d> FivePointStarts(const std::vector<cv::Point2d>& points_i,
   return starts;
 }
 
+// Sum over the points of the squared Sampson error (normalised units) of
+// the pose: the first-order approximation of the reprojection cost of the
+// optimally triangulated points, without the points.
+double SampsonCost(const std::vector<cv::Point2d>& points_i,
+                   const std::vector<cv::Point2d>& points_j,
+                   const Rigid3d& cam_i_from_cam_j) {
+  const Rigid3d cam_j_from_cam_i = Inverse(cam_i_from_cam_j);
+  const Eigen::Vector3d& t = cam_j_from_cam_i.translation;
+  Eigen::Matrix3d skew;
+  skew << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;
+  const Eigen::Matrix3d e = skew * cam_j_from_cam_i.rotation.toRotationMatrix();
+  double sum = 0.0;
+  for (size_t k = 0; k < points_i.size(); ++k) {
+    const Eigen::Vector3d x_i(points_i[k].x, points_i[k].y, 1.0);
+    const Eigen::Vector3d x_j(points_j[k].x, points_j[k].y, 1.0);
+    const Eigen::Vector3d e_x_i = e * x_i;
+    const Eigen::Vector3d et_x_j = e.transpose() * x_j;
+    const double numerator = x_j.dot(e_x_i);
+    const double denominator =
+        e_x_i.head<2>().squaredNorm() + et_x_j.head<2>().squaredNorm();
+    if (denominator > 0.0) sum += numerator * numerator / denominator;
+  }
+  return sum;
+}
+
+// Starts from minimal samples: the 7-point solutions (up to 3 essential
+// matrices; on normalised coordinates the fundamental matrix is the
+// essential one) of num_minimal_samples subsets drawn by a fixed generator,
+// their viable decompositions ranked by the Sampson cost over all points,
+// the best num_minimal_sample_starts distinct ones kept. Minimal samples
+// spread the starts over the basins of the cost; the 8-point solution of
+// all points sits in one of them (docs/paper_reproduction.md: they remove
+// the local minima the other starts miss). The 7-point solver is several
+// times cheaper than OpenCV's 5-point one and found the same minima.
+std::vector<Rigid3d> MinimalSampleStarts(
+    const std::vector<cv::Point2d>& points_i,
+    const std::vector<cv::Point2d>& points_j,
+    const TwoViewOptions& options) {
+  constexpr int kSampleSize = 7;
+  const int num_points = static_cast<int>(points_i.size());
+  std::mt19937 rng(kMinimalSampleSeed);
+  std::vector<int> order(num_points);
+  std::vector<std::pair<double, Rigid3d>> scored;
+  for (int sample = 0; sample < options.num_minimal_samples; ++sample) {
+    for (int k = 0; k < num_points; ++k) order[k] = k;
+    for (int k = 0; k < kSampleSize; ++k) {
+      std::uniform_int_distribution<int> pick(k, num_points - 1);
+      std::swap(order[k], order[pick(rng)]);
+    }
+    std::vector<cv::Point2d> sample_i, sample_j;
+    for (int k = 0; k < kSampleSize; ++k) {
+      sample_i.push_back(points_i[order[k]]);
+      sample_j.push_back(points_j[order[k]]);
+    }
+    cv::Mat essentials;
+    try {
+      essentials = cv::findFundamentalMat(sample_i, sample_j, cv::FM_7POINT);
+    } catch (const cv::Exception&) {
+      continue;
+    }
+    // OpenCV stacks the solutions as a (3k x 3) matrix.
+    if (essentials.cols != 3) continue;
+    for (int row = 0; row + 3 <= essentials.rows; row += 3) {
+      const cv::Mat essential = essentials.rowRange(row, row + 3).clone();
+      for (const Rigid3d& start :
+           ViableDecompositions(essential, points_i, points_j)) {
+        scored.emplace_back(SampsonCost(points_i, points_j, start), start);
+      }
+    }
+  }
+  std::stable_sort(
+      scored.begin(), scored.end(), [](const auto& a, const auto& b) {
+        return a.first < b.first;
+      });
+  std::vector<Rigid3d> starts;
+  for (const auto& [cost, start] : scored) {
+    if (static_cast<int>(starts.size()) >= options.num_minimal_sample_starts) {
+      break;
+    }
+    AddDistinctStart(start, &starts);
+  }
+  return starts;
+}
+
 // A bundle adjustment from one start.
 struct Refinement {
   bool usable = false;
@@ -279,6 +369,7 @@ struct Refinement {
   double final_rms_px = 0.0;
   double cost = 0.0;  // Ceres cost, 1/2 sum of squared px
   int num_iterations = 0;
+  int num_in_front = 0;  // refined points in front of both views
 };
 
 // Adds the reprojection residuals of both views to `problem`.
@@ -387,6 +478,12 @@ Refinement Refine(const std::vector<Eigen::Vector2d>& u_i,
   }
   refinement.final_rms_px = ReprojectionRms(
       u_i, u_j, refinement.cam_i_from_cam_j, refinement.points_in_cam_i, focal);
+  const Rigid3d cam_j_from_cam_i = Inverse(refinement.cam_i_from_cam_j);
+  for (const Eigen::Vector3d& point : refinement.points_in_cam_i) {
+    if (point.z() > 0.0 && (cam_j_from_cam_i * point).z() > 0.0) {
+      ++refinement.num_in_front;
+    }
+  }
   refinement.usable = true;
   return refinement;
 }
@@ -471,6 +568,49 @@ std::optional<MotionCovariance> PoseCovariance(
                           to_motion.transpose());
 }
 
+// The spread of the other minima, see the file comment ("Other minima").
+void AddOtherMinima(const std::vector<Eigen::Vector2d>& u_i,
+                    const std::vector<Eigen::Vector2d>& u_j,
+                    const Refinement& best,
+                    const std::vector<Refinement>& minima,
+                    const TwoViewOptions& options,
+                    TwoViewEstimate* estimate) {
+  const double variance = options.pixel_sigma * options.pixel_sigma;
+  if (!(variance > 0.0)) return;
+  const int num_points = static_cast<int>(u_i.size());
+  std::vector<Rigid3d> distinct = {best.cam_i_from_cam_j};
+  MotionCovariance spread = MotionCovariance::Zero();
+  double total_weight = 1.0;
+  for (const Refinement& minimum : minima) {
+    if (2 * minimum.num_in_front < num_points) continue;
+    const double delta_chi2 = 2.0 * (minimum.cost - best.cost) / variance;
+    const double weight = std::exp(-0.5 * delta_chi2);
+    if (!(weight > kMinMinimumLikelihoodRatio)) continue;
+    bool seen = false;
+    for (const Rigid3d& other : distinct) {
+      if (RotationAngle(other.rotation.conjugate() *
+                        minimum.cam_i_from_cam_j.rotation) < kSameStartRad &&
+          other.translation.dot(minimum.cam_i_from_cam_j.translation) >
+              std::cos(kSameStartRad)) {
+        seen = true;
+      }
+    }
+    if (seen) continue;
+    distinct.push_back(minimum.cam_i_from_cam_j);
+    Eigen::Matrix<double, 6, 1> d;
+    d.head<3>() = LogRotation(minimum.cam_i_from_cam_j.rotation *
+                              best.cam_i_from_cam_j.rotation.conjugate());
+    // In the tangent plane of the best (unit) translation, like C_best.
+    const Eigen::Vector3d& u = best.cam_i_from_cam_j.translation;
+    d.tail<3>() = (Eigen::Matrix3d::Identity() - u * u.transpose()) *
+                  minimum.cam_i_from_cam_j.translation;
+    spread += weight * d * d.transpose();
+    total_weight += weight;
+    ++estimate->num_other_minima;
+  }
+  estimate->covariance += spread / total_weight;
+}
+
 }  // namespace
 
 void TwoViewOptions::Check() const {
@@ -481,6 +621,10 @@ void TwoViewOptions::Check() const {
   if (!(pixel_sigma >= 0.0) || !std::isfinite(pixel_sigma)) {
     throw std::invalid_argument("pixel_sigma must be >= 0, got " +
                                 std::to_string(pixel_sigma));
+  }
+  if (num_minimal_samples < 0 || num_minimal_sample_starts < 0) {
+    throw std::invalid_argument(
+        "num_minimal_samples and num_minimal_sample_starts must be >= 0");
   }
   if (max_num_iterations < 1) {
     throw std::invalid_argument("max_num_iterations must be >= 1, got " +
@@ -528,6 +672,10 @@ TwoViewEstimate EstimateTwoViewPose(
            FivePointStarts(points_i, points_j, options)) {
         AddDistinctStart(start, &starts);
       }
+      for (const Rigid3d& start :
+           MinimalSampleStarts(points_i, points_j, options)) {
+        AddDistinctStart(start, &starts);
+      }
     }
   }
   if (!options.multi_start || !options.refine) starts.resize(1);
@@ -535,6 +683,7 @@ TwoViewEstimate EstimateTwoViewPose(
   // (2) Triangulation and (3) bundle adjustment from each start; the lowest
   // cost wins (the earliest of equals: the 8-point solution).
   std::optional<Refinement> best;
+  std::vector<Refinement> minima;  // the other usable ends
   for (const Rigid3d& start : starts) {
     Refinement refinement =
         Refine(normalized_in_cam_i, normalized_in_cam_j, start, options);
@@ -545,7 +694,10 @@ TwoViewEstimate EstimateTwoViewPose(
     }
     if (!best || refinement.cost < best->cost) {
       estimate.best_start = estimate.num_starts - 1;
+      if (best) minima.push_back(std::move(*best));
       best = std::move(refinement);
+    } else {
+      minima.push_back(std::move(refinement));
     }
   }
   if (!best) return estimate;
@@ -573,8 +725,37 @@ TwoViewEstimate EstimateTwoViewPose(
     return estimate;
   }
   estimate.covariance = *covariance;
+  if (options.covariance_of_other_minima) {
+    AddOtherMinima(normalized_in_cam_i,
+                   normalized_in_cam_j,
+                   *best,
+                   minima,
+                   options,
+                   &estimate);
+  }
   estimate.success = true;
   return estimate;
+}
+
+std::optional<MotionCovariance> TwoViewPoseCovarianceAt(
+    const std::vector<Eigen::Vector2d>& normalized_in_cam_i,
+    const std::vector<Eigen::Vector2d>& normalized_in_cam_j,
+    const Rigid3d& cam_i_from_cam_j,
+    const std::vector<Eigen::Vector3d>& points_in_cam_i,
+    const TwoViewOptions& options) {
+  options.Check();
+  if (normalized_in_cam_i.size() != normalized_in_cam_j.size() ||
+      points_in_cam_i.size() != normalized_in_cam_i.size()) {
+    throw std::invalid_argument(
+        "TwoViewPoseCovarianceAt: different point counts");
+  }
+  std::string failure;
+  return PoseCovariance(normalized_in_cam_i,
+                        normalized_in_cam_j,
+                        cam_i_from_cam_j,
+                        points_in_cam_i,
+                        options,
+                        &failure);
 }
 
 }  // namespace odomcal

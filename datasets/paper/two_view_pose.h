@@ -15,11 +15,12 @@
 // with `multi_start`, also the other decomposition of E that the cheirality
 // test leaves viable (half of the points in front of both views) and the
 // viable decompositions of OpenCV's 5-point solution (findEssentialMat,
-// LMedS). (2) Linear triangulation of every point. (3) From each start, a
-// Ceres bundle adjustment of the reprojection errors in pixels
-// (f * (u_hat - u)) in both views over R (EigenQuaternionManifold), the unit
-// t (SphereManifold<3>) and the points p_in_cam_i; no robust loss. The
-// lowest cost wins.
+// RANSAC) and of the best-ranked 7-point solutions of minimal samples
+// (num_minimal_samples). (2) Linear triangulation of every point. (3) From each
+// start, a Ceres bundle adjustment of the reprojection errors in pixels (f *
+// (u_hat - u)) in both views over R (EigenQuaternionManifold), the unit t
+// (SphereManifold<3>) and the points p_in_cam_i; no robust loss. The lowest
+// cost wins.
 //
 // Why several starts: with 12 points, short baselines and up to 90 degrees
 // of rotation, the bundle adjustment started at the 8-point solution alone
@@ -37,6 +38,17 @@
 // the sphere manifold's plus-Jacobian (3x2; rank 2: the unit length carries no
 // uncertainty). Multiply the translation rows and columns by |t| when the
 // translation is rescaled to a known length.
+//
+// Other minima (covariance_of_other_minima): at short baselines the data
+// can fit two poses almost equally well (directions tens of degrees apart,
+// costs within a few chi-square units); the first-order covariance at the
+// best one then promises an accuracy the data do not have. Every other
+// viable minimum k the starts reached, with likelihood ratio
+// w_k = exp(-(cost_k - cost_best) / sigma_px^2) >= 1e-4, adds its spread:
+//   C = C_best + sum_k w_k d_k d_k^T / (1 + sum_k w_k),
+// d_k = [Log(R_k R_best^T), (I - t t^T) t_k], t the best unit translation
+// (the rank-5 structure is kept). That is the covariance about the best pose
+// of the mixture of the minima, each with C_best.
 #pragma once
 
 #include "odomcal/solver/motion_pair.h"
@@ -58,6 +70,15 @@ struct TwoViewOptions {
   // Bundle adjustments from every viable start (see the file comment);
   // false: from the 8-point solution only (the earlier estimator).
   bool multi_start = true;
+  // With multi_start: also the 7-point solutions of this many minimal
+  // samples (fixed, deterministic subsets of the points); their viable
+  // decompositions are ranked by the Sampson error over all points and the
+  // best num_minimal_sample_starts distinct ones become starts too. 0: none.
+  int num_minimal_samples = 10;
+  int num_minimal_sample_starts = 3;
+  // With multi_start: the covariance also covers the other minima the data
+  // cannot tell from the best one (see the file comment).
+  bool covariance_of_other_minima = true;
   // When set, the bundle adjustment starts here (unit translation) instead
   // of at the 8-point solution (tests, multi-start).
   std::optional<Rigid3d> initial_cam_i_from_cam_j;
@@ -78,6 +99,7 @@ struct TwoViewEstimate {
   int num_iterations = 0;       // of the winning bundle adjustment
   int num_starts = 0;           // bundle adjustments run
   int best_start = 0;           // index of the winner (0: the 8-point start)
+  int num_other_minima = 0;     // in the covariance (see the file comment)
 };
 
 // Needs at least 8 correspondences (same order in both lists). Throws
@@ -86,6 +108,17 @@ struct TwoViewEstimate {
 TwoViewEstimate EstimateTwoViewPose(
     const std::vector<Eigen::Vector2d>& normalized_in_cam_i,
     const std::vector<Eigen::Vector2d>& normalized_in_cam_j,
+    const TwoViewOptions& options);
+
+// The covariance of the file comment evaluated at a given pose (unit
+// translation) and points (in cam i, at that scale) instead of at the
+// estimate: e.g. at the truth, to tell a poorly linearised covariance from
+// a wrong estimate. nullopt when the information is singular.
+std::optional<MotionCovariance> TwoViewPoseCovarianceAt(
+    const std::vector<Eigen::Vector2d>& normalized_in_cam_i,
+    const std::vector<Eigen::Vector2d>& normalized_in_cam_j,
+    const Rigid3d& cam_i_from_cam_j,
+    const std::vector<Eigen::Vector3d>& points_in_cam_i,
     const TwoViewOptions& options);
 
 }  // namespace odomcal
