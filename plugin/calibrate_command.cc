@@ -63,8 +63,12 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
           std::to_string(association.num_outside_odometry_span) +
           " outside its span, " +
           std::to_string(association.num_in_odometry_gaps) + " in gaps): " +
-          TimeSpansText(
-              cameras, "", inputs.association.camera_time_offset_ns, odometry) +
+          TimeSpansText(cameras,
+                        "",
+                        association.camera_time_offset_ns,
+                        odometry,
+                        association.camera_time_offset_ns !=
+                            inputs.association.camera_time_offset_ns) +
           "; check the time units and --camera_time_offset_s");
     }
     CheckRotationAngleUnits(association.pairs, odometry.source);

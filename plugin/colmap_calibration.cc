@@ -155,20 +155,22 @@ ColmapCalibrationRun CalibrateColmapProject(
   // The association and calibration, once or in the systematics loop.
   const auto calibrate = [&](const AssociationResult& association) {
     if (association.num_usable_camera_poses == 0) {
-      throw FormatError(inputs.model_path +
-                        ": no registered image time falls inside the "
-                        "odometry " +
-                        inputs.odometry_path + " (" +
-                        std::to_string(association.num_outside_odometry_span) +
-                        " outside its span, " +
-                        std::to_string(association.num_in_odometry_gaps) +
-                        " in gaps): " +
-                        TimeSpansText(cameras,
-                                      timestamps.how_read(),
-                                      inputs.association.camera_time_offset_ns,
-                                      run.odometry) +
-                        "; check the image timestamps, their unit and "
-                        "--camera_time_offset_s");
+      throw FormatError(
+          inputs.model_path +
+          ": no registered image time falls inside the "
+          "odometry " +
+          inputs.odometry_path + " (" +
+          std::to_string(association.num_outside_odometry_span) +
+          " outside its span, " +
+          std::to_string(association.num_in_odometry_gaps) + " in gaps): " +
+          TimeSpansText(cameras,
+                        timestamps.how_read(),
+                        association.camera_time_offset_ns,
+                        run.odometry,
+                        association.camera_time_offset_ns !=
+                            inputs.association.camera_time_offset_ns) +
+          "; check the image timestamps, their unit and "
+          "--camera_time_offset_s");
     }
     CheckRotationAngleUnits(association.pairs, run.odometry.source);
     run.check = CalibrateWithStretchCheck(
