@@ -55,8 +55,9 @@ struct PlanarityCheck {
   // chi-square times the correlation length, since a slope biases a run of
   // neighbouring pairs alike; standard deviations grow by its square root.
   double covariance_inflation = 1.0;
-  // The stretch of consecutive used pairs with the largest chi-square (about
-  // a tenth of the drive, at least 3 pairs): where the ground tilts most.
+  // The stretch of consecutive used pairs of one segment with the largest
+  // chi-square (about a tenth of the drive, at least 3 pairs, at most the
+  // segment's): where the ground tilts most.
   int64_t worst_first_stamp_ns = 0;
   int64_t worst_last_stamp_ns = 0;
   double worst_tilt_rms_deg = 0.0;
