@@ -318,6 +318,7 @@ Trajectory ReadTum(const std::string& path,
     trajectory.poses.push_back(pose);
   }
   if (trajectory.poses.empty()) reader.FailNoData();
+  trajectory.time_unit = unit;
   return trajectory;
 }
 
@@ -403,6 +404,7 @@ Trajectory ReadCsv(const std::string& path,
     trajectory.poses.push_back(pose);
   }
   if (trajectory.poses.empty()) reader.FailNoData();
+  trajectory.time_unit = time_unit;
   return trajectory;
 }
 

@@ -49,7 +49,9 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
   context.odometry_path = odometry.source;
   context.odometry_format = inputs.odometry_format;
   context.camera_time_unit = TimeUnitName(inputs.camera_time_unit);
-  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  // The unit the times were read in (a header suffix overrides the flag).
+  context.odometry_time_unit =
+      TimeUnitName(odometry.time_unit.value_or(inputs.odometry_time_unit));
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
   context.systematics_options = inputs.systematics;
