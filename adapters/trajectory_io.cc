@@ -15,6 +15,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/odometry_csv_header.h"
 #include "odomcal/adapters/text_reader.h"
+#include "odomcal/solver/planarity_check.h"
 
 #include <algorithm>
 #include <cctype>
@@ -34,8 +35,6 @@ namespace odomcal {
 namespace {
 
 constexpr double kMaxQuaternionNormDeviation = 1e-2;
-// Largest |z| and |qx|, |qy| accepted as planar by WriteOdometryCsv.
-constexpr double kPlanarTolerance = 1e-9;
 
 constexpr const char* kTumColumns[] = {
     "timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};

@@ -159,13 +159,13 @@ std::optional<Eigen::MatrixXd> InvertInformation(
                          inv_sqrt.asDiagonal());
 }
 
-// True when some odometry rotation moves the z axis: (R_A - I) e_z is not
-// zero. Planar odometry (rotations about z only) has it exactly zero.
+// True when some odometry rotation moves the z axis beyond the planar
+// tolerance (the same as IsPlanarOdometry's): R_A e_z leaves e_z.
 bool OdometryTilts(const MotionPairs& pairs, const std::vector<int>& used) {
   for (const int i : used) {
     const Eigen::Matrix3d r_a =
         pairs[i].odom_i_from_odom_j.rotation.toRotationMatrix();
-    if (r_a(0, 2) != 0.0 || r_a(1, 2) != 0.0 || r_a(2, 2) != 1.0) return true;
+    if (std::hypot(r_a(0, 2), r_a(1, 2)) > kPlanarTolerance) return true;
   }
   return false;
 }

@@ -15,8 +15,6 @@
 namespace odomcal {
 namespace {
 
-constexpr double kPlanarTolerance = 1e-9;
-
 std::string Format(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);

@@ -64,8 +64,15 @@ struct PlanarityCheck {
   double worst_out_of_plane_rms_m = 0.0;
 };
 
+// Largest out-of-plane rotation (radians; |qx|, |qy| of a pose) and height
+// (metres) of an odometry motion or pose that still counts as planar: the
+// one tolerance for "planar odometry" everywhere. Not zero, since a planar
+// log read back through quaternions or another tool carries rounding errors
+// (1e-16 to 1e-12); far below any real slope (1e-3 rad) or noise model.
+constexpr double kPlanarTolerance = 1e-9;
+
 // True when every pair's odometry motion is a rotation about z and a
-// translation in the x-y plane (to 1e-9): a planar log.
+// translation in the x-y plane (to kPlanarTolerance): a planar log.
 bool IsPlanarOdometry(const MotionPairs& pairs);
 
 // Measures the above for `used` pairs under the estimate; checked = false
