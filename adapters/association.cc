@@ -202,6 +202,7 @@ AssociationResult AssociateCameraWithOdometry(
       options.keyframe_min_rotation_deg * kPi / 180.0;
 
   AssociationResult result;
+  result.camera_time_offset_ns = options.camera_time_offset_ns;
   result.num_pairs_per_segment.assign(camera_segments.size(), 0);
   const double median_interval_s = MedianSampleIntervalS(odometry);
   result.odometry_rate_hz =

@@ -125,6 +125,9 @@ struct AssociationResult {
   double odometry_rate_hz = 0.0;
   double max_odometry_gap_s = 0.0;
   bool max_odometry_gap_automatic = false;
+  // The clock offset the stamps include (options.camera_time_offset_ns):
+  // the estimated one when the systematics loop associated.
+  int64_t camera_time_offset_ns = 0;
 };
 
 // Builds MotionPairs from camera trajectories (one per SfM segment, each with

@@ -359,6 +359,8 @@ TEST(AssociateCameraWithOdometry, AppliesCameraTimeOffset) {
   EXPECT_EQ(with.num_usable_camera_poses, 11);
   ASSERT_FALSE(with.pairs.empty());
   EXPECT_EQ(with.pairs.front().stamp_i_ns, odometry.poses.front().stamp_ns);
+  EXPECT_EQ(without.camera_time_offset_ns, 0);  // the offset the stamps hold
+  EXPECT_EQ(with.camera_time_offset_ns, 2 * kSecond);
 }
 
 TEST(AssociateCameraWithOdometry, RejectsUnsortedInput) {

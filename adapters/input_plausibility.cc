@@ -161,7 +161,8 @@ void CheckImageTimesAreNotFrameNumbers(std::vector<int64_t> stamps_ns,
 std::string TimeSpansText(const std::vector<Trajectory>& cameras,
                           const std::string& camera_times_origin,
                           int64_t camera_time_offset_ns,
-                          const Trajectory& odometry) {
+                          const Trajectory& odometry,
+                          bool offset_estimated) {
   int64_t first = 0, last = 0;
   bool any = false;
   for (const Trajectory& camera : cameras) {
@@ -174,8 +175,9 @@ std::string TimeSpansText(const std::vector<Trajectory>& cameras,
   std::string text =
       "camera times " + (any ? SpanText(first, last) : std::string("none"));
   std::string notes = camera_times_origin;
-  if (camera_time_offset_ns != 0) {
+  if (camera_time_offset_ns != 0 || offset_estimated) {
     notes += std::string(notes.empty() ? "" : "; ") + "then shifted by " +
+             (offset_estimated ? "the estimated offset " : "") +
              Format("%.3f", NsToSeconds(camera_time_offset_ns)) + " s";
   }
   if (!notes.empty()) text += " (" + notes + ")";

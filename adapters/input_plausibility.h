@@ -70,12 +70,14 @@ void CheckImageTimesAreNotFrameNumbers(std::vector<int64_t> stamps_ns,
 
 // "camera times 0.000-3.900 s (read from the image names as ns), odometry
 // 1700000000.000-1700000120.000 s": the spans of all camera poses (plus
-// camera_time_offset_ns, noted when not zero) and of the odometry, for the
+// camera_time_offset_ns, noted when not zero or when estimated: "then
+// shifted by the estimated offset 0.301 s") and of the odometry, for the
 // message when they do not overlap.
 std::string TimeSpansText(const std::vector<Trajectory>& cameras,
                           const std::string& camera_times_origin,
                           int64_t camera_time_offset_ns,
-                          const Trajectory& odometry);
+                          const Trajectory& odometry,
+                          bool offset_estimated = false);
 
 // A warning when odom_from_cam puts the camera more than
 // kMaxExtrinsicDistanceM from the odometry origin, else std::nullopt.

@@ -169,6 +169,13 @@ TEST(TimeSpansText, BothSpansAndTheOffset) {
   EXPECT_EQ(TimeSpansText({camera}, "", 3600000000000, odometry),
             "camera times 0.000-3.900 s (then shifted by 3600.000 s), odometry "
             "1700000000.000-1700000001.980 s");
+  // An estimated offset is named as such, even when it is zero.
+  EXPECT_EQ(TimeSpansText({camera}, "", 301000000, odometry, true),
+            "camera times 0.000-3.900 s (then shifted by the estimated offset "
+            "0.301 s), odometry 1700000000.000-1700000001.980 s");
+  EXPECT_EQ(TimeSpansText({camera}, "", 0, odometry, true),
+            "camera times 0.000-3.900 s (then shifted by the estimated offset "
+            "0.000 s), odometry 1700000000.000-1700000001.980 s");
 }
 
 TEST(ExtrinsicDistanceWarning, OnlyBeyondFiveMetres) {

@@ -5,6 +5,7 @@
 
 #include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/solver/format_number.h"
+#include "odomcal/solver/noise_estimation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -180,13 +181,20 @@ SystematicsEstimate EstimateSystematics(
     for (size_t k = 0; k < pairs->size(); ++k) {
       if (k < mask.size() && mask[k]) indices.push_back(static_cast<int>(k));
     }
-    // Under the noise the calibration estimated from the data, when it did.
+    // Under the noise the calibration estimated from the data, when it did:
+    // the options' model and the pairs' own covariances scaled alike, as
+    // the hand-eye refinement weighs them.
     CalibrationOptions refine_options = calibration_options;
+    const MotionPairs* refine_pairs = pairs;
+    MotionPairs weighted_pairs;
     if (result->noise_estimate) {
       refine_options.noise = result->noise_estimate->noise;
+      weighted_pairs =
+          ScaleCovariances(*pairs, result->noise_estimate->variance_factors);
+      refine_pairs = &weighted_pairs;
     }
     const SystematicsRefinement refined =
-        RefineSystematics(*pairs,
+        RefineSystematics(*refine_pairs,
                           indices,
                           result->odom_from_cam,
                           result->metric_scales,

@@ -7,6 +7,7 @@
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/noise_estimation.h"
 
 #include <gtest/gtest.h>
 
@@ -237,6 +238,62 @@ TEST(SystematicsEstimation, NoWheelRatioWhenTheIntrinsicsAreHeld) {
   ASSERT_TRUE(result.has_estimate) << result.message;
   EXPECT_FALSE(estimate.intrinsics_estimated[1]);
   EXPECT_FALSE(estimate.right_over_left.has_value());
+}
+
+// Pairs with their own covariances: the refinement must scale them by the
+// variance factors of the noise estimated from the data, as the hand-eye
+// refinement does. Own covariances C under factors 4 must weigh the pairs
+// exactly as own covariances 4 C under no estimate (noise-free data: the
+// same estimate; the offset's standard deviation doubles with C's sigmas).
+TEST(SystematicsEstimation, ScalesThePairsOwnCovariancesByTheNoiseFactors) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.camera_time_offset_s = 0.1;
+  const SimulatedDrive drive = SimulateDrive(options);
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  calibration.estimate_noise = false;
+  SystematicsEstimationOptions systematics;
+  systematics.tolerance_s = 1e-8;
+  const auto offset_stddev = [&](double covariance_factor,
+                                 double noise_factor) {
+    MotionCovariance own = MotionCovariance::Zero();
+    own.diagonal() << 1e-6, 1e-6, 1e-6, 1e-4, 1e-4, 1e-4;
+    own *= covariance_factor;
+    MotionPairs pairs;
+    CalibrationResult result;
+    const auto calibrate = [&](const AssociationResult& association) {
+      pairs = association.pairs;
+      for (MotionPair& pair : pairs) {
+        pair.odom_covariance = own;
+        pair.cam_covariance = own;
+        pair.odom_interpolation_covariance.reset();
+      }
+      result = CalibrateOdomCam(pairs, calibration);
+      if (noise_factor != 1.0) {  // as if estimated from the data
+        NoiseEstimate noise;
+        noise.variance_factors.fill(noise_factor);
+        noise.noise = ScaleNoise(calibration.noise, noise.variance_factors);
+        result.noise_estimate = noise;
+      }
+      return std::make_pair(&pairs, &result);
+    };
+    AssociationResult association;
+    const SystematicsEstimate estimate =
+        EstimateSystematics({drive.camera},
+                            drive.odometry,
+                            AssociationOptions(),
+                            calibration,
+                            systematics,
+                            calibrate,
+                            &association);
+    EXPECT_TRUE(result.IsSuccess()) << result.message;
+    EXPECT_TRUE(estimate.time_offset_estimated) << estimate.time_offset_reason;
+    return estimate.camera_time_offset_stddev_s;
+  };
+  const double scaled_by_factors = offset_stddev(1.0, 4.0);
+  const double scaled_covariances = offset_stddev(4.0, 1.0);
+  ASSERT_GT(scaled_covariances, 0.0);
+  EXPECT_NEAR(scaled_by_factors / scaled_covariances, 1.0, 1e-3);
 }
 
 }  // namespace

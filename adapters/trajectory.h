@@ -9,9 +9,11 @@
 // quaternions; code that builds a Trajectory by hand must do the same.
 #pragma once
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,9 @@ struct Trajectory {
   bool planar = false;
   // Where the poses came from (usually the file path), for messages.
   std::string source;
+  // The unit its file's timestamps were read in, when a reader knows it
+  // (e.g. a CSV header's time_ms overrides the unit flag's default).
+  std::optional<TimeUnit> time_unit;
 };
 
 }  // namespace odomcal

@@ -16,6 +16,7 @@
 #include "odomcal/adapters/odometry_csv_header.h"
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/adapters/wheel_travel.h"
+#include "odomcal/solver/planarity_check.h"
 
 #include <algorithm>
 #include <cctype>
@@ -35,8 +36,6 @@ namespace odomcal {
 namespace {
 
 constexpr double kMaxQuaternionNormDeviation = 1e-2;
-// Largest |z| and |qx|, |qy| accepted as planar by WriteOdometryCsv.
-constexpr double kPlanarTolerance = 1e-9;
 
 constexpr const char* kTumColumns[] = {
     "timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
@@ -346,6 +345,7 @@ Trajectory ReadTum(const std::string& path,
     trajectory.poses.push_back(pose);
   }
   if (trajectory.poses.empty()) reader.FailNoData();
+  trajectory.time_unit = unit;
   return trajectory;
 }
 
@@ -517,6 +517,7 @@ Trajectory ReadCsv(const std::string& path,
     trajectory.poses.push_back(pose);
   }
   if (trajectory.poses.empty()) reader.FailNoData();
+  trajectory.time_unit = time_unit;
   return trajectory;
 }
 

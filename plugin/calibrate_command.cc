@@ -51,7 +51,9 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
   context.odometry_path = odometry.source;
   context.odometry_format = inputs.odometry_format;
   context.camera_time_unit = TimeUnitName(inputs.camera_time_unit);
-  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  // The unit the times were read in (a header suffix overrides the flag).
+  context.odometry_time_unit =
+      TimeUnitName(odometry.time_unit.value_or(inputs.odometry_time_unit));
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
   context.systematics_options = inputs.systematics;
@@ -65,8 +67,12 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
           std::to_string(association.num_outside_odometry_span) +
           " outside its span, " +
           std::to_string(association.num_in_odometry_gaps) + " in gaps): " +
-          TimeSpansText(
-              cameras, "", inputs.association.camera_time_offset_ns, odometry) +
+          TimeSpansText(cameras,
+                        "",
+                        association.camera_time_offset_ns,
+                        odometry,
+                        association.camera_time_offset_ns !=
+                            inputs.association.camera_time_offset_ns) +
           "; check the time units and --camera_time_offset_s");
     }
     CheckRotationAngleUnits(association.pairs, odometry.source);

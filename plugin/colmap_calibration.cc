@@ -11,6 +11,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/plugin/scale_drift_warning.h"
 #include "odomcal/plugin/systematics_report.h"
+#include "odomcal/solver/format_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -94,6 +95,20 @@ ColmapModel TransformModel(const ColmapModel& model,
   return metric;
 }
 
+// "a, b, c" for up to 8 names, else the first and last 3 around "...".
+std::string NameList(const std::vector<std::string>& names) {
+  constexpr size_t kMaxListed = 8, kEnds = 3;
+  std::string list;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names.size() > kMaxListed && i >= kEnds && i + kEnds < names.size()) {
+      if (i == kEnds) list += ", ...";
+      continue;
+    }
+    list += (list.empty() ? "" : ", ") + names[i];
+  }
+  return list;
+}
+
 bool HasUsableExtrinsic(const CalibrationResult& result) {
   return result.has_estimate && result.observability.ExtrinsicDetermined();
 }
@@ -141,20 +156,22 @@ ColmapCalibrationRun CalibrateColmapProject(
   // The association and calibration, once or in the systematics loop.
   const auto calibrate = [&](const AssociationResult& association) {
     if (association.num_usable_camera_poses == 0) {
-      throw FormatError(inputs.model_path +
-                        ": no registered image time falls inside the "
-                        "odometry " +
-                        inputs.odometry_path + " (" +
-                        std::to_string(association.num_outside_odometry_span) +
-                        " outside its span, " +
-                        std::to_string(association.num_in_odometry_gaps) +
-                        " in gaps): " +
-                        TimeSpansText(cameras,
-                                      timestamps.how_read(),
-                                      inputs.association.camera_time_offset_ns,
-                                      run.odometry) +
-                        "; check the image timestamps, their unit and "
-                        "--camera_time_offset_s");
+      throw FormatError(
+          inputs.model_path +
+          ": no registered image time falls inside the "
+          "odometry " +
+          inputs.odometry_path + " (" +
+          std::to_string(association.num_outside_odometry_span) +
+          " outside its span, " +
+          std::to_string(association.num_in_odometry_gaps) + " in gaps): " +
+          TimeSpansText(cameras,
+                        timestamps.how_read(),
+                        association.camera_time_offset_ns,
+                        run.odometry,
+                        association.camera_time_offset_ns !=
+                            inputs.association.camera_time_offset_ns) +
+          "; check the image timestamps, their unit and "
+          "--camera_time_offset_s");
     }
     CheckRotationAngleUnits(association.pairs, run.odometry.source);
     run.check = CalibrateWithStretchCheck(
@@ -253,6 +270,10 @@ ColmapCalibrationRun CalibrateColmapProject(
     std::vector<Rigid3d> origin_from_cam, sfm_from_cam;
     std::set<std::string> names;
     std::vector<std::string> left_out;
+    // Images without odometry at their (offset-shifted) time: no pose for
+    // the alignment, so not exported; named, since the offset (when
+    // estimated) can move images out that the user expects in.
+    std::vector<std::string> outside_span, in_gaps;
     for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
       const StampedPose& pose = segment.trajectory.poses[i];
       const int64_t stamp = pose.stamp_ns + camera_time_offset_ns;
@@ -270,7 +291,11 @@ ColmapCalibrationRun CalibrateColmapProject(
       InterpolationFailure why;
       const auto origin_from_odom = InterpolateOdometry(
           run.odometry, stamp, run.association.max_odometry_gap_s, &why);
-      if (!origin_from_odom) continue;
+      if (!origin_from_odom) {
+        (why == InterpolationFailure::kInGap ? in_gaps : outside_span)
+            .push_back(segment.image_names.at(i));
+        continue;
+      }
       origin_from_cam.push_back(*origin_from_odom * result.odom_from_cam);
       sfm_from_cam.push_back(pose.world_from_sensor);
       names.insert(segment.image_names.at(i));
@@ -301,6 +326,21 @@ ColmapCalibrationRun CalibrateColmapProject(
           std::to_string(left_out.size()) +
           (left_out.size() == 1 ? " image" : " images") +
           " whose every motion pair the odometry contradicts (" + list + ")");
+    }
+    const std::string offset_text =
+        std::string(run.systematics.time_offset_estimated ? "estimated"
+                                                          : "given") +
+        " camera time offset " +
+        FormatNumber(1e-9 * static_cast<double>(camera_time_offset_ns)) + " s";
+    for (const auto& [skipped, where] :
+         {std::make_pair(&outside_span, "outside the odometry span"),
+          std::make_pair(&in_gaps, "in gaps of the odometry")}) {
+      if (skipped->empty()) continue;
+      result.warnings.push_back("sparse_metric/" + metric.name + ": left out " +
+                                std::to_string(skipped->size()) +
+                                (skipped->size() == 1 ? " image" : " images") +
+                                " whose time lies " + where + " at the " +
+                                offset_text + " (" + NameList(*skipped) + ")");
     }
     run.metric_models.push_back(std::move(metric));
   }

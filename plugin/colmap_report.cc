@@ -41,7 +41,9 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.camera_time_unit = inputs.image_timestamps_path.empty()
                                  ? "from image file names"
                                  : TimeUnitName(inputs.image_time_unit);
-  context.odometry_time_unit = TimeUnitName(inputs.odometry_time_unit);
+  // The unit the times were read in (a header suffix overrides the flag).
+  context.odometry_time_unit =
+      TimeUnitName(run.odometry.time_unit.value_or(inputs.odometry_time_unit));
   context.association_options = inputs.association;
   context.association = run.association;
   context.calibration_options = inputs.calibration;

@@ -136,36 +136,58 @@ Eigen::Matrix3d RollPitchYawJacobian(const Eigen::Quaterniond& q) {
   return jacobian;
 }
 
+// An information matrix normalised to a unit diagonal, D I D with
+// D = diag(1 / sqrt(I_kk)) (0 where I_kk <= 0), and its eigen-decomposition:
+// the normalisation makes the null-space test independent of the parameters'
+// units.
+struct NormalisedInformation {
+  Eigen::VectorXd inv_sqrt;  // D
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+
+  explicit NormalisedInformation(const Eigen::MatrixXd& information)
+      : inv_sqrt(information.rows()) {
+    for (int k = 0; k < information.rows(); ++k) {
+      const double d = information(k, k);
+      inv_sqrt(k) = d > 0.0 ? 1.0 / std::sqrt(d) : 0.0;
+    }
+    eig.compute(inv_sqrt.asDiagonal() * information * inv_sqrt.asDiagonal());
+  }
+  // Eigenvalue k is below kNullSpaceTolerance of the largest.
+  bool IsNull(int k) const {
+    return !(eig.eigenvalues()(k) >
+             kNullSpaceTolerance * eig.eigenvalues().maxCoeff());
+  }
+  // The inverse of the information (for a non-singular one).
+  Eigen::MatrixXd Inverse() const {
+    return inv_sqrt.asDiagonal() * eig.eigenvectors() *
+           eig.eigenvalues().cwiseInverse().asDiagonal() *
+           eig.eigenvectors().transpose() * inv_sqrt.asDiagonal();
+  }
+};
+
 // The inverse of an information matrix, or nothing when it is (numerically)
 // singular: eigenvalues of the diagonally normalised matrix below
 // kNullSpaceTolerance of the largest.
 std::optional<Eigen::MatrixXd> InvertInformation(
     const Eigen::MatrixXd& information) {
-  const Eigen::VectorXd diag = information.diagonal();
   if (information.size() == 0 || !information.allFinite() ||
-      !(diag.array() > 0.0).all()) {
+      !(information.diagonal().array() > 0.0).all()) {
     return std::nullopt;
   }
-  const Eigen::VectorXd inv_sqrt = diag.cwiseSqrt().cwiseInverse();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(
-      inv_sqrt.asDiagonal() * information * inv_sqrt.asDiagonal());
-  if (!(eig.eigenvalues().minCoeff() >
-        kNullSpaceTolerance * eig.eigenvalues().maxCoeff())) {
-    return std::nullopt;
+  const NormalisedInformation normalised(information);
+  for (int k = 0; k < information.rows(); ++k) {
+    if (normalised.IsNull(k)) return std::nullopt;
   }
-  return Eigen::MatrixXd(inv_sqrt.asDiagonal() * eig.eigenvectors() *
-                         eig.eigenvalues().cwiseInverse().asDiagonal() *
-                         eig.eigenvectors().transpose() *
-                         inv_sqrt.asDiagonal());
+  return normalised.Inverse();
 }
 
-// True when some odometry rotation moves the z axis: (R_A - I) e_z is not
-// zero. Planar odometry (rotations about z only) has it exactly zero.
+// True when some odometry rotation moves the z axis beyond the planar
+// tolerance (the same as IsPlanarOdometry's): R_A e_z leaves e_z.
 bool OdometryTilts(const MotionPairs& pairs, const std::vector<int>& used) {
   for (const int i : used) {
     const Eigen::Matrix3d r_a =
         pairs[i].odom_i_from_odom_j.rotation.toRotationMatrix();
-    if (r_a(0, 2) != 0.0 || r_a(1, 2) != 0.0 || r_a(2, 2) != 1.0) return true;
+    if (std::hypot(r_a(0, 2), r_a(1, 2)) > kPlanarTolerance) return true;
   }
   return false;
 }
@@ -281,21 +303,17 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
     undetermined(&observability.rotation);
     return;
   }
-  Eigen::VectorXd inv_sqrt(n);
   for (int k = 0; k < n; ++k) {
-    inv_sqrt(k) = diag(k) > 0.0 ? 1.0 / std::sqrt(diag(k)) : 0.0;
     if (!(diag(k) > 0.0)) undetermined(quantities[k]);
   }
-  const Eigen::MatrixXd normalized =
-      inv_sqrt.asDiagonal() * information * inv_sqrt.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normalized);
-  const double largest = eig.eigenvalues().maxCoeff();
+  const NormalisedInformation normalised(information);
   bool singular = false;
   for (int k = 0; k < n; ++k) {
-    if (eig.eigenvalues()(k) > kNullSpaceTolerance * largest) continue;
+    if (!normalised.IsNull(k)) continue;
     singular = true;
     for (int j = 0; j < n; ++j) {
-      if (std::abs(eig.eigenvectors()(j, k)) > kNullComponentTolerance) {
+      if (std::abs(normalised.eig.eigenvectors()(j, k)) >
+          kNullComponentTolerance) {
         undetermined(quantities[j]);
       }
     }
@@ -303,10 +321,7 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
   if (singular) {
     return;
   }
-  const Eigen::MatrixXd covariance =
-      inv_sqrt.asDiagonal() * eig.eigenvectors() *
-      eig.eigenvalues().cwiseInverse().asDiagonal() *
-      eig.eigenvectors().transpose() * inv_sqrt.asDiagonal();
+  const Eigen::MatrixXd covariance = normalised.Inverse();
   result->covariance = covariance;
   result->covariance_segments = segments;
   const Eigen::Matrix3d rotation_covariance = covariance.topLeftCorner<3, 3>();
@@ -676,8 +691,11 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                                result.metric_scales,
                                weighted.noise);
   if (d.planarity.checked && !d.planarity.consistent) {
-    result.warnings.push_back(
-        PlanarityWarning(d.planarity, pairs.front().stamp_i_ns));
+    // Seconds since the drive's start: the earliest pair of any segment.
+    int64_t first_stamp_ns = pairs.front().stamp_i_ns;
+    for (const MotionPair& pair : pairs)
+      first_stamp_ns = std::min(first_stamp_ns, pair.stamp_i_ns);
+    result.warnings.push_back(PlanarityWarning(d.planarity, first_stamp_ns));
     information /= d.planarity.covariance_inflation;
   }
   AnalyseInformation(

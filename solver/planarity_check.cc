@@ -9,11 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <vector>
 
 namespace odomcal {
 namespace {
-
-constexpr double kPlanarTolerance = 1e-9;
 
 std::string Format(const char* format, double value) {
   char text[64];
@@ -127,28 +127,40 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
           ? 1.0
           : std::max(1.0, check.reduced_chi_square * check.correlation_length);
 
-  // Worst stretch: the window of consecutive used pairs with the largest
-  // chi-square sum.
-  const size_t window =
-      std::min(used.size(), std::max<size_t>(3, used.size() / 10));
-  double window_sum = 0.0, best_sum = -1.0;
-  size_t best_end = window - 1;
+  // Worst stretch: the window of consecutive used pairs of one segment (in
+  // time order) with the largest chi-square sum; a window never spans two
+  // segments, whose times may be far apart or overlap.
+  std::map<int, std::vector<size_t>> by_segment;  // positions in `used`
   for (size_t k = 0; k < used.size(); ++k) {
-    window_sum += chi_square[k];
-    if (k >= window) window_sum -= chi_square[k - window];
-    if (k + 1 >= window && window_sum > best_sum) {
-      best_sum = window_sum;
-      best_end = k;
+    by_segment[pairs[used[k]].segment].push_back(k);
+  }
+  const size_t full_window = std::max<size_t>(3, used.size() / 10);
+  double best_sum = -1.0;
+  std::vector<size_t> worst;  // positions in `used` of the worst window
+  for (auto& [segment, members] : by_segment) {
+    std::stable_sort(members.begin(), members.end(), [&](size_t a, size_t b) {
+      return pairs[used[a]].stamp_i_ns < pairs[used[b]].stamp_i_ns;
+    });
+    const size_t window = std::min(members.size(), full_window);
+    double window_sum = 0.0;
+    for (size_t m = 0; m < members.size(); ++m) {
+      window_sum += chi_square[members[m]];
+      if (m >= window) window_sum -= chi_square[members[m - window]];
+      if (m + 1 >= window && window_sum > best_sum) {
+        best_sum = window_sum;
+        worst.assign(members.begin() + (m + 1 - window),
+                     members.begin() + (m + 1));
+      }
     }
   }
-  const size_t best_begin = best_end + 1 - window;
-  check.worst_first_stamp_ns = pairs[used[best_begin]].stamp_i_ns;
-  check.worst_last_stamp_ns = pairs[used[best_end]].stamp_j_ns;
+  check.worst_first_stamp_ns = pairs[used[worst.front()]].stamp_i_ns;
+  check.worst_last_stamp_ns = pairs[used[worst.back()]].stamp_j_ns;
   double worst_tilt2 = 0.0, worst_height2 = 0.0;
-  for (size_t k = best_begin; k <= best_end; ++k) {
+  for (const size_t k : worst) {
     worst_tilt2 += std::pow(check.tilt_deg[used[k]], 2);
     worst_height2 += std::pow(check.out_of_plane_m[used[k]], 2);
   }
+  const double window = static_cast<double>(worst.size());
   check.worst_tilt_rms_deg = std::sqrt(worst_tilt2 / window);
   check.worst_out_of_plane_rms_m = std::sqrt(worst_height2 / window);
   return check;

@@ -55,16 +55,24 @@ struct PlanarityCheck {
   // chi-square times the correlation length, since a slope biases a run of
   // neighbouring pairs alike; standard deviations grow by its square root.
   double covariance_inflation = 1.0;
-  // The stretch of consecutive used pairs with the largest chi-square (about
-  // a tenth of the drive, at least 3 pairs): where the ground tilts most.
+  // The stretch of consecutive used pairs of one segment with the largest
+  // chi-square (about a tenth of the drive, at least 3 pairs, at most the
+  // segment's): where the ground tilts most.
   int64_t worst_first_stamp_ns = 0;
   int64_t worst_last_stamp_ns = 0;
   double worst_tilt_rms_deg = 0.0;
   double worst_out_of_plane_rms_m = 0.0;
 };
 
+// Largest out-of-plane rotation (radians; |qx|, |qy| of a pose) and height
+// (metres) of an odometry motion or pose that still counts as planar: the
+// one tolerance for "planar odometry" everywhere. Not zero, since a planar
+// log read back through quaternions or another tool carries rounding errors
+// (1e-16 to 1e-12); far below any real slope (1e-3 rad) or noise model.
+constexpr double kPlanarTolerance = 1e-9;
+
 // True when every pair's odometry motion is a rotation about z and a
-// translation in the x-y plane (to 1e-9): a planar log.
+// translation in the x-y plane (to kPlanarTolerance): a planar log.
 bool IsPlanarOdometry(const MotionPairs& pairs);
 
 // Measures the above for `used` pairs under the estimate; checked = false

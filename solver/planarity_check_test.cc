@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -72,6 +73,34 @@ TEST(PlanarityCheck, PerPairNumbersAreExactOnNoiseFreeData) {
   EXPECT_NE(PlanarityWarning(check, 0).find("the motion is not planar: per "
                                             "motion pair the camera tilts "),
             std::string::npos);
+}
+
+// Two segments, listed late one first: the tilted pairs at the end of one and
+// the start of the other are adjacent in the list, not in time. The worst
+// stretch lies within one segment (3 pairs, 3 s), not across both.
+TEST(PlanarityCheck, TheWorstStretchLiesWithinOneSegment) {
+  MotionPairs pairs;
+  std::vector<int> used;
+  const int64_t kSecond = 1000000000;
+  for (int i = 0; i < 20; ++i) {
+    const bool tilted = i >= 8 && i <= 11;
+    pairs.push_back(TiltedPair(i % 2 ? 12.0 : -7.0,
+                               0.1 + 0.03 * i,
+                               Eigen::Vector3d(tilted ? 1.0 : 0.0, 0, 0) * kDeg,
+                               0));
+    pairs.back().segment = i < 10 ? 0 : 1;
+    const int64_t start = i < 10 ? (100 + i) * kSecond : (i - 10) * kSecond;
+    pairs.back().stamp_i_ns = start;
+    pairs.back().stamp_j_ns = start + kSecond;
+    used.push_back(i);
+  }
+  const PlanarityCheck check =
+      CheckPlanarity(pairs, used, kOdomFromCam, {kScale, kScale}, {});
+  ASSERT_TRUE(check.checked);
+  EXPECT_FALSE(check.consistent);
+  EXPECT_EQ(check.worst_last_stamp_ns - check.worst_first_stamp_ns,
+            3 * kSecond);
+  EXPECT_NEAR(check.worst_tilt_rms_deg, std::sqrt(2.0 / 3.0), 1e-9);
 }
 
 TEST(PlanarityCheck, PlanarNoiseFreeMotionIsConsistent) {

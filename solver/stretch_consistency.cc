@@ -2,6 +2,7 @@
 
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/hand_eye_ransac.h"
+#include "odomcal/solver/noise_estimation.h"
 
 #include <Eigen/QR>
 
@@ -13,6 +14,24 @@
 
 namespace odomcal {
 namespace {
+
+// Per-pair scales under the noise the fit's covariance uses: the noise it
+// estimated from the data when it did (the options' model and the pairs' own
+// covariances scaled by the variance factors), else the given noise.
+std::vector<PairMetricScale> PerPairMetricScalesOfFit(
+    const MotionPairs& pairs,
+    const CalibrationResult& fit,
+    const CalibrationOptions& options) {
+  if (!fit.noise_estimate) {
+    return PerPairMetricScales(
+        pairs, fit.odom_from_cam, fit.metric_scales, options.noise);
+  }
+  return PerPairMetricScales(
+      ScaleCovariances(pairs, fit.noise_estimate->variance_factors),
+      fit.odom_from_cam,
+      fit.metric_scales,
+      fit.noise_estimate->noise);
+}
 
 // Runs of consecutive outliers (by time) within each input segment.
 std::vector<InconsistentStretch> FindOutlierRuns(
@@ -187,10 +206,7 @@ void CutScaleChanges(const CalibrationOptions& options,
     if (fit.diagnostics.inlier_mask.at(i)) inliers.push_back(check->pairs[i]);
   }
   const std::vector<ScaleChange> changes = FindScaleChanges(
-      inliers,
-      PerPairMetricScales(
-          inliers, fit.odom_from_cam, fit.metric_scales, options.noise),
-      scale_options);
+      inliers, PerPairMetricScalesOfFit(inliers, fit, options), scale_options);
   if (changes.empty()) return;
 
   // Output segment k becomes parts (k, 0), (k, 1), ... numbered densely.
@@ -293,8 +309,8 @@ void MeasureScaleDrifts(const CalibrationOptions& options,
   for (const ScaleChangeCut& cut : check->scale_changes) {
     cut_inputs.insert(cut.input_segment);
   }
-  const std::vector<PairMetricScale> scales = PerPairMetricScales(
-      check->pairs, fit.odom_from_cam, fit.metric_scales, options.noise);
+  const std::vector<PairMetricScale> scales =
+      PerPairMetricScalesOfFit(check->pairs, fit, options);
   for (const int input : cut_inputs) {
     ScaleDrift drift;
     drift.input_segment = input;

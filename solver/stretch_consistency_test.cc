@@ -1,6 +1,7 @@
 #include "odomcal/solver/stretch_consistency.h"
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/noise_estimation.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
@@ -84,6 +85,42 @@ TEST(CalibrateWithStretchCheck, LeavesConsistentDataAlone) {
   EXPECT_FALSE(check.split);
   EXPECT_TRUE(check.stretches.empty());
   EXPECT_EQ(check.pairs.size(), truth.pairs.size());
+}
+
+// The drift's standard deviation must follow the noise the covariance uses:
+// with the given model 4x too pessimistic (in standard deviation), the noise
+// estimated from the data brings it back to what the true model gives;
+// computed under the given model it would be about 4x too large.
+TEST(CalibrateWithStretchCheck, DriftStddevUsesTheNoiseEstimatedFromTheData) {
+  auto rng = SeededRng(72);
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 120;
+  simulation.add_noise = true;
+  simulation.min_metric_scale = 1.0;
+  simulation.max_metric_scale = 1.0;
+  SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  const int n = simulation.num_pairs;
+  for (int i = 0; i < n; ++i) {  // scale grows by 15 % along the drive
+    truth.pairs[i].cam_i_from_cam_j.translation /= 1.0 + 0.15 * i / (n - 1);
+  }
+  CalibrationOptions options;
+  options.fixed_translation_z_m = truth.odom_from_cam.translation.z();
+  options.noise = simulation.noise;
+  const StretchCheckResult reference =
+      CalibrateWithStretchCheck(truth.pairs, options, StretchOptions());
+  options.noise = ScaleNoise(simulation.noise, {16.0, 16.0, 16.0, 16.0});
+  const StretchCheckResult pessimistic =
+      CalibrateWithStretchCheck(truth.pairs, options, StretchOptions());
+  ASSERT_EQ(reference.scale_drifts.size(), 1u);
+  ASSERT_EQ(pessimistic.scale_drifts.size(), 1u);
+  ASSERT_TRUE(pessimistic.result.noise_estimate.has_value());
+  const ScaleDrift& expected = reference.scale_drifts[0];
+  const ScaleDrift& drift = pessimistic.scale_drifts[0];
+  ASSERT_TRUE(expected.trend_measured);
+  ASSERT_TRUE(drift.trend_measured);
+  EXPECT_NEAR(
+      drift.relative_drift_stddev / expected.relative_drift_stddev, 1.0, 0.3);
+  EXPECT_NEAR(drift.relative_drift, 0.15, 3.0 * drift.relative_drift_stddev);
 }
 
 }  // namespace

@@ -75,7 +75,9 @@ struct SystematicsRefinement {
 // Refines from `initial` / `initial_scales` (by segment) and
 // `initial_intrinsics`, offset change 0, over pairs[indices]; every used pair
 // must carry odometry_samples (else usable is false). Translation z is held at
-// initial's.
+// initial's. The pairs are weighted by options.noise and their own
+// covariances as given: with noise estimated from the data, pass both scaled
+// (ScaleNoise, ScaleCovariances of noise_estimation.h).
 SystematicsRefinement RefineSystematics(
     const MotionPairs& pairs,
     const std::vector<int>& indices,

@@ -219,6 +219,9 @@ TEST_F(InputUnits, MillimetresNamedInTheHeaderCalibrate) {
            Number(s.yaw);
   });
   ExpectCalibrated(RunOdomcal(Calibrate("odometry.csv")));
+  // The unit the times were read in, not the flag's default (s).
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["inputs"]["odometry_time_unit"], "ms");
 }
 
 // ---------------------------------------------------------------------------

@@ -1,0 +1,88 @@
+// The metric export of `odomcal colmap`: images it cannot place (no odometry
+// at their time, shifted by the clock offset) are named, not dropped
+// silently.
+
+#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/report_testing.h"
+#include "odomcal/solver/format_number.h"
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Rewrites the odometry CSV without its first `duration_s` seconds.
+void DropOdometryStart(const std::string& path, double duration_s) {
+  std::ifstream in(path);
+  std::string header, line, kept;
+  std::getline(in, header);
+  double first_s = 0.0;
+  bool first = true;
+  while (std::getline(in, line)) {
+    const double stamp_s = std::stod(line.substr(0, line.find(',')));
+    if (first) first_s = stamp_s;
+    first = false;
+    if (stamp_s - first_s >= duration_s) kept += line + "\n";
+  }
+  in.close();
+  std::ofstream(path) << header << "\n" << kept;
+}
+
+// The odometry starts 0.55 s after the first image: the images before it get
+// no pose from the odometry and are left out of sparse_metric/0, by name.
+TEST(ColmapMetricExport, NamesTheImagesOutsideTheOdometrySpan) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("metric_export_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  SimulatedColmapProjectOptions options;
+  options.duration_s = 20.0;
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject(dir.string(), options);
+  DropOdometryStart(inputs.odometry_path, 0.55);
+
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  fs::remove_all(dir);
+  const CalibrationResult& result = run.check.result;
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  ASSERT_EQ(run.metric_models.size(), 1u);
+  ASSERT_TRUE(run.systematics.time_offset_estimated);
+  const Trajectory& camera = run.segments.at(0).trajectory;
+  const int64_t offset_ns = run.systematics.camera_time_offset_ns;
+  const int64_t odometry_start_ns = run.odometry.poses.front().stamp_ns;
+  std::vector<std::string> outside;
+  for (size_t i = 0; i < camera.poses.size(); ++i) {
+    if (camera.poses[i].stamp_ns + offset_ns < odometry_start_ns)
+      outside.push_back(run.segments[0].image_names.at(i));
+  }
+  ASSERT_GE(outside.size(), 2u);
+  ASSERT_LE(outside.size(), 8u);  // all named
+  std::string names;
+  for (const std::string& name : outside)
+    names += (names.empty() ? "" : ", ") + name;
+  const std::string expected =
+      "sparse_metric/0: left out " + std::to_string(outside.size()) +
+      " images whose time lies outside the odometry span at the estimated "
+      "camera time offset " +
+      FormatNumber(1e-9 * static_cast<double>(offset_ns)) + " s (" + names +
+      ")";
+  EXPECT_NE(std::find(result.warnings.begin(), result.warnings.end(), expected),
+            result.warnings.end())
+      << "expected warning: " << expected;
+  for (const auto& [id, image] : run.metric_models[0].model.images) {
+    EXPECT_EQ(std::count(outside.begin(), outside.end(), image.name), 0)
+        << image.name << " exported";
+  }
+}
+
+}  // namespace
+}  // namespace odomcal
