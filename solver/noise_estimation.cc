@@ -508,6 +508,11 @@ NoiseFactors CovarianceFactors(const ComponentFactors& factors) {
 }
 
 MotionPairs ScaleCovariances(const MotionPairs& pairs,
+                             const NoiseEstimate& estimate) {
+  return ScaleCovariances(pairs, CovarianceFactors(estimate.component_factors));
+}
+
+MotionPairs ScaleCovariances(const MotionPairs& pairs,
                              const NoiseFactors& factors) {
   auto scale =
       [](MotionCovariance* covariance, double rotation, double translation) {

@@ -106,6 +106,13 @@ NoiseModel ScaleNoise(const NoiseModel& noise, const NoiseFactors& factors);
 MotionPairs ScaleCovariances(const MotionPairs& pairs,
                              const NoiseFactors& factors);
 
+struct NoiseEstimate;
+// The pairs weighted as the covariance under `estimate` weighs them: their
+// own covariances scaled by CovarianceFactors(estimate.component_factors).
+// Pair them with estimate.noise.
+MotionPairs ScaleCovariances(const MotionPairs& pairs,
+                             const NoiseEstimate& estimate);
+
 struct NoiseEstimate {
   // Per group: the ratio of the estimated to the given contribution to the
   // residual covariance (traces summed over the pairs): the level of the

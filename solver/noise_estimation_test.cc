@@ -173,7 +173,8 @@ TEST(NoiseEstimation, ScalesThePairsOwnCovariances) {
   covariance(0, 3) = covariance(3, 0) = 0.5;
   pair.odom_covariance = covariance;
   pair.cam_covariance = covariance;
-  const MotionPairs scaled = ScaleCovariances({pair}, {4.0, 9.0, 0.25, 1.0});
+  const MotionPairs scaled =
+      ScaleCovariances({pair}, NoiseFactors{4.0, 9.0, 0.25, 1.0});
   EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(0, 0), 4.0);
   EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(4, 4), 9.0);
   EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(0, 3), 0.5 * 6.0);
