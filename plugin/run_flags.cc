@@ -181,13 +181,24 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           "force",
           [](auto& r) -> auto& { return r.force; },
           true),
-      NumberRow<Run>(
-          "chunk_images",
-          "drives of more selected images are mapped in chunks of at most "
-          "this many, sharing 25 images, each a sub-model with its own "
-          "scale (time per image stays flat); 0: one model",
-          [](auto& r) -> auto& { return r.chunks.max_images; },
-          FlagCheck::AtLeast(0)),
+      [] {
+        OptionRow<Run> row = NumberRow<Run>(
+            "chunk_images",
+            "drives of more selected images are mapped in chunks of at most "
+            "this many, sharing 25 images, each a sub-model with its own "
+            "scale (time per image stays flat); 0: one model",
+            [](auto& r) -> auto& { return r.chunks.max_images; });
+        // Twice the overlap at least (ChunkOptions::Check).
+        row.check = FlagCheck::Custom([](const std::string& text) {
+          const long value = std::strtol(text.c_str(), nullptr, 10);
+          return value == 0 || value >= 2 * ChunkOptions().overlap
+                     ? std::string()
+                     : "must be 0 or >= " +
+                           std::to_string(2 * ChunkOptions().overlap) +
+                           ", got " + text;
+        });
+        return row;
+      }(),
   };
   return table;
 }
