@@ -1091,8 +1091,12 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   // models of the stretches it left out.
   StageClock clock(&progress,
                    5,
-                   "calibrating against the odometry (model of " +
-                       MapperAttemptName(best) + ")");
+                   "calibrating against the odometry (" +
+                       (result.num_chunks > 0
+                            ? "models of the " +
+                                  std::to_string(result.num_chunks) + " chunks"
+                            : "model of " + MapperAttemptName(best)) +
+                       ")");
   const fs::path sparse = workspace / "sparse";
   ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
   // The stretch models become the next numbered sub-models.
