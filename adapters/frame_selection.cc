@@ -20,11 +20,42 @@ void FrameSelectionOptions::Check() const {
                                   FormatNumber(value));
     }
   };
-  check(min_translation_m, true, "min_translation_m");
-  check(min_rotation_deg, true, "min_rotation_deg");
+  if (min_translation_m != kAutomaticFrameSpacing) {
+    check(min_translation_m, true, "min_translation_m");
+  }
+  if (min_rotation_deg != kAutomaticFrameSpacing) {
+    check(min_rotation_deg, true, "min_rotation_deg");
+  }
+  if (!(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 180.0)) {
+    throw std::invalid_argument("horizontal_fov_deg must be in (0, 180), got " +
+                                FormatNumber(horizontal_fov_deg));
+  }
   if (max_odometry_gap_s != kAutomaticOdometryGap) {
     check(max_odometry_gap_s, false, "max_odometry_gap_s");
   }
+}
+
+FrameSpacing AutomaticFrameSpacing(double horizontal_fov_deg) {
+  FrameSpacing spacing;
+  spacing.min_rotation_deg = horizontal_fov_deg / 8.0;
+  spacing.min_translation_m =
+      kTypicalSceneDepthM * std::tan(horizontal_fov_deg / 16.0 * kDegToRad);
+  return spacing;
+}
+
+double HorizontalFieldOfViewDeg(double focal_px, double cx_px) {
+  return 2.0 * std::atan(cx_px / focal_px) * kRadToDeg;
+}
+
+FrameSpacing ResolvedFrameSpacing(const FrameSelectionOptions& options) {
+  FrameSpacing spacing = AutomaticFrameSpacing(options.horizontal_fov_deg);
+  if (options.min_translation_m != kAutomaticFrameSpacing) {
+    spacing.min_translation_m = options.min_translation_m;
+  }
+  if (options.min_rotation_deg != kAutomaticFrameSpacing) {
+    spacing.min_rotation_deg = options.min_rotation_deg;
+  }
+  return spacing;
 }
 
 FrameSelection SelectFrames(std::vector<TimedImage> images,
@@ -39,6 +70,7 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
   const double max_gap_s =
       OdometryGapLimitS(options.max_odometry_gap_s, odometry);
   FrameSelection selection;
+  selection.spacing = ResolvedFrameSpacing(options);
   selection.num_images = static_cast<int>(images.size());
   bool have_last = false;
   Rigid3d last;
@@ -55,9 +87,9 @@ FrameSelection SelectFrames(std::vector<TimedImage> images,
     }
     if (have_last) {
       const Rigid3d motion = Inverse(last) * *pose;
-      if (motion.translation.norm() < options.min_translation_m &&
+      if (motion.translation.norm() < selection.spacing.min_translation_m &&
           RotationAngle(motion.rotation) <
-              options.min_rotation_deg * kDegToRad) {
+              selection.spacing.min_rotation_deg * kDegToRad) {
         ++selection.num_dropped_still_or_close;
         continue;
       }

@@ -3,6 +3,21 @@
 // robot stands still (no baseline, wasted matching time) and near-duplicates
 // are dropped before COLMAP runs. Images outside the odometry (no time, or
 // outside its span, or in a gap) cannot be calibrated and are dropped too.
+//
+// The spacing is chosen for triangulation (issue 18: images 8 cm apart left
+// the mapper without baseline): by default both thresholds follow from the
+// camera's horizontal field of view F (AutomaticFrameSpacing):
+//   min_rotation_deg  = F / 8: consecutive kept images share 7/8 of the view,
+//                       so a matching window of 4 images on each side
+//                       (COLMAP's spatial matcher, 8 neighbours) still shares
+//                       half of it while the robot turns;
+//   min_translation_m = d * tan(F / 16), d = kTypicalSceneDepthM: each step
+//                       adds a triangulation angle of F / 16 at the typical
+//                       depth, so that the 4-image window spans F / 4 (16 deg
+//                       for a 63 deg camera, the mapper's initial-pair angle
+//                       Mapper.init_min_tri_angle) while a sideways step
+//                       still keeps 15/16 of the view.
+// The odometry measures the robot's translation and rotation between images.
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
@@ -13,9 +28,33 @@
 
 namespace odomcal {
 
+// The thresholds' default: AutomaticFrameSpacing(horizontal_fov_deg).
+inline constexpr double kAutomaticFrameSpacing = -1.0;
+// The depth the automatic translation threshold triangulates at: what an
+// indoor robot's camera sees (walls of 4-6 m rooms, 1-4 m away).
+inline constexpr double kTypicalSceneDepthM = 2.5;
+// COLMAP's focal length when none is given, 1.2 * max(width, height), gives
+// a horizontal field of view of 2 atan(1 / 2.4) = 45.24 deg whatever the size.
+inline constexpr double kColmapDefaultFieldOfViewDeg = 45.24;
+
+struct FrameSpacing {
+  double min_translation_m = 0.0;
+  double min_rotation_deg = 0.0;
+};
+
+// F / 8 and kTypicalSceneDepthM * tan(F / 16) (see above); F in (0, 180).
+FrameSpacing AutomaticFrameSpacing(double horizontal_fov_deg);
+
+// The horizontal field of view of a pinhole camera with focal length
+// `focal_px` whose principal point is `cx_px` from the left edge (the image
+// is about 2 cx wide): 2 atan(cx / f).
+double HorizontalFieldOfViewDeg(double focal_px, double cx_px);
+
 struct FrameSelectionOptions {
-  double min_translation_m = 0.05;  // keep once moved this far...
-  double min_rotation_deg = 3.0;    // ...or turned this much
+  // kAutomaticFrameSpacing: from horizontal_fov_deg (AutomaticFrameSpacing).
+  double min_translation_m = kAutomaticFrameSpacing;  // keep once moved...
+  double min_rotation_deg = kAutomaticFrameSpacing;   // ...or turned this much
+  double horizontal_fov_deg = kColmapDefaultFieldOfViewDeg;
   // As AssociationOptions' (0: automatic, from the odometry's sampling).
   double max_odometry_gap_s = 0.0;
   int64_t camera_time_offset_ns = 0;  // odometry time = image time + offset
@@ -27,8 +66,12 @@ struct TimedImage {
   int64_t stamp_ns = 0;
 };
 
+// The thresholds `options` stand for (automatic ones resolved).
+FrameSpacing ResolvedFrameSpacing(const FrameSelectionOptions& options);
+
 struct FrameSelection {
   std::vector<TimedImage> kept;  // in time order
+  FrameSpacing spacing;          // the thresholds used
   int num_images = 0;
   int num_outside_odometry = 0;
   int num_dropped_still_or_close = 0;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace odomcal {
 namespace {
 
@@ -52,9 +54,76 @@ TEST(SelectFrames, DropsStandingStillAndOutsideTheOdometry) {
   EXPECT_LE(selection.kept.size(), 22u);
 }
 
+TEST(AutomaticFrameSpacing, FollowsTheFieldOfView) {
+  // The rendered scenes' camera: fx 260 px, cx 160 px: 63.2 deg.
+  const double fov_deg = HorizontalFieldOfViewDeg(260.0, 160.0);
+  EXPECT_NEAR(fov_deg, 2.0 * std::atan(160.0 / 260.0) * 180.0 / M_PI, 1e-12);
+  EXPECT_NEAR(fov_deg, 63.2, 0.05);
+  const FrameSpacing spacing = AutomaticFrameSpacing(fov_deg);
+  EXPECT_NEAR(spacing.min_rotation_deg, fov_deg / 8.0, 1e-12);
+  // 2.5 m * tan(3.95 deg): four steps span the mapper's 16 deg at 2.5 m.
+  EXPECT_NEAR(spacing.min_translation_m,
+              2.5 * std::tan(fov_deg / 16.0 * M_PI / 180.0),
+              1e-12);
+  EXPECT_NEAR(spacing.min_translation_m, 0.1726, 0.0005);
+  // COLMAP's default focal length 1.2 * width: 45.24 deg.
+  EXPECT_NEAR(HorizontalFieldOfViewDeg(1.2 * 640.0, 320.0),
+              kColmapDefaultFieldOfViewDeg,
+              0.01);
+  // Given thresholds win over the automatic ones, one at a time.
+  FrameSelectionOptions options;
+  options.horizontal_fov_deg = 90.0;
+  options.min_rotation_deg = 2.0;
+  const FrameSpacing resolved = ResolvedFrameSpacing(options);
+  EXPECT_EQ(resolved.min_rotation_deg, 2.0);
+  EXPECT_NEAR(resolved.min_translation_m,
+              2.5 * std::tan(90.0 / 16.0 * M_PI / 180.0),
+              1e-12);
+}
+
+TEST(SelectFrames, AutomaticSpacingKeepsImagesForTriangulation) {
+  // 5 Hz images of MakeOdometry's drive (0.1 m and 0.1 rad apart), camera
+  // of 63.2 deg: keep an image per 0.1726 m (every second while driving,
+  // 0.2 m) or per 7.9 deg (every second while turning, 0.2 rad = 11.5 deg).
+  std::vector<TimedImage> images;
+  for (int k = 0; k <= 100; k += 2) {
+    images.push_back({"img" + std::to_string(1000 + k), k * 100000000LL});
+  }
+  FrameSelectionOptions options;
+  options.horizontal_fov_deg = HorizontalFieldOfViewDeg(260.0, 160.0);
+  const FrameSelection selection =
+      SelectFrames(images, MakeOdometry(), options);
+  EXPECT_NEAR(selection.spacing.min_translation_m, 0.1726, 0.0005);
+  std::vector<int64_t> stamps_ms;
+  for (const TimedImage& image : selection.kept) {
+    stamps_ms.push_back(image.stamp_ns / 1000000);
+  }
+  // Driving 0-4 s: 0, 0.4, ... 4.0 s (the image at 4.2 s has not moved
+  // since 4.0 s); still until 7 s; turning from 7 s: 7.4, 7.8, ... 10 s.
+  const std::vector<int64_t> expected = {0,
+                                         400,
+                                         800,
+                                         1200,
+                                         1600,
+                                         2000,
+                                         2400,
+                                         2800,
+                                         3200,
+                                         3600,
+                                         4000,
+                                         7400,
+                                         7800,
+                                         8200,
+                                         8600,
+                                         9000,
+                                         9400,
+                                         9800};
+  EXPECT_EQ(stamps_ms, expected);
+}
+
 TEST(SelectFrames, RejectsBadThresholds) {
   FrameSelectionOptions options;
-  options.min_translation_m = -1.0;
+  options.min_translation_m = -0.25;  // -1 is kAutomaticFrameSpacing
   EXPECT_THROW(SelectFrames({}, MakeOdometry(), options),
                std::invalid_argument);
   options = FrameSelectionOptions();

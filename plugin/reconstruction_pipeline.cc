@@ -11,6 +11,8 @@
 
 #include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_database_priors.h"
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/image_timestamps.h"
 #include "odomcal/adapters/input_plausibility.h"
@@ -620,6 +622,148 @@ void AddImageCoverage(const std::vector<TimedImage>& selected,
   }
 }
 
+// The horizontal field of view of the camera the run uses, for the frame
+// selection's automatic thresholds: from --camera_params (fx first; cx
+// second for the one-focal models, third for the others; a fisheye's field
+// of view is wider, so its thresholds come out smaller), else that of
+// COLMAP's default focal length.
+double RunFieldOfViewDeg(const ReconstructionOptions& run) {
+  if (run.camera_params.empty()) return kColmapDefaultFieldOfViewDeg;
+  std::vector<double> params;
+  std::stringstream text(run.camera_params);
+  std::string field;
+  while (std::getline(text, field, ',')) {
+    params.push_back(std::strtod(field.c_str(), nullptr));
+  }
+  const auto model = ColmapCameraModelFromName(run.camera_model);
+  const bool one_focal = model == ColmapCameraModel::kSimplePinhole ||
+                         model == ColmapCameraModel::kSimpleRadial ||
+                         model == ColmapCameraModel::kRadial ||
+                         model == ColmapCameraModel::kSimpleRadialFisheye ||
+                         model == ColmapCameraModel::kRadialFisheye;
+  const size_t cx = one_focal ? 1 : 2;
+  if (params.size() <= cx || !(params[0] > 0.0) || !(params[cx] > 0.0)) {
+    return kColmapDefaultFieldOfViewDeg;
+  }
+  return HorizontalFieldOfViewDeg(params[0], params[cx]);
+}
+
+// [4] for a drive longer than one chunk (mapper_chunks.h): each chunk
+// mapped once (--random_seed 0) on the round's matches, and the sub-models
+// of every chunk, cut to the chunk's own images, written as numbered
+// sub-models of mapper_attempts/chunks (segments with their own scale).
+// Returns that model's attempt (model_path empty when no chunk gave a
+// model). A chunk COLMAP fails on is left out; the stretches it leaves
+// unregistered are mapped again later (MapUnregisteredStretches).
+MapperAttempt MapInChunks(ColmapRunner* colmap,
+                          const ReconstructionOptions& run,
+                          const MatchingRound& round,
+                          const std::vector<TimedImage>& images,
+                          const std::vector<MapperChunk>& chunks,
+                          Progress* progress) {
+  const fs::path workspace(run.workspace_path);
+  std::error_code error;
+  fs::create_directories(workspace / "chunks", error);
+  const std::string combined_entry = "mapper_attempts/chunks";
+  const fs::path combined = workspace / combined_entry;
+  RemoveOwnedOutput(run.workspace_path, combined_entry);
+  fs::create_directories(combined, error);
+  const bool fixed_intrinsics = !run.camera_params.empty();
+  int num_sub_models = 0;
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    const MapperChunk& chunk = chunks[k];
+    const std::string name = "chunk_" + std::to_string(k);
+    std::ostringstream list;
+    for (int i = chunk.first; i <= chunk.last; ++i) {
+      list << images[i].name << "\n";
+    }
+    const fs::path list_path = workspace / "chunks" / (name + "_images.txt");
+    WriteFileAtomically(list_path.string(), list.str());
+    const fs::path output = workspace / "mapper_attempts" / name;
+    const std::vector<std::string> arguments = {
+        "mapper",
+        "--database_path",
+        round.database,
+        "--image_path",
+        run.image_path,
+        "--output_path",
+        output.string(),
+        "--image_list_path",
+        list_path.string(),
+        "--random_seed",
+        "0",
+        "--Mapper.num_threads",
+        std::to_string(run.num_threads),
+        "--Mapper.ba_refine_focal_length",
+        fixed_intrinsics ? "0" : "1",
+        "--Mapper.ba_refine_principal_point",
+        "0",
+        "--Mapper.ba_refine_extra_params",
+        fixed_intrinsics ? "0" : "1"};
+    const int size = chunk.last - chunk.first + 1;
+    progress->SetNumImages(size);
+    StageClock clock(progress,
+                     4,
+                     "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
+                         std::to_string(chunks.size()) + " (" +
+                         ImageRange(chunk.first, chunk.last) + ")");
+    const std::string stage = "mapper_" + name;
+    const std::vector<std::string> outputs = {(output / "0").string()};
+    if (!colmap->WillReuse(stage, arguments, outputs)) {
+      RemoveOwnedOutput(run.workspace_path, "mapper_attempts/" + name);
+    }
+    fs::create_directories(output, error);
+    ColmapStageResult result;
+    try {
+      result = colmap->RunStage(stage, arguments, outputs);
+    } catch (const ColmapError& failure) {
+      clock.Done(std::string("no model: ") + failure.what());
+      continue;
+    }
+    if (!fs::exists(output / "0")) {
+      clock.Done("no model, log " + result.log_path);
+      continue;
+    }
+    std::set<std::string> own;
+    for (int i = chunk.own_first; i <= chunk.own_last; ++i) {
+      own.insert(images[i].name);
+    }
+    size_t num_registered = 0;
+    size_t num_kept = 0;
+    const std::vector<std::string> folders =
+        FindColmapModelFolders(output.string());
+    for (const std::string& folder : folders) {
+      const ColmapModel model = ReadColmapModel(folder);
+      num_registered += model.images.size();
+      std::set<uint32_t> ids;
+      for (const auto& [id, image] : model.images) {
+        if (own.count(image.name) > 0) ids.insert(id);
+      }
+      if (ids.size() < 2) continue;
+      num_kept += ids.size();
+      WriteColmapModel(ColmapModelSubset(model, ids),
+                       (combined / std::to_string(num_sub_models++)).string(),
+                       ColmapFormat::kBinary);
+    }
+    clock.Done(Note(result) + "; " + std::to_string(folders.size()) +
+               " sub-model(s), " + std::to_string(num_registered) + " of " +
+               std::to_string(size) + " images registered, " +
+               std::to_string(num_kept) + " of the chunk's own " +
+               std::to_string(chunk.own_last - chunk.own_first + 1) + " kept");
+  }
+  progress->SetNumImages(static_cast<int>(images.size()));
+  MapperAttempt attempt;
+  if (num_sub_models == 0) return attempt;
+  ColmapCalibrationInputs inputs = run.project;
+  inputs.model_path = combined.string();
+  inputs.database_path = round.database;
+  const ColmapCalibrationRun calibration = CalibrateColmapProject(inputs);
+  attempt = SummarizeMapperAttempt(
+      0, combined.string(), calibration.segments, calibration.check);
+  attempt.matching_round = round.index;
+  return attempt;
+}
+
 }  // namespace
 
 std::vector<std::string> ReconstructionWorkspaceEntries() {
@@ -632,6 +776,7 @@ std::vector<std::string> ReconstructionWorkspaceEntries() {
           "commands.txt",
           "mapper_attempts",
           "stretches",
+          "chunks",
           "sparse",
           "sparse.tmp"};
 }
@@ -662,6 +807,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                    WheelTravelOptionsOf(inputs.systematics));
   CheckOdometrySpeed(odometry);
   std::vector<TimedImage> images;
+  FrameSpacing frame_spacing;
   {
     StageClock clock(&progress, 1, "selecting frames with the odometry");
     const ImageTimestamps timestamps =
@@ -689,6 +835,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
           stamps_ns, run.image_path, timestamps.how_read());
     }
     FrameSelectionOptions frames = run.frames;
+    frames.horizontal_fov_deg = RunFieldOfViewDeg(run);
     frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
     frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
     const FrameSelection selection = SelectFrames(all, odometry, frames);
@@ -714,8 +861,13 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     for (const TimedImage& image : selection.kept) list << image.name << "\n";
     WriteFileAtomically((workspace / "image_list.txt").string(), list.str());
     images = selection.kept;
+    frame_spacing = selection.spacing;
     clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
-               std::to_string(selection.num_images) + " images (" +
+               std::to_string(selection.num_images) + " images, " +
+               FormatNumber(selection.spacing.min_translation_m) + " m or " +
+               FormatNumber(selection.spacing.min_rotation_deg) +
+               " deg apart (" + FormatNumber(frames.horizontal_fov_deg) +
+               " deg field of view; " +
                std::to_string(selection.num_dropped_still_or_close) +
                " standing still or too close, " +
                std::to_string(selection.num_outside_odometry) +
@@ -730,6 +882,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       image_stamps, odometry, inputs.association, inputs.calibration);
   progress.Note(1, ExcitationLine(precheck, inputs.calibration, run.force));
   ReconstructionResult result;
+  result.frame_spacing = frame_spacing;
   if (!precheck.determinable && !run.force) {
     // The solver's status and `unobservable` (no estimate).
     result.refused_before_colmap = true;
@@ -868,32 +1021,58 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
 
   // [4] Mapping, each model checked against the odometry; when the random
   // seeds do not help, [3] and [4] once more on new matches
-  // (mapper_policy.h).
-  for (MapperStep step = policy.Next(); step.kind != MapperStep::Kind::kDone;
-       step = policy.Next()) {
-    if (step.kind == MapperStep::Kind::kMatchAgain) {
-      MatchingRound again;
-      again.index = step.matching_round;
-      again.database = (workspace / "database_rematched.db").string();
-      MatchAgain(&colmap, matcher, again, database, run, &progress);
-      rounds.push_back(again);
-      policy.MatchedAgain();
-      continue;
+  // (mapper_policy.h). A drive longer than one chunk: each chunk mapped once.
+  const std::vector<MapperChunk> chunks =
+      SplitIntoChunks(static_cast<int>(images.size()), run.chunks);
+  std::vector<MapperAttempt> attempts;
+  int chosen = -1;
+  std::optional<std::string> contradiction_warning;
+  std::string mapper_log = (workspace / "logs" / "mapper_seed_0.log").string();
+  std::string mapper_runs;  // "3 runs", "any of the 2 chunks"
+  if (chunks.size() > 1) {
+    progress.Note(3,
+                  std::to_string(images.size()) + " images: mapped in " +
+                      std::to_string(chunks.size()) + " chunks of " +
+                      std::to_string(chunks[0].last - chunks[0].first + 1) +
+                      " sharing at least " +
+                      std::to_string(run.chunks.overlap) + " images");
+    const MapperAttempt attempt =
+        MapInChunks(&colmap, run, rounds[0], images, chunks, &progress);
+    result.num_chunks = static_cast<int>(chunks.size());
+    mapper_log = (workspace / "logs" / "mapper_chunk_0.log").string();
+    mapper_runs = "any of the " + std::to_string(chunks.size()) + " chunks";
+    if (!attempt.model_path.empty()) {
+      attempts.push_back(attempt);
+      chosen = 0;
     }
-    MapWithSeed(&colmap,
-                run,
-                rounds.at(step.matching_round),
-                step.random_seed,
-                &progress,
-                &policy);
+  } else {
+    for (MapperStep step = policy.Next(); step.kind != MapperStep::Kind::kDone;
+         step = policy.Next()) {
+      if (step.kind == MapperStep::Kind::kMatchAgain) {
+        MatchingRound again;
+        again.index = step.matching_round;
+        again.database = (workspace / "database_rematched.db").string();
+        MatchAgain(&colmap, matcher, again, database, run, &progress);
+        rounds.push_back(again);
+        policy.MatchedAgain();
+        continue;
+      }
+      MapWithSeed(&colmap,
+                  run,
+                  rounds.at(step.matching_round),
+                  step.random_seed,
+                  &progress,
+                  &policy);
+    }
+    attempts = policy.attempts();
+    chosen = policy.Best();
+    contradiction_warning = policy.ContradictionWarning();
+    mapper_runs = std::to_string(attempts.size()) +
+                  (attempts.size() == 1 ? " run" : " runs");
   }
-  const std::vector<MapperAttempt>& attempts = policy.attempts();
-  const int chosen = policy.Best();
   if (chosen < 0) {
-    throw ColmapError("COLMAP mapper produced no model in " +
-                      std::to_string(attempts.size()) +
-                      (attempts.size() == 1 ? " run" : " runs") + " (see " +
-                      (workspace / "logs" / "mapper_seed_0.log").string() +
+    throw ColmapError("COLMAP mapper produced no model in " + mapper_runs +
+                      " (see " + mapper_log +
                       "): too little texture or overlap, or wrong intrinsics");
   }
 
@@ -914,8 +1093,12 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   // models of the stretches it left out.
   StageClock clock(&progress,
                    5,
-                   "calibrating against the odometry (model of " +
-                       MapperAttemptName(best) + ")");
+                   "calibrating against the odometry (" +
+                       (result.num_chunks > 0
+                            ? "models of the " +
+                                  std::to_string(result.num_chunks) + " chunks"
+                            : "model of " + MapperAttemptName(best)) +
+                       ")");
   const fs::path sparse = workspace / "sparse";
   ReplaceWithCopy(best.model_path, run.workspace_path, "sparse");
   // The stretch models become the next numbered sub-models.
@@ -946,8 +1129,8 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   result.calibration = CalibrateColmapProject(final_inputs);
   result.calibration.mapper_attempts = attempts;
   result.calibration.chosen_mapper_attempt = chosen;
-  if (const auto warning = policy.ContradictionWarning()) {
-    result.calibration.check.result.warnings.push_back(*warning);
+  if (contradiction_warning) {
+    result.calibration.check.result.warnings.push_back(*contradiction_warning);
   }
   // At the clock offset the calibration used (estimated, or as given).
   AddImageCoverage(images,

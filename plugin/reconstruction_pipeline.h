@@ -18,6 +18,7 @@
 #include "odomcal/adapters/excitation_precheck.h"
 #include "odomcal/adapters/frame_selection.h"
 #include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/mapper_chunks.h"
 #include "odomcal/plugin/mapper_policy.h"
 #include "odomcal/plugin/mapper_stretches.h"
 
@@ -55,6 +56,10 @@ struct ReconstructionOptions {
   bool map_unregistered_stretches = true;
   CandidatePairOptions candidate_pairs;  // stretches and --matcher odometry
   InitialPairOptions initial_pair;
+  // Drives of more selected images than chunks.max_images are mapped in
+  // chunks (mapper_chunks.h), each once (--random_seed 0), instead of the
+  // mapper attempts on all images; smaller drives are mapped as before.
+  ChunkOptions chunks;
 };
 
 // COLMAP's Mapper.min_model_size default: smaller stretches are not mapped.
@@ -91,6 +96,10 @@ struct ReconstructionResult {
   bool refused_before_colmap = false;
   std::string model_path;     // workspace/sparse: the model calibrated
   std::string database_path;  // the matches it was mapped from
+  // The frame selection's thresholds (automatic ones resolved from the
+  // camera's field of view; frame_selection.h).
+  FrameSpacing frame_spacing;
+  int num_chunks = 0;  // the chunks mapped; 0: one model of all images
 };
 
 // The stages of the pipeline, for PipelineProgress::num_stages.

@@ -143,7 +143,11 @@ RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
   calibrated.model_path = result.model_path;
   calibrated.database_path = result.database_path;
   nlohmann::json flag_echo = ProjectFlagsEcho(calibrated);
-  MergeFlagEcho(RunFlagsEcho(options), &flag_echo);
+  // The frame selection's thresholds as used ("auto" resolved).
+  ReconstructionOptions used = options;
+  used.frames.min_translation_m = result.frame_spacing.min_translation_m;
+  used.frames.min_rotation_deg = result.frame_spacing.min_rotation_deg;
+  MergeFlagEcho(RunFlagsEcho(used), &flag_echo);
   outcome.context = ProjectReportContext(
       calibrated, outcome.calibration, command, std::move(flag_echo));
   const fs::path workspace(options.workspace_path);

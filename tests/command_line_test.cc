@@ -295,6 +295,17 @@ TEST_F(CommandLine, RangeChecksOfOtherCommandsPrintTheirLimits) {
                   "-3"}),
       "odomcal run: error: --frame_min_rotation_deg must be >= 0, got -3");
   ExpectBadInput(
+      RunOdomcal({"run",
+                  "--image_path",
+                  Path("model"),
+                  "--workspace_path",
+                  Path("ws"),
+                  "--odometry",
+                  Path("odometry.csv"),
+                  "--chunk_images",
+                  "30"}),
+      "odomcal run: error: --chunk_images must be 0 or >= 50, got 30");
+  ExpectBadInput(
       RunOdomcal({"demo", "--simulated", "--duration_s", "1"}),
       "odomcal demo: error: --duration_s must be in [5, 3600], got 1");
   ExpectBadInput(

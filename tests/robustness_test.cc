@@ -863,6 +863,60 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
             0.1 * kPi / 180.0);
 }
 
+// A drive of more selected images than --chunk_images is mapped in chunks
+// (mapper_chunks.h): 60 images, chunks of at most 50 sharing 25: images
+// 1-44 and 17-60, each mapped once (--random_seed 0; the fake mapper gives
+// the whole drive's model both times), each cut to its own images (1-30,
+// 30-60: the overlap split in the middle, one image shared) as a sub-model
+// of its own; the calibration of the two segments recovers the extrinsic.
+TEST_F(Robustness, LongDriveIsMappedInChunks) {
+  constexpr int kImages = 60;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0");
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  const CommandResult run = RunOdomcal(RunCommand({"--matcher",
+                                                   "sequential",
+                                                   "--chunk_images",
+                                                   "50",
+                                                   "--frame_min_translation_m",
+                                                   "0",
+                                                   "--frame_min_rotation_deg",
+                                                   "0"}),
+                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("60 images: mapped in 2 chunks of 44 sharing at "
+                         "least 25 images"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("COLMAP mapping chunk 2 of 2 (images 17-60)"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("60 of 44 images registered, 31 of the chunk's own "
+                         "31 kept"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("calibrating against the odometry (models of the 2 "
+                         "chunks)"),
+            std::string::npos)
+      << run.out;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  EXPECT_EQ(result["options"]["run"]["chunk_images"], 50);
+  const json& sub_models = result["colmap"]["sub_models"];
+  ASSERT_EQ(sub_models.size(), 2u) << sub_models.dump(2);
+  EXPECT_EQ(sub_models[0]["num_registered_images"], 30);
+  EXPECT_EQ(sub_models[1]["num_registered_images"], 31);
+  EXPECT_EQ(result["colmap"]["image_coverage"]["num_in_calibration"], 60);
+  EXPECT_LT(RotationAngle(Eigen::Quaterniond(
+                              result["odom_from_cam"]["quaternion_wxyz"][0],
+                              result["odom_from_cam"]["quaternion_wxyz"][1],
+                              result["odom_from_cam"]["quaternion_wxyz"][2],
+                              result["odom_from_cam"]["quaternion_wxyz"][3])
+                              .conjugate() *
+                          drive.odom_from_cam.rotation),
+            0.1 * kPi / 180.0);
+}
+
 // COLMAP reconstructed images 20-29 twice: in sub-model 0 on their own,
 // two of them 3 deg off, and in sub-model 1 with all the others. Sub-model
 // 0 is left out as a duplicate (its motions would count twice, and its

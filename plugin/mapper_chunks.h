@@ -1,0 +1,44 @@
+// Mapping a long drive in chunks (issue 18, "cost linear in the drive"):
+// COLMAP's incremental mapper slows down faster than linearly with the
+// images of one model (each registration runs bundle adjustments over a
+// growing model), so a drive longer than one chunk is cut, along the
+// odometry's time order, into chunks of at most `max_images` images that
+// share `overlap` images with the next, and each chunk is mapped by
+// `colmap mapper` on its own (--image_list_path, the same database). Each
+// chunk's model is a sub-model of its own: a segment with its own scale in
+// the calibration, as the mapper's own sub-models are. Time per image stays
+// flat and memory is bounded by one chunk's model; COLMAP can map the
+// chunks on several machines, as they are independent.
+//
+// The overlap lets each chunk's ends be mapped with the views around them;
+// for the calibration every chunk keeps only its own images (ChunkOwnRange)
+// and the first image of the next chunk's, so that no motion pair is counted
+// twice and the pair across the boundary still exists.
+#pragma once
+
+#include <vector>
+
+namespace odomcal {
+
+struct ChunkOptions {
+  int max_images = 200;  // 0: no chunks (one model of all images)
+  int overlap = 25;      // images shared by consecutive chunks
+  void Check() const;    // throws std::invalid_argument naming the field
+};
+
+struct MapperChunk {
+  int first = 0;  // images [first, last] of the drive (time order) mapped
+  int last = 0;
+  int own_first = 0;  // images [own_first, own_last] kept for calibration
+  int own_last = 0;
+};
+
+// The chunks of a drive of `num_images` images: one chunk (all images, all
+// its own) when they fit in max_images or max_images is 0; otherwise chunks
+// of equal size (at most max_images), consecutive ones sharing at least
+// `overlap` images, whose own ranges meet in the middle of each overlap and
+// overlap by one image (own_last of a chunk = own_first of the next).
+std::vector<MapperChunk> SplitIntoChunks(int num_images,
+                                         const ChunkOptions& options);
+
+}  // namespace odomcal

@@ -1,0 +1,80 @@
+#include "odomcal/plugin/mapper_chunks.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace odomcal {
+namespace {
+
+TEST(SplitIntoChunks, DriveThatFitsIsOneChunk) {
+  ChunkOptions options;  // 200 images, 25 shared
+  const std::vector<MapperChunk> chunks = SplitIntoChunks(200, options);
+  ASSERT_EQ(chunks.size(), 1u);
+  EXPECT_EQ(chunks[0].first, 0);
+  EXPECT_EQ(chunks[0].last, 199);
+  EXPECT_EQ(chunks[0].own_first, 0);
+  EXPECT_EQ(chunks[0].own_last, 199);
+  options.max_images = 0;  // off
+  EXPECT_EQ(SplitIntoChunks(5000, options).size(), 1u);
+  EXPECT_TRUE(SplitIntoChunks(0, ChunkOptions()).empty());
+}
+
+TEST(SplitIntoChunks, CoversTheDriveWithBoundedOverlappingChunks) {
+  for (const int num_images : {201, 300, 376, 377, 999, 1000, 4321}) {
+    SCOPED_TRACE(num_images);
+    const ChunkOptions options;
+    const std::vector<MapperChunk> chunks =
+        SplitIntoChunks(num_images, options);
+    // The fewest chunks of at most 200 images sharing 25: ceil((n - 25) /
+    // 175).
+    EXPECT_EQ(static_cast<int>(chunks.size()), (num_images - 25 + 174) / 175);
+    EXPECT_EQ(chunks.front().first, 0);
+    EXPECT_EQ(chunks.back().last, num_images - 1);
+    EXPECT_EQ(chunks.front().own_first, 0);
+    EXPECT_EQ(chunks.back().own_last, num_images - 1);
+    for (size_t k = 0; k < chunks.size(); ++k) {
+      const MapperChunk& c = chunks[k];
+      EXPECT_LE(c.last - c.first + 1, options.max_images);
+      EXPECT_LE(c.first, c.own_first);
+      EXPECT_LT(c.own_first, c.own_last);
+      EXPECT_LE(c.own_last, c.last);
+      if (k == 0) continue;
+      const MapperChunk& previous = chunks[k - 1];
+      EXPECT_GE(previous.last - c.first + 1, options.overlap);
+      // Own ranges share exactly one image: every motion pair once.
+      EXPECT_EQ(previous.own_last, c.own_first);
+    }
+  }
+}
+
+TEST(SplitIntoChunks, ThreeHundredImagesAreTwoEqualChunks) {
+  const std::vector<MapperChunk> chunks = SplitIntoChunks(300, ChunkOptions());
+  ASSERT_EQ(chunks.size(), 2u);
+  // 2 s - 25 >= 300: s = 163 (+1 for the rounding of the starts).
+  EXPECT_EQ(chunks[0].first, 0);
+  EXPECT_EQ(chunks[0].last, 163);
+  EXPECT_EQ(chunks[1].first, 136);
+  EXPECT_EQ(chunks[1].last, 299);
+  EXPECT_EQ(chunks[0].own_last, 149);
+  EXPECT_EQ(chunks[1].own_first, 149);
+}
+
+TEST(SplitIntoChunks, RejectsBadOptions) {
+  ChunkOptions options;
+  options.overlap = 150;
+  try {
+    SplitIntoChunks(1000, options);
+    ADD_FAILURE() << "accepted an overlap above half the chunk";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "overlap must be >= 2 and at most half of max_images, got 150");
+  }
+  options = ChunkOptions();
+  options.max_images = -1;
+  EXPECT_THROW(SplitIntoChunks(10, options), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace odomcal
