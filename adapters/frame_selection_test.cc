@@ -73,6 +73,7 @@ TEST(AutomaticFrameSpacing, FollowsTheFieldOfView) {
   // Given thresholds win over the automatic ones, one at a time.
   FrameSelectionOptions options;
   options.horizontal_fov_deg = 90.0;
+  options.min_translation_m = kAutomaticFrameSpacing;
   options.min_rotation_deg = 2.0;
   const FrameSpacing resolved = ResolvedFrameSpacing(options);
   EXPECT_EQ(resolved.min_rotation_deg, 2.0);
@@ -90,6 +91,8 @@ TEST(SelectFrames, AutomaticSpacingKeepsImagesForTriangulation) {
     images.push_back({"img" + std::to_string(1000 + k), k * 100000000LL});
   }
   FrameSelectionOptions options;
+  options.min_translation_m = kAutomaticFrameSpacing;
+  options.min_rotation_deg = kAutomaticFrameSpacing;
   options.horizontal_fov_deg = HorizontalFieldOfViewDeg(260.0, 160.0);
   const FrameSelection selection =
       SelectFrames(images, MakeOdometry(), options);

@@ -869,6 +869,10 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
 // the whole drive's model both times), each cut to its own images (1-30,
 // 30-60: the overlap split in the middle, one image shared) as a sub-model
 // of its own; the calibration of the two segments recovers the extrinsic.
+// The last image lies on the odometry's last sample: a clock offset
+// estimated microseconds positive would leave it out of the metric model
+// (and name it), which is not what this test is about, so the offset is not
+// estimated.
 TEST_F(Robustness, LongDriveIsMappedInChunks) {
   constexpr int kImages = 60;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
@@ -876,6 +880,8 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
   const std::string bin = WriteFakeColmapWithMapperModels();
   const CommandResult run = RunOdomcal(RunCommand({"--matcher",
                                                    "sequential",
+                                                   "--estimate_time_offset",
+                                                   "off",
                                                    "--chunk_images",
                                                    "50",
                                                    "--frame_min_translation_m",
