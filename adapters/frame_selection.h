@@ -33,7 +33,8 @@
 
 namespace odomcal {
 
-// A threshold from the field of view: AutomaticFrameSpacing(horizontal_fov_deg).
+// A threshold from the field of view:
+// AutomaticFrameSpacing(horizontal_fov_deg).
 inline constexpr double kAutomaticFrameSpacing = -1.0;
 // The depth the automatic translation threshold triangulates at: what an
 // indoor robot's camera sees (walls of 4-6 m rooms, 1-4 m away).
