@@ -189,7 +189,8 @@ SystematicsEstimate EstimateSystematics(
     MotionPairs weighted_pairs;
     if (result->noise_estimate) {
       refine_options.noise = result->noise_estimate->noise;
-      weighted_pairs = ScaleCovariances(*pairs, *result->noise_estimate);
+      weighted_pairs =
+          ScaleCovariances(*pairs, result->noise_estimate->variance_factors);
       refine_pairs = &weighted_pairs;
     }
     const SystematicsRefinement refined =
