@@ -160,17 +160,22 @@ void CheckFieldCount(const LineReader& reader,
   }
 }
 
+// The field as std::from_chars reads it: without a leading '+', which it
+// does not accept (a sign after the '+' stays, so "+-1" is still refused).
+std::string_view WithoutLeadingPlus(std::string_view field) {
+  if (field.size() > 1 && field[0] == '+' && field[1] != '-' &&
+      field[1] != '+') {
+    field.remove_prefix(1);
+  }
+  return field;
+}
+
 double ParseValue(const LineReader& reader,
                   std::string_view field,
                   const std::string& column) {
   const std::string name = "column '" + column + "'";
   if (field.empty()) reader.Fail(name + " is empty");
-  std::string_view digits = field;
-  // from_chars does not accept a leading '+'.
-  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' &&
-      digits[1] != '+') {
-    digits.remove_prefix(1);
-  }
+  const std::string_view digits = WithoutLeadingPlus(field);
   double value = 0.0;
   const auto [end, ec] =
       std::from_chars(digits.data(), digits.data() + digits.size(), value);
@@ -203,11 +208,7 @@ int64_t ParseTicks(const LineReader& reader,
                    const std::string& column) {
   const std::string name = "column '" + column + "'";
   if (field.empty()) reader.Fail(name + " is empty");
-  std::string_view digits = field;
-  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' &&
-      digits[1] != '+') {
-    digits.remove_prefix(1);
-  }
+  const std::string_view digits = WithoutLeadingPlus(field);
   int64_t value = 0;
   const auto [end, ec] =
       std::from_chars(digits.data(), digits.data() + digits.size(), value);
@@ -443,7 +444,9 @@ Trajectory ReadWheelRows(LineReader* reader,
     travels.samples.push_back(sample);
   }
   if (travels.samples.empty()) reader->FailNoData();
-  return IntegrateWheelTravels(travels, wheels.track_m);
+  Trajectory trajectory = IntegrateWheelTravels(travels, wheels.track_m);
+  trajectory.time_unit = time_unit;  // as read (a header suffix wins)
+  return trajectory;
 }
 
 Trajectory ReadCsv(const std::string& path,

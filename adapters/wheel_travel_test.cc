@@ -150,6 +150,9 @@ TEST(ReadWheelTravels, TicksEqualMetresTimesTicksPerMetre) {
   EXPECT_TRUE(from_ticks.planar);
   EXPECT_EQ(from_ticks.source, ticks_path);
   EXPECT_EQ(from_ticks.poses[1].stamp_ns, 20000000);
+  // The unit the times were read in (the header's, not the flag's).
+  EXPECT_EQ(from_ticks.time_unit, TimeUnit::kMilliseconds);
+  EXPECT_EQ(from_metres.time_unit, TimeUnit::kSeconds);
   ExpectSamePoses(from_ticks, from_metres, 1e-12);
   // And the heading is what the wheels say: (dr - dl) / b.
   const double last_left = (37.0 * 199 + 199 % 7) / kTicksPerM;

@@ -327,9 +327,13 @@ ColmapCalibrationRun CalibrateColmapProject(
           (left_out.size() == 1 ? " image" : " images") +
           " whose every motion pair the odometry contradicts (" + list + ")");
     }
+    // "estimated" whenever the offset used is not the one given (also a
+    // coarse peak the refinement did not move).
     const std::string offset_text =
-        std::string(run.systematics.time_offset_estimated ? "estimated"
-                                                          : "given") +
+        std::string(camera_time_offset_ns !=
+                            inputs.association.camera_time_offset_ns
+                        ? "estimated"
+                        : "given") +
         " camera time offset " +
         FormatNumber(1e-9 * static_cast<double>(camera_time_offset_ns)) + " s";
     for (const auto& [skipped, where] :

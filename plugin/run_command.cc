@@ -137,19 +137,15 @@ RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
       });
   RunOutcome outcome;
   outcome.calibration = result.calibration;
-  // The flags' echo, with the model and database the pipeline made (null
-  // when it refused the drive before COLMAP).
+  // The model and database the pipeline made (null when it refused the
+  // drive before COLMAP).
   ColmapCalibrationInputs calibrated = options.project;
   calibrated.model_path = result.model_path;
   calibrated.database_path = result.database_path;
-  nlohmann::json flag_echo = ProjectFlagsEcho(calibrated);
-  // The frame selection's thresholds as used ("auto" resolved).
-  ReconstructionOptions used = options;
-  used.frames.min_translation_m = result.frame_spacing.min_translation_m;
-  used.frames.min_rotation_deg = result.frame_spacing.min_rotation_deg;
-  MergeFlagEcho(RunFlagsEcho(used), &flag_echo);
-  outcome.context = ProjectReportContext(
-      calibrated, outcome.calibration, command, std::move(flag_echo));
+  outcome.context = ProjectReportContext(calibrated,
+                                         outcome.calibration,
+                                         command,
+                                         RunResultFlagsEcho(options, result));
   const fs::path workspace(options.workspace_path);
   if (result.refused_before_colmap) {
     // calibration.json with the status only, and no other output of an

@@ -1,5 +1,6 @@
 #include "odomcal/plugin/run_flags.h"
 
+#include "odomcal/plugin/project_flags.h"
 #include "odomcal/solver/format_number.h"
 
 #include <cmath>
@@ -190,7 +191,10 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
             [](auto& r) -> auto& { return r.chunks.max_images; });
         // Twice the overlap at least (ChunkOptions::Check).
         row.check = FlagCheck::Custom([](const std::string& text) {
-          const long value = std::strtol(text.c_str(), nullptr, 10);
+          char* end = nullptr;
+          const long value = std::strtol(text.c_str(), &end, 10);
+          // Not an integer ("1e3"): the integer flag's own error says so.
+          if (end == text.c_str() || *end != '\0') return std::string();
           return value == 0 || value >= 2 * ChunkOptions().overlap
                      ? std::string()
                      : "must be 0 or >= " +
@@ -208,6 +212,19 @@ nlohmann::json RunFlagsEcho(const ReconstructionOptions& settings) {
                          {"options", {{"run", nlohmann::json::object()}}}};
   EchoOptions(RunFolderFlags(), settings, &echo["inputs"]);
   EchoOptions(RunFlags(), settings, &echo["options"]["run"]);
+  return echo;
+}
+
+nlohmann::json RunResultFlagsEcho(const ReconstructionOptions& options,
+                                  const ReconstructionResult& result) {
+  ColmapCalibrationInputs calibrated = options.project;
+  calibrated.model_path = result.model_path;
+  calibrated.database_path = result.database_path;
+  nlohmann::json echo = ProjectFlagsEcho(calibrated);
+  ReconstructionOptions used = options;
+  used.frames.min_translation_m = result.frame_spacing.min_translation_m;
+  used.frames.min_rotation_deg = result.frame_spacing.min_rotation_deg;
+  MergeFlagEcho(RunFlagsEcho(used), &echo);
   return echo;
 }
 

@@ -22,4 +22,11 @@ const OptionTable<ReconstructionOptions>& RunFlags();
 // "options": {"run": {...}}}.
 nlohmann::json RunFlagsEcho(const ReconstructionOptions& settings);
 
+// The echo of a finished `odomcal run` (CLI and Python alike): the project's
+// flags with the model and database the pipeline made (null when it refused
+// the drive before COLMAP), and the run's own flags with the frame spacing
+// as used ("auto" resolved to numbers).
+nlohmann::json RunResultFlagsEcho(const ReconstructionOptions& options,
+                                  const ReconstructionResult& result);
+
 }  // namespace odomcal

@@ -403,13 +403,12 @@ py::object ReconstructAndCalibrateFolder(const py::object& image_path,
     ColmapCalibrationInputs calibrated = options.project;
     calibrated.model_path = result.model_path;
     calibrated.database_path = result.database_path;
-    nlohmann::json flag_echo = ProjectFlagsEcho(calibrated);
-    MergeFlagEcho(RunFlagsEcho(options), &flag_echo);
-    return ColmapCalibrationToJson(result.calibration,
-                                   ProjectReportContext(calibrated,
-                                                        result.calibration,
-                                                        "odomcal run",
-                                                        std::move(flag_echo)))
+    return ColmapCalibrationToJson(
+               result.calibration,
+               ProjectReportContext(calibrated,
+                                    result.calibration,
+                                    "odomcal run",
+                                    RunResultFlagsEcho(options, result)))
         .dump();
   }));
 }

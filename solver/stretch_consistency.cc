@@ -26,10 +26,11 @@ std::vector<PairMetricScale> PerPairMetricScalesOfFit(
     return PerPairMetricScales(
         pairs, fit.odom_from_cam, fit.metric_scales, options.noise);
   }
-  return PerPairMetricScales(ScaleCovariances(pairs, *fit.noise_estimate),
-                             fit.odom_from_cam,
-                             fit.metric_scales,
-                             fit.noise_estimate->noise);
+  return PerPairMetricScales(
+      ScaleCovariances(pairs, fit.noise_estimate->variance_factors),
+      fit.odom_from_cam,
+      fit.metric_scales,
+      fit.noise_estimate->noise);
 }
 
 // Runs of consecutive outliers (by time) within each input segment.
@@ -141,13 +142,24 @@ void CutOutlierRuns(const MotionPairs& pairs,
                     const CalibrationOptions& options,
                     const StretchOptions& stretch_options,
                     StretchCheckResult* check) {
+  // Each run is judged under the noise its outliers were found under: the
+  // one the fit estimated from the data, when it did.
+  const MotionPairs* judged_pairs = &pairs;
+  CalibrationOptions judged_options = options;
+  MotionPairs weighted_pairs;
+  if (check->result.noise_estimate) {
+    weighted_pairs =
+        ScaleCovariances(pairs, check->result.noise_estimate->variance_factors);
+    judged_pairs = &weighted_pairs;
+    judged_options.noise = check->result.noise_estimate->noise;
+  }
   std::vector<int> run_of_pair(pairs.size(), -1);
   for (size_t r = 0; r < check->stretches.size(); ++r) {
     InconsistentStretch& run = check->stretches[r];
-    run.kept_as_segment = RunIsSelfConsistent(pairs,
+    run.kept_as_segment = RunIsSelfConsistent(*judged_pairs,
                                               run,
                                               check->result.odom_from_cam,
-                                              options,
+                                              judged_options,
                                               stretch_options.min_inlier_ratio);
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (pairs[i].segment == run.input_segment &&
