@@ -33,6 +33,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -297,6 +298,92 @@ void MatchAgain(ColmapRunner* colmap,
              ", database " + round.database);
 }
 
+// Where `colmap mapper` run as stage "mapper_<entry>" writes its
+// sub-models: mapper_attempts/<entry> in the workspace.
+fs::path MapperOutput(const ReconstructionOptions& run,
+                      const std::string& entry) {
+  return fs::path(run.workspace_path) / "mapper_attempts" / entry;
+}
+
+// `colmap mapper` on `database`'s matches of the images in `image_list`,
+// with the intrinsics kept fixed when given (--camera_params), and
+// --random_seed when `random_seed` holds one.
+std::vector<std::string> MapperArguments(const ReconstructionOptions& run,
+                                         const std::string& database,
+                                         const fs::path& output,
+                                         const fs::path& image_list,
+                                         std::optional<int> random_seed) {
+  const bool fixed_intrinsics = !run.camera_params.empty();
+  std::vector<std::string> arguments = {"mapper",
+                                        "--database_path",
+                                        database,
+                                        "--image_path",
+                                        run.image_path,
+                                        "--output_path",
+                                        output.string(),
+                                        "--image_list_path",
+                                        image_list.string()};
+  if (random_seed) {
+    arguments.insert(arguments.end(),
+                     {"--random_seed", std::to_string(*random_seed)});
+  }
+  arguments.insert(arguments.end(),
+                   {"--Mapper.num_threads",
+                    std::to_string(run.num_threads),
+                    "--Mapper.ba_refine_focal_length",
+                    fixed_intrinsics ? "0" : "1",
+                    "--Mapper.ba_refine_principal_point",
+                    "0",
+                    "--Mapper.ba_refine_extra_params",
+                    fixed_intrinsics ? "0" : "1"});
+  return arguments;
+}
+
+// Runs `arguments` (MapperArguments into MapperOutput(run, entry)) as stage
+// "mapper_<entry>". Unless the stage is reused, its output folder is
+// emptied first: a rerun must not mix new sub-models with stale ones.
+ColmapStageResult RunMapper(ColmapRunner* colmap,
+                            const ReconstructionOptions& run,
+                            const std::string& entry,
+                            const std::vector<std::string>& arguments) {
+  const std::string stage = "mapper_" + entry;
+  const fs::path output = MapperOutput(run, entry);
+  const std::vector<std::string> outputs = {(output / "0").string()};
+  if (!colmap->WillReuse(stage, arguments, outputs)) {
+    RemoveOwnedOutput(run.workspace_path, "mapper_attempts/" + entry);
+  }
+  std::error_code error;
+  fs::create_directories(output, error);
+  return colmap->RunStage(stage, arguments, outputs);
+}
+
+// Whether a mapper run into `output` produced a model.
+bool HasModel(const fs::path& output) { return fs::exists(output / "0"); }
+
+// RunMapper for a model beside the main one (a stretch, a chunk): it is
+// extra, so COLMAP failing on it (e.g. a CHECK on images without features)
+// or giving no model ends `clock`'s stage with "no model..." and returns
+// nothing, and the run goes on without it.
+std::optional<ColmapStageResult> RunExtraMapper(
+    ColmapRunner* colmap,
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    const std::vector<std::string>& arguments,
+    StageClock* clock) {
+  ColmapStageResult result;
+  try {
+    result = RunMapper(colmap, run, entry, arguments);
+  } catch (const ColmapError& failure) {
+    clock->Done(std::string("no model: ") + failure.what());
+    return std::nullopt;
+  }
+  if (!HasModel(MapperOutput(run, entry))) {
+    clock->Done("no model, log " + result.log_path);
+    return std::nullopt;
+  }
+  return result;
+}
+
 // [4]: `colmap mapper` with `seed` on the round's matches, its model
 // calibrated and recorded in `policy`.
 void MapWithSeed(ColmapRunner* colmap,
@@ -315,44 +402,16 @@ void MapWithSeed(ColmapRunner* colmap,
                    std::string("COLMAP mapping") +
                        (round.index == 0 ? "" : " the new matches") +
                        ", --random_seed " + std::to_string(seed));
-  const std::string stage_name =
-      "mapper_" + prefix + "seed_" + std::to_string(seed);
-  const fs::path output =
-      workspace / "mapper_attempts" / (prefix + "seed_" + std::to_string(seed));
-  const bool fixed_intrinsics = !run.camera_params.empty();
-  const std::vector<std::string> arguments = {
-      "mapper",
-      "--database_path",
-      round.database,
-      "--image_path",
-      run.image_path,
-      "--output_path",
-      output.string(),
-      "--image_list_path",
-      (workspace / "image_list.txt").string(),
-      "--random_seed",
-      std::to_string(seed),
-      "--Mapper.num_threads",
-      std::to_string(run.num_threads),
-      "--Mapper.ba_refine_focal_length",
-      fixed_intrinsics ? "0" : "1",
-      "--Mapper.ba_refine_principal_point",
-      "0",
-      "--Mapper.ba_refine_extra_params",
-      fixed_intrinsics ? "0" : "1"};
-  const std::vector<std::string> outputs = {(output / "0").string()};
-  // A rerun must not mix new sub-models with stale ones.
-  std::error_code error;
-  if (!colmap->WillReuse(stage_name, arguments, outputs)) {
-    RemoveOwnedOutput(
-        run.workspace_path,
-        "mapper_attempts/" + prefix + "seed_" + std::to_string(seed));
-  }
-  fs::create_directories(output, error);
-  const ColmapStageResult stage =
-      colmap->RunStage(stage_name, arguments, outputs);
+  const std::string entry = prefix + "seed_" + std::to_string(seed);
+  const fs::path output = MapperOutput(run, entry);
+  const ColmapStageResult stage = RunMapper(
+      colmap,
+      run,
+      entry,
+      MapperArguments(
+          run, round.database, output, workspace / "image_list.txt", seed));
   attempt.model_path = output.string();
-  if (!fs::exists(output / "0")) {
+  if (!HasModel(output)) {
     policy->Record(attempt);
     clock.Done("no model, log " + stage.log_path);
     return;
@@ -522,36 +581,20 @@ std::vector<fs::path> MapUnregisteredStretches(
     }
     const std::optional<std::pair<int, int>> initial =
         ChooseInitialPair(poses, pairs, run.initial_pair);
-    const bool fixed_intrinsics = !run.camera_params.empty();
     // With the odometry's initial pair first, then COLMAP's own choice.
     for (const bool given_pair : {true, false}) {
       if (given_pair && !initial) continue;
-      const std::string stage = "mapper_" + name + (given_pair ? "" : "_free");
-      const fs::path output = workspace / "mapper_attempts" / stage.substr(7);
-      std::vector<std::string> arguments = {
-          "mapper",
-          "--database_path",
-          database,
-          "--image_path",
-          run.image_path,
-          "--output_path",
-          output.string(),
-          "--image_list_path",
-          list_path.string(),
-          "--Mapper.num_threads",
-          std::to_string(run.num_threads),
-          "--Mapper.ba_refine_focal_length",
-          fixed_intrinsics ? "0" : "1",
-          "--Mapper.ba_refine_principal_point",
-          "0",
-          "--Mapper.ba_refine_extra_params",
-          fixed_intrinsics ? "0" : "1",
-          // The default 16 deg and 0.95 refuse what a robot driving ahead
-          // sees; the odometry checks the model that results.
-          "--Mapper.init_min_tri_angle",
-          "8",
-          "--Mapper.init_max_forward_motion",
-          "0.99"};
+      const std::string entry = name + (given_pair ? "" : "_free");
+      const fs::path output = MapperOutput(run, entry);
+      std::vector<std::string> arguments =
+          MapperArguments(run, database, output, list_path, std::nullopt);
+      // The default 16 deg and 0.95 refuse what a robot driving ahead
+      // sees; the odometry checks the model that results.
+      arguments.insert(arguments.end(),
+                       {"--Mapper.init_min_tri_angle",
+                        "8",
+                        "--Mapper.init_max_forward_motion",
+                        "0.99"});
       std::string from = "COLMAP's choice of initial pair";
       if (given_pair) {
         const std::string& first = images[members[initial->first]].name;
@@ -569,23 +612,9 @@ std::vector<fs::path> MapUnregisteredStretches(
                        "COLMAP mapping the unregistered " + range + " (" +
                            std::to_string(members.size()) + " images) from " +
                            from);
-      const std::vector<std::string> outputs = {(output / "0").string()};
-      if (!colmap->WillReuse(stage, arguments, outputs)) {
-        RemoveOwnedOutput(run.workspace_path,
-                          "mapper_attempts/" + stage.substr(7));
-      }
-      fs::create_directories(output, error);
-      ColmapStageResult result;
-      try {
-        result = colmap->RunStage(stage, arguments, outputs);
-      } catch (const ColmapError& failure) {
-        clock.Done(std::string("no model: ") + failure.what());
-        continue;
-      }
-      if (!fs::exists(output / "0")) {
-        clock.Done("no model, log " + result.log_path);
-        continue;
-      }
+      const std::optional<ColmapStageResult> result =
+          RunExtraMapper(colmap, run, entry, arguments, &clock);
+      if (!result) continue;
       size_t num_registered = 0;
       const std::vector<std::string> folders =
           FindColmapModelFolders(output.string());
@@ -594,7 +623,7 @@ std::vector<fs::path> MapUnregisteredStretches(
         read.read_points3D = false;
         num_registered += ReadColmapModel(folder, read).images.size();
       }
-      clock.Done(Note(result) + "; " + std::to_string(folders.size()) +
+      clock.Done(Note(*result) + "; " + std::to_string(folders.size()) +
                  " sub-model(s), " + std::to_string(num_registered) +
                  " images registered");
       models.push_back(output);
@@ -668,7 +697,6 @@ MapperAttempt MapInChunks(ColmapRunner* colmap,
   const fs::path combined = workspace / combined_entry;
   RemoveOwnedOutput(run.workspace_path, combined_entry);
   fs::create_directories(combined, error);
-  const bool fixed_intrinsics = !run.camera_params.empty();
   int num_sub_models = 0;
   for (size_t k = 0; k < chunks.size(); ++k) {
     const MapperChunk& chunk = chunks[k];
@@ -679,27 +707,9 @@ MapperAttempt MapInChunks(ColmapRunner* colmap,
     }
     const fs::path list_path = workspace / "chunks" / (name + "_images.txt");
     WriteFileAtomically(list_path.string(), list.str());
-    const fs::path output = workspace / "mapper_attempts" / name;
-    const std::vector<std::string> arguments = {
-        "mapper",
-        "--database_path",
-        round.database,
-        "--image_path",
-        run.image_path,
-        "--output_path",
-        output.string(),
-        "--image_list_path",
-        list_path.string(),
-        "--random_seed",
-        "0",
-        "--Mapper.num_threads",
-        std::to_string(run.num_threads),
-        "--Mapper.ba_refine_focal_length",
-        fixed_intrinsics ? "0" : "1",
-        "--Mapper.ba_refine_principal_point",
-        "0",
-        "--Mapper.ba_refine_extra_params",
-        fixed_intrinsics ? "0" : "1"};
+    const fs::path output = MapperOutput(run, name);
+    const std::vector<std::string> arguments =
+        MapperArguments(run, round.database, output, list_path, 0);
     const int size = chunk.last - chunk.first + 1;
     progress->SetNumImages(size);
     StageClock clock(progress,
@@ -707,23 +717,9 @@ MapperAttempt MapInChunks(ColmapRunner* colmap,
                      "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
                          std::to_string(chunks.size()) + " (" +
                          ImageRange(chunk.first, chunk.last) + ")");
-    const std::string stage = "mapper_" + name;
-    const std::vector<std::string> outputs = {(output / "0").string()};
-    if (!colmap->WillReuse(stage, arguments, outputs)) {
-      RemoveOwnedOutput(run.workspace_path, "mapper_attempts/" + name);
-    }
-    fs::create_directories(output, error);
-    ColmapStageResult result;
-    try {
-      result = colmap->RunStage(stage, arguments, outputs);
-    } catch (const ColmapError& failure) {
-      clock.Done(std::string("no model: ") + failure.what());
-      continue;
-    }
-    if (!fs::exists(output / "0")) {
-      clock.Done("no model, log " + result.log_path);
-      continue;
-    }
+    const std::optional<ColmapStageResult> result =
+        RunExtraMapper(colmap, run, name, arguments, &clock);
+    if (!result) continue;
     std::set<std::string> own;
     for (int i = chunk.own_first; i <= chunk.own_last; ++i) {
       own.insert(images[i].name);
@@ -745,7 +741,7 @@ MapperAttempt MapInChunks(ColmapRunner* colmap,
                        (combined / std::to_string(num_sub_models++)).string(),
                        ColmapFormat::kBinary);
     }
-    clock.Done(Note(result) + "; " + std::to_string(folders.size()) +
+    clock.Done(Note(*result) + "; " + std::to_string(folders.size()) +
                " sub-model(s), " + std::to_string(num_registered) + " of " +
                std::to_string(size) + " images registered, " +
                std::to_string(num_kept) + " of the chunk's own " +
