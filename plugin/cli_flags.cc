@@ -50,46 +50,16 @@ OptionRow<Association> TimeOffsetRow() {
 }
 
 // "auto" (the default: from the odometry's sampling, see
-// AutomaticOdometryGapS) or seconds > 0, the form the flag always had.
+// AutomaticOdometryGapS) or seconds > 0, the form the flag always had. The
+// report replaces "auto" by the value used (calibration_report.cc).
 OptionRow<Association> OdometryGapRow() {
-  OptionRow<Association> row;
-  row.name = "max_odometry_gap_s";
-  row.echo_key = row.name;
-  row.help =
+  return AutoOrNumberRow<Association>(
+      "max_odometry_gap_s",
       "camera times in odometry gaps longer than this are skipped (auto: 2.5 "
-      "odometry sample intervals, within [0.25, 1] s)";
-  row.value = OptionText<Association>{
-      {},
-      [](const Association& options) {
-        return options.max_odometry_gap_s == kAutomaticOdometryGap
-                   ? std::string("auto")
-                   : FormatNumber(options.max_odometry_gap_s);
-      },
-      [](Association* options, const std::string& text) {
-        options->max_odometry_gap_s = text == "auto"
-                                          ? kAutomaticOdometryGap
-                                          : std::strtod(text.c_str(), nullptr);
-      },
-      "FLOAT"};  // or auto
-  row.check = FlagCheck::Custom([](const std::string& text) -> std::string {
-    if (text == "auto") return "";
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size()) {
-      return "must be auto or a number, got '" + text + "'";
-    }
-    if (!std::isfinite(value) || value <= 0.0) {
-      return "must be finite and > 0, got " + FormatNumber(value);
-    }
-    return "";
-  });
-  // The report replaces "auto" by the value used (calibration_report.cc).
-  row.echo = [](const Association& options) {
-    return options.max_odometry_gap_s == kAutomaticOdometryGap
-               ? nlohmann::json("auto")
-               : nlohmann::json(options.max_odometry_gap_s);
-  };
-  return row;
+      "odometry sample intervals, within [0.25, 1] s)",
+      [](auto& o) -> auto& { return o.max_odometry_gap_s; },
+      kAutomaticOdometryGap,
+      AutoOrNumberLimit{0.0, false});
 }
 
 }  // namespace

@@ -16,9 +16,13 @@
 // echo's key.
 #pragma once
 
+#include "odomcal/solver/format_number.h"
+
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <type_traits>
@@ -202,6 +206,68 @@ OptionRow<Options> SwitchRow(std::string name,
       [field, value_when_given](Options* o) { field(*o) = value_when_given; }};
   row.echo = [field](const Options& options) {
     return nlohmann::json(field(options));
+  };
+  return row;
+}
+
+// The numbers an AutoOrNumberRow takes besides "auto": finite and above
+// `min`, or at it too when `min_allowed`.
+struct AutoOrNumberLimit {
+  double min = 0.0;
+  bool min_allowed = true;
+};
+
+// What is wrong with `text` as "auto" or a number within `limit` ("" when
+// nothing): "must be auto or a number, got 'x'", "must be >= 0, got -3",
+// "must be finite and > 0, got -1".
+inline std::string AutoOrNumberError(const std::string& text,
+                                     AutoOrNumberLimit limit) {
+  if (text == "auto") return "";
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) {
+    return "must be auto or a number, got '" + text + "'";
+  }
+  const bool within =
+      limit.min_allowed ? value >= limit.min : value > limit.min;
+  if (!std::isfinite(value) || !within) {
+    return std::string("must be ") +
+           (limit.min_allowed ? ">= " : "finite and > ") +
+           FormatNumber(limit.min) + ", got " + FormatNumber(value);
+  }
+  return "";
+}
+
+// A number field that also takes "auto", stored as `automatic` (a value no
+// valid number takes). --help's default and the echo say "auto" for it,
+// else the number (a report may echo the value used instead).
+template <typename Options, typename Field>
+OptionRow<Options> AutoOrNumberRow(std::string name,
+                                   std::string help,
+                                   Field field,
+                                   double automatic,
+                                   AutoOrNumberLimit limit) {
+  OptionRow<Options> row;
+  row.name = name;
+  row.help = std::move(help);
+  row.echo_key = std::move(name);
+  row.value = OptionText<Options>{
+      {},
+      [field, automatic](const Options& options) {
+        const double value = field(options);
+        return value == automatic ? std::string("auto") : FormatNumber(value);
+      },
+      [field, automatic](Options* options, const std::string& text) {
+        field(*options) =
+            text == "auto" ? automatic : std::strtod(text.c_str(), nullptr);
+      },
+      "FLOAT"};  // or auto
+  row.check = FlagCheck::Custom([limit](const std::string& text) {
+    return AutoOrNumberError(text, limit);
+  });
+  row.echo = [field, automatic](const Options& options) {
+    const double value = field(options);
+    return value == automatic ? nlohmann::json("auto") : nlohmann::json(value);
   };
   return row;
 }

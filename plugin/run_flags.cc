@@ -1,9 +1,7 @@
 #include "odomcal/plugin/run_flags.h"
 
 #include "odomcal/plugin/project_flags.h"
-#include "odomcal/solver/format_number.h"
 
-#include <cmath>
 #include <cstdlib>
 
 namespace odomcal {
@@ -14,47 +12,16 @@ using Run = ReconstructionOptions;
 // A frame-selection threshold: "auto" (kAutomaticFrameSpacing, from the
 // camera's field of view; frame_selection.h) or a number >= 0. Echoed as
 // the value used (run_command.cc resolves "auto" before the echo).
+template <typename Field>
 OptionRow<Run> FrameSpacingRow(std::string name,
                                std::string help,
-                               double& (*field)(Run&)) {
-  OptionRow<Run> row;
-  row.name = name;
-  row.echo_key = row.name;
-  row.help = std::move(help);
-  row.value = OptionText<Run>{
-      {},
-      [field](const Run& run) {
-        const double value = field(const_cast<Run&>(run));
-        return value == kAutomaticFrameSpacing ? std::string("auto")
-                                               : FormatNumber(value);
-      },
-      [field](Run* run, const std::string& text) {
-        field(*run) = text == "auto" ? kAutomaticFrameSpacing
-                                     : std::strtod(text.c_str(), nullptr);
-      },
-      "FLOAT"};  // or auto
-  row.check = FlagCheck::Custom([](const std::string& text) -> std::string {
-    if (text == "auto") return "";
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size()) {
-      return "must be auto or a number, got '" + text + "'";
-    }
-    if (!std::isfinite(value) || value < 0.0) {
-      return "must be >= 0, got " + FormatNumber(value);
-    }
-    return "";
-  });
-  row.echo = [field](const Run& run) {
-    const double value = field(const_cast<Run&>(run));
-    return value == kAutomaticFrameSpacing ? nlohmann::json("auto")
-                                           : nlohmann::json(value);
-  };
-  return row;
+                               Field field) {
+  return AutoOrNumberRow<Run>(std::move(name),
+                              std::move(help),
+                              field,
+                              kAutomaticFrameSpacing,
+                              AutoOrNumberLimit{0.0, true});
 }
-
-double& FrameMinTranslation(Run& run) { return run.frames.min_translation_m; }
-double& FrameMinRotation(Run& run) { return run.frames.min_rotation_deg; }
 
 bool Rematches(const Run& run) { return run.mapper.max_matching_rounds > 1; }
 
@@ -137,14 +104,16 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           "COLMAP threads",
           [](auto& r) -> auto& { return r.num_threads; },
           FlagCheck::AtLeast(1)),
-      FrameSpacingRow("frame_min_translation_m",
-                      "frame selection: keep an image once the robot moved "
-                      "this far (auto: 2.5 m * tan(field of view / 16))...",
-                      &FrameMinTranslation),
-      FrameSpacingRow("frame_min_rotation_deg",
-                      "...or turned this much since the last kept image "
-                      "(auto: field of view / 8)",
-                      &FrameMinRotation),
+      FrameSpacingRow(
+          "frame_min_translation_m",
+          "frame selection: keep an image once the robot moved "
+          "this far (auto: 2.5 m * tan(field of view / 16))...",
+          [](auto& r) -> auto& { return r.frames.min_translation_m; }),
+      FrameSpacingRow(
+          "frame_min_rotation_deg",
+          "...or turned this much since the last kept image "
+          "(auto: field of view / 8)",
+          [](auto& r) -> auto& { return r.frames.min_rotation_deg; }),
       NumberRow<Run>(
           "mapper_attempts",
           "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "

@@ -210,6 +210,9 @@ TEST_F(CommandLine, OptionErrorsNameTheFlag) {
   ExpectBadInput(RunOdomcal(Calibrate({"--max_odometry_gap_s", "-1"})),
                  std::string(kCalibrateError) +
                      "--max_odometry_gap_s must be finite and > 0, got -1");
+  ExpectBadInput(RunOdomcal(Calibrate({"--max_odometry_gap_s", "1s"})),
+                 std::string(kCalibrateError) +
+                     "--max_odometry_gap_s must be auto or a number, got '1s'");
   ExpectBadInput(
       RunOdomcal(Calibrate({"--keyframe_min_translation_m", "-0.25"})),
       std::string(kCalibrateError) +
@@ -294,6 +297,19 @@ TEST_F(CommandLine, RangeChecksOfOtherCommandsPrintTheirLimits) {
                   "--frame_min_rotation_deg",
                   "-3"}),
       "odomcal run: error: --frame_min_rotation_deg must be >= 0, got -3");
+  // The "auto or a number" rows share one parse (AutoOrNumberRow).
+  ExpectBadInput(
+      RunOdomcal({"run",
+                  "--image_path",
+                  Path("model"),
+                  "--workspace_path",
+                  Path("ws"),
+                  "--odometry",
+                  Path("odometry.csv"),
+                  "--frame_min_translation_m",
+                  "far"}),
+      "odomcal run: error: --frame_min_translation_m must be auto or a "
+      "number, got 'far'");
   ExpectBadInput(
       RunOdomcal({"run",
                   "--image_path",
