@@ -366,6 +366,19 @@ TimeUnit TimeColumnUnit(const LineReader& reader,
   return *columns.time_unit;
 }
 
+// --wheel_ticks_per_m converts the counts of a wheel-tick log; with any
+// other log it would go unused, and a user who gave it expects ticks.
+void CheckTicksPerMetreUsed(const std::string& path,
+                            const WheelTravelOptions& wheels,
+                            const std::string& log) {
+  if (wheels.ticks_per_m > 0.0) {
+    throw FormatError(path + ": --wheel_ticks_per_m is given, but this is " +
+                      log +
+                      ", not wheel ticks (timestamp,left_ticks,right_ticks); "
+                      "drop the flag");
+  }
+}
+
 // The rows of a wheel-travel CSV after its header `fields`, integrated with
 // the nominal track (wheel_travel.h). Ticks are converted from their count
 // relative to the first row, in integers, so that large counters keep their
@@ -444,6 +457,10 @@ Trajectory ReadWheelRows(LineReader* reader,
     travels.samples.push_back(sample);
   }
   if (travels.samples.empty()) reader->FailNoData();
+  if (!columns->ticks) {
+    CheckTicksPerMetreUsed(
+        reader->path(), wheels, "a wheel-travel log (" + column_list + ")");
+  }
   Trajectory trajectory = IntegrateWheelTravels(travels, wheels.track_m);
   trajectory.time_unit = time_unit;  // as read (a header suffix wins)
   return trajectory;
@@ -520,6 +537,8 @@ Trajectory ReadCsv(const std::string& path,
     trajectory.poses.push_back(pose);
   }
   if (trajectory.poses.empty()) reader.FailNoData();
+  CheckTicksPerMetreUsed(
+      path, wheels, "a pose odometry log (" + column_list + ")");
   trajectory.time_unit = time_unit;
   return trajectory;
 }
@@ -591,9 +610,13 @@ Trajectory ReadOdometry(const std::string& path,
   const std::string format_hint = std::string(" (read as ") +
                                   FormatName(format) + " because of " + reason +
                                   "; --odometry_format csv or tum chooses)";
-  return format == OdometryFormat::kCsv
-             ? ReadCsv(path, unit, unit_given, wheels, format_hint)
-             : ReadTum(path, unit, format_hint);
+  if (format == OdometryFormat::kCsv) {
+    return ReadCsv(path, unit, unit_given, wheels, format_hint);
+  }
+  Trajectory trajectory = ReadTum(path, unit, format_hint);
+  CheckTicksPerMetreUsed(
+      path, wheels, std::string("a TUM pose log (") + kTumColumnList + ")");
+  return trajectory;
 }
 
 void WriteTumTrajectory(const Trajectory& trajectory, const std::string& path) {

@@ -41,6 +41,11 @@
 // count is driving backwards. Rows are checked as for the pose CSV (a tick
 // that is not an integer: "column 'left_ticks' is not an integer tick
 // count: '12.5'").
+// ticks_per_m given with any log but a wheel-tick one (a pose CSV, a TUM
+// log through ReadOdometry, travels in distance) would go unused: "path:
+// --wheel_ticks_per_m is given, but this is a pose odometry log
+// (timestamp,x,y,yaw), not wheel ticks (timestamp,left_ticks,right_ticks);
+// drop the flag".
 //
 // Both readers: timestamps are parsed exactly in `unit` (see timestamp.h);
 // lines whose first non-blank character is '#' and blank lines are skipped;

@@ -143,8 +143,13 @@ TEST(ReadWheelTravels, TicksEqualMetresTimesTicksPerMetre) {
   wheels.ticks_per_m = kTicksPerM;
   const std::string metres_path = WriteTextFile("metres.csv", metres);
   const std::string ticks_path = WriteTextFile("ticks.txt", ticks);
-  const Trajectory from_metres = ReadOdometry(
-      metres_path, OdometryFormat::kAuto, TimeUnit::kSeconds, false, wheels);
+  // Ticks per metre only with ticks (ticks per metre given with distances
+  // is refused: TicksPerMetreWithoutTicksIsRefused).
+  const Trajectory from_metres = ReadOdometry(metres_path,
+                                              OdometryFormat::kAuto,
+                                              TimeUnit::kSeconds,
+                                              false,
+                                              {wheels.track_m, 0.0});
   const Trajectory from_ticks = ReadOdometry(
       ticks_path, OdometryFormat::kAuto, TimeUnit::kSeconds, false, wheels);
   EXPECT_TRUE(from_ticks.planar);
@@ -233,6 +238,35 @@ TEST(ReadWheelTravels, ErrorsNameTheFileLineAndFlag) {
                 "no_right.csv:1: wheel travel header column 'x' is not a "
                 "wheel travel column" +
                 grammar);
+}
+
+// --wheel_ticks_per_m with a log that has no tick columns would go unused:
+// one line naming the flag and the file, whatever the log's format.
+TEST(ReadWheelTravels, TicksPerMetreWithoutTicksIsRefused) {
+  const WheelTravelOptions both{0.4, 1000.0};
+  const std::string prefix = ::testing::TempDir() + "odomcal_wheels_";
+  const std::string ending =
+      ", not wheel ticks (timestamp,left_ticks,right_ticks); drop the flag";
+  EXPECT_EQ(ReadError("poses.csv", "timestamp,x,y,yaw\n0,0,0,0\n", both),
+            prefix +
+                "poses.csv: --wheel_ticks_per_m is given, but this is a pose "
+                "odometry log (timestamp,x,y,yaw)" +
+                ending);
+  EXPECT_EQ(ReadError("bare_poses.csv", "0,0,0,0\n1,1,0,0\n", both),
+            prefix +
+                "bare_poses.csv: --wheel_ticks_per_m is given, but this is a "
+                "pose odometry log (timestamp,x,y,yaw)" +
+                ending);
+  EXPECT_EQ(ReadError("poses.tum", "0 0 0 0 0 0 0 1\n", both),
+            prefix +
+                "poses.tum: --wheel_ticks_per_m is given, but this is a TUM "
+                "pose log (timestamp tx ty tz qx qy qz qw)" +
+                ending);
+  EXPECT_EQ(ReadError("metres.csv", "t,left_m,right_m\n0,0,0\n", both),
+            prefix +
+                "metres.csv: --wheel_ticks_per_m is given, but this is a "
+                "wheel-travel log (t,left_m,right_m)" +
+                ending);
 }
 
 }  // namespace

@@ -462,6 +462,36 @@ TEST_F(InputUnits, WheelTicksWithoutTicksPerMetreAreRefused) {
           "ticks per metre: pass --wheel_ticks_per_m");
 }
 
+// Tick counts reach the calibration (1e5 per metre: their rounding stays
+// far below the simulated noise), and the result echoes the ticks per
+// metre (FlagEcho cannot give the flag: its odometry is a pose log).
+TEST_F(InputUnits, WheelTicksCalibrateWithTicksPerMetre) {
+  constexpr double kTicksPerM = 1e5;
+  std::string text = "timestamp,left_ticks,right_ticks\n";
+  for (const WheelTravelSample& sample : drive_.wheel_travels.samples) {
+    text += FormatTimestampSeconds(sample.stamp_ns) + "," +
+            std::to_string(std::llround(sample.left_m * kTicksPerM)) + "," +
+            std::to_string(std::llround(sample.right_m * kTicksPerM)) + "\n";
+  }
+  WriteFile(dir_ / "ticks.csv", text);
+  const CommandResult run = RunOdomcal(Calibrate(
+      "ticks.csv", {"--wheel_track_m", "0.4", "--wheel_ticks_per_m", "1e5"}));
+  ExpectCalibrated(run);
+  const json result = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(result["options"]["wheel_ticks_per_m"], kTicksPerM);
+}
+
+// --wheel_ticks_per_m with a pose log used to be ignored silently.
+TEST_F(InputUnits, WheelTicksPerMetreWithAPoseLogIsRefused) {
+  WriteOdometryCsv(drive_.odometry, Path("odometry.csv"));
+  ExpectBadInput(
+      RunOdomcal(Calibrate("odometry.csv", {"--wheel_ticks_per_m", "1000"})),
+      kCalibrateError + Path("odometry.csv") +
+          ": --wheel_ticks_per_m is given, but this is a pose odometry log "
+          "(timestamp,x,y,yaw), not wheel ticks "
+          "(timestamp,left_ticks,right_ticks); drop the flag");
+}
+
 TEST_F(InputUnits, WheelTravelHeaderErrorsListTheAcceptedNames) {
   WriteFile(dir_ / "wheels.csv", "timestamp,left,right_m\n0,0,0\n");
   ExpectBadInput(
