@@ -3,6 +3,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/plugin/command_flags.h"
+#include "odomcal/plugin/odometry_inputs.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_guard.h"
 #include "odomcal/plugin/systematics_report.h"
@@ -25,13 +26,8 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
   for (const std::string& path : inputs.camera_paths) {
     cameras.push_back(ReadTumTrajectory(path, inputs.camera_time_unit));
   }
-  const Trajectory odometry =
-      ReadOdometry(inputs.odometry_path,
-                   inputs.odometry_format,
-                   inputs.odometry_time_unit,
-                   inputs.odometry_time_unit_given,
-                   WheelTravelOptionsOf(inputs.systematics));
-  return CalibrateTrajectories(cameras, odometry, inputs, command);
+  return CalibrateTrajectories(
+      cameras, ReadOdometryOf(inputs), inputs, command);
 }
 
 CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,

@@ -9,6 +9,7 @@
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
+#include "odomcal/plugin/odometry_inputs.h"
 #include "odomcal/plugin/scale_drift_warning.h"
 #include "odomcal/plugin/systematics_report.h"
 #include "odomcal/solver/format_number.h"
@@ -134,11 +135,7 @@ ColmapCalibrationRun CalibrateColmapProject(
     run.num_database_images =
         static_cast<int>(ReadColmapDatabaseImages(inputs.database_path).size());
   }
-  run.odometry = ReadOdometry(inputs.odometry_path,
-                              inputs.odometry_format,
-                              inputs.odometry_time_unit,
-                              inputs.odometry_time_unit_given,
-                              WheelTravelOptionsOf(inputs.systematics));
+  run.odometry = ReadOdometryOf(inputs);
   CheckOdometrySpeed(run.odometry);
 
   std::vector<Trajectory> cameras;

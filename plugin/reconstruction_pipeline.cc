@@ -21,6 +21,7 @@
 #include "odomcal/plugin/colmap_runner.h"
 #include "odomcal/plugin/image_coverage.h"
 #include "odomcal/plugin/mapper_stretches.h"
+#include "odomcal/plugin/odometry_inputs.h"
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
@@ -795,12 +796,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                     ExistingOutputs::kReplaceOwn);
 
   // [1] Frame selection.
-  const Trajectory odometry =
-      ReadOdometry(inputs.odometry_path,
-                   inputs.odometry_format,
-                   inputs.odometry_time_unit,
-                   inputs.odometry_time_unit_given,
-                   WheelTravelOptionsOf(inputs.systematics));
+  const Trajectory odometry = ReadOdometryOf(inputs);
   CheckOdometrySpeed(odometry);
   std::vector<TimedImage> images;
   FrameSpacing frame_spacing;

@@ -23,6 +23,7 @@
 #include "odomcal/plugin/command_flags.h"
 #include "odomcal/plugin/command_line.h"
 #include "odomcal/plugin/odomcal_plugin.h"
+#include "odomcal/plugin/odometry_inputs.h"
 #include "odomcal/python/array_trajectory.h"
 
 #include <pybind11/numpy.h>
@@ -322,6 +323,7 @@ py::object Calibrate(const py::object& camera_poses,
   return DictFromJson(ReportingErrors([&] {
     const std::vector<Input> cameras_in = CameraInputs(camera_poses);
     const Input odometry_in = InputFrom(odometry, "odometry");
+    flag_set.inputs.odometry_path = odometry_in.path;  // "" for arrays
     inputs.association.Check();
     inputs.calibration.Check();
     py::gil_scoped_release no_gil;  // reading and calibrating take a while
@@ -333,15 +335,10 @@ py::object Calibrate(const py::object& camera_poses,
                   : ReadTumTrajectory(in.path, inputs.camera_time_unit));
     }
     const Trajectory odometry_trajectory =
-        odometry_in.rows
-            ? OdometryFromRows(*odometry_in.rows,
-                               inputs.odometry_time_unit,
-                               odometry_in.name)
-            : ReadOdometry(odometry_in.path,
-                           inputs.odometry_format,
-                           inputs.odometry_time_unit,
-                           inputs.odometry_time_unit_given,
-                           WheelTravelOptionsOf(inputs.systematics));
+        odometry_in.rows ? OdometryFromRows(*odometry_in.rows,
+                                            inputs.odometry_time_unit,
+                                            odometry_in.name)
+                         : ReadOdometryOf(inputs);
     // The calibrate command's pipeline and writer: the same JSON.
     const CalibrationRun run = CalibrateTrajectories(
         cameras, odometry_trajectory, inputs, "odomcal calibrate");
