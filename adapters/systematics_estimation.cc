@@ -3,6 +3,7 @@
 // a value from an earlier round.
 #include "odomcal/adapters/systematics_estimation.h"
 
+#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/noise_estimation.h"
@@ -244,7 +245,7 @@ SystematicsEstimate EstimateSystematics(
     if (round == options.max_rounds) {
       estimate.time_offset_reason =
           "the estimate did not settle within " + std::to_string(round) +
-          " rounds (last change " + FormatNumber(change_s) + " s)";
+          " rounds (last change " + FormatRounded(change_s) + " s)";
       last.reset();
       break;
     }

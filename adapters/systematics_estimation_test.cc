@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace odomcal {
 namespace {
@@ -83,6 +84,26 @@ TEST(TimeOffsetSearch, RefusesAStraightDrive) {
       SearchTimeOffset({drive.camera}, drive.odometry, {});
   EXPECT_FALSE(search.resolved);
   EXPECT_FALSE(search.reason.empty());
+}
+
+// A peak below the threshold is named with three digits (it once printed
+// all 17: "peak 0.36927100577991273 < 0.5"); the threshold as given.
+TEST(TimeOffsetSearch, NamesAWeakPeakRounded) {
+  DriveSimulatorOptions noisy = Drive(20.0, 5.0);
+  noisy.camera_rotation_noise_deg = 0.5;
+  const SimulatedDrive drive = SimulateDrive(noisy);
+  TimeOffsetSearchOptions options;
+  options.max_odometry_gap_s = 0.3;
+  options.min_peak_correlation = 0.9999;
+  const TimeOffsetSearch search =
+      SearchTimeOffset({drive.camera}, drive.odometry, options);
+  ASSERT_FALSE(search.resolved) << search.peak_correlation;
+  ASSERT_LT(search.peak_correlation, 0.9995);  // not rounded up to 1
+  char peak[16];
+  std::snprintf(peak, sizeof(peak), "%.3g", search.peak_correlation);
+  EXPECT_EQ(search.reason,
+            std::string("the rotation rates correlate too weakly (peak ") +
+                peak + " < 0.9999): too little or too smooth turning");
 }
 
 // EstimateSystematics on a simulated drive with the default association and

@@ -5,6 +5,7 @@
 #include "odomcal/adapters/time_offset_search.h"
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/format_number.h"
 
@@ -91,7 +92,8 @@ TimeOffsetSearch SearchTimeOffset(const std::vector<Trajectory>& cameras,
   const double median_period_s = periods[periods.size() / 2];
   if (median_period_s > options.max_odometry_gap_s) {
     search.reason = "odometry too sparse (median period " +
-                    FormatNumber(median_period_s) + " s > max_odometry_gap_s " +
+                    FormatRounded(median_period_s) +
+                    " s > max_odometry_gap_s " +
                     FormatNumber(options.max_odometry_gap_s) + " s)";
     return search;
   }
@@ -158,13 +160,13 @@ TimeOffsetSearch SearchTimeOffset(const std::vector<Trajectory>& cameras,
                     " s): widen it with --time_offset_search_s";
   } else if (!(peak >= options.min_peak_correlation)) {
     search.reason = "the rotation rates correlate too weakly (peak " +
-                    FormatNumber(peak) + " < " +
+                    FormatRounded(peak) + " < " +
                     FormatNumber(options.min_peak_correlation) +
                     "): too little or too smooth turning";
   } else if (half_width_s > options.max_peak_half_width_s) {
     search.reason = "the correlation peak is flat (within " +
                     FormatNumber(options.peak_drop) + " of the peak over +-" +
-                    FormatNumber(half_width_s) +
+                    FormatRounded(half_width_s) +
                     " s): the motion is too smooth to resolve the offset";
   } else {
     search.resolved = true;

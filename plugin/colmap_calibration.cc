@@ -332,7 +332,7 @@ ColmapCalibrationRun CalibrateColmapProject(
                         ? "estimated"
                         : "given") +
         " camera time offset " +
-        FormatNumber(1e-9 * static_cast<double>(camera_time_offset_ns)) + " s";
+        FormatNumber(NsToSeconds(camera_time_offset_ns)) + " s";
     for (const auto& [skipped, where] :
          {std::make_pair(&outside_span, "outside the odometry span"),
           std::make_pair(&in_gaps, "in gaps of the odometry")}) {

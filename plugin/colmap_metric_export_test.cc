@@ -2,6 +2,7 @@
 // at their time, shifted by the clock offset) are named, not dropped
 // silently.
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/report_testing.h"
 #include "odomcal/solver/format_number.h"
@@ -77,8 +78,7 @@ TEST(ColmapMetricExport, NamesTheImagesOutsideTheOdometrySpan) {
       "sparse_metric/0: left out " + std::to_string(outside.size()) +
       " images whose time lies outside the odometry span at the estimated "
       "camera time offset " +
-      FormatNumber(1e-9 * static_cast<double>(offset_ns)) + " s (" + names +
-      ")";
+      FormatNumber(NsToSeconds(offset_ns)) + " s (" + names + ")";
   EXPECT_NE(std::find(result.warnings.begin(), result.warnings.end(), expected),
             result.warnings.end())
       << "expected warning: " << expected << "\nwarnings:\n"

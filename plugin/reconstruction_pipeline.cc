@@ -14,6 +14,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/image_timestamps.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
@@ -471,13 +472,6 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
   return line.str();
 }
 
-// 1 -> "1", 31.4159 -> "31.4".
-std::string FormatNumber(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.3g", value);
-  return text;
-}
-
 // "images 86-300".
 std::string ImageRange(int first, int last) {
   return "images " + std::to_string(first + 1) + "-" + std::to_string(last + 1);
@@ -856,9 +850,9 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     frame_spacing = selection.spacing;
     clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
                std::to_string(selection.num_images) + " images, " +
-               FormatNumber(selection.spacing.min_translation_m) + " m or " +
-               FormatNumber(selection.spacing.min_rotation_deg) +
-               " deg apart (" + FormatNumber(frames.horizontal_fov_deg) +
+               FormatRounded(selection.spacing.min_translation_m) + " m or " +
+               FormatRounded(selection.spacing.min_rotation_deg) +
+               " deg apart (" + FormatRounded(frames.horizontal_fov_deg) +
                " deg field of view; " +
                std::to_string(selection.num_dropped_still_or_close) +
                " standing still or too close, " +
@@ -996,9 +990,9 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     progress.Note(2,
                   std::to_string(pairs.size()) +
                       " image pairs chosen from the odometry (up to " +
-                      FormatNumber(tuned.candidate_pairs.max_distance_m) +
+                      FormatRounded(tuned.candidate_pairs.max_distance_m) +
                       " m along the path, " +
-                      FormatNumber(tuned.candidate_pairs.max_view_angle_deg) +
+                      FormatRounded(tuned.candidate_pairs.max_view_angle_deg) +
                       " deg of viewing direction, and loops)");
   }
   std::vector<MatchingRound> rounds(1);

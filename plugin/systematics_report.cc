@@ -1,5 +1,6 @@
 #include "odomcal/plugin/systematics_report.h"
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/format_number.h"
 
 #include <cstdio>
@@ -118,8 +119,8 @@ void AddSystematicsWarnings(const SystematicsEstimate& estimate,
       estimate.time_offset_reason != "--estimate_time_offset off") {
     result->warnings.push_back(
         "camera_time_offset_s not estimated (" + estimate.time_offset_reason +
-        "): kept at " + FormatNumber(Seconds(estimate.camera_time_offset_ns)) +
-        " s");
+        "): kept at " +
+        FormatNumber(NsToSeconds(estimate.camera_time_offset_ns)) + " s");
   }
   // Held intrinsics are named in odometry_intrinsics.held and the summary
   // only: a short drive rarely determines all three, which is no fault.
