@@ -191,6 +191,15 @@ TEST(CalibrationToJson, TheOptionsEchoDefaultsToTheContextsOptions) {
   EXPECT_EQ(CalibrationToJson(run.result, context)["options"], json::object());
 }
 
+// The clock offset is echoed as the decimal given (ns / 1e9), not as
+// 1e-9 * ns, whose shortest text would be 0.7544807910000001.
+TEST(CalibrationFlagsEcho, EchoesTheTimeOffsetAsGiven) {
+  AssociationOptions association;
+  association.camera_time_offset_ns = 754480791;
+  const json echo = CalibrationFlagsEcho(association, CalibrationOptions());
+  EXPECT_EQ(echo["inputs"]["camera_time_offset_s"].dump(), "0.754480791");
+}
+
 // The summary's input line counts the poses outside the odometry's span and
 // in its gaps apart, and says the odometry's rate and the gap limit used.
 TEST(AssociationSummary, CountsOutsideAndInGapsApart) {

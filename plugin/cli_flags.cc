@@ -1,5 +1,6 @@
 #include "odomcal/plugin/cli_flags.h"
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/format_number.h"
 
 #include <cmath>
@@ -29,8 +30,10 @@ OptionRow<Association> TimeOffsetRow() {
   row.name = "camera_time_offset_s";
   row.echo_key = row.name;
   row.help = "added to camera times to get odometry times";
+  // ns / 1e9: the double nearest the exact decimal (0.123456789 echoes as
+  // given; 1e-9 * ns can end in ...00000001).
   const auto seconds = [](const Association& options) {
-    return 1e-9 * static_cast<double>(options.camera_time_offset_ns);
+    return NsToSeconds(options.camera_time_offset_ns);
   };
   row.value = OptionText<Association>{
       {},
