@@ -624,8 +624,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
         used = noise_refinement.used;
         result.noise_estimate = noise_refinement.noise;
         weighted.noise = noise_refinement.noise.noise;
-        weighted_pairs =
-            ScaleCovariances(pairs, noise_refinement.noise.variance_factors);
+        weighted_pairs = ScaleCovariances(pairs, noise_refinement.noise);
         CountPairsPerSegment(pairs, used, &result);
       }
       if (used.size() < options.ransac_min_inlier_ratio * num_pairs) {
