@@ -335,7 +335,7 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
 struct MultiplierUncertainty {
   Eigen::MatrixXd covariance;
   Eigen::VectorXd relative;
-  int worst = 0;
+  int worst = 0;  // the least determined parameter that is not held
   double worst_relative = 0.0;
 };
 
@@ -356,23 +356,44 @@ bool SharesItsGroup(const std::vector<std::vector<int>>& parameters, int p) {
 MultiplierUncertainty Uncertainty(
     const Pass& pass,
     const Eigen::VectorXd& mu,
-    const std::vector<std::vector<int>>& parameters) {
+    const std::vector<std::vector<int>>& parameters,
+    const std::vector<bool>& held) {
+  const int n = static_cast<int>(mu.size());
+  std::vector<int> free;
+  for (int p = 0; p < n; ++p) {
+    if (!held[p]) free.push_back(p);
+  }
   MultiplierUncertainty u;
-  u.covariance =
-      2.0 * pass.helmert.completeOrthogonalDecomposition().pseudoInverse();
-  u.relative.resize(mu.size());
-  for (int p = 0; p < mu.size(); ++p) {
+  u.covariance = Eigen::MatrixXd::Zero(n, n);
+  if (!free.empty()) {
+    const Eigen::MatrixXd helmert = pass.helmert(free, free);
+    const Eigen::MatrixXd inverse =
+        helmert.completeOrthogonalDecomposition().pseudoInverse();
+    u.covariance(free, free) = 2.0 * inverse;
+  }
+  u.relative = Eigen::VectorXd::Zero(n);
+  u.worst = -1;
+  for (const int p : free) {
     double reference = mu(p);
-    for (int q = 0; q < mu.size(); ++q) {
+    for (int q = 0; q < n; ++q) {
       if (GroupOfParameter(parameters[q]) == GroupOfParameter(parameters[p])) {
         reference = std::max(reference, mu(q));
       }
     }
     u.relative(p) = std::sqrt(std::max(0.0, u.covariance(p, p))) / reference;
     if (!std::isfinite(u.relative(p))) u.relative(p) = 1e300;
-    if (u.relative(p) > u.relative(u.worst)) u.worst = p;
+    if (u.worst < 0 || u.relative(p) > u.relative(u.worst)) u.worst = p;
   }
-  u.worst_relative = u.relative(u.worst);
+  // A parameter held at the floor: the data put it below the floor, which
+  // its own information (the diagonal, the others fixed) bounds.
+  for (int p = 0; p < n; ++p) {
+    if (!held[p]) continue;
+    const double information = pass.helmert(p, p);
+    u.covariance(p, p) = information > 0.0 ? 2.0 / information : 0.0;
+    u.relative(p) = std::sqrt(u.covariance(p, p)) / std::max(mu(p), 1.0);
+  }
+  u.worst_relative = u.worst < 0 ? 0.0 : u.relative(u.worst);
+  if (u.worst < 0) u.worst = 0;
   return u;
 }
 
@@ -628,23 +649,41 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     }
     int iteration = 0;
     bool converged = false;
+    std::vector<bool> held(num_free, false);
     for (; iteration < kMaxIterations; ++iteration) {
       pass = Evaluate(terms, forms, mu);
+      const Eigen::VectorXd score = pass.weighted_sum - pass.redundancy_part;
+      // Active set: a parameter at the floor whose score points below it
+      // (the data ask for a smaller, even negative, variance) is held there
+      // and left out of the step. Stepping it anyway would push the others
+      // to compensate (on exact data: one component x1000, the rest at the
+      // floor) and decide the ties on a near-singular H.
+      std::vector<int> free;
+      for (int p = 0; p < num_free; ++p) {
+        held[p] = mu(p) <= kMinMultiplier && score(p) <= 0.0;
+        if (!held[p]) free.push_back(p);
+      }
       // A parameter the data cannot separate makes the iteration creep
       // along a ridge: tie it as soon as that shows, not after 100 steps.
       if (iteration >= kIterationsBeforeTieCheck &&
-          Uncertainty(pass, mu, parameters).worst_relative >
+          Uncertainty(pass, mu, parameters, held).worst_relative >
               kMaxRelativeStddev) {
+        break;
+      }
+      if (free.empty()) {
+        converged = true;
         break;
       }
       // Fisher scoring (Helmert's step where Cov is linear in mu) converges
       // in a few iterations; where it fails, Foerstner's multiplicative step.
+      const Eigen::MatrixXd helmert = pass.helmert(free, free);
       const Eigen::VectorXd step =
-          pass.helmert.completeOrthogonalDecomposition().solve(
-              pass.weighted_sum - pass.redundancy_part);
+          helmert.completeOrthogonalDecomposition().solve(
+              Eigen::VectorXd(score(free)));
       double change = 0.0;
-      for (int p = 0; p < num_free; ++p) {
-        double next = mu(p) + step(p);
+      for (size_t k = 0; k < free.size(); ++k) {
+        const int p = free[k];
+        double next = mu(p) + step(k);
         if (!std::isfinite(next)) {
           next = pass.redundancy_part(p) > 0.0
                      ? mu(p) * pass.weighted_sum(p) / pass.redundancy_part(p)
@@ -662,11 +701,16 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     estimate.num_iterations += iteration + 1;
     if (converged || iteration == kMaxIterations) {
       pass = Evaluate(terms, forms, mu);
+      const Eigen::VectorXd score = pass.weighted_sum - pass.redundancy_part;
+      for (int p = 0; p < num_free; ++p) {
+        held[p] = mu(p) <= kMinMultiplier && score(p) <= 0.0;
+      }
     }
     for (int p = 0; p < num_free; ++p) {
       for (const int c : parameters[p]) last_multiplier[c] = mu(p);
     }
-    const MultiplierUncertainty uncertainty = Uncertainty(pass, mu, parameters);
+    const MultiplierUncertainty uncertainty =
+        Uncertainty(pass, mu, parameters, held);
     const Eigen::MatrixXd& covariance = uncertainty.covariance;
     const Eigen::VectorXd& relative = uncertainty.relative;
     const int worst = uncertainty.worst;
@@ -700,11 +744,21 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
       return GroupOfParameter(parameters[p]);
     };
     const bool same_group_exists = SharesItsGroup(parameters, worst);
+    // A parameter held at the floor is determined; tie to one that is not,
+    // where there is one.
+    bool free_partner_exists = false;
+    for (int p = 0; p < num_free; ++p) {
+      if (p != worst && !held[p] &&
+          (!same_group_exists || group_of(p) == group_of(worst))) {
+        free_partner_exists = true;
+      }
+    }
     int partner = worst == 0 ? 1 : 0;
     double most_negative = 2.0;
     for (int p = 0; p < num_free; ++p) {
       if (p == worst) continue;
       if (same_group_exists && group_of(p) != group_of(worst)) continue;
+      if (free_partner_exists && held[p]) continue;
       const double correlation =
           covariance(worst, p) /
           std::sqrt(
