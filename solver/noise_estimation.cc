@@ -627,6 +627,10 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   for (int c = 0; c < kNumNoiseComponents; ++c) {
     estimate.component_present[c] = trace[c] > 1e-12 * total_trace;
     if (!estimate.component_present[c]) continue;
+    // The odometry's tilt noise states how planar the motion is assumed to
+    // be; the planarity check tests that against the residuals. Estimated,
+    // it would absorb a tilted floor as noise and leave nothing to test.
+    if (c == Index(NoiseComponent::kOdometryTilt)) continue;
     parameters.push_back({c});
   }
 
@@ -829,7 +833,9 @@ std::string NoiseSummary(const NoiseEstimate& estimate) {
   for (int c = 0; c < kNumNoiseComponents; ++c) {
     if (!estimate.component_present[c]) continue;
     if (!estimate.component_estimated[c]) {
-      kept.push_back(ToString(static_cast<NoiseComponent>(c)));
+      if (c != Index(NoiseComponent::kOdometryTilt)) {
+        kept.push_back(ToString(static_cast<NoiseComponent>(c)));
+      }
       continue;
     }
     if (estimate.component_tie[c] != c) continue;  // with its representative

@@ -12,6 +12,8 @@
 //   camera rotation, camera translation across and along the direction of
 //   motion (cam_translation_sigma_rel, cam_translation_along_sigma_rel), and
 //   the rotation and translation blocks of the pairs' own covariances.
+// The odometry tilt is kept as given, not estimated: it is the planarity
+// the model assumes, which the planarity check (planarity_check.h) tests.
 // The factors can therefore change the noise's shape, not only its level
 // (e.g. a camera whose translation error is a direction error, odometry
 // whose translation noise is proportional to the length). A constant and a
@@ -179,7 +181,7 @@ NoiseEstimate EstimateNoise(
 // proportional part and camera translation, along the motion (tied: not
 // separable) x0.9, ...; kept as given: camera rotation (zero or not
 // determined by these pairs)". Components the data do not contain (zero
-// given noise, no own covariances) are not listed.
+// given noise, no own covariances) and the odometry tilt are not listed.
 std::string NoiseSummary(const NoiseEstimate& estimate);
 
 }  // namespace odomcal
