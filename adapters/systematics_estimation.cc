@@ -190,8 +190,7 @@ SystematicsEstimate EstimateSystematics(
     MotionPairs weighted_pairs;
     if (result->noise_estimate) {
       refine_options.noise = result->noise_estimate->noise;
-      weighted_pairs =
-          ScaleCovariances(*pairs, result->noise_estimate->variance_factors);
+      weighted_pairs = ScaleCovariances(*pairs, *result->noise_estimate);
       refine_pairs = &weighted_pairs;
     }
     const SystematicsRefinement refined =

@@ -293,7 +293,9 @@ TEST(SystematicsEstimation, ScalesThePairsOwnCovariancesByTheNoiseFactors) {
       if (noise_factor != 1.0) {  // as if estimated from the data
         NoiseEstimate noise;
         noise.variance_factors.fill(noise_factor);
-        noise.noise = ScaleNoise(calibration.noise, noise.variance_factors);
+        noise.component_factors.fill(noise_factor);
+        noise.noise =
+            ScaleNoiseComponents(calibration.noise, noise.component_factors);
         result.noise_estimate = noise;
       }
       return std::make_pair(&pairs, &result);

@@ -160,6 +160,24 @@ json NoiseToJson(const NoiseEstimate& estimate) {
         {"redundancy", estimate.redundancy[g]},
     });
   }
+  json components = json::array();
+  for (int c = 0; c < kNumNoiseComponents; ++c) {
+    if (!estimate.component_present[c]) continue;
+    json tied = json::array();
+    for (int d = 0; d < kNumNoiseComponents; ++d) {
+      if (d != c && estimate.component_estimated[c] &&
+          estimate.component_estimated[d] &&
+          estimate.component_tie[d] == estimate.component_tie[c]) {
+        tied.push_back(ToString(static_cast<NoiseComponent>(d)));
+      }
+    }
+    components.push_back({
+        {"component", ToString(static_cast<NoiseComponent>(c))},
+        {"estimated", estimate.component_estimated[c]},
+        {"sigma_ratio", estimate.SigmaRatio(static_cast<NoiseComponent>(c))},
+        {"tied_with", tied},
+    });
+  }
   return {
       {"odom_yaw_sigma_deg", n.odom_yaw_sigma_deg},
       {"odom_yaw_sigma_rel", n.odom_yaw_sigma_rel},
@@ -170,6 +188,8 @@ json NoiseToJson(const NoiseEstimate& estimate) {
       {"cam_translation_sigma_rel", n.cam_translation_sigma_rel},
       {"num_pairs", estimate.num_pairs},
       {"groups", groups},
+      {"cam_translation_along_sigma_rel", n.CamTranslationAlongSigmaRel()},
+      {"components", components},
   };
 }
 

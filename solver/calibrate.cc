@@ -624,8 +624,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
         used = noise_refinement.used;
         result.noise_estimate = noise_refinement.noise;
         weighted.noise = noise_refinement.noise.noise;
-        weighted_pairs =
-            ScaleCovariances(pairs, noise_refinement.noise.variance_factors);
+        weighted_pairs = ScaleCovariances(pairs, noise_refinement.noise);
         CountPairsPerSegment(pairs, used, &result);
       }
       if (used.size() < options.ransac_min_inlier_ratio * num_pairs) {
@@ -685,11 +684,19 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // biases roll/pitch and x/y beyond the planar covariance. Named, and the
   // covariance inflated by the measured excess (planarity_check.h) before
   // the standard deviations are tested against their limits.
+  // The check uses each sensor's estimated noise level in the given shape:
+  // the shape components (camera translation across the motion, which
+  // includes the vertical) could otherwise take the form of the slope and
+  // hide it.
+  const NoiseModel planarity_noise =
+      result.noise_estimate
+          ? ScaleNoise(options.noise, result.noise_estimate->variance_factors)
+          : weighted.noise;
   d.planarity = CheckPlanarity(weighted_pairs,
                                used,
                                result.odom_from_cam,
                                result.metric_scales,
-                               weighted.noise);
+                               planarity_noise);
   if (d.planarity.checked && !d.planarity.consistent) {
     // Seconds since the drive's start: the earliest pair of any segment.
     int64_t first_stamp_ns = pairs.front().stamp_i_ns;

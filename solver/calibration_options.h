@@ -39,6 +39,17 @@ struct NoiseModel {
   double odom_translation_sigma_rel = 0.01;  // + this fraction of the length
   double cam_rotation_sigma_deg = 0.05;      // per axis
   double cam_translation_sigma_rel = 0.01;   // per axis, fraction of length
+  // Along the camera's direction of motion, fraction of the length; < 0: as
+  // cam_translation_sigma_rel (isotropic). Not a flag: the noise estimation
+  // (noise_estimation.h) sets it when the data separate the two (e.g. a
+  // camera whose translation error is a direction error).
+  double cam_translation_along_sigma_rel = -1.0;
+  // The along-track standard deviation the covariance uses.
+  double CamTranslationAlongSigmaRel() const {
+    return cam_translation_along_sigma_rel < 0.0
+               ? cam_translation_sigma_rel
+               : cam_translation_along_sigma_rel;
+  }
   void Check() const;  // throws like CalibrationOptions::Check
 };
 

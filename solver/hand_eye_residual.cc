@@ -71,12 +71,19 @@ MotionCovariance CameraCovariance(const MotionPair& pair,
     return *pair.cam_covariance;
   }
   const double r_sigma = noise.cam_rotation_sigma_deg * kDegToRad;
-  const double t_sigma = noise.cam_translation_sigma_rel *
-                         pair.cam_i_from_cam_j.translation.norm();
+  const Eigen::Vector3d& t = pair.cam_i_from_cam_j.translation;
+  const double length = t.norm();
+  const double across = noise.cam_translation_sigma_rel * length;
+  const double along = noise.CamTranslationAlongSigmaRel() * length;
   MotionCovariance covariance = MotionCovariance::Zero();
-  covariance.diagonal() << r_sigma * r_sigma, r_sigma * r_sigma,
-      r_sigma * r_sigma, t_sigma * t_sigma, t_sigma * t_sigma,
-      t_sigma * t_sigma;
+  covariance.topLeftCorner<3, 3>().diagonal().setConstant(r_sigma * r_sigma);
+  // across^2 (I - u u^T) + along^2 u u^T, u the direction of motion.
+  covariance.bottomRightCorner<3, 3>().diagonal().setConstant(across * across);
+  if (length > 0.0) {
+    const Eigen::Vector3d u = t / length;
+    covariance.bottomRightCorner<3, 3>() +=
+        (along * along - across * across) * u * u.transpose();
+  }
   return covariance;
 }
 

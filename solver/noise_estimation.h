@@ -1,32 +1,43 @@
 // Noise levels from the data: variance-component estimation (Foerstner's
-// iteration of Helmert's estimator) over the residual groups of the hand-eye
-// problem.
+// iteration of Helmert's estimator, as Fisher scoring of the restricted
+// likelihood) over the noise components of the hand-eye problem.
 //
-// The residual covariance of a pair (hand_eye_residual.h) is a sum over four
-// groups, each the propagated covariance of one noise source:
-//   Cov(r_i) = sum_g theta_g V_ig,   g = odometry rotation, odometry
-//   translation, camera rotation, camera translation,
-// where V_ig is the group's contribution under the given noise (the options'
-// NoiseModel or the pair's own covariance) and theta_g its variance factor
-// (1: the given noise is right; the standard deviations scale by
-// sqrt(theta_g)). At a fixed estimate with residuals e_i, Jacobians J_i,
-// P_i = Cov(r_i)^-1 and N = sum J_i^T P_i J_i, the iteration
-//   theta_g <- theta_g * (sum_i e_i^T P_i V_ig P_i e_i) / (sum_i tr(V_ig M_i)),
-//   M_i = P_i - P_i J_i N^-1 J_i^T P_i,
-// converges to the estimate whose weighted residual sum of each group equals
-// its redundancy (its share of the degrees of freedom, parameters removed).
+// The residual covariance of a pair (hand_eye_residual.h) is built from the
+// NoiseModel (or the pair's own covariances). Its components are the model's
+// standard deviations, each scaled by sqrt(mu_k), mu_k the component's
+// variance factor (1: the given noise is right):
+//   odometry yaw, constant and proportional part (odom_yaw_sigma_deg,
+//   odom_yaw_sigma_rel), odometry tilt, odometry translation, constant and
+//   proportional part (odom_translation_sigma_m, odom_translation_sigma_rel),
+//   camera rotation, camera translation across and along the direction of
+//   motion (cam_translation_sigma_rel, cam_translation_along_sigma_rel), and
+//   the rotation and translation blocks of the pairs' own covariances.
+// The odometry tilt is kept as given, not estimated: it is the planarity
+// the model assumes, which the planarity check (planarity_check.h) tests.
+// The factors can therefore change the noise's shape, not only its level
+// (e.g. a camera whose translation error is a direction error, odometry
+// whose translation noise is proportional to the length). A constant and a
+// proportional part add as standard deviations, so Cov(r_i) is a quadratic
+// form in sqrt(mu): sum_kl sqrt(mu_k mu_l) W_ikl. At a fixed estimate with
+// residuals e_i, Jacobians J_i, P_i = Cov(r_i)^-1, N = sum J_i^T P_i J_i,
+// M_i = P_i - P_i J_i N^-1 J_i^T P_i and D_ik = d Cov(r_i) / d mu_k, the
+// step mu <- mu + H^-1 (q - t) with q_k = sum e_i^T P_i D_ik P_i e_i,
+// t_k = sum tr(D_ik M_i), H_kl = sum tr(M_i D_ik M_i D_il) (Helmert's
+// estimator where Cov is linear in mu) converges to the estimate whose
+// weighted residual sum of each component equals its redundancy.
 //
-// Identifiability: two groups whose contributions have (nearly) the same shape
-// over the data cannot be told apart (e.g. odometry and camera translation
-// noise, both proportional to the step length; camera rotation noise and
-// odometry tilt noise). Their estimates are then strongly anti-correlated:
-// a group whose factor has a relative standard deviation (2 H^-1, H the
-// Helmert matrix sum_i tr(M_i V_ig M_i V_il)) above kMaxRelativeStddev is
-// tied to the group its estimate correlates with most, and the tied groups
-// share one factor. A group (or tie) that stays undetermined on its own, or
-// has almost no redundancy (few pairs), keeps the given noise (factor 1).
-// A factor never goes below 0.01 of the given noise's (0.1 in standard
-// deviation): exact or over-fitted data would otherwise claim zero noise.
+// Identifiability: components whose contributions have (nearly) the same
+// shape over the data cannot be told apart (e.g. odometry and camera
+// translation noise, both proportional to the step length; the constant and
+// proportional part of a short drive's steps). Their estimates are then
+// strongly anti-correlated: a component whose factor has a standard deviation
+// (2 H^-1) above kMaxRelativeStddev times the larger of its factor and 1 is
+// tied to the component its estimate correlates with most, and tied
+// components share one factor. A component (or tie) that stays undetermined
+// on its own, or has almost no redundancy (few pairs), keeps the given noise
+// (factor 1). A factor never goes below 0.01 of the given noise's (0.1 in
+// standard deviation): exact or over-fitted data would otherwise claim zero
+// noise.
 #pragma once
 
 #include "odomcal/solver/calibration_options.h"
@@ -54,8 +65,41 @@ std::string ToString(NoiseGroup group);
 using NoiseFactors = std::array<double, kNumNoiseGroups>;
 constexpr NoiseFactors kUnitNoiseFactors = {1.0, 1.0, 1.0, 1.0};
 
+// The estimated components, each with its own variance factor.
+enum class NoiseComponent {
+  kOdometryYawConstant = 0,              // odom_yaw_sigma_deg
+  kOdometryYawProportional = 1,          // odom_yaw_sigma_rel
+  kOdometryTilt = 2,                     // odom_tilt_sigma_deg
+  kOdometryTranslationConstant = 3,      // odom_translation_sigma_m
+  kOdometryTranslationProportional = 4,  // odom_translation_sigma_rel
+  kCameraRotation = 5,                   // cam_rotation_sigma_deg
+  kCameraTranslationAcross = 6,          // cam_translation_sigma_rel
+  kCameraTranslationAlong = 7,           // cam_translation_along_sigma_rel
+  kOdometryRotationCovariance = 8,       // the pairs' own covariances
+  kOdometryTranslationCovariance = 9,
+  kCameraRotationCovariance = 10,
+  kCameraTranslationCovariance = 11,
+};
+constexpr int kNumNoiseComponents = 12;
+
+// "odometry yaw, constant part", ... (used in the summary and the JSON).
+std::string ToString(NoiseComponent component);
+NoiseGroup GroupOf(NoiseComponent component);
+
+// Variance factor per component, indexed by NoiseComponent.
+using ComponentFactors = std::array<double, kNumNoiseComponents>;
+constexpr ComponentFactors kUnitComponentFactors = {
+    1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+
+// The noise model with each component's standard deviation scaled by
+// sqrt(factor) (the along-track camera noise made explicit).
+NoiseModel ScaleNoiseComponents(const NoiseModel& noise,
+                                const ComponentFactors& factors);
+// The factors of the pairs' own covariances, per group (ScaleCovariances).
+NoiseFactors CovarianceFactors(const ComponentFactors& factors);
+
 // The noise model with each group's standard deviations scaled by
-// sqrt(factor).
+// sqrt(factor) (the noise's shape kept).
 NoiseModel ScaleNoise(const NoiseModel& noise, const NoiseFactors& factors);
 
 // The pairs with their own covariances (where present) scaled by group: the
@@ -64,29 +108,58 @@ NoiseModel ScaleNoise(const NoiseModel& noise, const NoiseFactors& factors);
 MotionPairs ScaleCovariances(const MotionPairs& pairs,
                              const NoiseFactors& factors);
 
+struct NoiseEstimate;
+// The pairs weighted as the covariance under `estimate` weighs them: their
+// own covariances scaled by CovarianceFactors(estimate.component_factors).
+// Pair them with estimate.noise.
+MotionPairs ScaleCovariances(const MotionPairs& pairs,
+                             const NoiseEstimate& estimate);
+
 struct NoiseEstimate {
+  // Per group: the ratio of the estimated to the given contribution to the
+  // residual covariance (traces summed over the pairs): the level of the
+  // group's noise, whatever its shape.
   NoiseFactors variance_factors = kUnitNoiseFactors;
-  // Per group: estimated (alone or tied) or kept at the given noise.
+  // Per group: some component estimated (alone or tied) or all kept.
   std::array<bool, kNumNoiseGroups> estimated = {false, false, false, false};
-  // Groups with the same tie index share one factor; tie[g] is the smallest
-  // group index of g's tie (tie[g] == g for a group of its own).
+  // Groups with a component in the same tie; tie[g] is the smallest group
+  // index of g's ties (tie[g] == g for a group of its own).
   std::array<int, kNumNoiseGroups> tie = {0, 1, 2, 3};
   // Redundancy share of each group (sum over groups: observations minus
-  // parameters) and the relative standard deviation of its factor.
+  // parameters) and the largest relative standard deviation of its
+  // estimated components' factors.
   std::array<double, kNumNoiseGroups> redundancy = {0.0, 0.0, 0.0, 0.0};
   std::array<double, kNumNoiseGroups> factor_relative_stddev = {0, 0, 0, 0};
+
+  // Per component (NoiseComponent): the factor relative to the given noise,
+  // whether the data contain it (non-zero given noise or own covariances),
+  // estimated (alone or tied), its tie (the smallest component index of
+  // the components sharing its factor) and its factor's relative standard
+  // deviation.
+  ComponentFactors component_factors = kUnitComponentFactors;
+  std::array<bool, kNumNoiseComponents> component_present = {};
+  std::array<bool, kNumNoiseComponents> component_estimated = {};
+  std::array<int, kNumNoiseComponents> component_tie = {
+      0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  std::array<double, kNumNoiseComponents> component_relative_stddev = {};
+
   int num_pairs = 0;
   int num_iterations = 0;
-  NoiseModel noise;  // the given NoiseModel scaled by the factors
+  // The given NoiseModel scaled by the component factors: the noise the
+  // covariance uses (with ScaleCovariances(pairs, CovarianceFactors(
+  // component_factors)) for pairs with their own covariances).
+  NoiseModel noise;
 
   bool Tied(NoiseGroup a, NoiseGroup b) const {
     return tie[static_cast<int>(a)] == tie[static_cast<int>(b)];
   }
-  // Standard deviation ratio sqrt(factor) of a group.
+  // Standard deviation ratio sqrt(factor) of a group (its level).
   double SigmaRatio(NoiseGroup group) const;
+  // Standard deviation ratio sqrt(factor) of a component.
+  double SigmaRatio(NoiseComponent component) const;
 };
 
-// Relative standard deviation of a factor above which its group is not
+// Relative standard deviation of a factor above which its component is not
 // separable (tied) or not determined (kept).
 constexpr double kMaxRelativeStddev = 0.5;
 
@@ -94,17 +167,21 @@ constexpr double kMaxRelativeStddev = 0.5;
 // `start` factors relative to options.noise / the pairs' own covariances.
 // Parameters: rotation (3), translation x, y (and z when estimate_z), one
 // scale per segment among `used`.
-NoiseEstimate EstimateNoise(const MotionPairs& pairs,
-                            const std::vector<int>& used,
-                            const Rigid3d& odom_from_cam,
-                            const std::vector<double>& metric_scales,
-                            const CalibrationOptions& options,
-                            bool estimate_z = false,
-                            const NoiseFactors& start = kUnitNoiseFactors);
+NoiseEstimate EstimateNoise(
+    const MotionPairs& pairs,
+    const std::vector<int>& used,
+    const Rigid3d& odom_from_cam,
+    const std::vector<double>& metric_scales,
+    const CalibrationOptions& options,
+    bool estimate_z = false,
+    const ComponentFactors& start = kUnitComponentFactors);
 
 // "noise estimated from 118 pairs (standard deviations relative to the given
-// model): odometry rotation x1.8, odometry translation and camera translation
-// (tied) x0.9, camera rotation x2.1 (kept: not separable)".
+// noise): odometry yaw, constant part x1.8, odometry translation,
+// proportional part and camera translation, along the motion (tied: not
+// separable) x0.9, ...; kept as given: camera rotation (zero or not
+// determined by these pairs)". Components the data do not contain (zero
+// given noise, no own covariances) and the odometry tilt are not listed.
 std::string NoiseSummary(const NoiseEstimate& estimate);
 
 }  // namespace odomcal

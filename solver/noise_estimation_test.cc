@@ -105,10 +105,17 @@ TEST(NoiseEstimation, TiesGroupsTheDataCannotSeparate) {
   EXPECT_FALSE(
       noise.Tied(NoiseGroup::kOdometryRotation, NoiseGroup::kCameraRotation));
   EXPECT_NEAR(noise.SigmaRatio(NoiseGroup::kCameraTranslation), 1.5, 0.15);
-  EXPECT_EQ(noise.SigmaRatio(NoiseGroup::kCameraTranslation),
-            noise.SigmaRatio(NoiseGroup::kOdometryTranslation));
-  EXPECT_NE(summary.find("odometry translation and camera translation (tied: "
-                         "not separable) x1."),
+  EXPECT_NEAR(noise.SigmaRatio(NoiseGroup::kOdometryTranslation), 1.5, 0.15);
+  // The components: odometry translation proportional to the length and
+  // camera translation across the motion share one factor.
+  const auto component = [](NoiseComponent c) { return static_cast<int>(c); };
+  EXPECT_EQ(
+      noise.component_tie[component(
+          NoiseComponent::kOdometryTranslationProportional)],
+      noise.component_tie[component(NoiseComponent::kCameraTranslationAcross)]);
+  EXPECT_NE(summary.find("odometry translation (proportional) and camera "
+                         "translation (across the motion) (tied: not "
+                         "separable) x1."),
             std::string::npos);
 }
 
@@ -133,8 +140,11 @@ TEST(NoiseEstimation, KeepsTheGivenNoiseWithTooFewPairs) {
   EXPECT_EQ(NoiseSummary(noise),
             "noise estimated from 2 pairs (standard deviations relative to "
             "the given noise): none determined; kept as given: odometry "
-            "rotation, odometry translation, camera rotation, camera "
-            "translation (zero or not determined by these pairs)");
+            "yaw (constant), odometry yaw (proportional), odometry "
+            "translation (constant), odometry translation (proportional), "
+            "camera rotation, camera translation (across the motion), camera "
+            "translation (along the motion) (not determined by these "
+            "pairs)");
 }
 
 // Exact pairs: the estimate stops at its floor, 0.1x the given standard
@@ -163,7 +173,8 @@ TEST(NoiseEstimation, ScalesThePairsOwnCovariances) {
   covariance(0, 3) = covariance(3, 0) = 0.5;
   pair.odom_covariance = covariance;
   pair.cam_covariance = covariance;
-  const MotionPairs scaled = ScaleCovariances({pair}, {4.0, 9.0, 0.25, 1.0});
+  const MotionPairs scaled =
+      ScaleCovariances({pair}, NoiseFactors{4.0, 9.0, 0.25, 1.0});
   EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(0, 0), 4.0);
   EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(4, 4), 9.0);
   EXPECT_DOUBLE_EQ((*scaled[0].odom_covariance)(0, 3), 0.5 * 6.0);

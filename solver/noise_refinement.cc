@@ -12,9 +12,9 @@ namespace {
 constexpr int kMaxRounds = 6;
 constexpr double kFactorTolerance = 0.01;
 
-double LargestChange(const NoiseFactors& a, const NoiseFactors& b) {
+double LargestChange(const ComponentFactors& a, const ComponentFactors& b) {
   double change = 0.0;
-  for (int g = 0; g < kNumNoiseGroups; ++g) {
+  for (int g = 0; g < kNumNoiseComponents; ++g) {
     change = std::max(change, std::abs(b[g] / a[g] - 1.0));
   }
   return change;
@@ -51,13 +51,14 @@ NoiseRefinement RefineWithNoiseEstimation(
   result.noise.noise = options.noise;
   Rigid3d estimate = initial;
   std::vector<double> scales = initial_scales;
-  NoiseFactors factors = kUnitNoiseFactors;
+  ComponentFactors factors = kUnitComponentFactors;
   std::vector<int> refined_used = used;
   NoiseEstimate refined_noise = result.noise;
   for (int round = 0;; ++round) {
     CalibrationOptions weighted = options;
-    weighted.noise = ScaleNoise(options.noise, factors);
-    const MotionPairs weighted_pairs = ScaleCovariances(pairs, factors);
+    weighted.noise = ScaleNoiseComponents(options.noise, factors);
+    const MotionPairs weighted_pairs =
+        ScaleCovariances(pairs, CovarianceFactors(factors));
     RefinementResult refined = RefineOdomFromCam(
         weighted_pairs, result.used, estimate, scales, weighted);
     if (!refined.usable) {
@@ -77,12 +78,13 @@ NoiseRefinement RefineWithNoiseEstimation(
     if (round == kMaxRounds) break;
 
     result.noise = EstimateNoise(pairs, result.used, estimate, scales, options);
-    const NoiseFactors next = result.noise.variance_factors;
+    const ComponentFactors next = result.noise.component_factors;
     std::vector<int> inliers = result.used;
     if (options.use_ransac) {
       inliers.clear();
-      const NoiseModel noise = ScaleNoise(options.noise, next);
-      const MotionPairs next_pairs = ScaleCovariances(pairs, next);
+      const NoiseModel& noise = result.noise.noise;
+      const MotionPairs next_pairs =
+          ScaleCovariances(pairs, CovarianceFactors(next));
       for (size_t i = 0; i < pairs.size(); ++i) {
         const int segment = pairs[i].segment;
         if (static_cast<size_t>(segment) < scales.size() &&
