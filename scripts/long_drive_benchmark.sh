@@ -39,7 +39,9 @@ mkdir -p "$out"
 # covered duration.
 summarize() {
   python3 - "$1" "$2" <<'PY'
-import json, math, sys
+import json, math, os, sys
+if not os.path.exists(sys.argv[1]):
+    sys.exit(print("no %s (see the log)" % sys.argv[1]))
 result = json.load(open(sys.argv[1]))
 truth = json.load(open(sys.argv[2]))["odom_from_cam"]
 def quat_mul(a, b):
@@ -84,8 +86,10 @@ for n in $sizes; do
     sed 's/^/  /' || true
   echo "  $(summarize "$out/run_$n/calibration.json" "$data/ground_truth.json")"
   if [[ $plain == 1 ]]; then
+    # odomcal never writes into an input folder: the calibration goes next
+    # to the COLMAP workspace, not inside it.
     ws="$out/plain_$n"
-    rm -rf "$ws"; mkdir -p "$ws/sparse"
+    rm -rf "$ws" "${ws}_calibration"; mkdir -p "$ws/sparse"
     start=$(date +%s.%N)
     colmap feature_extractor --database_path "$ws/db.db" --image_path "$data/images" \
       --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
@@ -100,7 +104,7 @@ for n in $sizes; do
     end=$(date +%s.%N)
     "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/db.db" \
       --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
-      --output_path "$ws/calibration" > "$ws/calibrate.log" 2>&1 || true
-    echo "  plain COLMAP: $(python3 -c "print('%.0f s' % ($end - $start))"); $(summarize "$ws/calibration/calibration.json" "$data/ground_truth.json")"
+      --output_path "${ws}_calibration" > "${ws}_calibrate.log" 2>&1 || true
+    echo "  plain COLMAP: $(python3 -c "print('%.0f s' % ($end - $start))"); $(summarize "${ws}_calibration/calibration.json" "$data/ground_truth.json")"
   fi
 done
