@@ -1050,6 +1050,36 @@ TEST_F(Robustness, MapperModelsAllContradictedAreReported) {
   EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 1u);
 }
 
+// The stage markers record a stage's arguments, not the lists its arguments
+// name: a rerun on the same workspace with other frames (a changed
+// image_list.txt) must run the stages anew, not reuse the old features and
+// models; a rerun with the same frames reuses every stage.
+TEST_F(Robustness, RerunWithOtherFramesRunsTheStagesAnew) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0");
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  const RunLimits environment = {{"PATH=" + bin + ":/usr/bin:/bin"}};
+  const std::vector<std::string> flags = {"--matcher", "sequential"};
+  CommandResult run = RunOdomcal(RunCommand(flags), environment);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const std::string first_list = ReadFile(dir_ / "ws" / "image_list.txt");
+
+  run = RunOdomcal(RunCommand(flags), environment);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_EQ(run.out.find("... done"), std::string::npos) << run.out;
+
+  std::vector<std::string> spaced = flags;
+  spaced.insert(spaced.end(), {"--frame_min_translation_m", "0.3"});
+  run = RunOdomcal(RunCommand(spaced), environment);
+  EXPECT_NE(ReadFile(dir_ / "ws" / "image_list.txt"), first_list);
+  EXPECT_NE(run.out.find("COLMAP feature extraction ... done"),
+            std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("reused from an earlier run"), std::string::npos)
+      << run.out;
+}
+
 // The seeds give three models contradicted each elsewhere: odomcal matches
 // again, into database_rematched.db (a copy, cleaned of matches, so that
 // database.db keeps the first matches), and maps that. Rerun on the same
