@@ -14,9 +14,11 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
 #include <regex>
 #include <sstream>
@@ -45,6 +47,17 @@ std::string ReadWholeFile(const fs::path& path) {
   std::stringstream buffer;
   buffer << file.rdbuf();
   return buffer.str();
+}
+
+// FNV-1a, 64 bit: a digest that stays the same across builds and runs.
+std::string ContentDigest(const std::string& content) {
+  uint64_t hash = 14695981039346656037ull;
+  for (const unsigned char c : content) {
+    hash = (hash ^ c) * 1099511628211ull;
+  }
+  std::ostringstream text;
+  text << std::hex << std::setw(16) << std::setfill('0') << hash;
+  return text.str();
 }
 
 // The last line that says something: glog's stack trace after a failed
@@ -260,14 +273,34 @@ std::string ColmapRunner::CommandLine(
   return JoinQuoted(argv);
 }
 
+// The command line, then per list file the stage reads (the value of an
+// option ending in "_list_path": image and match lists) its digest: a rerun
+// whose list changed is not the same stage, even when the argv is, and
+// this holds across runs (a run stopped between writing a list and running
+// its stage leaves the old record behind).
+std::string ColmapRunner::StageRecord(
+    const std::vector<std::string>& arguments) const {
+  std::string record = CommandLine(arguments) + "\n";
+  for (size_t k = 0; k + 1 < arguments.size(); ++k) {
+    const std::string& option = arguments[k];
+    const std::string suffix = "_list_path";
+    if (option.size() > suffix.size() &&
+        option.compare(option.size() - suffix.size(), suffix.size(), suffix) ==
+            0) {
+      record += "input " + arguments[k + 1] + " " +
+                ContentDigest(ReadWholeFile(arguments[k + 1])) + "\n";
+    }
+  }
+  return record;
+}
+
 bool ColmapRunner::WillReuse(const std::string& stage,
                              const std::vector<std::string>& arguments,
                              const std::vector<std::string>& outputs) const {
   const fs::path marker =
       fs::path(options_.workspace) / "stages" / (stage + ".done");
   if (!options_.reuse_finished_stages || !reuse_allowed_ ||
-      !fs::exists(marker) ||
-      ReadWholeFile(marker) != CommandLine(arguments) + "\n") {
+      !fs::exists(marker) || ReadWholeFile(marker) != StageRecord(arguments)) {
     return false;
   }
   return std::all_of(
@@ -318,7 +351,7 @@ ColmapStageResult ColmapRunner::RunStage(
                       "; see " + result.log_path +
                       (last.empty() ? "" : " (last line: " + last + ")"));
   }
-  std::ofstream(marker) << command_line << "\n";
+  std::ofstream(marker) << StageRecord(arguments);
   return result;
 }
 

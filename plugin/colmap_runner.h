@@ -70,8 +70,9 @@ class ColmapRunner {
   const ColmapVersion& Version();
 
   // Runs `colmap <arguments...>` as stage `stage` (a file-name-safe word).
-  // A stage is reused when stages/<stage>.done holds the same argv and every
-  // path in `outputs` exists. Throws ColmapError naming the stage, the exit
+  // A stage is reused when stages/<stage>.done holds the same argv, the
+  // lists it names (--*_list_path) have the same content, and every path in
+  // `outputs` exists. Throws ColmapError naming the stage, the exit
   // code (134: COLMAP's CHECK failure / abort) and the log's last line.
   ColmapStageResult RunStage(const std::string& stage,
                              const std::vector<std::string>& arguments,
@@ -88,6 +89,8 @@ class ColmapRunner {
 
  private:
   std::string CommandLine(const std::vector<std::string>& arguments) const;
+  // What stages/<stage>.done records: the argv and the lists it names.
+  std::string StageRecord(const std::vector<std::string>& arguments) const;
 
   Options options_;
   bool reuse_allowed_ = true;  // false once a stage ran anew

@@ -103,6 +103,25 @@ TEST_F(ColmapRunnerTest, PassesArgumentsVerbatimAndLogsEverything) {
       << commands;
 }
 
+// The argv names a list file whose content it does not hold: a stage whose
+// list changed is run anew, also by a later program run (a run stopped
+// after writing the list and before running the stage must not leave a
+// marker that still matches).
+TEST_F(ColmapRunnerTest, ReusesAStageOnlyWithTheSameListContent) {
+  const std::string output = (dir_ / "ws" / "database.db").string();
+  std::ofstream(output) << "x";
+  const std::string list = (dir_ / "ws" / "image_list.txt").string();
+  std::ofstream(list) << "a.png\nb.png\n";
+  const std::vector<std::string> arguments = {
+      "feature_extractor", "--ImageReader.image_list_path", list};
+  EXPECT_FALSE(Runner().RunStage("extract", arguments, {output}).reused);
+  EXPECT_TRUE(Runner().WillReuse("extract", arguments, {output}));
+  std::ofstream(list) << "a.png\nc.png\n";
+  EXPECT_FALSE(Runner().WillReuse("extract", arguments, {output}));
+  EXPECT_FALSE(Runner().RunStage("extract", arguments, {output}).reused);
+  EXPECT_TRUE(Runner().RunStage("extract", arguments, {output}).reused);
+}
+
 TEST_F(ColmapRunnerTest, ReusesFinishedStagesOnlyWithTheSameArguments) {
   // One runner per program run: reuse is across runs on one workspace.
   const std::string output = (dir_ / "ws" / "database.db").string();

@@ -326,6 +326,12 @@ py::object Calibrate(const py::object& camera_poses,
     flag_set.inputs.odometry_path = odometry_in.path;  // "" for arrays
     inputs.association.Check();
     inputs.calibration.Check();
+    if (odometry_in.rows && inputs.systematics.wheel_ticks_per_m > 0.0) {
+      // As on the command line: the flag applies to tick columns only.
+      throw std::invalid_argument(
+          "wheel_ticks_per_m: given, but the odometry is an array of poses "
+          "(t, x, y, yaw), not wheel ticks; drop it");
+    }
     py::gil_scoped_release no_gil;  // reading and calibrating take a while
     std::vector<Trajectory> cameras;
     for (const Input& in : cameras_in) {

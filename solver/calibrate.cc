@@ -688,10 +688,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // the shape components (camera translation across the motion, which
   // includes the vertical) could otherwise take the form of the slope and
   // hide it.
-  const NoiseModel planarity_noise =
+  NoiseModel planarity_noise =
       result.noise_estimate
           ? ScaleNoise(options.noise, result.noise_estimate->variance_factors)
           : weighted.noise;
+  // The tilt noise is the assumption under test: as given, not scaled with
+  // the odometry rotation's (yaw-dominated) level.
+  planarity_noise.odom_tilt_sigma_deg = options.noise.odom_tilt_sigma_deg;
   d.planarity = CheckPlanarity(weighted_pairs,
                                used,
                                result.odom_from_cam,

@@ -31,13 +31,14 @@
 // translation noise, both proportional to the step length; the constant and
 // proportional part of a short drive's steps). Their estimates are then
 // strongly anti-correlated: a component whose factor has a standard deviation
-// (2 H^-1) above kMaxRelativeStddev times the larger of its factor and 1 is
+// (2 H^-1) above kMaxRelativeStddev times its group's largest factor is
 // tied to the component its estimate correlates with most, and tied
 // components share one factor. A component (or tie) that stays undetermined
 // on its own, or has almost no redundancy (few pairs), keeps the given noise
 // (factor 1). A factor never goes below 0.01 of the given noise's (0.1 in
 // standard deviation): exact or over-fitted data would otherwise claim zero
-// noise.
+// noise. A factor at that floor whose data ask for less is held there, out
+// of the Fisher step and the tie decisions (an active set).
 #pragma once
 
 #include "odomcal/solver/calibration_options.h"
@@ -179,8 +180,8 @@ NoiseEstimate EstimateNoise(
 // "noise estimated from 118 pairs (standard deviations relative to the given
 // noise): odometry yaw, constant part x1.8, odometry translation,
 // proportional part and camera translation, along the motion (tied: not
-// separable) x0.9, ...; kept as given: camera rotation (zero or not
-// determined by these pairs)". Components the data do not contain (zero
+// separable) x0.9, ...; kept as given: camera rotation (not determined by
+// these pairs)". Components the data do not contain (zero
 // given noise, no own covariances) and the odometry tilt are not listed.
 std::string NoiseSummary(const NoiseEstimate& estimate);
 

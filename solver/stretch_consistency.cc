@@ -26,11 +26,10 @@ std::vector<PairMetricScale> PerPairMetricScalesOfFit(
     return PerPairMetricScales(
         pairs, fit.odom_from_cam, fit.metric_scales, options.noise);
   }
-  return PerPairMetricScales(
-      ScaleCovariances(pairs, fit.noise_estimate->variance_factors),
-      fit.odom_from_cam,
-      fit.metric_scales,
-      fit.noise_estimate->noise);
+  return PerPairMetricScales(ScaleCovariances(pairs, *fit.noise_estimate),
+                             fit.odom_from_cam,
+                             fit.metric_scales,
+                             fit.noise_estimate->noise);
 }
 
 // Runs of consecutive outliers (by time) within each input segment.
@@ -148,8 +147,7 @@ void CutOutlierRuns(const MotionPairs& pairs,
   CalibrationOptions judged_options = options;
   MotionPairs weighted_pairs;
   if (check->result.noise_estimate) {
-    weighted_pairs =
-        ScaleCovariances(pairs, check->result.noise_estimate->variance_factors);
+    weighted_pairs = ScaleCovariances(pairs, *check->result.noise_estimate);
     judged_pairs = &weighted_pairs;
     judged_options.noise = check->result.noise_estimate->noise;
   }

@@ -198,6 +198,9 @@ class CalibrateTest(unittest.TestCase):
             (dict(ransac_seed=-3), "ransac_seed must be >= 0, got -3"),
             (dict(camera_time_offset_s=float("nan")),
              "camera_time_offset_s must be finite and within [-1e9, 1e9], got nan"),
+            (dict(wheel_ticks_per_m=1000),
+             "wheel_ticks_per_m: given, but the odometry is an array of poses "
+             "(t, x, y, yaw), not wheel ticks; drop it"),
         ]
         for keywords, message in cases:
             with self.subTest(keywords=keywords):
