@@ -60,6 +60,20 @@ class CommandLine : public ::testing::Test {
     return arguments;
   }
 
+  // `odomcal run` on a folder without images: its flags are checked first.
+  std::vector<std::string> Run(
+      const std::vector<std::string>& extra = {}) const {
+    std::vector<std::string> arguments = {"run",
+                                          "--image_path",
+                                          Path("model"),
+                                          "--workspace_path",
+                                          Path("ws"),
+                                          "--odometry",
+                                          Path("odometry.csv")};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return arguments;
+  }
+
   std::vector<std::string> Colmap(
       const std::vector<std::string>& extra = {}) const {
     std::vector<std::string> arguments = {"colmap",
@@ -265,61 +279,21 @@ TEST_F(CommandLine, ValuesOfTheWrongTypeNameTheFlag) {
 }
 
 TEST_F(CommandLine, RangeChecksOfOtherCommandsPrintTheirLimits) {
-  ExpectBadInput(RunOdomcal({"run",
-                             "--image_path",
-                             Path("model"),
-                             "--workspace_path",
-                             Path("ws"),
-                             "--odometry",
-                             Path("odometry.csv"),
-                             "--num_threads",
-                             "0"}),
+  ExpectBadInput(RunOdomcal(Run({"--num_threads", "0"})),
                  "odomcal run: error: --num_threads must be >= 1, got 0");
   ExpectBadInput(
-      RunOdomcal({"run",
-                  "--image_path",
-                  Path("model"),
-                  "--workspace_path",
-                  Path("ws"),
-                  "--odometry",
-                  Path("odometry.csv"),
-                  "--mapper_attempts",
-                  "21"}),
+      RunOdomcal(Run({"--mapper_attempts", "21"})),
       "odomcal run: error: --mapper_attempts must be in [1, 20], got 21");
   ExpectBadInput(
-      RunOdomcal({"run",
-                  "--image_path",
-                  Path("model"),
-                  "--workspace_path",
-                  Path("ws"),
-                  "--odometry",
-                  Path("odometry.csv"),
-                  "--frame_min_rotation_deg",
-                  "-3"}),
+      RunOdomcal(Run({"--frame_min_rotation_deg", "-3"})),
       "odomcal run: error: --frame_min_rotation_deg must be >= 0, got -3");
   // The "auto or a number" rows share one parse (AutoOrNumberRow).
   ExpectBadInput(
-      RunOdomcal({"run",
-                  "--image_path",
-                  Path("model"),
-                  "--workspace_path",
-                  Path("ws"),
-                  "--odometry",
-                  Path("odometry.csv"),
-                  "--frame_min_translation_m",
-                  "far"}),
+      RunOdomcal(Run({"--frame_min_translation_m", "far"})),
       "odomcal run: error: --frame_min_translation_m must be auto or a "
       "number, got 'far'");
   ExpectBadInput(
-      RunOdomcal({"run",
-                  "--image_path",
-                  Path("model"),
-                  "--workspace_path",
-                  Path("ws"),
-                  "--odometry",
-                  Path("odometry.csv"),
-                  "--chunk_images",
-                  "30"}),
+      RunOdomcal(Run({"--chunk_images", "30"})),
       "odomcal run: error: --chunk_images must be 0 or >= 50, got 30");
   ExpectBadInput(
       RunOdomcal({"demo", "--simulated", "--duration_s", "1"}),
