@@ -44,22 +44,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Writes a list file that COLMAP stages read and says whether its content
-// changed. A stage marker (colmap_runner.h) records the stage's argv, not the
-// content of the files it names: after a changed list (other frame spacing,
-// chunks or stretches) the later stages must run anew instead of reusing
-// results computed from the old one.
-bool WriteStageInput(const fs::path& path, const std::string& content) {
-  bool changed = true;
-  if (std::ifstream old{path, std::ios::binary}) {
-    std::ostringstream text;
-    text << old.rdbuf();
-    changed = text.str() != content;
-  }
-  WriteFileAtomically(path.string(), content);
-  return changed;
-}
-
 bool IsImageFile(const fs::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(),
@@ -562,10 +546,8 @@ std::vector<fs::path> MapUnregisteredStretches(
     for (const int i : members) image_list << images[i].name << "\n";
     const fs::path pairs_path = workspace / "stretches" / (name + "_pairs.txt");
     const fs::path list_path = workspace / "stretches" / (name + "_images.txt");
-    const bool pairs_changed = WriteStageInput(pairs_path, pair_list.str());
-    if (WriteStageInput(list_path, image_list.str()) || pairs_changed) {
-      colmap->RunLaterStagesAnew();
-    }
+    WriteFileAtomically(pairs_path.string(), pair_list.str());
+    WriteFileAtomically(list_path.string(), image_list.str());
     {
       StageClock clock(progress,
                        3,
@@ -719,7 +701,7 @@ MapperAttempt MapInChunks(ColmapRunner* colmap,
       list << images[i].name << "\n";
     }
     const fs::path list_path = workspace / "chunks" / (name + "_images.txt");
-    if (WriteStageInput(list_path, list.str())) colmap->RunLaterStagesAnew();
+    WriteFileAtomically(list_path.string(), list.str());
     const fs::path output = MapperOutput(run, name);
     const std::vector<std::string> arguments =
         MapperArguments(run, round.database, output, list_path, 0);
@@ -812,7 +794,6 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   CheckOdometrySpeed(odometry);
   std::vector<TimedImage> images;
   FrameSpacing frame_spacing;
-  bool image_list_changed = false;
   {
     StageClock clock(&progress, 1, "selecting frames with the odometry");
     const ImageTimestamps timestamps =
@@ -864,8 +845,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     }
     std::ostringstream list;
     for (const TimedImage& image : selection.kept) list << image.name << "\n";
-    image_list_changed =
-        WriteStageInput(workspace / "image_list.txt", list.str());
+    WriteFileAtomically((workspace / "image_list.txt").string(), list.str());
     images = selection.kept;
     frame_spacing = selection.spacing;
     clock.Done("kept " + std::to_string(selection.kept.size()) + " of " +
@@ -909,7 +889,6 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     progress.ColmapLine(line);
   };
   ColmapRunner colmap(runner_options);
-  if (image_list_changed) colmap.RunLaterStagesAnew();
   const ColmapVersion& version = colmap.Version();
 
   // [2] Features.
@@ -1007,9 +986,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     for (const auto& [a, b] : pairs) {
       list << posed[a]->name << " " << posed[b]->name << "\n";
     }
-    if (WriteStageInput(workspace / kOdometryPairsFile, list.str())) {
-      colmap.RunLaterStagesAnew();
-    }
+    WriteFileAtomically((workspace / kOdometryPairsFile).string(), list.str());
     progress.Note(2,
                   std::to_string(pairs.size()) +
                       " image pairs chosen from the odometry (up to " +
