@@ -41,32 +41,80 @@ void CandidatePairOptions::Check() const {
     throw std::invalid_argument("min_neighbors_each_side must be >= 0, got " +
                                 std::to_string(min_neighbors_each_side));
   }
+  if (baseline_levels < 0) {
+    throw std::invalid_argument("baseline_levels must be >= 0, got " +
+                                std::to_string(baseline_levels));
+  }
 }
 
 std::vector<std::pair<int, int>> OdometryCandidatePairs(
     const std::vector<Rigid3d>& poses, const CandidatePairOptions& options) {
   options.Check();
   const int n = static_cast<int>(poses.size());
-  // Path length from the first pose, to tell a loop from a neighbour.
-  std::vector<double> path(n, 0.0);
+  // Path length and accumulated turn from the first pose: both grow along
+  // the drive, so they bound a level's reach also while the robot turns in
+  // place or jitters back and forth.
+  std::vector<double> path(n, 0.0), turned(n, 0.0);
   for (int i = 1; i < n; ++i) {
     path[i] = path[i - 1] + Distance(poses[i - 1], poses[i]);
+    turned[i] = turned[i - 1] + TurnDeg(poses[i - 1], poses[i]);
   }
   std::vector<std::pair<int, int>> pairs;
+  std::vector<int> level_best(options.baseline_levels);
   for (int i = 0; i < n; ++i) {
+    std::fill(level_best.begin(), level_best.end(), -1);
+    for (int j = i + 1; j < n; ++j) {
+      if (j - i <= options.min_neighbors_each_side) {
+        pairs.emplace_back(i, j);
+        continue;
+      }
+      const double along = path[j] - path[i];
+      const double turn_along = turned[j] - turned[i];
+      if (along > options.max_distance_m ||
+          turn_along > options.max_view_angle_deg) {
+        break;
+      }
+      if (Distance(poses[i], poses[j]) > options.max_distance_m ||
+          TurnDeg(poses[i], poses[j]) > options.max_view_angle_deg) {
+        continue;
+      }
+      double reach = 1.0;  // of level k: 1 / 2^k
+      for (int k = 0; k < options.baseline_levels; ++k, reach *= 0.5) {
+        if (along <= reach * options.max_distance_m &&
+            turn_along <= reach * options.max_view_angle_deg) {
+          level_best[k] = j;
+        }
+      }
+    }
+    for (const int j : level_best) {
+      if (j >= 0) pairs.emplace_back(i, j);
+    }
+    // Loops: the closest image of each later visit to this place. A visit
+    // ends where the candidates are interrupted along the path.
+    int best = -1, last = -1;
+    double best_distance = 0.0;
     for (int j = i + 1; j < n; ++j) {
       const double distance = Distance(poses[i], poses[j]);
-      const double turn = TurnDeg(poses[i], poses[j]);
-      const bool neighbor = j - i <= options.min_neighbors_each_side;
-      const bool along_path = path[j] - path[i] <= options.max_distance_m &&
-                              distance <= options.max_distance_m &&
-                              turn <= options.max_view_angle_deg;
-      const bool loop = path[j] - path[i] >= options.loop_min_path_m &&
-                        distance <= options.loop_max_distance_m &&
-                        turn <= options.loop_max_view_angle_deg;
-      if (neighbor || along_path || loop) pairs.emplace_back(i, j);
+      if (path[j] - path[i] < options.loop_min_path_m ||
+          distance > options.loop_max_distance_m ||
+          TurnDeg(poses[i], poses[j]) > options.loop_max_view_angle_deg) {
+        continue;
+      }
+      if (last >= 0 &&
+          path[j] - path[last] > 2.0 * options.loop_max_distance_m) {
+        pairs.emplace_back(i, best);
+        best = -1;
+      }
+      if (best < 0 || distance < best_distance) {
+        best = j;
+        best_distance = distance;
+      }
+      last = j;
     }
+    if (best >= 0) pairs.emplace_back(i, best);
   }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
 }
 

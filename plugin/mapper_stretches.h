@@ -5,12 +5,20 @@
 // neighbours; at 8 cm spacing, k = 8 spans about +-30 cm, too short a
 // baseline for the mapper's initial pair (16 deg triangulation angle) and
 // for robust triangulation at room depths (measured in issue 18: 85 of 300
-// images registered). Here an image is paired with every image up to
-// max_distance_m away along the path (both sides) whose viewing direction
-// differs by at most max_view_angle_deg (the odometry's rotation between the
-// two is the camera's, whatever the mounting, so views that far apart still
-// overlap within a 60-90 deg field of view), plus loop pairs: images close in
-// place and direction but far apart along the path, where the robot returns.
+// images registered). Here an image is paired along the path, on each side,
+// with its 4 nearest images in time and then with one image per baseline
+// level: the farthest image within max_distance_m / 2^k of path and
+// max_view_angle_deg / 2^k of accumulated turn, k = 0 .. baseline_levels-1
+// (e.g. 12.5, 25, 50, 100 cm). Geometric steps give every image short
+// baselines (reliable matches) and long ones (triangulation angle) at a
+// cost that does not grow with the frame rate: pairing with every image
+// within 1 m matched 27 pairs per image on the 300-image drive, this about
+// 6 (docs/benchmarks.md). The viewing directions of a pair differ by at most
+// max_view_angle_deg (the odometry's rotation between the two is the
+// camera's, whatever the mounting, so views that far apart still overlap
+// within a 60-90 deg field of view). Loop pairs: where the robot returns to
+// a place, images close in place and direction but far apart along the
+// path; one per image and visit, the closest.
 //
 // Initial pairs: in a stretch of images the mapper left unregistered, the
 // pair to start a model from, chosen from the odometry: a baseline long
@@ -31,8 +39,14 @@ struct CandidatePairOptions {
   double max_distance_m = 1.0;
   double max_view_angle_deg = 30.0;
   // The nearest images in time on each side are always paired (odometry
-  // noise or a pure turn must not leave an image without neighbours).
-  int min_neighbors_each_side = 2;
+  // noise or a pure turn must not leave an image without neighbours). 4, not
+  // 2 or 3: on the rendered `small` scene (turns in place of 10 deg per
+  // image, 30 deg view-angle limit) fewer left a turn with only its 2
+  // nearest neighbours and the mapper folded it (21 of 33 images
+  // calibrated; 33 of 33 with 4).
+  int min_neighbors_each_side = 4;
+  // Geometric baseline levels along the path (see the top of this file).
+  int baseline_levels = 4;
   // Loop pairs: at most this far apart in place and direction, and at least
   // loop_min_path_m apart along the path.
   double loop_max_distance_m = 0.5;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -32,18 +33,25 @@ bool Has(const Pairs& pairs, int i, int j) {
   return false;
 }
 
-// Along a straight drive every image is paired up to 1 m on both sides:
-// 12 images of 8 cm (0.96 m), not the 13th (1.04 m).
-TEST(OdometryCandidatePairs, PairUpToTheBaselineOnBothSides) {
+// Along a straight drive of 8 cm steps an image is paired with its 4
+// nearest images on each side and with the farthest within 50 and 100 cm:
+// 6 and 12 images away (within 12.5 and 25 cm: near ones again).
+TEST(OdometryCandidatePairs, PairsAtGeometricBaselinesOnBothSides) {
   const int n = 40;
   const Pairs pairs = OdometryCandidatePairs(Straight(n));
-  size_t expected = 0;
-  for (int i = 0; i < n; ++i) expected += std::min(12, n - 1 - i);
-  EXPECT_EQ(pairs.size(), expected);
-  EXPECT_TRUE(Has(pairs, 20, 32));
-  EXPECT_FALSE(Has(pairs, 20, 33));
-  EXPECT_TRUE(Has(pairs, 8, 20));  // image 20's side before it
-  EXPECT_FALSE(Has(pairs, 7, 20));
+  std::vector<int> partners;
+  for (const auto& [i, j] : pairs) {
+    if (i == 20) partners.push_back(j);
+    if (j == 20) partners.push_back(i);
+  }
+  std::sort(partners.begin(), partners.end());
+  EXPECT_EQ(partners,
+            (std::vector<int>{8, 14, 16, 17, 18, 19, 21, 22, 23, 24, 26, 32}));
+  // Near the end the levels take the last images there are.
+  EXPECT_TRUE(Has(pairs, 35, 39));
+  // 6 pairs per image, not the 12 within 1 m.
+  EXPECT_LE(pairs.size(), 6u * n);
+  EXPECT_GE(pairs.size(), 5u * n);
 }
 
 // Turning in place: close in place but looking elsewhere is no pair,
@@ -53,9 +61,9 @@ TEST(OdometryCandidatePairs, ViewingDirectionsTooFarApartAreNotPaired) {
   for (int i = 0; i < 12; ++i) poses.push_back(Planar(0, 0, 20.0 * i));
   const Pairs pairs = OdometryCandidatePairs(poses);
   EXPECT_TRUE(Has(pairs, 0, 1));  // 20 deg
-  EXPECT_TRUE(Has(pairs, 0, 2));  // 40 deg, but a nearest neighbour
-  EXPECT_FALSE(Has(pairs, 0, 3));
-  EXPECT_EQ(pairs.size(), 11u + 10u);
+  EXPECT_TRUE(Has(pairs, 0, 4));  // 80 deg, but a nearest neighbour
+  EXPECT_FALSE(Has(pairs, 0, 5));
+  EXPECT_EQ(pairs.size(), 11u + 10u + 9u + 8u);
 }
 
 // A 4 m square driven once and back to the start: the last images are
@@ -81,6 +89,30 @@ TEST(OdometryCandidatePairs, ALoopPairsTheReturnWithTheStart) {
   CandidatePairOptions no_loops;
   no_loops.loop_min_path_m = 1e9;
   EXPECT_FALSE(Has(OdometryCandidatePairs(poses, no_loops), 0, last));
+}
+
+// The square driven twice (0.2 m steps): the start is paired with its 4
+// neighbours, the farthest within 1 m (5), and once with each return to it,
+// the closest image of that visit (80, 160), not all images within 0.5 m.
+TEST(OdometryCandidatePairs, OneLoopPairPerVisit) {
+  std::vector<Rigid3d> poses;
+  for (int lap = 0; lap < 2; ++lap) {
+    for (int side = 0; side < 4; ++side) {
+      for (int k = 0; k < 20; ++k) {
+        const double s = 0.2 * k;
+        const double x[4] = {s, 4.0, 4.0 - s, 0.0};
+        const double y[4] = {0.0, s, 4.0, 4.0 - s};
+        poses.push_back(Planar(x[side], y[side], 360.0 * lap + 90.0 * side));
+      }
+    }
+  }
+  poses.push_back(Planar(0.0, 0.0, 720.0));
+  const Pairs pairs = OdometryCandidatePairs(poses);
+  std::vector<int> partners;
+  for (const auto& [i, j] : pairs) {
+    if (i == 0) partners.push_back(j);
+  }
+  EXPECT_EQ(partners, (std::vector<int>{1, 2, 3, 4, 5, 80, 160}));
 }
 
 TEST(OdometryCandidatePairs, BadOptionsNameTheField) {
