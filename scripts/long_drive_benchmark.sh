@@ -66,6 +66,16 @@ print(line)
 PY
 }
 
+TIMEFORMAT="%R %U %S"
+# "W s wall, C s CPU, w s/image wall" from a `time` output "wall user sys".
+seconds() {
+  python3 - "$1" "$2" <<'PY'
+import sys
+wall, user, system = map(float, open(sys.argv[1]).read().split()[-3:])
+print("%.0f s wall, %.0f s CPU, %.2f s/image wall" % (wall, user + system, wall / int(sys.argv[2])))
+PY
+}
+
 for n in $sizes; do
   data="$out/long_$n"
   if [[ ! -f "$data/ground_truth.json" ]]; then
@@ -74,12 +84,13 @@ for n in $sizes; do
   fi
   # Intrinsics of the preset (ground_truth.json camera.params).
   params=$(python3 -c "import json,sys; print(','.join(str(p) for p in json.load(open(sys.argv[1]))['camera']['params']))" "$data/ground_truth.json")
-  start=$(date +%s.%N)
-  "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
-    --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
-    --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true
-  end=$(date +%s.%N)
-  echo "== $n images: odomcal run $(python3 -c "print('%.0f s' % ($end - $start))"), $(python3 -c "print('%.2f s/image' % (($end - $start) / $n))")"
+  # Wall and CPU time (user + sys of all child processes: COLMAP's too). The
+  # CPU time changes little with the machine's load, the wall time a lot.
+  { time "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
+      --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
+      --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true; } \
+    2> "$out/run_$n.time"
+  echo "== $n images: odomcal run $(seconds "$out/run_$n.time" "$n")"
   # The stage lines: "[k/5] title ... note (12.3 s)"; in a log (not a
   # terminal) COLMAP's progress lines come between title and "... note".
   grep -E '^\[[0-9]/[0-9]\]|^ +\.\.\. |^odomcal run:' "$out/run_$n.log" | cut -c1-160 |
@@ -90,21 +101,21 @@ for n in $sizes; do
     # to the COLMAP workspace, not inside it.
     ws="$out/plain_$n"
     rm -rf "$ws" "${ws}_calibration"; mkdir -p "$ws/sparse"
-    start=$(date +%s.%N)
-    colmap feature_extractor --database_path "$ws/db.db" --image_path "$data/images" \
-      --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
-      --ImageReader.camera_params "$params" --SiftExtraction.use_gpu 0 \
-      --SiftExtraction.max_num_features 2048 > "$ws/extract.log" 2>&1
-    colmap sequential_matcher --database_path "$ws/db.db" --SiftMatching.use_gpu 0 \
-      > "$ws/match.log" 2>&1
-    colmap mapper --database_path "$ws/db.db" --image_path "$data/images" \
-      --output_path "$ws/sparse" --Mapper.ba_refine_focal_length 0 \
-      --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
-      > "$ws/map.log" 2>&1
-    end=$(date +%s.%N)
+    { time {
+      colmap feature_extractor --database_path "$ws/db.db" --image_path "$data/images" \
+        --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
+        --ImageReader.camera_params "$params" --SiftExtraction.use_gpu 0 \
+        --SiftExtraction.max_num_features 2048 > "$ws/extract.log" 2>&1
+      colmap sequential_matcher --database_path "$ws/db.db" --SiftMatching.use_gpu 0 \
+        > "$ws/match.log" 2>&1
+      colmap mapper --database_path "$ws/db.db" --image_path "$data/images" \
+        --output_path "$ws/sparse" --Mapper.ba_refine_focal_length 0 \
+        --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
+        > "$ws/map.log" 2>&1
+    } ; } 2> "$ws.time"
     "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/db.db" \
       --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
       --output_path "${ws}_calibration" > "${ws}_calibrate.log" 2>&1 || true
-    echo "  plain COLMAP: $(python3 -c "print('%.0f s' % ($end - $start))"); $(summarize "${ws}_calibration/calibration.json" "$data/ground_truth.json")"
+    echo "  plain COLMAP: $(seconds "$ws.time" "$n"); $(summarize "${ws}_calibration/calibration.json" "$data/ground_truth.json")"
   fi
 done
