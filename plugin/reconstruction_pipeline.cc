@@ -839,7 +839,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
           throw FormatError(
               "image names do not sort in time order (" +
               selection.kept[i - 1].name + " after " + selection.kept[i].name +
-              "); the sequential matcher needs that: use --matcher spatial");
+              "); the sequential matcher needs that: use --matcher odometry");
         }
       }
     }

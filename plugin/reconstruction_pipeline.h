@@ -2,7 +2,8 @@
 // pipeline behind `odomcal run`, as a library call. Selects frames with the
 // odometry, refuses a drive whose odometry cannot determine the calibration
 // (no or too few turns) before COLMAP, runs COLMAP (feature_extractor,
-// odometry-guided spatial or sequential matching, mapper, run again with
+// matching of image pairs chosen along the odometry path (or COLMAP's
+// spatial or sequential matcher), mapper, run again with
 // another random seed while the odometry contradicts its model, matching
 // again when that does not help; mapper_policy.h) in a workspace, then
 // calibrates the reconstruction as CalibrateColmapProject does. Finished
@@ -33,9 +34,9 @@ struct ReconstructionOptions {
   std::string workspace_path;  // created; reused on reruns
   std::string camera_model = "PINHOLE";
   std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
-  // "spatial", "sequential" or "odometry" (pairs chosen from the odometry,
-  // candidate_pairs; mapper_stretches.h)
-  std::string matcher = "spatial";
+  // "odometry" (pairs chosen from the odometry, candidate_pairs;
+  // mapper_stretches.h), "spatial" or "sequential"
+  std::string matcher = "odometry";
   std::string colmap_path = "colmap";
   int max_num_features = 2048;
   int num_threads = 2;

@@ -78,10 +78,11 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
       }(),
       ChoiceRow<Run>(
           "matcher",
-          "spatial: pairs by odometry position (COLMAP 3.8 priors); "
-          "sequential: by image name order; odometry: pairs along the "
-          "odometry path up to 1 m apart within 30 deg, and loops",
-          {"spatial", "sequential", "odometry"},
+          "odometry: pairs along the odometry path at geometric "
+          "baselines up to 1 m within 30 deg, and loops; spatial: pairs "
+          "by odometry position (COLMAP 3.8 priors); sequential: by image "
+          "name order",
+          {"odometry", "spatial", "sequential"},
           [](const Run& run) { return run.matcher; },
           [](Run* run, const std::string& name) { run->matcher = name; }),
       NumberRow<Run>(
