@@ -4,6 +4,7 @@
 
 #include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/adapters/time_offset_search.h"
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
@@ -25,8 +26,6 @@ DriveSimulatorOptions Drive(double odometry_hz, double camera_hz) {
   options.camera_rate_hz = camera_hz;
   return options;
 }
-
-double OffsetSeconds(int64_t ns) { return 1e-9 * static_cast<double>(ns); }
 
 TEST(OdometryIncrements, IdentityIntrinsicsGiveBackTheOdometry) {
   DriveSimulatorOptions options = Drive(50.0, 5.0);
@@ -59,7 +58,7 @@ TEST(TimeOffsetSearch, FindsTheOffsetWithOdometryAt4And20And100Hz) {
     const TimeOffsetSearch search =
         SearchTimeOffset({drive.camera}, drive.odometry, search_options);
     EXPECT_TRUE(search.resolved) << odometry_hz << " Hz: " << search.reason;
-    EXPECT_NEAR(OffsetSeconds(search.peak_ns), truth_s, tolerance_s)
+    EXPECT_NEAR(NsToSeconds(search.peak_ns), truth_s, tolerance_s)
         << odometry_hz << " Hz";
   }
 }
@@ -145,7 +144,7 @@ TEST(SystematicsEstimation, RecoversOffsetAndIntrinsicsNoiseFree) {
       EstimateOnDrive(drive, calibration, systematics, &result);
   ASSERT_TRUE(result.IsSuccess()) << result.message;
   EXPECT_TRUE(estimate.time_offset_estimated) << estimate.time_offset_reason;
-  EXPECT_NEAR(OffsetSeconds(estimate.camera_time_offset_ns), 0.3013, 1e-6);
+  EXPECT_NEAR(NsToSeconds(estimate.camera_time_offset_ns), 0.3013, 1e-6);
   const double yaw_scale = 1.0 / 1.03;
   EXPECT_TRUE(estimate.intrinsics_estimated[0]);
   EXPECT_NEAR(estimate.intrinsics.yaw_scale, yaw_scale, 1e-6);
