@@ -3,7 +3,6 @@
 // a value from an earlier round.
 #include "odomcal/adapters/systematics_estimation.h"
 
-#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/noise_estimation.h"
