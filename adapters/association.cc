@@ -117,6 +117,29 @@ void SetFailure(InterpolationFailure* why, InterpolationFailure failure) {
   if (why != nullptr) *why = failure;
 }
 
+// Whether a stamp before the first or after the last sample lies within
+// kEndToleranceFraction of the end interval, and that interval is no gap.
+bool WithinEndTolerance(const std::vector<StampedPose>& poses,
+                        int64_t stamp_ns,
+                        double max_gap_s) {
+  if (poses.size() < 2) return false;
+  const bool before = stamp_ns < poses.front().stamp_ns;
+  const int64_t end_ns =
+      before ? poses.front().stamp_ns : poses.back().stamp_ns;
+  const int64_t interval_ns =
+      before ? poses[1].stamp_ns - poses[0].stamp_ns
+             : poses.back().stamp_ns - poses[poses.size() - 2].stamp_ns;
+  if (ElapsedSeconds(0, interval_ns) > max_gap_s) return false;
+  const int64_t tolerance_ns = static_cast<int64_t>(
+      std::floor(kEndToleranceFraction * static_cast<double>(interval_ns)));
+  int64_t beyond_ns = 0;
+  if (__builtin_sub_overflow(
+          before ? end_ns : stamp_ns, before ? stamp_ns : end_ns, &beyond_ns)) {
+    return false;  // certainly far outside
+  }
+  return beyond_ns <= tolerance_ns;
+}
+
 }  // namespace
 
 void AssociationOptions::Check() const {
@@ -165,20 +188,21 @@ std::optional<Rigid3d> InterpolateOdometry(const Trajectory& odometry,
                        [](int64_t stamp, const StampedPose& pose) {
                          return stamp < pose.stamp_ns;
                        });
-  if (after == poses.begin()) {
-    SetFailure(why, InterpolationFailure::kOutsideSpan);
-    return std::nullopt;
-  }
-  const StampedPose& a = *(after - 1);
-  if (a.stamp_ns == stamp_ns) {
+  if (after != poses.begin() && (after - 1)->stamp_ns == stamp_ns) {
     SetFailure(why, InterpolationFailure::kNone);
-    return a.world_from_sensor;
+    return (after - 1)->world_from_sensor;
   }
-  if (after == poses.end()) {
+  const bool beyond_end = after == poses.begin() || after == poses.end();
+  if (beyond_end && !WithinEndTolerance(poses, stamp_ns, max_gap_s)) {
     SetFailure(why, InterpolationFailure::kOutsideSpan);
     return std::nullopt;
   }
-  const StampedPose& b = *after;
+  // Within the tolerance beyond an end, the end interval is continued.
+  const auto b_it = after == poses.begin()
+                        ? poses.begin() + 1
+                        : (after == poses.end() ? poses.end() - 1 : after);
+  const StampedPose& a = *(b_it - 1);
+  const StampedPose& b = *b_it;
   if (ElapsedSeconds(a.stamp_ns, b.stamp_ns) > max_gap_s) {
     SetFailure(why, InterpolationFailure::kInGap);
     return std::nullopt;

@@ -69,11 +69,25 @@ double AutomaticOdometryGapS(const Trajectory& odometry);
 // max_odometry_gap_s if > 0, else AutomaticOdometryGapS(odometry).
 double OdometryGapLimitS(double max_odometry_gap_s, const Trajectory& odometry);
 
+// How far InterpolateOdometry continues the log beyond its first or last
+// sample, as a fraction of that end interval. An image taken with the last
+// odometry sample gets odometry time last + offset, and an estimated offset
+// a hair above zero (noise: microseconds, well within its stated
+// uncertainty) put it outside the log, so the last image was dropped
+// whenever the estimate came out positive. Within a tenth of the interval
+// the constant-velocity continuation is off by at most dv * interval / 10
+// (dv: the change of velocity after the last sample), less than the
+// dv * interval / 4 an interpolation mid-interval may be off; further out it
+// would be a guess, and the stamp is refused.
+constexpr double kEndToleranceFraction = 0.1;
+
 // Why InterpolateOdometry returned no pose.
 enum class InterpolationFailure {
-  kNone,         // it did return a pose
-  kOutsideSpan,  // before the first or after the last sample (or no samples)
-  kInGap,        // between two samples more than max_gap_s apart
+  kNone,  // it did return a pose
+  // Before the first or after the last sample by more than the end tolerance
+  // (or fewer than two samples).
+  kOutsideSpan,
+  kInGap,  // between two samples more than max_gap_s apart
 };
 
 // origin_from_odom at stamp_ns (odometry time base).
@@ -90,9 +104,13 @@ enum class InterpolationFailure {
 //     interpolation for the translation. This is not the SE(3) geodesic; the
 //     two agree for pure rotation or pure translation and differ by
 //     O(rotation * translation) along arcs.
+// A stamp before the first or after the last sample by at most
+// kEndToleranceFraction of that end interval (itself no gap) continues the
+// end interval's motion the same way (tau slightly below 0 or above 1).
 // Returns std::nullopt and sets *why (when why is not null) if the stamp is
-// outside the log or inside a gap. Precondition: strictly increasing stamps.
-// Throws std::invalid_argument when max_gap_s is not positive and finite.
+// further outside the log or inside a gap. Precondition: strictly increasing
+// stamps. Throws std::invalid_argument when max_gap_s is not positive and
+// finite.
 std::optional<Rigid3d> InterpolateOdometry(const Trajectory& odometry,
                                            int64_t stamp_ns,
                                            double max_gap_s,

@@ -199,10 +199,13 @@ TEST(InterpolateOdometry, RefusesOutsideSpanAndInGaps) {
                     {kSecond / 10, Rigid3d()},
                     {kSecond, Rigid3d()},  // 0.9 s gap before this one
                     {kSecond + kSecond / 4, Rigid3d()}};  // exactly the limit
-  EXPECT_FALSE(InterpolateOdometry(odometry, -1, 0.25, &why).has_value());
+  // Beyond a tenth of the end interval (0.1 s first, 0.25 s last).
+  EXPECT_FALSE(InterpolateOdometry(odometry, -kSecond / 100 - 1, 0.25, &why)
+                   .has_value());
   EXPECT_EQ(why, InterpolationFailure::kOutsideSpan);
   EXPECT_FALSE(
-      InterpolateOdometry(odometry, kSecond + kSecond / 4 + 1, 0.25, &why)
+      InterpolateOdometry(
+          odometry, kSecond + kSecond / 4 + kSecond / 40 + 1, 0.25, &why)
           .has_value());
   EXPECT_EQ(why, InterpolationFailure::kOutsideSpan);
   EXPECT_FALSE(
@@ -225,6 +228,40 @@ TEST(InterpolateOdometry, RefusesOutsideSpanAndInGaps) {
                std::invalid_argument);
   EXPECT_THROW(InterpolateOdometry(odometry, 0, NAN, nullptr),
                std::invalid_argument);
+}
+
+// Beyond the ends of the log the constant-velocity motion of the end
+// interval is continued for at most a tenth of that interval (the slack a
+// hair of estimated clock offset needs), never further.
+TEST(InterpolateOdometry, ExtrapolatesATenthOfTheEndIntervalAtMost) {
+  const Unicycle unicycle{Eigen::Vector2d(1.0, 2.0), 0.3, 1.5, 0.8};
+  const int64_t step_ns = kSecond / 10;
+  const Trajectory odometry =
+      Sample([&](double t) { return unicycle.PoseAt(t); }, step_ns, 11, true);
+  const int64_t first_ns = odometry.poses.front().stamp_ns;
+  const int64_t last_ns = odometry.poses.back().stamp_ns;
+  for (const int64_t stamp_ns : {last_ns + 3000,
+                                 last_ns + step_ns / 10,
+                                 first_ns - 3000,
+                                 first_ns - step_ns / 10}) {
+    SCOPED_TRACE(stamp_ns);
+    InterpolationFailure why = InterpolationFailure::kInGap;
+    const std::optional<Rigid3d> pose =
+        InterpolateOdometry(odometry, stamp_ns, 0.25, &why);
+    ASSERT_TRUE(pose.has_value());
+    EXPECT_EQ(why, InterpolationFailure::kNone);
+    // Exact: the unicycle keeps its velocity beyond the samples.
+    ExpectRigidNear(
+        *pose, unicycle.PoseAt(SecondsSinceBase(stamp_ns)), kExactTolerance);
+  }
+  for (const int64_t stamp_ns :
+       {last_ns + step_ns / 10 + 1, first_ns - step_ns / 10 - 1}) {
+    InterpolationFailure why = InterpolationFailure::kNone;
+    EXPECT_FALSE(InterpolateOdometry(odometry, stamp_ns, 0.25, &why));
+    EXPECT_EQ(why, InterpolationFailure::kOutsideSpan);
+  }
+  // Not beyond an end interval that is a gap.
+  EXPECT_FALSE(InterpolateOdometry(odometry, last_ns + 3000, 0.05, nullptr));
 }
 
 TEST(AssociationOptions, CheckNamesTheField) {
@@ -361,6 +398,40 @@ TEST(AssociateCameraWithOdometry, AppliesCameraTimeOffset) {
   EXPECT_EQ(with.pairs.front().stamp_i_ns, odometry.poses.front().stamp_ns);
   EXPECT_EQ(without.camera_time_offset_ns, 0);  // the offset the stamps hold
   EXPECT_EQ(with.camera_time_offset_ns, 2 * kSecond);
+}
+
+// The images of a camera triggered with the odometry sit exactly on its
+// samples; an estimated clock offset a hair above zero puts the last one a
+// few microseconds after the log's end. It is kept (and the first one under
+// a hair below zero), with the pose continued along the last interval; an
+// offset beyond a tenth of the sampling interval still refuses it.
+TEST(AssociateCameraWithOdometry,
+     KeepsTheImageAtTheLastSampleUnderAHairOfOffset) {
+  const Trajectory odometry = StraightLine(11, kSecond / 10, 1.0);
+  const Trajectory camera = odometry;
+  AssociationOptions options;
+  options.keyframe_min_rotation_deg = 0.0;  // every usable pose
+  options.keyframe_min_translation_m = 0.0;
+  for (const int64_t offset_ns : {int64_t{3000}, int64_t{-3000}}) {
+    SCOPED_TRACE(offset_ns);
+    options.camera_time_offset_ns = offset_ns;
+    const AssociationResult result =
+        AssociateCameraWithOdometry({camera}, odometry, options);
+    EXPECT_EQ(result.num_outside_odometry_span, 0);
+    EXPECT_EQ(result.num_usable_camera_poses, 11);
+    ASSERT_EQ(result.pairs.size(), 10u);
+    const MotionPair& end =
+        offset_ns > 0 ? result.pairs.back() : result.pairs.front();
+    EXPECT_EQ(offset_ns > 0 ? end.stamp_j_ns : end.stamp_i_ns,
+              (offset_ns > 0 ? odometry.poses.back().stamp_ns
+                             : odometry.poses.front().stamp_ns) +
+                  offset_ns);
+    EXPECT_NEAR(end.odom_i_from_odom_j.translation.x(), 0.1, kExactTolerance);
+  }
+  options.camera_time_offset_ns = kSecond / 100 + 1;
+  EXPECT_EQ(AssociateCameraWithOdometry({camera}, odometry, options)
+                .num_outside_odometry_span,
+            1);
 }
 
 TEST(AssociateCameraWithOdometry, RejectsUnsortedInput) {

@@ -59,15 +59,22 @@ Eigen::Matrix3d OdometryInterpolationCovariance(const Trajectory& odometry,
                        [](int64_t stamp, const StampedPose& pose) {
                          return stamp < pose.stamp_ns;
                        });
-  if (after == poses.begin() || after == poses.end()) return none;
-  const size_t b = static_cast<size_t>(after - poses.begin());
+  if (after != poses.begin() && (after - 1)->stamp_ns == stamp_ns) return none;
+  // Beyond an end: the end interval, continued (tau < 0 or > 1).
+  const size_t b =
+      after == poses.begin()
+          ? 1
+          : (after == poses.end() ? poses.size() - 1
+                                  : static_cast<size_t>(after - poses.begin()));
   const size_t a = b - 1;
-  if (poses[a].stamp_ns == stamp_ns) return none;
 
   const double interval_s =
       ElapsedSeconds(poses[a].stamp_ns, poses[b].stamp_ns);
   const double tau = static_cast<double>(stamp_ns - poses[a].stamp_ns) /
                      static_cast<double>(poses[b].stamp_ns - poses[a].stamp_ns);
+  // Not a stamp InterpolateOdometry gives a pose for (1e-9: rounding).
+  const double limit = kEndToleranceFraction + 1e-9;
+  if (tau < -limit || tau > 1.0 + limit) return none;
   const IntervalVelocity current = VelocityBetween(poses[a], poses[b]);
   const IntervalVelocity before =
       a > 0 ? VelocityBetween(poses[a - 1], poses[a]) : current;
@@ -80,8 +87,10 @@ Eigen::Matrix3d OdometryInterpolationCovariance(const Trajectory& odometry,
   // A velocity that changes by dv at one instant inside the interval puts
   // the constant-velocity pose off by at most dv * interval * tau (1 - tau);
   // a yaw rate change also turns the path, by up to speed * d_omega *
-  // interval over the interval.
-  const double weight = interval_s * tau * (1.0 - tau);
+  // interval over the interval. Beyond an end the pose is off by at most
+  // dv * (time beyond) <= dv * interval * |tau (1 - tau)|, with dv the
+  // change seen before the end (the one after it is unseen).
+  const double weight = interval_s * std::abs(tau * (1.0 - tau));
   const double yaw_bound = yaw_rate_change * weight;
   const double position_bound =
       (velocity_change + speed * yaw_rate_change * interval_s) * weight;

@@ -27,10 +27,12 @@
 namespace odomcal {
 
 // Covariance of the interpolation error of origin_from_odom at stamp_ns, in
-// the order (yaw in radians, x, y in the origin frame in metres). Zero at a
-// sample's own stamp, outside the log, and for non-planar logs (slerp +
-// linear interpolation; their error is not estimated). Precondition:
-// strictly increasing stamps.
+// the order (yaw in radians, x, y in the origin frame in metres). Within
+// InterpolateOdometry's end tolerance beyond the first or last sample, the
+// bound of the end interval continued, from the velocity change seen before
+// that end. Zero at a sample's own stamp, further outside the log, and for
+// non-planar logs (slerp + linear interpolation; their error is not
+// estimated). Precondition: strictly increasing stamps.
 Eigen::Matrix3d OdometryInterpolationCovariance(const Trajectory& odometry,
                                                 int64_t stamp_ns);
 

@@ -52,10 +52,35 @@ TEST(OdometryInterpolationCovariance, ZeroAtConstantVelocity) {
     EXPECT_LT(std::sqrt(covariance(0, 0)), 1e-12) << t;
     EXPECT_LT(std::sqrt(covariance(1, 1)), 1e-12) << t;
   }
-  // On a sample and outside the log: nothing interpolated.
+  // On a sample: nothing interpolated; continued at constant velocity just
+  // before the first sample: exact; far outside the log: nothing.
   EXPECT_TRUE(
       OdometryInterpolationCovariance(log, log.poses[3].stamp_ns).isZero(0.0));
-  EXPECT_TRUE(OdometryInterpolationCovariance(log, kBaseNs - 1).isZero(0.0));
+  EXPECT_LT(std::sqrt(OdometryInterpolationCovariance(log, kBaseNs - 1)(0, 0)),
+            1e-12);
+  EXPECT_TRUE(
+      OdometryInterpolationCovariance(log, kBaseNs - 1000000000).isZero(0.0));
+}
+
+// A turn that starts in the last interval: the pose continued a tenth of an
+// interval beyond the log is off, and the stated covariance covers it.
+TEST(OdometryInterpolationCovariance, CoversTheErrorJustBeyondTheEnd) {
+  const double t_turn_s = 2.9;  // 4 Hz samples up to 3.0 s
+  const Trajectory log = SampleTurning(4.0, 3.0, t_turn_s);
+  const int64_t last_ns = log.poses.back().stamp_ns;
+  const int64_t stamp = last_ns + 25000000;  // a tenth of 0.25 s
+  const auto continued = InterpolateOdometry(log, stamp, 1.0, nullptr);
+  ASSERT_TRUE(continued.has_value());
+  const Rigid3d truth =
+      TurningPose(static_cast<double>(stamp - kBaseNs) / 1e9, t_turn_s);
+  const double yaw_error =
+      std::abs(WrapAngle(YawOf(*continued) - YawOf(truth)));
+  const Eigen::Matrix3d covariance =
+      OdometryInterpolationCovariance(log, stamp);
+  EXPECT_GT(yaw_error, 1e-3);
+  EXPECT_LE(yaw_error, 3.0 * std::sqrt(covariance(0, 0)));
+  EXPECT_LE((continued->translation - truth.translation).norm(),
+            3.0 * std::sqrt(covariance(1, 1)));
 }
 
 TEST(OdometryInterpolationCovariance, CoversTheErrorWhereTheTurnStarts) {

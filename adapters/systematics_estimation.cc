@@ -3,8 +3,8 @@
 // a value from an earlier round.
 #include "odomcal/adapters/systematics_estimation.h"
 
-#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/odometry_increments.h"
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/noise_estimation.h"
 
@@ -128,13 +128,42 @@ SystematicsEstimate EstimateSystematics(
   if (!options.estimate_odometry_intrinsics) {
     estimate.intrinsics_reasons.push_back("--estimate_odometry_intrinsics off");
   }
+  const auto coarse_search = [&] {
+    TimeOffsetSearchOptions search_options;
+    search_options.center_ns = association_options.camera_time_offset_ns;
+    search_options.range_s = options.time_offset_search_s;
+    search_options.max_odometry_gap_s =
+        OdometryGapLimitS(association_options.max_odometry_gap_s, odometry);
+    estimate.coarse = SearchTimeOffset(cameras, odometry, search_options);
+    estimate.coarse_search_ran = true;
+    estimate.search_range_s = options.time_offset_search_s;
+  };
   if (!any || !planar) {
     if (any) {
-      const std::string why =
-          "the odometry is not planar (x, y, yaw): not estimated";
-      if (options.estimate_time_offset) estimate.time_offset_reason = why;
+      // The refinement re-integrates SE(2) increments, so 3-D odometry keeps
+      // the given values. The coarse search compares rotation angles, which
+      // 3-D odometry has too: where it finds a peak the reason names it, so a
+      // wrong given offset does not pass unnoticed.
+      const std::string what = "3-D odometry (a TUM log, not x, y, yaw): ";
+      if (options.estimate_time_offset) {
+        estimate.time_offset_reason =
+            what + "only a planar log's clock offset is estimated";
+        if (odometry.poses.size() >= 2) {
+          coarse_search();
+          estimate.time_offset_reason +=
+              estimate.coarse.resolved
+                  ? "; the rotation angles of camera and odometry match "
+                    "best at " +
+                        FormatRounded(NsToSeconds(estimate.coarse.peak_ns)) +
+                        " s (coarse search)"
+                  : "; the coarse search of rotation angles found no "
+                    "offset either: " +
+                        estimate.coarse.reason;
+        }
+      }
       if (options.estimate_odometry_intrinsics) {
-        estimate.intrinsics_reasons.push_back(why);
+        estimate.intrinsics_reasons.push_back(
+            what + "only a planar log's odometry intrinsics are estimated");
       }
     }
     run(estimate.camera_time_offset_ns, OdometryIntrinsics());
@@ -145,14 +174,7 @@ SystematicsEstimate EstimateSystematics(
   int64_t offset_ns = association_options.camera_time_offset_ns;
   bool estimate_offset = options.estimate_time_offset;
   if (estimate_offset) {
-    TimeOffsetSearchOptions search_options;
-    search_options.center_ns = offset_ns;
-    search_options.range_s = options.time_offset_search_s;
-    search_options.max_odometry_gap_s =
-        OdometryGapLimitS(association_options.max_odometry_gap_s, odometry);
-    estimate.coarse = SearchTimeOffset(cameras, odometry, search_options);
-    estimate.coarse_search_ran = true;
-    estimate.search_range_s = options.time_offset_search_s;
+    coarse_search();
     if (estimate.coarse.resolved) {
       offset_ns = estimate.coarse.peak_ns;
     } else {

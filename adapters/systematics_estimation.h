@@ -12,8 +12,11 @@
 //      the last calibration, at the final values, is the caller's result.
 // Its covariance is then replaced by the joint one marginalised over the
 // estimated systematics, so the stated uncertainty includes theirs.
-// Planar odometry only; otherwise the given offset and identity intrinsics
-// are kept and `reason` says why.
+// Planar odometry only (the refinement re-integrates SE(2) increments). 3-D
+// odometry (a TUM log) keeps the given offset and identity intrinsics, and
+// the reasons say so; the coarse search still runs (rotation angles are 3-D
+// too) and time_offset_reason names its peak, so that a wrong given offset
+// shows, but the peak is not used: it has no stated uncertainty.
 #pragma once
 
 #include "odomcal/adapters/association.h"

@@ -4,9 +4,11 @@
 
 #include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/adapters/time_offset_search.h"
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/format_number.h"
 #include "odomcal/solver/noise_estimation.h"
 
 #include <gtest/gtest.h>
@@ -25,8 +27,6 @@ DriveSimulatorOptions Drive(double odometry_hz, double camera_hz) {
   options.camera_rate_hz = camera_hz;
   return options;
 }
-
-double OffsetSeconds(int64_t ns) { return 1e-9 * static_cast<double>(ns); }
 
 TEST(OdometryIncrements, IdentityIntrinsicsGiveBackTheOdometry) {
   DriveSimulatorOptions options = Drive(50.0, 5.0);
@@ -59,7 +59,7 @@ TEST(TimeOffsetSearch, FindsTheOffsetWithOdometryAt4And20And100Hz) {
     const TimeOffsetSearch search =
         SearchTimeOffset({drive.camera}, drive.odometry, search_options);
     EXPECT_TRUE(search.resolved) << odometry_hz << " Hz: " << search.reason;
-    EXPECT_NEAR(OffsetSeconds(search.peak_ns), truth_s, tolerance_s)
+    EXPECT_NEAR(NsToSeconds(search.peak_ns), truth_s, tolerance_s)
         << odometry_hz << " Hz";
   }
 }
@@ -145,7 +145,7 @@ TEST(SystematicsEstimation, RecoversOffsetAndIntrinsicsNoiseFree) {
       EstimateOnDrive(drive, calibration, systematics, &result);
   ASSERT_TRUE(result.IsSuccess()) << result.message;
   EXPECT_TRUE(estimate.time_offset_estimated) << estimate.time_offset_reason;
-  EXPECT_NEAR(OffsetSeconds(estimate.camera_time_offset_ns), 0.3013, 1e-6);
+  EXPECT_NEAR(NsToSeconds(estimate.camera_time_offset_ns), 0.3013, 1e-6);
   const double yaw_scale = 1.0 / 1.03;
   EXPECT_TRUE(estimate.intrinsics_estimated[0]);
   EXPECT_NEAR(estimate.intrinsics.yaw_scale, yaw_scale, 1e-6);
@@ -160,6 +160,38 @@ TEST(SystematicsEstimation, RecoversOffsetAndIntrinsicsNoiseFree) {
             1e-6);
   EXPECT_NEAR(result.metric_scales[0], drive.metric_scale, 1e-6);
   EXPECT_GT(estimate.camera_time_offset_stddev_s, 0.0);
+}
+
+// 3-D odometry (a TUM log) keeps the given offset and says why, and where
+// the rotation angles put the offset; nothing is estimated.
+TEST(SystematicsEstimation, ThreeDimensionalOdometryKeepsTheGivenOffset) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.duration_s = 30.0;
+  options.camera_time_offset_s = 0.3013;
+  SimulatedDrive drive = SimulateDrive(options);
+  drive.odometry.planar = false;
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+  CalibrationResult result;
+  const SystematicsEstimate estimate = EstimateOnDrive(
+      drive, calibration, SystematicsEstimationOptions(), &result);
+  EXPECT_FALSE(estimate.time_offset_estimated);
+  EXPECT_EQ(estimate.camera_time_offset_ns, 0);
+  ASSERT_TRUE(estimate.coarse_search_ran);
+  ASSERT_TRUE(estimate.coarse.resolved) << estimate.coarse.reason;
+  EXPECT_NEAR(NsToSeconds(estimate.coarse.peak_ns), 0.3013, 0.001);
+  EXPECT_EQ(estimate.time_offset_reason,
+            "3-D odometry (a TUM log, not x, y, yaw): only a planar log's "
+            "clock offset is estimated; the rotation angles of camera and "
+            "odometry match best at " +
+                FormatRounded(NsToSeconds(estimate.coarse.peak_ns)) +
+                " s (coarse search)");
+  EXPECT_EQ(estimate.intrinsics_estimated, (std::array<bool, 3>{}));
+  EXPECT_EQ(estimate.intrinsics_reasons,
+            std::vector<std::string>{
+                "3-D odometry (a TUM log, not x, y, yaw): only a planar "
+                "log's odometry intrinsics are estimated"});
+  EXPECT_EQ(estimate.num_rounds, 1);
 }
 
 // Unequal wheels with the track given: yaw_per_metre and the forward

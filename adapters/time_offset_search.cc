@@ -5,7 +5,6 @@
 #include "odomcal/adapters/time_offset_search.h"
 
 #include "odomcal/adapters/association.h"
-#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/format_number.h"
 

@@ -1,6 +1,7 @@
 #include "odomcal/plugin/demo_command.h"
 
 #include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/datasets/rendering/dataset_presets.h"
 #include "odomcal/datasets/rendering/rendered_dataset.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
@@ -132,10 +133,9 @@ int RunSimulatedDemo(const std::string& workspace,
     const double k_right = 1.0 / (1.0 + simulation.wheel_scale_error_right);
     const double k_track = 1.0 + simulation.wheel_track_error;
     const double yaw_scale = 0.5 * (k_left + k_right) / k_track;
-    std::printf(
-        "      time offset error  %+8.3f ms\n",
-        1e3 * (1e-9 * static_cast<double>(estimate.camera_time_offset_ns) -
-               simulation.camera_time_offset_s));
+    std::printf("      time offset error  %+8.3f ms\n",
+                1e3 * (NsToSeconds(estimate.camera_time_offset_ns) -
+                       simulation.camera_time_offset_s));
     std::printf("      yaw_scale error    %+8.4f %%\n",
                 100.0 * (estimate.intrinsics.yaw_scale / yaw_scale - 1.0));
     std::printf("      yaw_per_metre error %+8.5f rad/m\n",

@@ -1,5 +1,6 @@
 #include "odomcal/plugin/image_coverage.h"
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/colmap_calibration.h"
 
 #include <algorithm>
@@ -16,7 +17,7 @@ int Percent(double fraction) {
 
 std::string Seconds(int64_t ns) {
   char text[32];
-  std::snprintf(text, sizeof(text), "%.1f", 1e-9 * static_cast<double>(ns));
+  std::snprintf(text, sizeof(text), "%.1f", NsToSeconds(ns));
   return text;
 }
 

@@ -14,7 +14,6 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
-#include "odomcal/adapters/format_rounded.h"
 #include "odomcal/adapters/image_timestamps.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
@@ -27,6 +26,7 @@
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/output_guard.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
 
 #include <algorithm>
 #include <chrono>

@@ -13,8 +13,6 @@ using nlohmann::json;
 const char* const kIntrinsicNames[3] = {
     "yaw_scale", "yaw_per_metre_rad", "yaw_rate_bias_rad_s"};
 
-double Seconds(int64_t ns) { return 1e-9 * static_cast<double>(ns); }
-
 double Value(const OdometryIntrinsics& intrinsics, int k) {
   return k == 0 ? intrinsics.yaw_scale
                 : (k == 1 ? intrinsics.yaw_per_metre_rad
@@ -30,7 +28,7 @@ std::string Format(const char* format, double value) {
 }  // namespace
 
 void AddSystematicsJson(const SystematicsEstimate& estimate, json* out) {
-  (*out)["camera_time_offset_s"] = Seconds(estimate.camera_time_offset_ns);
+  (*out)["camera_time_offset_s"] = NsToSeconds(estimate.camera_time_offset_ns);
   json intrinsics = {
       {"estimated",
        estimate.intrinsics_estimated[0] || estimate.intrinsics_estimated[1] ||
@@ -70,7 +68,7 @@ void AddSystematicsJson(const SystematicsEstimate& estimate, json* out) {
     time_offset["search_range_s"] = estimate.search_range_s;
     time_offset["search_step_s"] = estimate.coarse.step_s;
     time_offset["coarse_resolved"] = estimate.coarse.resolved;
-    time_offset["coarse_peak_s"] = Seconds(estimate.coarse.peak_ns);
+    time_offset["coarse_peak_s"] = NsToSeconds(estimate.coarse.peak_ns);
     time_offset["coarse_peak_correlation"] = estimate.coarse.peak_correlation;
     time_offset["coarse_peak_half_width_s"] = estimate.coarse.peak_half_width_s;
     time_offset["coarse_num_intervals"] = estimate.coarse.num_intervals;
@@ -79,13 +77,15 @@ void AddSystematicsJson(const SystematicsEstimate& estimate, json* out) {
 }
 
 std::string SystematicsSummary(const SystematicsEstimate& estimate) {
-  std::string out = "  clock offset: odometry_time = camera_time + " +
-                    Format("%.4f s", Seconds(estimate.camera_time_offset_ns));
+  std::string out =
+      "  clock offset: odometry_time = camera_time + " +
+      Format("%.4f s", NsToSeconds(estimate.camera_time_offset_ns));
   if (estimate.time_offset_estimated) {
     out += Format("  +- %.2f ms (3 sigma), estimated",
                   3e3 * estimate.camera_time_offset_stddev_s);
     if (estimate.coarse_search_ran) {
-      out += Format(" (coarse peak %.3f s)", Seconds(estimate.coarse.peak_ns));
+      out +=
+          Format(" (coarse peak %.3f s)", NsToSeconds(estimate.coarse.peak_ns));
     }
   } else {
     out += ", given (" + estimate.time_offset_reason + ")";

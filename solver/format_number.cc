@@ -1,6 +1,9 @@
 #include "odomcal/solver/format_number.h"
 
+#include <algorithm>
 #include <charconv>
+#include <cstdio>
+#include <cstdlib>
 
 namespace odomcal {
 
@@ -9,6 +12,13 @@ std::string FormatNumber(double value) {
   const std::to_chars_result end =
       std::to_chars(text, text + sizeof(text), value);
   return std::string(text, end.ptr);
+}
+
+std::string FormatRounded(double value, int significant_digits) {
+  char text[40];
+  std::snprintf(
+      text, sizeof(text), "%.*g", std::clamp(significant_digits, 1, 17), value);
+  return FormatNumber(std::strtod(text, nullptr));
 }
 
 }  // namespace odomcal
