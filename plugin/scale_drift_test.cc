@@ -60,7 +60,9 @@ bool HasWarningStartingWith(const CalibrationResult& result,
 }
 
 TEST_F(ScaleDriftTest, TenPercentIsNamedAndEachExportedStretchHasItsScale) {
-  for (const uint64_t seed : {TestSeed(1), TestSeed(2), TestSeed(3)}) {
+  // Two seeds: each runs a whole project calibration (25 s under the
+  // sanitizers); the drift's spread over seeds is in docs/robustness.md.
+  for (const uint64_t seed : {TestSeed(1), TestSeed(2)}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     SimulatedColmapProjectOptions options;
     options.seed = seed;
@@ -136,9 +138,9 @@ TEST_F(ScaleDriftTest, IsNamedWhenTheLeverArmIsUnobservable) {
 }
 
 // Drift-free drives: no cut, no drift named (false-alarm rate measured over
-// more seeds in docs/robustness.md).
+// more seeds in docs/robustness.md; 4 here, each a whole calibration).
 TEST_F(ScaleDriftTest, NoneIsNamedWithoutDrift) {
-  for (uint64_t trial = 0; trial < 8; ++trial) {
+  for (uint64_t trial = 0; trial < 4; ++trial) {
     SimulatedColmapProjectOptions options;
     options.seed = TestSeed(10) * 100 + trial;
     const ColmapCalibrationRun run = CalibrateColmapProject(

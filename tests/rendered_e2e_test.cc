@@ -190,6 +190,16 @@ class RenderedEndToEnd : public ::testing::Test {
     for (const double error : MetricModelScaleErrors(run)) {
       EXPECT_LT(std::abs(error), scale_rel) << run.log;
     }
+    // Every scene's drive is meant to be calibrated whole: a model that
+    // leaves images out (the run's "below 90 %" warning) is a regression of
+    // the matching or mapping even when the rest calibrates accurately.
+    const json& coverage = run.result["colmap"]["image_coverage"];
+    std::cout << "[ coverage ] " << coverage["num_in_calibration"] << " of "
+              << coverage["num_selected_images"] << " selected images"
+              << std::endl;
+    EXPECT_GE(coverage["num_in_calibration"].get<double>(),
+              0.9 * coverage["num_selected_images"].get<double>())
+        << run.log;
   }
 
   fs::path dir_;
