@@ -9,9 +9,10 @@
 // the command line) both thresholds follow from the camera's horizontal field
 // of view F (AutomaticFrameSpacing):
 //   min_rotation_deg  = F / 8: consecutive kept images share 7/8 of the view,
-//                       so a matching window of 4 images on each side
-//                       (COLMAP's spatial matcher, 8 neighbours) still shares
-//                       half of it while the robot turns;
+//                       so a matching window of 4 images on each side (the
+//                       nearest images the odometry matcher always pairs;
+//                       COLMAP's spatial matcher's 8 neighbours) still
+//                       shares half of it while the robot turns;
 //   min_translation_m = d * tan(F / 16), d = kTypicalSceneDepthM: each step
 //                       adds a triangulation angle of F / 16 at the typical
 //                       depth, so that the 4-image window spans F / 4 (16 deg
