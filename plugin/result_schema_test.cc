@@ -11,6 +11,7 @@
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/project_flags.h"
 #include "odomcal/plugin/report_testing.h"
+#include "odomcal/plugin/run_flags.h"
 
 #include <unistd.h>
 
@@ -220,6 +221,15 @@ TEST(ResultSchema, ColmapOutputConforms) {
       run, ProjectReportContext(inputs, run, "odomcal colmap"));
   EXPECT_EQ(Lines(checker.Check(out)), "");
   EXPECT_TRUE(out.contains("colmap"));
+  // `odomcal run` adds its own flags, each choice's default the schema's.
+  json run_out = out;
+  run_out["options"]["run"] =
+      RunFlagsEcho(ReconstructionOptions())["options"]["run"];
+  EXPECT_EQ(Lines(checker.Check(run_out)), "");
+  for (const std::string matcher : {"odometry", "spatial", "sequential"}) {
+    run_out["options"]["run"]["matcher"] = matcher;
+    EXPECT_EQ(Lines(checker.Check(run_out)), "") << matcher;
+  }
   fs::remove_all(dir);
 }
 
