@@ -97,10 +97,14 @@ void AttachOdometrySamples(const Trajectory& odometry, MotionPairs* pairs) {
     const size_t first = PeriodOf(odometry, pair.stamp_i_ns);
     const size_t last = PeriodOf(odometry, pair.stamp_j_ns);
     for (size_t k = first; k <= last; ++k) {
+      // The endpoints' own periods are cut at the stamps, not at the
+      // samples: a stamp within InterpolateOdometry's end tolerance lies
+      // beyond the first or last sample, and its period is continued there
+      // (fraction above 1), as the association interpolates it.
       const int64_t from =
-          std::max(odometry.poses[k].stamp_ns, pair.stamp_i_ns);
+          k == first ? pair.stamp_i_ns : odometry.poses[k].stamp_ns;
       const int64_t to =
-          std::min(odometry.poses[k + 1].stamp_ns, pair.stamp_j_ns);
+          k == last ? pair.stamp_j_ns : odometry.poses[k + 1].stamp_ns;
       if (to <= from) continue;
       const double fraction =
           static_cast<double>(to - from) /

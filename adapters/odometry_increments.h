@@ -23,10 +23,12 @@ Trajectory CorrectOdometry(const Trajectory& odometry,
                            const OdometryIntrinsics& intrinsics);
 
 // Sets every pair's odometry_samples from the logged odometry between its
-// stamps (odometry times, inside the log): the increments, the first and last
-// cut at the stamps (a fraction tau of a sample's twist, exact for the planar
-// interpolation of association.h), and the twist per second of the sample
-// period holding each endpoint. Needs planar odometry with >= 2 samples.
+// stamps (odometry times, inside the log or within InterpolateOdometry's end
+// tolerance beyond it): the increments, the first and last cut at the stamps
+// (a fraction tau of a sample's twist, exact for the planar interpolation of
+// association.h, and continued beyond an end as it continues), and the twist
+// per second of the sample period holding each endpoint. Needs planar
+// odometry with >= 2 samples.
 void AttachOdometrySamples(const Trajectory& odometry, MotionPairs* pairs);
 
 }  // namespace odomcal
