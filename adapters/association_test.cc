@@ -260,8 +260,16 @@ TEST(InterpolateOdometry, ExtrapolatesATenthOfTheEndIntervalAtMost) {
     EXPECT_FALSE(InterpolateOdometry(odometry, stamp_ns, 0.25, &why));
     EXPECT_EQ(why, InterpolationFailure::kOutsideSpan);
   }
-  // Not beyond an end interval that is a gap.
-  EXPECT_FALSE(InterpolateOdometry(odometry, last_ns + 3000, 0.05, nullptr));
+  // Not beyond an end interval that is a gap (only the last one is: the
+  // stamp is refused as outside the span, not in a gap).
+  Trajectory last_gap = odometry;
+  last_gap.poses.back().stamp_ns += 1000000000;
+  InterpolationFailure why = InterpolationFailure::kNone;
+  EXPECT_TRUE(InterpolateOdometry(
+      last_gap, last_gap.poses[1].stamp_ns + 1000, 0.5, nullptr));
+  EXPECT_FALSE(InterpolateOdometry(
+      last_gap, last_gap.poses.back().stamp_ns + 3000, 0.5, &why));
+  EXPECT_EQ(why, InterpolationFailure::kOutsideSpan);
 }
 
 TEST(AssociationOptions, CheckNamesTheField) {

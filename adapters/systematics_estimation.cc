@@ -139,7 +139,14 @@ SystematicsEstimate EstimateSystematics(
     estimate.search_range_s = options.time_offset_search_s;
   };
   if (!any || !planar) {
-    if (any) {
+    if (any && odometry.planar) {
+      // A planar log of fewer than 2 samples: nothing to estimate from.
+      const std::string why = "fewer than 2 odometry samples: not estimated";
+      if (options.estimate_time_offset) estimate.time_offset_reason = why;
+      if (options.estimate_odometry_intrinsics) {
+        estimate.intrinsics_reasons.push_back(why);
+      }
+    } else if (any) {
       // The refinement re-integrates SE(2) increments, so 3-D odometry keeps
       // the given values. The coarse search compares rotation angles, which
       // 3-D odometry has too: where it finds a peak the reason names it, so a

@@ -5,20 +5,23 @@
 // neighbours; at 8 cm spacing, k = 8 spans about +-30 cm, too short a
 // baseline for the mapper's initial pair (16 deg triangulation angle) and
 // for robust triangulation at room depths (measured in issue 18: 85 of 300
-// images registered). Here an image is paired along the path, on each side,
-// with its 4 nearest images in time and then with one image per baseline
-// level: the farthest image within max_distance_m / 2^k of path and
+// images registered). Here an image is paired with its 4 nearest images in
+// time on each side and, ahead of it along the path, with one image per
+// baseline level: the farthest image within max_distance_m / 2^k of path and
 // max_view_angle_deg / 2^k of accumulated turn, k = 0 .. baseline_levels-1
-// (e.g. 12.5, 25, 50, 100 cm). Geometric steps give every image short
-// baselines (reliable matches) and long ones (triangulation angle) at a
-// cost that does not grow with the frame rate: pairing with every image
-// within 1 m matched 27 pairs per image on the 300-image drive, this about
-// 6 (docs/benchmarks.md). The viewing directions of a pair differ by at most
-// max_view_angle_deg (the odometry's rotation between the two is the
-// camera's, whatever the mounting, so views that far apart still overlap
-// within a 60-90 deg field of view). Loop pairs: where the robot returns to
-// a place, images close in place and direction but far apart along the
-// path; one per image and visit, the closest.
+// (e.g. 12.5, 25, 50, 100 cm). The levels look ahead only: an image's
+// partners behind it are the images whose own levels chose it, the same
+// baselines where the spacing is even, fewer where it varies (measured
+// coverage in docs/benchmarks.md; a backward scan would add pairs). Geometric
+// steps give every image short baselines (reliable matches) and long ones
+// (triangulation angle) at a cost that does not grow with the frame rate:
+// pairing with every image within 1 m matched 27 pairs per image on the
+// 300-image drive, this about 6 (docs/benchmarks.md). The viewing directions of
+// a pair differ by at most max_view_angle_deg (the odometry's rotation between
+// the two is the camera's, whatever the mounting, so views that far apart still
+// overlap within a 60-90 deg field of view). Loop pairs: where the robot
+// returns to a place, images close in place and direction but far apart along
+// the path; one per image and visit, the closest.
 //
 // Initial pairs: in a stretch of images the mapper left unregistered, the
 // pair to start a model from, chosen from the odometry: a baseline long

@@ -987,13 +987,16 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       list << posed[a]->name << " " << posed[b]->name << "\n";
     }
     WriteFileAtomically((workspace / kOdometryPairsFile).string(), list.str());
-    progress.Note(2,
-                  std::to_string(pairs.size()) +
-                      " image pairs chosen from the odometry (up to " +
-                      FormatRounded(tuned.candidate_pairs.max_distance_m) +
-                      " m along the path, " +
-                      FormatRounded(tuned.candidate_pairs.max_view_angle_deg) +
-                      " deg of viewing direction, and loops)");
+    progress.Note(
+        2,
+        std::to_string(pairs.size()) +
+            " image pairs chosen from the odometry (the " +
+            std::to_string(tuned.candidate_pairs.min_neighbors_each_side) +
+            " nearest images on each side, baselines up to " +
+            FormatRounded(tuned.candidate_pairs.max_distance_m) +
+            " m along the path within " +
+            FormatRounded(tuned.candidate_pairs.max_view_angle_deg) +
+            " deg of viewing direction, and loops)");
   }
   std::vector<MatchingRound> rounds(1);
   rounds[0].database = database;

@@ -79,7 +79,8 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
       ChoiceRow<Run>(
           "matcher",
           "odometry: pairs along the odometry path at geometric "
-          "baselines up to 1 m within 30 deg, and loops; spatial: pairs "
+          "baselines up to 1 m, views at most half the field of view (and "
+          "30 deg) apart, and loops; spatial: pairs "
           "by odometry position (COLMAP 3.8 priors); sequential: by image "
           "name order",
           {"odometry", "spatial", "sequential"},

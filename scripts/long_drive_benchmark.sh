@@ -9,10 +9,11 @@
 #
 #   scripts/long_drive_benchmark.sh [--odomcal build/plugin/odomcal]
 #       [--out /tmp/odomcal_long] [--sizes "100 300 1000"] [--plain_colmap]
-#       [--seed 1] [--run_flags "--matcher odometry"]
+#       [--seed 1] [--run_flags "--matcher spatial"]
 # --run_flags: more flags for `odomcal run` (e.g. to compare the matchers;
 # give each variant its own --out).
 set -euo pipefail
+export LC_ALL=C  # `time` prints decimal points, which the parser expects
 
 odomcal=build/plugin/odomcal
 out=/tmp/odomcal_long
