@@ -85,8 +85,8 @@ for n in $sizes; do
   fi
   # Intrinsics of the preset (ground_truth.json camera.params).
   params=$(python3 -c "import json,sys; print(','.join(str(p) for p in json.load(open(sys.argv[1]))['camera']['params']))" "$data/ground_truth.json")
-  # Wall and CPU time (user + sys of all child processes: COLMAP's too). The
-  # CPU time changes little with the machine's load, the wall time a lot.
+  # Wall and CPU time (user + sys of all child processes: COLMAP's too). Both
+  # grow on a loaded machine (waiting threads spin): measure on an idle one.
   { time "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
       --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
       --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true; } \
