@@ -5,7 +5,7 @@
 #      every fuzz corpus replay under ASan/UBSan, then the CLI tests
 #      (cli_test, colmap_cli_test); any report fails the job (UBSan does not
 #      recover).
-#   2. Each fuzzer for ${ODOMCAL_FUZZ_SECONDS:-20} seconds on a COPY of its
+#   2. Each fuzzer for ${ODOMCAL_FUZZ_SECONDS:-15} seconds on a COPY of its
 #      checked-in corpus (tests/fuzz/corpus is never written here); a crash
 #      fails the job and its input is kept under <build dir>/fuzz/<target>/.
 # Benchmarks, the rendered e2e tests and paper_evaluation_test are not built
@@ -16,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir="${ODOMCAL_SANITIZE_BUILD_DIR:-build-sanitize}"
 jobs="${ODOMCAL_JOBS:-$(nproc)}"
-fuzz_seconds="${ODOMCAL_FUZZ_SECONDS:-20}"
+fuzz_seconds="${ODOMCAL_FUZZ_SECONDS:-15}"
 start=$(date +%s)
 ./scripts/install_deps.sh
 
