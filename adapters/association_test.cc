@@ -88,6 +88,20 @@ Trajectory StraightLine(int count, int64_t step_ns, double speed_mps) {
       /*planar=*/true);
 }
 
+// The odometry's pose at stamp_ns is the unicycle's, to rounding.
+void ExpectUnicyclePoseAt(const Trajectory& odometry,
+                          const Unicycle& unicycle,
+                          int64_t stamp_ns) {
+  SCOPED_TRACE(stamp_ns);
+  InterpolationFailure why = InterpolationFailure::kInGap;
+  const std::optional<Rigid3d> pose =
+      InterpolateOdometry(odometry, stamp_ns, 0.25, &why);
+  ASSERT_TRUE(pose.has_value());
+  EXPECT_EQ(why, InterpolationFailure::kNone);
+  ExpectRigidNear(
+      *pose, unicycle.PoseAt(SecondsSinceBase(stamp_ns)), kExactTolerance);
+}
+
 TEST(InterpolateOdometry, PlanarExactOnUnicycleArc) {
   // Turns through yaw = pi (wrap-around) within the samples.
   const Unicycle unicycle{Eigen::Vector2d(2.0, -1.0), 2.9, 1.5, 0.8};
@@ -96,15 +110,8 @@ TEST(InterpolateOdometry, PlanarExactOnUnicycleArc) {
       Sample([&](double t) { return unicycle.PoseAt(t); }, step_ns, 21, true);
   for (int i = 0; i < 20; ++i) {
     for (const int64_t within_ns : {step_ns / 2, step_ns / 3, int64_t{1}}) {
-      const int64_t stamp_ns = kBaseNs + i * step_ns + within_ns;
-      SCOPED_TRACE(stamp_ns);
-      InterpolationFailure why = InterpolationFailure::kInGap;
-      const std::optional<Rigid3d> pose =
-          InterpolateOdometry(odometry, stamp_ns, 0.25, &why);
-      ASSERT_TRUE(pose.has_value());
-      EXPECT_EQ(why, InterpolationFailure::kNone);
-      ExpectRigidNear(
-          *pose, unicycle.PoseAt(SecondsSinceBase(stamp_ns)), kExactTolerance);
+      ExpectUnicyclePoseAt(
+          odometry, unicycle, kBaseNs + i * step_ns + within_ns);
     }
   }
 }
@@ -244,15 +251,8 @@ TEST(InterpolateOdometry, ExtrapolatesATenthOfTheEndIntervalAtMost) {
                                  last_ns + step_ns / 10,
                                  first_ns - 3000,
                                  first_ns - step_ns / 10}) {
-    SCOPED_TRACE(stamp_ns);
-    InterpolationFailure why = InterpolationFailure::kInGap;
-    const std::optional<Rigid3d> pose =
-        InterpolateOdometry(odometry, stamp_ns, 0.25, &why);
-    ASSERT_TRUE(pose.has_value());
-    EXPECT_EQ(why, InterpolationFailure::kNone);
     // Exact: the unicycle keeps its velocity beyond the samples.
-    ExpectRigidNear(
-        *pose, unicycle.PoseAt(SecondsSinceBase(stamp_ns)), kExactTolerance);
+    ExpectUnicyclePoseAt(odometry, unicycle, stamp_ns);
   }
   for (const int64_t stamp_ns :
        {last_ns + step_ns / 10 + 1, first_ns - step_ns / 10 - 1}) {
