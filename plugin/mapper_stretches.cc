@@ -29,6 +29,37 @@ void CheckPositive(double value, const char* name) {
   }
 }
 
+// Loop partners of image i: the closest image of each later visit to its
+// place (in place and direction, far along the path). A visit ends where the
+// candidates are interrupted along the path.
+std::vector<int> ClosestOnEachLaterVisit(const std::vector<Rigid3d>& poses,
+                                         const std::vector<double>& path,
+                                         int i,
+                                         const CandidatePairOptions& options) {
+  std::vector<int> closest;
+  int best = -1, last = -1;
+  double best_distance = 0.0;
+  for (int j = i + 1; j < static_cast<int>(poses.size()); ++j) {
+    const double distance = Distance(poses[i], poses[j]);
+    if (path[j] - path[i] < options.loop_min_path_m ||
+        distance > options.loop_max_distance_m ||
+        TurnDeg(poses[i], poses[j]) > options.loop_max_view_angle_deg) {
+      continue;
+    }
+    if (last >= 0 && path[j] - path[last] > 2.0 * options.loop_max_distance_m) {
+      closest.push_back(best);
+      best = -1;
+    }
+    if (best < 0 || distance < best_distance) {
+      best = j;
+      best_distance = distance;
+    }
+    last = j;
+  }
+  if (best >= 0) closest.push_back(best);
+  return closest;
+}
+
 }  // namespace
 
 void CandidatePairOptions::Check() const {
@@ -74,10 +105,8 @@ std::vector<std::pair<int, int>> OdometryCandidatePairs(
           turn_along > options.max_view_angle_deg) {
         break;
       }
-      if (Distance(poses[i], poses[j]) > options.max_distance_m ||
-          TurnDeg(poses[i], poses[j]) > options.max_view_angle_deg) {
-        continue;
-      }
+      // The direct distance and turn are at most the accumulated ones, so
+      // the pair's views are within both limits.
       double reach = 1.0;  // of level k: 1 / 2^k
       for (int k = 0; k < options.baseline_levels; ++k, reach *= 0.5) {
         if (along <= reach * options.max_distance_m &&
@@ -89,29 +118,9 @@ std::vector<std::pair<int, int>> OdometryCandidatePairs(
     for (const int j : level_best) {
       if (j >= 0) pairs.emplace_back(i, j);
     }
-    // Loops: the closest image of each later visit to this place. A visit
-    // ends where the candidates are interrupted along the path.
-    int best = -1, last = -1;
-    double best_distance = 0.0;
-    for (int j = i + 1; j < n; ++j) {
-      const double distance = Distance(poses[i], poses[j]);
-      if (path[j] - path[i] < options.loop_min_path_m ||
-          distance > options.loop_max_distance_m ||
-          TurnDeg(poses[i], poses[j]) > options.loop_max_view_angle_deg) {
-        continue;
-      }
-      if (last >= 0 &&
-          path[j] - path[last] > 2.0 * options.loop_max_distance_m) {
-        pairs.emplace_back(i, best);
-        best = -1;
-      }
-      if (best < 0 || distance < best_distance) {
-        best = j;
-        best_distance = distance;
-      }
-      last = j;
+    for (const int j : ClosestOnEachLaterVisit(poses, path, i, options)) {
+      pairs.emplace_back(i, j);
     }
-    if (best >= 0) pairs.emplace_back(i, best);
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
