@@ -246,16 +246,20 @@ ColmapCalibrationRun CalibrateColmapProject(
     ++num_parts[input];
   std::map<int, int> next_part;
   std::map<int, ColmapModel> models;  // read once per sub-model
-  // (output segment, stamp) of the images in a used pair, and in a rejected
-  // one: an image only in rejected pairs is one the odometry contradicts (a
-  // misregistered image spoils both its pairs), so it is left out of the
-  // metric model, whose alignment it would bend too. Measured on `small`
-  // seed 2: the last image 97 mm off made the model's scale 0.42 % wrong.
+  // (output segment, stamp) of the images in a pair the odometry
+  // contradicts (ContradictsOdometry), and in any other: an image only in
+  // contradicted pairs is misregistered (it spoils both its pairs), so it is
+  // left out of the metric model, whose alignment it would bend too.
+  // Measured on `small` seed 2: the last image 97 mm off made the model's
+  // scale 0.42 % wrong. A pair beyond only the estimated noise (tenths of a
+  // degree) does not make its images wrong by that much.
   std::set<std::pair<int, int64_t>> confirmed, contradicted;
-  const std::vector<char>& used = result.diagnostics.inlier_mask;
+  const std::vector<char>& contradicts = run.check.contradicts_odometry;
   for (size_t p = 0; p < run.check.pairs.size(); ++p) {
     const MotionPair& pair = run.check.pairs[p];
-    auto& images = p < used.size() && used[p] != 0 ? confirmed : contradicted;
+    auto& images = p < contradicts.size() && contradicts[p] != 0
+                       ? contradicted
+                       : confirmed;
     images.insert({pair.segment, pair.stamp_i_ns});
     images.insert({pair.segment, pair.stamp_j_ns});
   }

@@ -59,10 +59,17 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
     attempt.pair_spans.emplace_back(pair.stamp_i_ns, pair.stamp_j_ns);
   }
   const std::vector<char>& used = check.result.diagnostics.inlier_mask;
-  int num_unused = 0;
+  int num_unused = 0, num_contradicting = 0;
   for (size_t k = 0; k < check.pairs.size() && attempt.pairs_tested; ++k) {
     if (check.result.has_estimate && k < used.size() && used[k] != 0) continue;
     ++num_unused;
+    // Another mapper run is worth it for what the odometry contradicts,
+    // not for a pair beyond only the noise estimated from the data.
+    if (check.result.has_estimate && k < check.contradicts_odometry.size() &&
+        check.contradicts_odometry[k] == 0) {
+      continue;
+    }
+    ++num_contradicting;
     attempt.contradicted_spans.emplace_back(check.pairs[k].stamp_i_ns,
                                             check.pairs[k].stamp_j_ns);
   }
@@ -72,7 +79,7 @@ MapperAttempt SummarizeMapperAttempt(int random_seed,
   attempt.num_pairs = num_calibrated + num_left_out;
   attempt.num_pairs_used =
       attempt.pairs_tested ? num_calibrated - num_unused : 0;
-  attempt.num_contradicting_pairs = num_unused + num_left_out;
+  attempt.num_contradicting_pairs = num_contradicting + num_left_out;
   attempt.num_pairs_left_out = num_left_out;
   return attempt;
 }

@@ -36,8 +36,9 @@ struct MapperAttempt {
   CalibrationStatus status = CalibrationStatus::kNotRun;  // on this model
   int num_pairs = 0;       // motion pairs the model gives
   int num_pairs_used = 0;  // in the final fit
-  // Pairs the odometry contradicts: rejected as outliers, or inside a
-  // stretch left out as folded.
+  // Pairs the odometry contradicts: rejected as outliers beyond RANSAC's
+  // gate (ContradictsOdometry, stretch_consistency.h), or inside a stretch
+  // left out as folded.
   int num_contradicting_pairs = 0;
   int num_pairs_left_out = 0;  // of those, in stretches left out as folded
   // Where: [first, last] stamp of each such pair or left-out stretch.

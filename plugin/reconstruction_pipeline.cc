@@ -204,9 +204,15 @@ std::string OdometryVerdict(const MapperAttempt& attempt) {
   if (!attempt.pairs_tested) {
     verdict = "none of " + std::to_string(attempt.num_pairs) +
               " motion pairs could be tested against the odometry";
-  } else if (attempt.num_contradicting_pairs == 0) {
+  } else if (attempt.num_contradicting_pairs == 0 &&
+             attempt.num_pairs_used == attempt.num_pairs) {
     verdict = "the odometry agrees with all " +
               std::to_string(attempt.num_pairs) + " motion pairs";
+  } else if (attempt.num_contradicting_pairs == 0) {
+    verdict = "the odometry contradicts none of " +
+              std::to_string(attempt.num_pairs) + " motion pairs (" +
+              std::to_string(attempt.num_pairs - attempt.num_pairs_used) +
+              " beyond only the noise estimated from the data)";
   } else {
     verdict = std::to_string(attempt.num_contradicting_pairs) + " of " +
               std::to_string(attempt.num_pairs) +

@@ -32,15 +32,37 @@ std::vector<PairMetricScale> PerPairMetricScalesOfFit(
                              fit.noise_estimate->noise);
 }
 
-// Runs of consecutive outliers (by time) within each input segment.
-std::vector<InconsistentStretch> FindOutlierRuns(
+// Per pair: ContradictsOdometry under `fit`.
+std::vector<char> ContradictingPairs(const MotionPairs& pairs,
+                                     const CalibrationResult& fit,
+                                     const CalibrationOptions& options) {
+  const std::vector<char>& used = fit.diagnostics.inlier_mask;
+  std::vector<char> contradicts(pairs.size(), 0);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    contradicts[i] = ContradictsOdometry(
+        pairs[i], i < used.size() && used[i] != 0, fit, options);
+  }
+  return contradicts;
+}
+
+// Runs of consecutive pairs (by time) the fit did not use, within each input
+// segment, that hold at least `min_run_pairs` pairs which contradict the
+// odometry. The run takes in the unused pairs around and between those: a
+// fold's edges degrade gradually (on the long drive, 0.05-0.5 deg and
+// 2-14 mm before the degrees-off pairs), and one pair in the middle that
+// happens to pass the gate does not split a fold in two.
+std::vector<InconsistentStretch> FindContradictingRuns(
     const MotionPairs& pairs,
-    const std::vector<char>& inliers,
+    const std::vector<char>& used,
+    const std::vector<char>& contradicts,
     int min_run_pairs) {
   std::map<int, std::vector<int>> by_segment;
   for (size_t i = 0; i < pairs.size(); ++i) {
     by_segment[pairs[i].segment].push_back(static_cast<int>(i));
   }
+  const auto is_used = [&](int i) {
+    return static_cast<size_t>(i) < used.size() && used[i] != 0;
+  };
   std::vector<InconsistentStretch> runs;
   for (auto& [segment, members] : by_segment) {
     std::stable_sort(members.begin(), members.end(), [&](int a, int b) {
@@ -48,13 +70,17 @@ std::vector<InconsistentStretch> FindOutlierRuns(
     });
     size_t k = 0;
     while (k < members.size()) {
-      if (inliers[members[k]]) {
+      if (is_used(members[k])) {
         ++k;
         continue;
       }
       size_t end = k;
-      while (end < members.size() && !inliers[members[end]]) ++end;
-      if (static_cast<int>(end - k) >= min_run_pairs) {
+      int num_contradicting = 0;
+      while (end < members.size() && !is_used(members[end])) {
+        num_contradicting += contradicts[members[end]] != 0;
+        ++end;
+      }
+      if (num_contradicting >= min_run_pairs) {
         InconsistentStretch run;
         run.input_segment = segment;
         run.first_pair = members[k];
@@ -377,6 +403,21 @@ void MeasureScaleDrifts(const CalibrationOptions& options,
 
 }  // namespace
 
+bool ContradictsOdometry(const MotionPair& pair,
+                         bool used,
+                         const CalibrationResult& fit,
+                         const CalibrationOptions& options) {
+  if (used) return false;
+  if (!fit.has_estimate) return true;
+  const size_t segment = static_cast<size_t>(pair.segment);
+  const double scale = segment < fit.metric_scales.size()
+                           ? fit.metric_scales[segment]
+                           : std::nan("");
+  // A segment without a scale explains none of its pairs.
+  return !(scale > 0.0) ||
+         !IsInlier(pair, fit.odom_from_cam, scale, options);
+}
+
 StretchCheckResult CalibrateWithStretchCheck(
     const MotionPairs& pairs,
     const CalibrationOptions& options,
@@ -391,17 +432,23 @@ StretchCheckResult CalibrateWithStretchCheck(
   }
   check.result = CalibrateOdomCam(pairs, options);
   if (!check.result.has_estimate || !options.use_ransac) {
+    check.contradicts_odometry =
+        ContradictingPairs(check.pairs, check.result, options);
     return check;
   }
-  check.stretches = FindOutlierRuns(pairs,
-                                    check.result.diagnostics.inlier_mask,
-                                    stretch_options.min_run_pairs);
+  check.stretches =
+      FindContradictingRuns(pairs,
+                            check.result.diagnostics.inlier_mask,
+                            ContradictingPairs(pairs, check.result, options),
+                            stretch_options.min_run_pairs);
   if (!check.stretches.empty())
     CutOutlierRuns(pairs, options, stretch_options, &check);
   if (stretch_options.check_scale_changes && check.result.has_estimate) {
     CutScaleChanges(options, stretch_options.scale_change, &check);
     if (!check.scale_changes.empty()) MeasureScaleDrifts(options, &check);
   }
+  check.contradicts_odometry =
+      ContradictingPairs(check.pairs, check.result, options);
   return check;
 }
 
