@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,51 @@ TEST(ColmapMetricExport, NamesTheImagesOutsideTheOdometrySpan) {
     EXPECT_EQ(std::count(outside.begin(), outside.end(), image.name), 0)
         << image.name << " exported";
   }
+}
+
+// COLMAP folded the model's last 30 images: the stretch is left out, and so
+// are its last image (only folded pairs hold it) and the image after its
+// last pair: both used to be exported with the nearest segment, 0.5 m off
+// on the rendered `small` scene.
+TEST(ColmapMetricExport, LeavesOutAFoldThatEndsTheModel) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("metric_export_fold_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  SimulatedColmapProjectOptions options;
+  options.duration_s = 20.0;
+  options.fold = true;
+  options.fold_at_end = true;
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject(dir.string(), options);
+
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  fs::remove_all(dir);
+  ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
+  ASSERT_EQ(run.check.stretches.size(), 1u);
+  const InconsistentStretch& fold = run.check.stretches[0];
+  EXPECT_FALSE(fold.kept_as_segment);
+  const Trajectory& camera = run.segments.at(0).trajectory;
+  const int64_t offset_ns = run.systematics.camera_time_offset_ns;
+  // Every image after the fold's first (the one a used pair shares with
+  // it) stays out, also those after its last pair; the images before it
+  // are exported.
+  std::set<std::string> exported;
+  for (const MetricSubModel& metric : run.metric_models) {
+    for (const auto& [id, image] : metric.model.images)
+      exported.insert(image.name);
+  }
+  const std::vector<std::string>& names = run.segments[0].image_names;
+  int num_before = 0;
+  for (size_t i = 0; i < camera.poses.size(); ++i) {
+    const int64_t stamp_ns = camera.poses[i].stamp_ns + offset_ns;
+    if (stamp_ns > fold.first_stamp_ns) {
+      EXPECT_EQ(exported.count(names[i]), 0u) << names[i] << " exported";
+    } else {
+      EXPECT_EQ(exported.count(names[i]), 1u) << names[i] << " left out";
+      ++num_before;
+    }
+  }
+  EXPECT_GT(num_before, 100);
 }
 
 }  // namespace

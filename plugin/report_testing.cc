@@ -62,13 +62,13 @@ ColmapCalibrationInputs WriteSimulatedColmapProject(
           growth;
     }
     world_from_cam.translation = drifted_position;
-    if (options.fold && i >= 100 && i < 130) {
-      world_from_cam.translation +=
-          Eigen::Vector3d(0.0, 0.0, 0.05 * (static_cast<double>(i) - 100.0));
+    const size_t fold_first = options.fold_at_end ? num_images - 30 : 100;
+    if (options.fold && i >= fold_first && i < fold_first + 30) {
+      const double k = static_cast<double>(i - fold_first);
+      world_from_cam.translation += Eigen::Vector3d(0.0, 0.0, 0.05 * k);
       world_from_cam.rotation =
-          world_from_cam.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
-                                        0.02 * (static_cast<double>(i) - 100.0),
-                                        Eigen::Vector3d::UnitX()));
+          world_from_cam.rotation *
+          Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitX()));
     }
     ColmapImage image;
     image.image_id = static_cast<uint32_t>(i + 1);

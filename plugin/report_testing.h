@@ -20,6 +20,9 @@ struct SimulatedColmapProjectOptions {
   // Images 100..129 of the sub-model bent out of the drive's path, as when
   // COLMAP folds a stretch: the odometry contradicts them.
   bool fold = false;
+  // The folded images are the sub-model's last 30 instead (the fold reaches
+  // its end).
+  bool fold_at_end = false;
   // COLMAP-like scale drift: the metric scale (m/unit) of the camera
   // positions grows linearly by this fraction from the first image to the
   // last (each step divided by the scale at its time), as an incremental

@@ -9,7 +9,12 @@
 #
 #   scripts/long_drive_benchmark.sh [--odomcal build/plugin/odomcal]
 #       [--out /tmp/odomcal_long] [--sizes "100 300 1000"] [--plain_colmap]
-#       [--seed 1] [--run_flags "--matcher spatial"]
+#       [--seed 1] [--run_flags "--matcher spatial"] [--plain_limit_s 2400]
+#       [--plain_only]
+# --plain_only: plain COLMAP only (implies --plain_colmap), e.g. after the
+# odomcal runs, for a separate measurement on an idle machine.
+# --plain_limit_s: stop plain COLMAP after this many seconds (0: never); its
+# wall time is then a lower bound (plain COLMAP on 1000 images takes hours).
 # --run_flags: more flags for `odomcal run` (e.g. to compare the matchers;
 # give each variant its own --out).
 set -euo pipefail
@@ -21,6 +26,8 @@ sizes="100 300 1000"
 plain=0
 seed=1
 run_flags=""
+plain_limit=0
+plain_only=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --odomcal) odomcal=$2; shift 2 ;;
@@ -29,6 +36,8 @@ while [[ $# -gt 0 ]]; do
     --seed) seed=$2; shift 2 ;;
     --plain_colmap) plain=1; shift ;;
     --run_flags) run_flags=$2; shift 2 ;;
+    --plain_limit_s) plain_limit=$2; shift 2 ;;
+    --plain_only) plain=1; plain_only=1; shift ;;
     *) echo "long_drive_benchmark.sh: error: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -77,6 +86,22 @@ print("%.0f s wall, %.0f s CPU, %.2f s/image wall" % (wall, user + system, wall 
 PY
 }
 
+# Plain COLMAP in workspace $1 on the images in $2 with intrinsics $3;
+# map.done marks a finished run.
+plain_colmap() {
+  colmap feature_extractor --database_path "$1/db.db" --image_path "$2" \
+    --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
+    --ImageReader.camera_params "$3" --SiftExtraction.use_gpu 0 \
+    --SiftExtraction.max_num_features 2048 > "$1/extract.log" 2>&1
+  colmap sequential_matcher --database_path "$1/db.db" --SiftMatching.use_gpu 0 \
+    > "$1/match.log" 2>&1
+  colmap mapper --database_path "$1/db.db" --image_path "$2" \
+    --output_path "$1/sparse" --Mapper.ba_refine_focal_length 0 \
+    --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
+    > "$1/map.log" 2>&1
+  touch "$1/map.done"
+}
+
 for n in $sizes; do
   data="$out/long_$n"
   if [[ ! -f "$data/ground_truth.json" ]]; then
@@ -87,33 +112,38 @@ for n in $sizes; do
   params=$(python3 -c "import json,sys; print(','.join(str(p) for p in json.load(open(sys.argv[1]))['camera']['params']))" "$data/ground_truth.json")
   # Wall and CPU time (user + sys of all child processes: COLMAP's too). Both
   # grow on a loaded machine (waiting threads spin): measure on an idle one.
-  { time "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
-      --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
-      --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true; } \
-    2> "$out/run_$n.time"
-  echo "== $n images: odomcal run $(seconds "$out/run_$n.time" "$n")"
-  # The stage lines: "[k/5] title ... note (12.3 s)"; in a log (not a
-  # terminal) COLMAP's progress lines come between title and "... note".
-  grep -E '^\[[0-9]/[0-9]\]|^ +\.\.\. |^odomcal run:' "$out/run_$n.log" | cut -c1-160 |
-    sed 's/^/  /' || true
-  echo "  $(summarize "$out/run_$n/calibration.json" "$data/ground_truth.json")"
+  if [[ $plain_only == 0 ]]; then
+    { time "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
+        --image_timestamps "$data/image_timestamps.csv" --camera_params "$params" \
+        --workspace_path "$out/run_$n" $run_flags > "$out/run_$n.log" 2>&1 || true; } \
+      2> "$out/run_$n.time"
+    echo "== $n images: odomcal run $(seconds "$out/run_$n.time" "$n")"
+    # The stage lines: "[k/5] title ... note (12.3 s)"; in a log (not a
+    # terminal) COLMAP's progress lines come between title and "... note".
+    grep -E '^\[[0-9]/[0-9]\]|^ +\.\.\. |^odomcal run:' "$out/run_$n.log" | cut -c1-160 |
+      sed 's/^/  /' || true
+    echo "  $(summarize "$out/run_$n/calibration.json" "$data/ground_truth.json")"
+  else
+    echo "== $n images"
+  fi
   if [[ $plain == 1 ]]; then
     # odomcal never writes into an input folder: the calibration goes next
     # to the COLMAP workspace, not inside it.
     ws="$out/plain_$n"
     rm -rf "$ws" "${ws}_calibration"; mkdir -p "$ws/sparse"
-    { time {
-      colmap feature_extractor --database_path "$ws/db.db" --image_path "$data/images" \
-        --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
-        --ImageReader.camera_params "$params" --SiftExtraction.use_gpu 0 \
-        --SiftExtraction.max_num_features 2048 > "$ws/extract.log" 2>&1
-      colmap sequential_matcher --database_path "$ws/db.db" --SiftMatching.use_gpu 0 \
-        > "$ws/match.log" 2>&1
-      colmap mapper --database_path "$ws/db.db" --image_path "$data/images" \
-        --output_path "$ws/sparse" --Mapper.ba_refine_focal_length 0 \
-        --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
-        > "$ws/map.log" 2>&1
-    } ; } 2> "$ws.time"
+    # timeout runs a program, not a shell function: the function's text
+    # goes along to a new bash.
+    rc=0
+    { time timeout "$plain_limit" bash -c "set -e; $(declare -f plain_colmap); plain_colmap \"\$@\"" \
+        _ "$ws" "$data/images" "$params" || rc=$?; } 2> "$ws.time"
+    stage=$(ls -t "$ws"/*.log | head -1 | xargs basename)
+    if [[ $rc == 124 ]]; then
+      echo "  plain COLMAP: stopped by --plain_limit_s after $(seconds "$ws.time" "$n") in $stage (its wall time is more: a lower bound)"
+      continue
+    elif [[ $rc != 0 ]]; then
+      echo "  plain COLMAP: failed (exit $rc) in $stage after $(seconds "$ws.time" "$n")"
+      continue
+    fi
     "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/db.db" \
       --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
       --output_path "${ws}_calibration" > "${ws}_calibrate.log" 2>&1 || true
