@@ -303,8 +303,12 @@ ColmapCalibrationRun CalibrateColmapProject(
     for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
       const StampedPose& pose = segment.trajectory.poses[i];
       const int64_t stamp = pose.stamp_ns + camera_time_offset_ns;
-      const std::vector<int> owners = OutputSegmentsOfImage(
-          run.check, spans, k, stamp, confirmed_in_input.count({k, stamp}) != 0);
+      const std::vector<int> owners =
+          OutputSegmentsOfImage(run.check,
+                                spans,
+                                k,
+                                stamp,
+                                confirmed_in_input.count({k, stamp}) != 0);
       if (std::find(owners.begin(), owners.end(), static_cast<int>(output)) ==
           owners.end()) {
         continue;

@@ -33,9 +33,9 @@ bool Has(const Pairs& pairs, int i, int j) {
   return false;
 }
 
-// Along a straight drive of 8 cm steps an image is paired with its 4
-// nearest images on each side and with the farthest within 50 and 100 cm:
-// 6 and 12 images away (within 12.5 and 25 cm: near ones again).
+// Along a straight drive of 8 cm steps an image is paired with its 6
+// nearest images on each side and with the farthest within 100 cm: 12
+// images away (within 12.5, 25 and 50 cm: near ones again).
 TEST(OdometryCandidatePairs, PairsAtGeometricBaselinesOnBothSides) {
   const int n = 40;
   const Pairs pairs = OdometryCandidatePairs(Straight(n));
@@ -46,12 +46,13 @@ TEST(OdometryCandidatePairs, PairsAtGeometricBaselinesOnBothSides) {
   }
   std::sort(partners.begin(), partners.end());
   EXPECT_EQ(partners,
-            (std::vector<int>{8, 14, 16, 17, 18, 19, 21, 22, 23, 24, 26, 32}));
+            (std::vector<int>{
+                8, 14, 15, 16, 17, 18, 19, 21, 22, 23, 24, 25, 26, 32}));
   // Near the end the levels take the last images there are.
   EXPECT_TRUE(Has(pairs, 35, 39));
-  // 6 pairs per image, not the 12 within 1 m.
-  EXPECT_LE(pairs.size(), 6u * n);
-  EXPECT_GE(pairs.size(), 5u * n);
+  // 7 pairs per image, not the 12 within 1 m.
+  EXPECT_LE(pairs.size(), 7u * n);
+  EXPECT_GE(pairs.size(), 6u * n);
 }
 
 // Turning in place: close in place but looking elsewhere is no pair,
@@ -61,9 +62,9 @@ TEST(OdometryCandidatePairs, ViewingDirectionsTooFarApartAreNotPaired) {
   for (int i = 0; i < 12; ++i) poses.push_back(Planar(0, 0, 20.0 * i));
   const Pairs pairs = OdometryCandidatePairs(poses);
   EXPECT_TRUE(Has(pairs, 0, 1));  // 20 deg
-  EXPECT_TRUE(Has(pairs, 0, 4));  // 80 deg, but a nearest neighbour
-  EXPECT_FALSE(Has(pairs, 0, 5));
-  EXPECT_EQ(pairs.size(), 11u + 10u + 9u + 8u);
+  EXPECT_TRUE(Has(pairs, 0, 6));  // 120 deg, but a nearest neighbour
+  EXPECT_FALSE(Has(pairs, 0, 7));
+  EXPECT_EQ(pairs.size(), 6u * 6u + 5u + 4u + 3u + 2u + 1u);
 }
 
 // A 4 m square driven once and back to the start: the last images are
@@ -91,9 +92,9 @@ TEST(OdometryCandidatePairs, ALoopPairsTheReturnWithTheStart) {
   EXPECT_FALSE(Has(OdometryCandidatePairs(poses, no_loops), 0, last));
 }
 
-// The square driven twice (0.2 m steps): the start is paired with its 4
-// neighbours, the farthest within 1 m (5), and once with each return to it,
-// the closest image of that visit (80, 160), not all images within 0.5 m.
+// The square driven twice (0.2 m steps): the start is paired with its 6
+// neighbours (the farthest within 1 m among them), and once with each return to
+// it, the closest image of that visit (80, 160), not all images within 0.5 m.
 TEST(OdometryCandidatePairs, OneLoopPairPerVisit) {
   std::vector<Rigid3d> poses;
   for (int lap = 0; lap < 2; ++lap) {
@@ -112,7 +113,7 @@ TEST(OdometryCandidatePairs, OneLoopPairPerVisit) {
   for (const auto& [i, j] : pairs) {
     if (i == 0) partners.push_back(j);
   }
-  EXPECT_EQ(partners, (std::vector<int>{1, 2, 3, 4, 5, 80, 160}));
+  EXPECT_EQ(partners, (std::vector<int>{1, 2, 3, 4, 5, 6, 80, 160}));
 }
 
 TEST(OdometryCandidatePairs, BadOptionsNameTheField) {

@@ -67,8 +67,8 @@ ColmapCalibrationInputs WriteSimulatedColmapProject(
       const double k = static_cast<double>(i - fold_first);
       world_from_cam.translation += Eigen::Vector3d(0.0, 0.0, 0.05 * k);
       world_from_cam.rotation =
-          world_from_cam.rotation *
-          Eigen::Quaterniond(Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitX()));
+          world_from_cam.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
+                                        0.02 * k, Eigen::Vector3d::UnitX()));
     }
     ColmapImage image;
     image.image_id = static_cast<uint32_t>(i + 1);

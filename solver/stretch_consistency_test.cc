@@ -106,8 +106,9 @@ TEST(CalibrateWithStretchCheck, CutsOnlyWhereTheOdometryIsContradicted) {
       SimulateMotions(outliers, truth.odom_from_cam, truth.metric_scales, &rng);
   const auto tilt = [&](int i, double degrees) {
     Eigen::Quaterniond& rotation = truth.pairs[i].cam_i_from_cam_j.rotation;
-    rotation = rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
-                              degrees * M_PI / 180.0, Eigen::Vector3d::UnitX()));
+    rotation =
+        rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
+                       degrees * M_PI / 180.0, Eigen::Vector3d::UnitX()));
   };
   for (int i = 20; i < 30; ++i) tilt(i, 0.4);
   for (int i = 60; i < 70; ++i) {
