@@ -414,8 +414,7 @@ bool ContradictsOdometry(const MotionPair& pair,
                            ? fit.metric_scales[segment]
                            : std::nan("");
   // A segment without a scale explains none of its pairs.
-  return !(scale > 0.0) ||
-         !IsInlier(pair, fit.odom_from_cam, scale, options);
+  return !(scale > 0.0) || !IsInlier(pair, fit.odom_from_cam, scale, options);
 }
 
 StretchCheckResult CalibrateWithStretchCheck(

@@ -8,8 +8,8 @@
 // contradict the odometry (ContradictsOdometry) inside a segment, and cuts
 // the segment there: the run is tested on its own (with its own scale) and
 // kept as a separate segment when it is self-consistent (a part at another
-// scale), otherwise dropped (a folded part); the pairs after a run continue as a new
-// segment, since the scale may have changed across it. The calibration is
+// scale), otherwise dropped (a folded part); the pairs after a run continue as
+// a new segment, since the scale may have changed across it. The calibration is
 // then repeated on the relabelled pairs. Last, the step-length check of
 // scale_consistency.h cuts segments whose scale changes along the path (SfM
 // scale drift) into parts with scales of their own, and calibrates again.
