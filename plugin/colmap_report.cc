@@ -468,7 +468,8 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                           "determine the rotation "
                           "and x/y of the extrinsic. Blue: used in the "
                           "calibration; orange: not "
-                          "used (a RANSAC outlier, or left out with a "
+                          "used (outside RANSAC's gate or beyond the noise "
+                          "estimated from the data, or left out with a "
                           "contradicting stretch).")
        << figure_html(
               consistency,

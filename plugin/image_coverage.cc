@@ -106,11 +106,15 @@ std::set<std::string> RegisteredImages(const ColmapCalibrationRun& run) {
 
 std::set<std::string> ImagesInCalibration(const ColmapCalibrationRun& run,
                                           int64_t camera_time_offset_ns) {
-  // Per input segment, the odometry-time spans of the pairs used.
+  // Per input segment, the odometry-time spans of the pairs calibrated that
+  // the odometry does not contradict.
   std::vector<std::vector<std::pair<int64_t, int64_t>>> spans(
       run.segments.size());
   const auto& input_of = run.check.input_segment_of_output_segment;
-  for (const MotionPair& pair : run.check.pairs) {
+  const std::vector<char>& contradicts = run.check.contradicts_odometry;
+  for (size_t p = 0; p < run.check.pairs.size(); ++p) {
+    const MotionPair& pair = run.check.pairs[p];
+    if (p < contradicts.size() && contradicts[p] != 0) continue;
     if (pair.segment < 0 || pair.segment >= static_cast<int>(input_of.size()))
       continue;
     const int input = input_of[pair.segment];

@@ -1,8 +1,9 @@
 // How much of a drive made it into the calibration: of the images selected
 // for COLMAP, how many were registered and associated with the odometry
-// inside motion pairs the calibration used, per stretch of the drive and
-// overall. A model that registers 85 of 300 images still calibrates "from 51
-// of 51 motion pairs"; this is what says that it covers 28 % of the drive.
+// inside motion pairs of the calibration that the odometry does not
+// contradict, per stretch of the drive and overall. A model that registers 85
+// of 300 images still calibrates "from 51 of 51 motion pairs"; this is what
+// says that it covers 28 % of the drive.
 #pragma once
 
 #include "odomcal/adapters/frame_selection.h"
@@ -61,8 +62,10 @@ ImageCoverage SummarizeImageCoverage(
 std::set<std::string> RegisteredImages(const ColmapCalibrationRun& run);
 
 // Names of the registered images whose odometry time (image time +
-// camera_time_offset_ns) lies within a motion pair the calibration used, of
-// the sub-model they were registered in.
+// camera_time_offset_ns) lies within a motion pair of the calibration that
+// the odometry does not contradict (ContradictsOdometry: a pair used, or
+// one beyond only the noise estimated from the data), of the sub-model
+// they were registered in.
 std::set<std::string> ImagesInCalibration(const ColmapCalibrationRun& run,
                                           int64_t camera_time_offset_ns);
 

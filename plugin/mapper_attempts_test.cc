@@ -1,6 +1,7 @@
 #include "odomcal/plugin/mapper_attempts.h"
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/noise_estimation.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
@@ -76,6 +77,35 @@ TEST_F(MapperAttemptsTest, AcceptsAModelTheOdometryAgreesWith) {
   EXPECT_EQ(attempt.num_pairs, 40);
   EXPECT_EQ(attempt.num_pairs_used, 40);
   EXPECT_EQ(attempt.num_contradicting_pairs, 0);
+  EXPECT_TRUE(OdometryAcceptsModel(attempt));
+}
+
+// Two pairs 0.4 deg off, where the rest agree to a hundredth of that: beyond
+// the noise estimated from the data (not used) but inside RANSAC's gate. A
+// new mapper run would not be worth it: the model is accepted.
+TEST_F(MapperAttemptsTest, AcceptsPairsBeyondOnlyTheEstimatedNoise) {
+  auto rng = SeededRng(91);
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 40;
+  simulation.add_noise = true;
+  simulation.noise = ScaleNoise(NoiseModel(), {0.01, 0.01, 0.01, 0.01});
+  SimulatedMotions motions = SimulateMotions(simulation, &rng);
+  for (const int i : {11, 27}) {
+    Eigen::Quaterniond& rotation = motions.pairs[i].cam_i_from_cam_j.rotation;
+    rotation = rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
+                              0.4 * M_PI / 180.0, Eigen::Vector3d::UnitX()));
+  }
+  CalibrationOptions options;  // the given noise 10x the data's
+  options.fixed_translation_z_m = motions.odom_from_cam.translation.z();
+  const StretchCheckResult check =
+      CalibrateWithStretchCheck(motions.pairs, options, StretchOptions());
+  ASSERT_TRUE(check.result.IsSuccess()) << check.result.message;
+  const MapperAttempt attempt =
+      SummarizeMapperAttempt(0, "sparse", OneSubModel(41), check);
+  EXPECT_EQ(attempt.num_pairs, 40);
+  EXPECT_EQ(attempt.num_pairs_used, 38);
+  EXPECT_EQ(attempt.num_contradicting_pairs, 0);
+  EXPECT_TRUE(attempt.contradicted_spans.empty());
   EXPECT_TRUE(OdometryAcceptsModel(attempt));
 }
 

@@ -87,8 +87,9 @@ const OptionTable<StretchOptions>& StretchFlags() {
   static const OptionTable<StretchOptions> table = {
       NumberRow<StretchOptions>(
           "min_inconsistent_run_pairs",
-          "consecutive motion pairs contradicting the odometry that make a "
-          "stretch to cut out or split off",
+          "motion pairs contradicting the odometry (outside RANSAC's gate "
+          "under the fit) within a run of consecutive unused pairs that make "
+          "the run a stretch to cut out or split off",
           [](auto& o) -> auto& { return o.min_run_pairs; },
           FlagCheck::AtLeast(1)),
   };

@@ -196,9 +196,11 @@ void CheckImagesWereRead(const std::string& database,
   }
 }
 
-// "the odometry agrees with all 34 motion pairs", "2 of 34 motion pairs
-// contradict the odometry", "none of 34 motion pairs could be tested" (too
-// little motion), with the calibration status when it gave no answer.
+// "the odometry agrees with all 34 motion pairs", "no motion pair
+// contradicts the odometry (2 of 34 not used, within RANSAC's gate)", "2 of
+// 34 motion pairs contradict the odometry", "none of 34 motion pairs could
+// be tested" (too little motion), with the calibration status when it gave
+// no answer.
 std::string OdometryVerdict(const MapperAttempt& attempt) {
   std::string verdict;
   if (!attempt.pairs_tested) {
@@ -209,10 +211,10 @@ std::string OdometryVerdict(const MapperAttempt& attempt) {
     verdict = "the odometry agrees with all " +
               std::to_string(attempt.num_pairs) + " motion pairs";
   } else if (attempt.num_contradicting_pairs == 0) {
-    verdict = "the odometry contradicts none of " +
-              std::to_string(attempt.num_pairs) + " motion pairs (" +
+    verdict = "no motion pair contradicts the odometry (" +
               std::to_string(attempt.num_pairs - attempt.num_pairs_used) +
-              " beyond only the noise estimated from the data)";
+              " of " + std::to_string(attempt.num_pairs) +
+              " not used, within RANSAC's gate)";
   } else {
     verdict = std::to_string(attempt.num_contradicting_pairs) + " of " +
               std::to_string(attempt.num_pairs) +

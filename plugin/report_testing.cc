@@ -62,7 +62,8 @@ ColmapCalibrationInputs WriteSimulatedColmapProject(
           growth;
     }
     world_from_cam.translation = drifted_position;
-    const size_t fold_first = options.fold_at_end ? num_images - 30 : 100;
+    const size_t fold_first =
+        options.fold_at_end ? (num_images > 30 ? num_images - 30 : 0) : 100;
     if (options.fold && i >= fold_first && i < fold_first + 30) {
       const double k = static_cast<double>(i - fold_first);
       world_from_cam.translation += Eigen::Vector3d(0.0, 0.0, 0.05 * k);

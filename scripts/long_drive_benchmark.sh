@@ -86,8 +86,7 @@ print("%.0f s wall, %.0f s CPU, %.2f s/image wall" % (wall, user + system, wall 
 PY
 }
 
-# Plain COLMAP in workspace $1 on the images in $2 with intrinsics $3;
-# map.done marks a finished run.
+# Plain COLMAP in workspace $1 on the images in $2 with intrinsics $3.
 plain_colmap() {
   colmap feature_extractor --database_path "$1/db.db" --image_path "$2" \
     --ImageReader.single_camera 1 --ImageReader.camera_model PINHOLE \
@@ -99,7 +98,6 @@ plain_colmap() {
     --output_path "$1/sparse" --Mapper.ba_refine_focal_length 0 \
     --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
     > "$1/map.log" 2>&1
-  touch "$1/map.done"
 }
 
 for n in $sizes; do
@@ -133,10 +131,18 @@ for n in $sizes; do
     rm -rf "$ws" "${ws}_calibration"; mkdir -p "$ws/sparse"
     # timeout runs a program, not a shell function: the function's text
     # goes along to a new bash.
+    # timeout puts COLMAP in a process group of its own, which a Ctrl-C on
+    # the terminal does not reach: the trap passes it on (timeout forwards
+    # the signal to its group).
+    timeout "$plain_limit" bash -c "set -e; $(declare -f plain_colmap); plain_colmap \"\$@\"" \
+      _ "$ws" "$data/images" "$params" &
+    plain_pid=$!
+    trap 'kill -TERM "$plain_pid" 2> /dev/null; exit 130' INT TERM
     rc=0
-    { time timeout "$plain_limit" bash -c "set -e; $(declare -f plain_colmap); plain_colmap \"\$@\"" \
-        _ "$ws" "$data/images" "$params" || rc=$?; } 2> "$ws.time"
-    stage=$(ls -t "$ws"/*.log | head -1 | xargs basename)
+    { time wait "$plain_pid" || rc=$?; } 2> "$ws.time"
+    trap - INT TERM
+    last_log=$(ls -t "$ws"/*.log 2> /dev/null | head -1 || true)
+    stage=${last_log##*/}
     if [[ $rc == 124 ]]; then
       echo "  plain COLMAP: stopped by --plain_limit_s after $(seconds "$ws.time" "$n") in $stage (its wall time is more: a lower bound)"
       continue

@@ -167,8 +167,11 @@ void CutOutlierRuns(const MotionPairs& pairs,
                     const CalibrationOptions& options,
                     const StretchOptions& stretch_options,
                     StretchCheckResult* check) {
-  // Each run is judged under the noise its outliers were found under: the
-  // one the fit estimated from the data, when it did.
+  // Runs are found with RANSAC's gate, but whether one is a part at another
+  // scale is judged under the noise the fit estimated from the data, when it
+  // did (stricter): a run kept as a segment re-enters the fit, so it must
+  // fit its own scale as well as the rest fit theirs. A run in doubt is
+  // dropped: less coverage, not a bent extrinsic.
   const MotionPairs* judged_pairs = &pairs;
   CalibrationOptions judged_options = options;
   MotionPairs weighted_pairs;

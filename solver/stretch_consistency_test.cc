@@ -92,7 +92,7 @@ TEST(CalibrateWithStretchCheck, LeavesConsistentDataAlone) {
 // gate: its pairs are not used, yet they do not contradict the odometry, so
 // the segment is not cut there (a cut would leave the run a segment of its
 // own whose scale 10 pairs barely determine). Such pairs at the edges and
-// in the middle of a fold (pairs 60-69 wrong) go with the fold.
+// in the middle of a fold (pairs 60-69 wrong but 65) go with the fold.
 TEST(CalibrateWithStretchCheck, CutsOnlyWhereTheOdometryIsContradicted) {
   auto rng = SeededRng(73);
   MotionSimulatorOptions simulation;
@@ -112,6 +112,7 @@ TEST(CalibrateWithStretchCheck, CutsOnlyWhereTheOdometryIsContradicted) {
   };
   for (int i = 20; i < 30; ++i) tilt(i, 0.4);
   for (int i = 60; i < 70; ++i) {
+    if (i == 65) continue;  // one right pair in the middle of the fold
     truth.pairs[i].cam_i_from_cam_j = folded.pairs[i].cam_i_from_cam_j;
   }
   for (const int i : {58, 59, 65, 70, 71}) tilt(i, 0.4);
