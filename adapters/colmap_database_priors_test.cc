@@ -27,6 +27,8 @@ std::string MakeDatabase(const std::string& schema) {
       fs::path(::testing::TempDir()) /
       (std::string("priors_") +
        ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db");
+  // TEST_TMPDIR need not exist yet (the first test to run creates it).
+  fs::create_directories(path.parent_path());
   fs::remove(path);
   sqlite3* db = nullptr;
   EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
