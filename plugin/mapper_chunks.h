@@ -21,7 +21,7 @@
 namespace odomcal {
 
 struct ChunkOptions {
-  int max_images = 200;  // 0: no chunks (one model of all images)
+  int max_images = 100;  // 0: no chunks (one model of all images)
   int overlap = 25;      // images shared by consecutive chunks
   void Check() const;    // throws std::invalid_argument naming the field
 };

@@ -8,49 +8,64 @@
 namespace odomcal {
 namespace {
 
+// The split's arithmetic with chunks of at most 200 images sharing 25 (the
+// default until session 13; the default is 100 now, benchmarks.md).
+ChunkOptions TwoHundredImageChunks() {
+  ChunkOptions options;
+  options.max_images = 200;
+  options.overlap = 25;
+  return options;
+}
+
 TEST(SplitIntoChunks, DriveThatFitsIsOneChunk) {
-  ChunkOptions options;  // 200 images, 25 shared
+  ChunkOptions options = TwoHundredImageChunks();
   const std::vector<MapperChunk> chunks = SplitIntoChunks(200, options);
   ASSERT_EQ(chunks.size(), 1u);
   EXPECT_EQ(chunks[0].first, 0);
   EXPECT_EQ(chunks[0].last, 199);
   EXPECT_EQ(chunks[0].own_first, 0);
   EXPECT_EQ(chunks[0].own_last, 199);
+  EXPECT_EQ(SplitIntoChunks(100, ChunkOptions()).size(), 1u);  // the default
+  EXPECT_EQ(SplitIntoChunks(101, ChunkOptions()).size(), 2u);
   options.max_images = 0;  // off
   EXPECT_EQ(SplitIntoChunks(5000, options).size(), 1u);
   EXPECT_TRUE(SplitIntoChunks(0, ChunkOptions()).empty());
 }
 
 TEST(SplitIntoChunks, CoversTheDriveWithBoundedOverlappingChunks) {
-  for (const int num_images : {201, 300, 376, 377, 999, 1000, 4321}) {
-    SCOPED_TRACE(num_images);
-    const ChunkOptions options;
-    const std::vector<MapperChunk> chunks =
-        SplitIntoChunks(num_images, options);
-    // The fewest chunks of at most 200 images sharing 25: ceil((n - 25) /
-    // 175).
-    EXPECT_EQ(static_cast<int>(chunks.size()), (num_images - 25 + 174) / 175);
-    EXPECT_EQ(chunks.front().first, 0);
-    EXPECT_EQ(chunks.back().last, num_images - 1);
-    EXPECT_EQ(chunks.front().own_first, 0);
-    EXPECT_EQ(chunks.back().own_last, num_images - 1);
-    for (size_t k = 0; k < chunks.size(); ++k) {
-      const MapperChunk& c = chunks[k];
-      EXPECT_LE(c.last - c.first + 1, options.max_images);
-      EXPECT_LE(c.first, c.own_first);
-      EXPECT_LT(c.own_first, c.own_last);
-      EXPECT_LE(c.own_last, c.last);
-      if (k == 0) continue;
-      const MapperChunk& previous = chunks[k - 1];
-      EXPECT_GE(previous.last - c.first + 1, options.overlap);
-      // Own ranges share exactly one image: every motion pair once.
-      EXPECT_EQ(previous.own_last, c.own_first);
+  for (const ChunkOptions& options : {TwoHundredImageChunks(), ChunkOptions()})
+    for (const int num_images : {201, 300, 376, 377, 855, 999, 1000, 4321}) {
+      SCOPED_TRACE(std::to_string(num_images) + " images, chunks of " +
+                   std::to_string(options.max_images));
+      const std::vector<MapperChunk> chunks =
+          SplitIntoChunks(num_images, options);
+      // The fewest chunks of at most s images sharing o: ceil((n - o) /
+      // (s - o)).
+      const int step = options.max_images - options.overlap;
+      EXPECT_EQ(static_cast<int>(chunks.size()),
+                (num_images - options.overlap + step - 1) / step);
+      EXPECT_EQ(chunks.front().first, 0);
+      EXPECT_EQ(chunks.back().last, num_images - 1);
+      EXPECT_EQ(chunks.front().own_first, 0);
+      EXPECT_EQ(chunks.back().own_last, num_images - 1);
+      for (size_t k = 0; k < chunks.size(); ++k) {
+        const MapperChunk& c = chunks[k];
+        EXPECT_LE(c.last - c.first + 1, options.max_images);
+        EXPECT_LE(c.first, c.own_first);
+        EXPECT_LT(c.own_first, c.own_last);
+        EXPECT_LE(c.own_last, c.last);
+        if (k == 0) continue;
+        const MapperChunk& previous = chunks[k - 1];
+        EXPECT_GE(previous.last - c.first + 1, options.overlap);
+        // Own ranges share exactly one image: every motion pair once.
+        EXPECT_EQ(previous.own_last, c.own_first);
+      }
     }
-  }
 }
 
 TEST(SplitIntoChunks, ThreeHundredImagesAreTwoEqualChunks) {
-  const std::vector<MapperChunk> chunks = SplitIntoChunks(300, ChunkOptions());
+  const std::vector<MapperChunk> chunks =
+      SplitIntoChunks(300, TwoHundredImageChunks());
   ASSERT_EQ(chunks.size(), 2u);
   // 2 s - 25 >= 300: s = 163 (+1 for the rounding of the starts).
   EXPECT_EQ(chunks[0].first, 0);
@@ -59,6 +74,18 @@ TEST(SplitIntoChunks, ThreeHundredImagesAreTwoEqualChunks) {
   EXPECT_EQ(chunks[1].last, 299);
   EXPECT_EQ(chunks[0].own_last, 149);
   EXPECT_EQ(chunks[1].own_first, 149);
+}
+
+// The default on the rendered 1000-image drive's 855 selected images
+// (benchmarks.md, session 13): 12 chunks of 96, each owning about 70.
+TEST(SplitIntoChunks, DefaultChunksOfTheThousandImageDrive) {
+  const std::vector<MapperChunk> chunks = SplitIntoChunks(855, ChunkOptions());
+  ASSERT_EQ(chunks.size(), 12u);
+  for (const MapperChunk& chunk : chunks) {
+    EXPECT_EQ(chunk.last - chunk.first + 1, 96);
+  }
+  EXPECT_EQ(chunks[1].first, 69);
+  EXPECT_EQ(chunks.back().last, 854);
 }
 
 TEST(SplitIntoChunks, RejectsBadOptions) {
