@@ -152,5 +152,65 @@ TEST(ColmapMetricExport, LeavesOutAFoldThatEndsTheModel) {
   EXPECT_GT(num_before, 100);
 }
 
+// Every image a model exports, by name.
+std::set<std::string> ExportedImages(const ColmapCalibrationRun& run) {
+  std::set<std::string> exported;
+  for (const MetricSubModel& metric : run.metric_models) {
+    for (const auto& [id, image] : metric.model.images)
+      exported.insert(image.name);
+  }
+  return exported;
+}
+
+// COLMAP registered one image between two keyframes 100 deg off: no motion
+// pair holds it, so only its motion from the nearest keyframe shows it (the
+// rendered 1 000-image drive exported such an image). It is left out and
+// named; the same drive without it exports every image.
+TEST(ColmapMetricExport, LeavesOutAMisregisteredImageBetweenKeyframes) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("metric_export_between_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  SimulatedColmapProjectOptions options;
+  options.duration_s = 20.0;
+  const ColmapCalibrationRun clean = CalibrateColmapProject(
+      WriteSimulatedColmapProject(dir.string(), options));
+  ASSERT_TRUE(clean.check.result.IsSuccess()) << clean.check.result.message;
+  const std::vector<std::string>& names = clean.segments.at(0).image_names;
+  EXPECT_EQ(ExportedImages(clean).size(), names.size());
+  // An image in the middle of the drive that is no keyframe.
+  const Trajectory& camera = clean.segments.at(0).trajectory;
+  const std::vector<int64_t>& keyframes = clean.association.keyframe_stamps_ns;
+  const int64_t offset_ns = clean.systematics.camera_time_offset_ns;
+  int between = -1;
+  for (size_t i = camera.poses.size() / 2; i < camera.poses.size(); ++i) {
+    if (std::count(keyframes.begin(),
+                   keyframes.end(),
+                   camera.poses[i].stamp_ns + offset_ns) == 0) {
+      between = static_cast<int>(i);
+      break;
+    }
+  }
+  ASSERT_GE(between, 0) << "every image is a keyframe";
+
+  fs::remove_all(dir);
+  options.misregistered_image = between;
+  const ColmapCalibrationRun run = CalibrateColmapProject(
+      WriteSimulatedColmapProject(dir.string(), options));
+  fs::remove_all(dir);
+  ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
+  const std::set<std::string> exported = ExportedImages(run);
+  EXPECT_EQ(exported.count(names[between]), 0u) << names[between];
+  EXPECT_EQ(exported.size(), names.size() - 1);
+  const std::vector<std::string>& warnings = run.check.result.warnings;
+  EXPECT_EQ(std::count(warnings.begin(),
+                       warnings.end(),
+                       "sparse_metric/0: left out 1 image between keyframes "
+                       "whose motion from the nearest keyframe the odometry "
+                       "contradicts (" +
+                           names[between] + ")"),
+            1)
+      << ::testing::PrintToString(warnings);
+}
+
 }  // namespace
 }  // namespace odomcal

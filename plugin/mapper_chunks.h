@@ -6,9 +6,11 @@
 // share `overlap` images with the next, and each chunk is mapped by
 // `colmap mapper` on its own (--image_list_path, the same database). Each
 // chunk's model is a sub-model of its own: a segment with its own scale in
-// the calibration, as the mapper's own sub-models are. Time per image stays
-// flat and memory is bounded by one chunk's model; COLMAP can map the
-// chunks on several machines, as they are independent.
+// the calibration, as the mapper's own sub-models are. The mapper's cost is
+// bounded per chunk (not per image: a chunk whose points are tracked over
+// many images costs several times the others, docs/benchmarks.md) and
+// memory by one chunk's model; COLMAP can map the chunks on several
+// machines, as they are independent.
 //
 // The overlap lets each chunk's ends be mapped with the views around them;
 // for the calibration every chunk keeps only its own images (ChunkOwnRange)

@@ -6,6 +6,7 @@
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/cli_flags.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <cstdio>
@@ -70,6 +71,13 @@ ColmapCalibrationInputs WriteSimulatedColmapProject(
       world_from_cam.rotation =
           world_from_cam.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(
                                         0.02 * k, Eigen::Vector3d::UnitX()));
+    }
+    if (static_cast<int>(i) == options.misregistered_image) {
+      world_from_cam.translation += Eigen::Vector3d(0.5, 0.0, 0.0);
+      world_from_cam.rotation =
+          world_from_cam.rotation *
+          Eigen::Quaterniond(
+              Eigen::AngleAxisd(100.0 * kDegToRad, Eigen::Vector3d::UnitX()));
     }
     ColmapImage image;
     image.image_id = static_cast<uint32_t>(i + 1);

@@ -23,6 +23,10 @@ struct SimulatedColmapProjectOptions {
   // The folded images are the sub-model's last 30 instead (the fold reaches
   // its end).
   bool fold_at_end = false;
+  // Image of the sub-model (by index; -1: none) registered rotated by 100 deg
+  // about the camera's x axis and 0.5 m off, as COLMAP misregisters one
+  // image of a stretch it otherwise gets right.
+  int misregistered_image = -1;
   // COLMAP-like scale drift: the metric scale (m/unit) of the camera
   // positions grows linearly by this fraction from the first image to the
   // last (each step divided by the scale at its time), as an incremental

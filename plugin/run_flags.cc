@@ -158,7 +158,7 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
             "chunk_images",
             "drives of more selected images are mapped in chunks of at most "
             "this many, sharing 25 images, each a sub-model with its own "
-            "scale (time per image stays flat); 0: one model",
+            "scale (the mapper's cost bounded per chunk); 0: one model",
             [](auto& r) -> auto& { return r.chunks.max_images; });
         // Twice the overlap at least (ChunkOptions::Check).
         row.check = FlagCheck::Custom([](const std::string& text) {

@@ -496,7 +496,7 @@ TEST_F(FlagEcho, RunEchoesEveryFlag) {
   values["--frame_min_rotation_deg"] = {"2.5", 2.5};
   values["--mapper_attempts"] = {"2", 2};
   values["--rematch"] = {"off", false};
-  values["--chunk_images"] = {"100", 100};
+  values["--chunk_images"] = {"150", 150};
   values["--colmap_path"] = {colmap.string(), colmap.string()};
   std::vector<std::string> arguments = Arguments("run", values);
   arguments.insert(arguments.end(), {"--workspace_path", Path("ws")});

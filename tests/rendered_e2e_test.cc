@@ -230,7 +230,9 @@ class RenderedEndToEnd : public ::testing::Test {
 // Its slip contradicts the same few pairs on every model, so odomcal always
 // matches twice here: an overlap of 5 (not 10) halves each matching, and one
 // mapper run per matching still exercises the second matching (436 s -> 332 s
-// on seed 1, same accuracy), keeping the e2e tests under 10 minutes.
+// on seed 1, same accuracy), keeping the e2e tests under 10 minutes. Its 107
+// selected images are mapped as one model (--chunk_images 0; the default
+// would map 2 chunks, each once, without the second matching this tests).
 // Defined first, being the longest: ctest -j starts tests in the order
 // listed, so `hard` runs beside the others instead of after them.
 TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
@@ -238,7 +240,7 @@ TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
       "hard",
       TestSeed(1),
       "--matcher sequential --max_num_features 4096 --sequential_overlap 5 "
-      "--mapper_attempts 1");
+      "--mapper_attempts 1 --chunk_images 0");
   // The featureless corridor's images (about a fifth) cannot be registered:
   // 82 of 107 selected images in the calibration on seed 1; a room lost
   // would leave less than half.
