@@ -9,10 +9,13 @@
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
+#include "odomcal/adapters/odometry_interpolation_error.h"
 #include "odomcal/plugin/odometry_inputs.h"
 #include "odomcal/plugin/scale_drift_warning.h"
 #include "odomcal/plugin/systematics_report.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
+#include "odomcal/solver/noise_estimation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -133,49 +136,89 @@ bool HasUsableExtrinsic(const CalibrationResult& result) {
 }
 
 // For image `index` of `segment` that no motion pair holds (it lies between
-// keyframes): whether the odometry contradicts (ContradictsOdometry under
-// the fit) its motion from the nearest image, by time, that a
-// non-contradicting pair of output segment `output` holds. Without such an
-// image, or without odometry at either time, nothing is judged (false).
-// Measured on the rendered 1 000-image drive: 000194.png, registered 106 deg
-// off between two keyframes, was exported.
-bool ContradictsFromNearestConfirmed(
+// keyframes): whether the odometry contradicts its motion from each of the
+// nearest images before and after it that a non-contradicting pair of output
+// segment `output` holds. A reference counts only within one keyframe step
+// (the odometry motion from it below twice the keyframe thresholds), so that
+// drift or a wheel slip over a longer span is not read as a misregistration;
+// without one, nothing is judged (false). The pair is built as association
+// builds its pairs (with the odometry's interpolation covariance) and judged
+// as the check judges its own (ContradictsOdometry), and, when the fit
+// estimated the noise, under that noise too: a pair the fit used is never
+// contradicted. Measured on the rendered 1 000-image drive: 000194.png,
+// registered 106 deg off between two keyframes, was exported.
+bool ContradictedBetweenKeyframes(
     const ColmapSegment& segment,
     size_t index,
     int output,
     const std::set<std::pair<int, int64_t>>& confirmed,
     int64_t camera_time_offset_ns,
     const ColmapCalibrationRun& run,
-    const CalibrationOptions& options) {
+    const ColmapCalibrationInputs& inputs) {
   const std::vector<StampedPose>& poses = segment.trajectory.poses;
-  const int64_t stamp = poses[index].stamp_ns + camera_time_offset_ns;
-  std::optional<size_t> nearest;
-  int64_t nearest_dt = 0;
-  for (size_t j = 0; j < poses.size(); ++j) {
-    const int64_t stamp_j = poses[j].stamp_ns + camera_time_offset_ns;
-    if (j == index || confirmed.count({output, stamp_j}) == 0) continue;
-    const int64_t dt = stamp_j > stamp ? stamp_j - stamp : stamp - stamp_j;
-    if (!nearest || dt < nearest_dt) {
-      nearest = j;
-      nearest_dt = dt;
-    }
-  }
-  if (!nearest) return false;
-  const int64_t stamp_ref = poses[*nearest].stamp_ns + camera_time_offset_ns;
+  const CalibrationResult& fit = run.check.result;
   const double gap_s = run.association.max_odometry_gap_s;
-  const auto origin_from_odom_ref =
-      InterpolateOdometry(run.odometry, stamp_ref, gap_s, nullptr);
+  const int64_t stamp = poses[index].stamp_ns + camera_time_offset_ns;
   const auto origin_from_odom =
       InterpolateOdometry(run.odometry, stamp, gap_s, nullptr);
-  if (!origin_from_odom_ref || !origin_from_odom) return false;
-  MotionPair pair;
-  pair.odom_i_from_odom_j = Inverse(*origin_from_odom_ref) * *origin_from_odom;
-  pair.cam_i_from_cam_j = Inverse(poses[*nearest].world_from_sensor) *
-                          poses[index].world_from_sensor;
-  pair.segment = output;
-  pair.stamp_i_ns = stamp_ref;
-  pair.stamp_j_ns = stamp;
-  return ContradictsOdometry(pair, false, run.check.result, options);
+  if (!origin_from_odom) return false;
+  const Eigen::Matrix3d interpolation =
+      OdometryInterpolationCovariance(run.odometry, stamp);
+  CalibrationOptions estimated = inputs.calibration;
+  if (fit.noise_estimate) estimated.noise = fit.noise_estimate->noise;
+  int num_references = 0;
+  for (const long step : {-1L, 1L}) {
+    long reference = -1;
+    for (long j = static_cast<long>(index) + step;
+         j >= 0 && j < static_cast<long>(poses.size());
+         j += step) {
+      if (confirmed.count(
+              {output, poses[j].stamp_ns + camera_time_offset_ns}) != 0) {
+        reference = j;
+        break;
+      }
+    }
+    if (reference < 0) continue;
+    const int64_t stamp_ref = poses[reference].stamp_ns + camera_time_offset_ns;
+    const auto origin_from_odom_ref =
+        InterpolateOdometry(run.odometry, stamp_ref, gap_s, nullptr);
+    if (!origin_from_odom_ref) continue;
+    MotionPair pair;
+    pair.odom_i_from_odom_j =
+        Inverse(*origin_from_odom_ref) * *origin_from_odom;
+    if (RotationAngle(pair.odom_i_from_odom_j.rotation) >=
+            2.0 * inputs.association.keyframe_min_rotation_deg * kDegToRad ||
+        pair.odom_i_from_odom_j.translation.norm() >=
+            2.0 * inputs.association.keyframe_min_translation_m) {
+      continue;
+    }
+    pair.cam_i_from_cam_j = Inverse(poses[reference].world_from_sensor) *
+                            poses[index].world_from_sensor;
+    pair.segment = output;
+    pair.stamp_i_ns = stamp_ref;
+    pair.stamp_j_ns = stamp;
+    const Eigen::Matrix3d interpolation_ref =
+        OdometryInterpolationCovariance(run.odometry, stamp_ref);
+    if (!interpolation_ref.isZero(0.0) || !interpolation.isZero(0.0)) {
+      pair.odom_interpolation_covariance =
+          RelativeMotionInterpolationCovariance(*origin_from_odom_ref,
+                                                interpolation_ref,
+                                                *origin_from_odom,
+                                                interpolation);
+    }
+    ++num_references;
+    if (!ContradictsOdometry(pair, false, fit, inputs.calibration)) {
+      return false;
+    }
+    if (fit.noise_estimate &&
+        !ContradictsOdometry(ScaleCovariances({pair}, *fit.noise_estimate)[0],
+                             false,
+                             fit,
+                             estimated)) {
+      return false;
+    }
+  }
+  return num_references > 0;
 }
 
 }  // namespace
@@ -366,13 +409,13 @@ ColmapCalibrationRun CalibrateColmapProject(
         continue;
       }
       if (contradicted.count(key) == 0 && confirmed.count(key) == 0 &&
-          ContradictsFromNearestConfirmed(segment,
-                                          i,
-                                          static_cast<int>(output),
-                                          confirmed,
-                                          camera_time_offset_ns,
-                                          run,
-                                          inputs.calibration)) {
+          ContradictedBetweenKeyframes(segment,
+                                       i,
+                                       static_cast<int>(output),
+                                       confirmed,
+                                       camera_time_offset_ns,
+                                       run,
+                                       inputs)) {
         left_out_between_keyframes.push_back(segment.image_names.at(i));
         continue;
       }

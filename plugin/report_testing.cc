@@ -31,8 +31,9 @@ ColmapCalibrationInputs WriteSimulatedColmapProject(
   DriveSimulatorOptions drive_options;
   drive_options.seed = options.seed;
   drive_options.duration_s = options.duration_s;
-  drive_options.camera_rotation_noise_deg = 0.01;
-  drive_options.camera_position_noise = 0.0005;
+  drive_options.camera_rotation_noise_deg = options.camera_rotation_noise_deg;
+  drive_options.camera_position_noise =
+      0.0005 * options.camera_rotation_noise_deg / 0.01;
   const SimulatedDrive drive = SimulateDrive(drive_options);
 
   const fs::path root(dir);

@@ -27,6 +27,9 @@ struct SimulatedColmapProjectOptions {
   // about the camera's x axis and 0.5 m off, as COLMAP misregisters one
   // image of a stretch it otherwise gets right.
   int misregistered_image = -1;
+  // Noise of each camera pose (the drive simulator's; deg, and its position
+  // noise scaled alike from 0.0005 at 0.01 deg).
+  double camera_rotation_noise_deg = 0.01;
   // COLMAP-like scale drift: the metric scale (m/unit) of the camera
   // positions grows linearly by this fraction from the first image to the
   // last (each step divided by the scale at its time), as an incremental
