@@ -26,29 +26,29 @@ void FrameSelectionOptions::Check() const {
   if (min_rotation_deg != kAutomaticFrameSpacing) {
     check(min_rotation_deg, true, "min_rotation_deg");
   }
-  if (!(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 180.0)) {
-    throw std::invalid_argument("horizontal_fov_deg must be in (0, 180), got " +
-                                FormatNumber(horizontal_fov_deg));
+  if (!(field_of_view_deg > 0.0 && field_of_view_deg < 180.0)) {
+    throw std::invalid_argument("field_of_view_deg must be in (0, 180), got " +
+                                FormatNumber(field_of_view_deg));
   }
   if (max_odometry_gap_s != kAutomaticOdometryGap) {
     check(max_odometry_gap_s, false, "max_odometry_gap_s");
   }
 }
 
-FrameSpacing AutomaticFrameSpacing(double horizontal_fov_deg) {
+FrameSpacing AutomaticFrameSpacing(double field_of_view_deg) {
   FrameSpacing spacing;
-  spacing.min_rotation_deg = horizontal_fov_deg / 8.0;
+  spacing.min_rotation_deg = field_of_view_deg / 8.0;
   spacing.min_translation_m =
-      kTypicalSceneDepthM * std::tan(horizontal_fov_deg / 16.0 * kDegToRad);
+      kTypicalSceneDepthM * std::tan(field_of_view_deg / 16.0 * kDegToRad);
   return spacing;
 }
 
-double HorizontalFieldOfViewDeg(double focal_px, double cx_px) {
-  return 2.0 * std::atan(cx_px / focal_px) * kRadToDeg;
+double FieldOfViewDeg(double focal_px, double principal_point_px) {
+  return 2.0 * std::atan(principal_point_px / focal_px) * kRadToDeg;
 }
 
 FrameSpacing ResolvedFrameSpacing(const FrameSelectionOptions& options) {
-  FrameSpacing spacing = AutomaticFrameSpacing(options.horizontal_fov_deg);
+  FrameSpacing spacing = AutomaticFrameSpacing(options.field_of_view_deg);
   if (options.min_translation_m != kAutomaticFrameSpacing) {
     spacing.min_translation_m = options.min_translation_m;
   }

@@ -6,8 +6,11 @@
 //
 // The spacing can be chosen for triangulation (issue 18: images 8 cm apart
 // left the mapper without baseline): with kAutomaticFrameSpacing ("auto" on
-// the command line) both thresholds follow from the camera's horizontal field
-// of view F (AutomaticFrameSpacing):
+// the command line) both thresholds follow from the camera's field of view F,
+// the narrower of the horizontal and vertical ones (AutomaticFrameSpacing):
+// how the camera is rolled on its mount is what the calibration measures, so
+// a turn or a sideways step may sweep either image axis (a portrait camera's
+// turns sweep its short side):
 //   min_rotation_deg  = F / 8: consecutive kept images share 7/8 of the view,
 //                       so a matching window of 4 images on each side (the
 //                       nearest images the odometry matcher always pairs;
@@ -20,10 +23,11 @@
 //                       Mapper.init_min_tri_angle) while a sideways step
 //                       still keeps 15/16 of the view.
 // The odometry measures the robot's translation and rotation between images.
-// Not the default yet: on the rendered 100-image drive it keeps 29 images
-// instead of 78 and, on the one seed measured, calibrates less accurately
-// (0.030 deg against 0.013 deg; docs/benchmarks.md); the defaults are the
-// fixed 5 cm / 3 deg until measurements over seeds and drive lengths decide.
+// The default since session 14: on the rendered long drives (320x240, 63 x 50
+// deg) it keeps about half the images the fixed 5 cm / 3 deg kept and runs
+// several times faster at an extrinsic within the stated uncertainty
+// (docs/benchmarks.md). Fixed thresholds remain for drives that need every
+// image.
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
@@ -35,13 +39,15 @@
 namespace odomcal {
 
 // A threshold from the field of view:
-// AutomaticFrameSpacing(horizontal_fov_deg).
+// AutomaticFrameSpacing(field_of_view_deg).
 inline constexpr double kAutomaticFrameSpacing = -1.0;
 // The depth the automatic translation threshold triangulates at: what an
 // indoor robot's camera sees (walls of 4-6 m rooms, 1-4 m away).
 inline constexpr double kTypicalSceneDepthM = 2.5;
 // COLMAP's focal length when none is given, 1.2 * max(width, height), gives
-// a horizontal field of view of 2 atan(1 / 2.4) = 45.24 deg whatever the size.
+// the image's longer side a field of view of 2 atan(1 / 2.4) = 45.24 deg
+// whatever the size (used when the intrinsics are not given: the aspect is
+// then unknown).
 inline constexpr double kColmapDefaultFieldOfViewDeg = 45.24;
 
 struct FrameSpacing {
@@ -50,18 +56,19 @@ struct FrameSpacing {
 };
 
 // F / 8 and kTypicalSceneDepthM * tan(F / 16) (see above); F in (0, 180).
-FrameSpacing AutomaticFrameSpacing(double horizontal_fov_deg);
+FrameSpacing AutomaticFrameSpacing(double field_of_view_deg);
 
-// The horizontal field of view of a pinhole camera with focal length
-// `focal_px` whose principal point is `cx_px` from the left edge (the image
-// is about 2 cx wide): 2 atan(cx / f).
-double HorizontalFieldOfViewDeg(double focal_px, double cx_px);
+// The field of view of a pinhole camera along one image axis, with focal
+// length `focal_px` and the principal point `principal_point_px` from that
+// axis' first pixel edge (the image is about twice as long): 2 atan(c / f).
+double FieldOfViewDeg(double focal_px, double principal_point_px);
 
 struct FrameSelectionOptions {
-  // kAutomaticFrameSpacing: from horizontal_fov_deg (AutomaticFrameSpacing).
-  double min_translation_m = 0.05;  // keep once moved...
-  double min_rotation_deg = 3.0;    // ...or turned this much
-  double horizontal_fov_deg = kColmapDefaultFieldOfViewDeg;
+  // kAutomaticFrameSpacing: from field_of_view_deg (AutomaticFrameSpacing).
+  double min_translation_m = kAutomaticFrameSpacing;  // keep once moved...
+  double min_rotation_deg = kAutomaticFrameSpacing;   // ...or turned this
+  // The camera's narrower field of view (horizontal or vertical).
+  double field_of_view_deg = kColmapDefaultFieldOfViewDeg;
   // As AssociationOptions' (0: automatic, from the odometry's sampling).
   double max_odometry_gap_s = 0.0;
   int64_t camera_time_offset_ns = 0;  // odometry time = image time + offset

@@ -56,7 +56,7 @@ TEST(SelectFrames, DropsStandingStillAndOutsideTheOdometry) {
 
 TEST(AutomaticFrameSpacing, FollowsTheFieldOfView) {
   // The rendered scenes' camera: fx 260 px, cx 160 px: 63.2 deg.
-  const double fov_deg = HorizontalFieldOfViewDeg(260.0, 160.0);
+  const double fov_deg = FieldOfViewDeg(260.0, 160.0);
   EXPECT_NEAR(fov_deg, 2.0 * std::atan(160.0 / 260.0) * 180.0 / M_PI, 1e-12);
   EXPECT_NEAR(fov_deg, 63.2, 0.05);
   const FrameSpacing spacing = AutomaticFrameSpacing(fov_deg);
@@ -67,12 +67,11 @@ TEST(AutomaticFrameSpacing, FollowsTheFieldOfView) {
               1e-12);
   EXPECT_NEAR(spacing.min_translation_m, 0.1726, 0.0005);
   // COLMAP's default focal length 1.2 * width: 45.24 deg.
-  EXPECT_NEAR(HorizontalFieldOfViewDeg(1.2 * 640.0, 320.0),
-              kColmapDefaultFieldOfViewDeg,
-              0.01);
+  EXPECT_NEAR(
+      FieldOfViewDeg(1.2 * 640.0, 320.0), kColmapDefaultFieldOfViewDeg, 0.01);
   // Given thresholds win over the automatic ones, one at a time.
   FrameSelectionOptions options;
-  options.horizontal_fov_deg = 90.0;
+  options.field_of_view_deg = 90.0;
   options.min_translation_m = kAutomaticFrameSpacing;
   options.min_rotation_deg = 2.0;
   const FrameSpacing resolved = ResolvedFrameSpacing(options);
@@ -93,7 +92,7 @@ TEST(SelectFrames, AutomaticSpacingKeepsImagesForTriangulation) {
   FrameSelectionOptions options;
   options.min_translation_m = kAutomaticFrameSpacing;
   options.min_rotation_deg = kAutomaticFrameSpacing;
-  options.horizontal_fov_deg = HorizontalFieldOfViewDeg(260.0, 160.0);
+  options.field_of_view_deg = FieldOfViewDeg(260.0, 160.0);
   const FrameSelection selection =
       SelectFrames(images, MakeOdometry(), options);
   EXPECT_NEAR(selection.spacing.min_translation_m, 0.1726, 0.0005);

@@ -654,11 +654,11 @@ void AddImageCoverage(const std::vector<TimedImage>& selected,
   }
 }
 
-// The horizontal field of view of the camera the run uses, for the frame
-// selection's automatic thresholds: from --camera_params (fx first; cx
-// second for the one-focal models, third for the others; a fisheye's field
-// of view is wider, so its thresholds come out smaller), else that of
-// COLMAP's default focal length.
+// The narrower field of view (horizontal or vertical) of the camera the run
+// uses, for the frame selection's automatic thresholds: from
+// --camera_params (f, cx, cy for the one-focal models, fx, fy, cx, cy for the
+// others; a fisheye's field of view is wider, so its thresholds come out
+// smaller), else that of COLMAP's default focal length.
 double RunFieldOfViewDeg(const ReconstructionOptions& run) {
   if (run.camera_params.empty()) return kColmapDefaultFieldOfViewDeg;
   std::vector<double> params;
@@ -673,11 +673,17 @@ double RunFieldOfViewDeg(const ReconstructionOptions& run) {
                          model == ColmapCameraModel::kRadial ||
                          model == ColmapCameraModel::kSimpleRadialFisheye ||
                          model == ColmapCameraModel::kRadialFisheye;
+  const size_t fy = one_focal ? 0 : 1;
   const size_t cx = one_focal ? 1 : 2;
-  if (params.size() <= cx || !(params[0] > 0.0) || !(params[cx] > 0.0)) {
+  const size_t cy = cx + 1;
+  if (params.size() <= cy ||
+      !std::all_of(params.begin(), params.begin() + cy + 1, [](double p) {
+        return p > 0.0 && std::isfinite(p);
+      })) {
     return kColmapDefaultFieldOfViewDeg;
   }
-  return HorizontalFieldOfViewDeg(params[0], params[cx]);
+  return std::min(FieldOfViewDeg(params[0], params[cx]),
+                  FieldOfViewDeg(params[fy], params[cy]));
 }
 
 // [4] for a drive longer than one chunk (mapper_chunks.h): each chunk
@@ -829,7 +835,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
           stamps_ns, run.image_path, timestamps.how_read());
     }
     FrameSelectionOptions frames = run.frames;
-    frames.horizontal_fov_deg = RunFieldOfViewDeg(run);
+    frames.field_of_view_deg = RunFieldOfViewDeg(run);
     frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
     frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
     const FrameSelection selection = SelectFrames(all, odometry, frames);
@@ -860,7 +866,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                std::to_string(selection.num_images) + " images, " +
                FormatRounded(selection.spacing.min_translation_m) + " m or " +
                FormatRounded(selection.spacing.min_rotation_deg) +
-               " deg apart (" + FormatRounded(frames.horizontal_fov_deg) +
+               " deg apart (" + FormatRounded(frames.field_of_view_deg) +
                " deg field of view; " +
                std::to_string(selection.num_dropped_still_or_close) +
                " standing still or too close, " +

@@ -7,6 +7,7 @@
 // not: a key the schema does not document is an error, so the documentation
 // cannot fall behind the writers.
 
+#include "odomcal/adapters/frame_selection.h"
 #include "odomcal/plugin/calibration_report.h"
 #include "odomcal/plugin/colmap_report.h"
 #include "odomcal/plugin/project_flags.h"
@@ -221,10 +222,13 @@ TEST(ResultSchema, ColmapOutputConforms) {
       run, ProjectReportContext(inputs, run, "odomcal colmap"));
   EXPECT_EQ(Lines(checker.Check(out)), "");
   EXPECT_TRUE(out.contains("colmap"));
-  // `odomcal run` adds its own flags, each choice's default the schema's.
+  // `odomcal run` adds its own flags, each choice's default the schema's,
+  // with the frame spacing it used ("auto" resolved: numbers).
   json run_out = out;
-  run_out["options"]["run"] =
-      RunFlagsEcho(ReconstructionOptions())["options"]["run"];
+  ReconstructionResult reconstruction;
+  reconstruction.frame_spacing = AutomaticFrameSpacing(63.2);
+  run_out["options"]["run"] = RunResultFlagsEcho(
+      ReconstructionOptions(), reconstruction)["options"]["run"];
   EXPECT_EQ(Lines(checker.Check(run_out)), "");
   for (const std::string matcher : {"odometry", "spatial", "sequential"}) {
     run_out["options"]["run"]["matcher"] = matcher;

@@ -858,6 +858,15 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
       << run.out;
   const json result = json::parse(ReadFile(Path("ws/calibration.json")));
   EXPECT_EQ(result["status"], "success");
+  // The default frame spacing follows the narrower (here the vertical)
+  // field of view of --camera_params 260,260,160,120: 2 atan(120 / 260).
+  const double fov_deg = 2.0 * std::atan(120.0 / 260.0) * kRadToDeg;
+  EXPECT_NEAR(result["options"]["run"]["frame_min_rotation_deg"].get<double>(),
+              fov_deg / 8.0,
+              1e-9);
+  EXPECT_NEAR(result["options"]["run"]["frame_min_translation_m"].get<double>(),
+              2.5 * std::tan(fov_deg / 16.0 * kDegToRad),
+              1e-9);
   const json& attempts = result["colmap"]["mapper_attempts"];
   ASSERT_EQ(attempts.size(), 3u) << attempts.dump(2);
   EXPECT_FALSE(attempts[0]["produced_model"]);
