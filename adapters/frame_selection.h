@@ -18,10 +18,11 @@
 //                       shares half of it while the robot turns;
 //   min_translation_m = d * tan(F / 16), d = kTypicalSceneDepthM: each step
 //                       adds a triangulation angle of F / 16 at the typical
-//                       depth, so that the 4-image window spans F / 4 (16 deg
-//                       for a 63 deg camera, the mapper's initial-pair angle
-//                       Mapper.init_min_tri_angle) while a sideways step
-//                       still keeps 15/16 of the view.
+//                       depth, so that the 4-image window spans F / 4 (12-16
+//                       deg for a 50-63 deg camera, about the mapper's
+//                       initial-pair angle Mapper.init_min_tri_angle, 16
+//                       deg) while a sideways step still keeps 15/16 of the
+//                       view.
 // The odometry measures the robot's translation and rotation between images.
 // The default since session 14: on the rendered long drives (320x240, 63 x 50
 // deg) it keeps about half the images the fixed 5 cm / 3 deg kept and runs

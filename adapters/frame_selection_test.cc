@@ -55,7 +55,10 @@ TEST(SelectFrames, DropsStandingStillAndOutsideTheOdometry) {
 }
 
 TEST(AutomaticFrameSpacing, FollowsTheFieldOfView) {
-  // The rendered scenes' camera: fx 260 px, cx 160 px: 63.2 deg.
+  // The rendered scenes' camera horizontally: fx 260 px, cx 160 px: 63.2
+  // deg (vertically, cy 120 px: 49.6 deg, the narrower field of view that
+  // odomcal run gives the selection).
+  EXPECT_NEAR(FieldOfViewDeg(260.0, 120.0), 49.6, 0.05);
   const double fov_deg = FieldOfViewDeg(260.0, 160.0);
   EXPECT_NEAR(fov_deg, 2.0 * std::atan(160.0 / 260.0) * 180.0 / M_PI, 1e-12);
   EXPECT_NEAR(fov_deg, 63.2, 0.05);

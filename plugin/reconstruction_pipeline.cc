@@ -668,6 +668,7 @@ double RunFieldOfViewDeg(const ReconstructionOptions& run) {
     params.push_back(std::strtod(field.c_str(), nullptr));
   }
   const auto model = ColmapCameraModelFromName(run.camera_model);
+  if (!model) return kColmapDefaultFieldOfViewDeg;  // the flag check names it
   const bool one_focal = model == ColmapCameraModel::kSimplePinhole ||
                          model == ColmapCameraModel::kSimpleRadial ||
                          model == ColmapCameraModel::kRadial ||

@@ -109,12 +109,13 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
       FrameSpacingRow(
           "frame_min_translation_m",
           "frame selection: keep an image once the robot moved "
-          "this far (auto: 2.5 m * tan(field of view / 16))...",
+          "this far (auto: 2.5 m * tan(F / 16), F the camera's narrower "
+          "field of view)...",
           [](auto& r) -> auto& { return r.frames.min_translation_m; }),
       FrameSpacingRow(
           "frame_min_rotation_deg",
           "...or turned this much since the last kept image "
-          "(auto: field of view / 8)",
+          "(auto: F / 8)",
           [](auto& r) -> auto& { return r.frames.min_rotation_deg; }),
       NumberRow<Run>(
           "mapper_attempts",

@@ -19,7 +19,8 @@ const OptionTable<ReconstructionOptions>& RunFolderFlags();
 const OptionTable<ReconstructionOptions>& RunFlags();
 
 // The echo of `settings`' own flags: {"inputs": {"image_path": ...},
-// "options": {"run": {...}}}.
+// "options": {"run": {...}}}, as given: an automatic frame spacing is echoed
+// as "auto" (a result echoes the values used: RunResultFlagsEcho).
 nlohmann::json RunFlagsEcho(const ReconstructionOptions& settings);
 
 // The echo of a finished `odomcal run` (CLI and Python alike): the project's

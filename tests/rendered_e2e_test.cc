@@ -215,10 +215,12 @@ class RenderedEndToEnd : public ::testing::Test {
 // odomcal estimates the clock offset, the yaw scale, yaw per metre and the
 // yaw-rate bias with the extrinsic (docs/systematics.md), which removes the
 // odometry's heading errors that the extrinsic's yaw used to absorb (0.22-0.37
-// deg before). Tolerances, from the errors measured on seeds 1-3 (rotation
-// 0.015, 0.002, 0.031 deg; x/y up to 2.3, 1.5, 3.0 mm; model scales up to
-// 0.26, 0.23, 0.49 %; offset 0.1-0.5 ms off) with a margin for COLMAP's
-// run-to-run variation:
+// deg before). Tolerances, from the errors measured on seeds 1-3 with the
+// frames 5 cm / 3 deg apart, the default then (rotation 0.015, 0.002, 0.031
+// deg; x/y up to 2.3, 1.5, 3.0 mm; model scales up to 0.26, 0.23, 0.49 %;
+// offset 0.1-0.5 ms off; seed 1 with the frames spaced for triangulation:
+// 0.006 deg, 2.7 mm, 0.19 %), with a margin for COLMAP's run-to-run
+// variation:
 // - rotation 0.1 deg, x/y 6 mm;
 // - metric model scale 1 % per exported model: the odometry's own distance
 //   error along a stretch (mean wheel-scale error +0.25 %, slip), which no
