@@ -12,6 +12,7 @@
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/run_command.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -224,16 +225,24 @@ int RunRenderedDemo(const std::string& workspace,
       (dataset_dir / "image_timestamps.csv").string();
   inputs.association = calibrate.association;
   inputs.calibration = calibrate.calibration;
+  inputs.systematics = calibrate.systematics;
   // z is unobservable from planar motion: the demo holds it at the true
-  // mount height, as a user would at a measured one.
+  // mount height, as a user would at a measured one; and it gives the
+  // robot's nominal wheel track, as a user would their robot's, so that
+  // unequal wheels are corrected in turns (docs/systematics.md).
   inputs.calibration.fixed_translation_z_m =
       dataset.options.odom_from_cam.translation.z();
+  if (inputs.systematics.wheel_track_m == 0.0) {
+    inputs.systematics.wheel_track_m =
+        dataset.options.odometry_noise.wheel_base_m;
+  }
   std::cout << "[demo] odomcal run --image_path " << settings.image_path
             << " --odometry " << inputs.odometry_path << " --image_timestamps "
             << inputs.image_timestamps_path << " --camera_model "
             << settings.camera_model << " --camera_params "
-            << settings.camera_params << " --workspace_path "
-            << settings.workspace_path << std::endl;
+            << settings.camera_params << " --wheel_track_m "
+            << FormatNumber(inputs.systematics.wheel_track_m)
+            << " --workspace_path " << settings.workspace_path << std::endl;
   const RunOutcome run = RunAndWriteOutputs(settings, "odomcal demo");
   const CalibrationResult& result = run.calibration.check.result;
   std::cout << CalibrationSummary(result, run.context);

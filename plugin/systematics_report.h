@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 namespace odomcal {
@@ -25,5 +26,16 @@ std::string SystematicsSummary(const SystematicsEstimate& estimate);
 // (with why); held intrinsics are listed in the JSON and the summary.
 void AddSystematicsWarnings(const SystematicsEstimate& estimate,
                             CalibrationResult* result);
+
+// Unequal wheels move the extrinsic's y by yaw_per_metre b^2 / (4 yaw_scale)
+// per radian of turn, b the wheel track (docs/systematics.md), unless
+// --wheel_track_m gives b: a warning when yaw_per_metre was estimated
+// nonzero (beyond 3 sigma), b was not given, and that shift exceeds y's
+// stated 3 sigma for a track narrower than kWidestWheelTrackM. Measured on
+// the rendered 1 000-image drive (wheels +0.3 / -0.2 %, 0.4 m track): y 0.62
+// mm off against a 3 sigma of 0.27 mm, 0.12 mm with --wheel_track_m 0.4.
+inline constexpr double kWidestWheelTrackM = 1.5;
+std::optional<std::string> WheelTrackWarning(
+    const SystematicsEstimate& estimate, const CalibrationResult& result);
 
 }  // namespace odomcal
