@@ -240,7 +240,9 @@ int RunRenderedDemo(const std::string& workspace,
             << " --odometry " << inputs.odometry_path << " --image_timestamps "
             << inputs.image_timestamps_path << " --camera_model "
             << settings.camera_model << " --camera_params "
-            << settings.camera_params << " --wheel_track_m "
+            << settings.camera_params << " --fixed_translation_z_m "
+            << FormatNumber(inputs.calibration.fixed_translation_z_m)
+            << " --wheel_track_m "
             << FormatNumber(inputs.systematics.wheel_track_m)
             << " --workspace_path " << settings.workspace_path << std::endl;
   const RunOutcome run = RunAndWriteOutputs(settings, "odomcal demo");

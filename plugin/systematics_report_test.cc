@@ -30,6 +30,7 @@ struct UnequalWheels {
     estimate.intrinsics.yaw_per_metre_rad = 0.01244;
     estimate.intrinsics_estimated = {true, true, true};
     estimate.intrinsics_stddev = {0.00018, 0.00016, 0.00003};
+    result.status = CalibrationStatus::kSuccess;
     result.has_estimate = true;
     result.stddev_translation_xy_m = {0.00011, 0.00009};
   }
@@ -45,9 +46,11 @@ TEST(WheelTrackWarning, NamesTheShiftOfYAndTheTrackBeyondWhichItExceeds) {
   // reached at sqrt(4 * 0.99914 * 0.00027 / 0.01244) = 0.294 m.
   EXPECT_EQ(*warning,
             "unequal wheels (yaw_per_metre 0.0124 rad/m) and no "
-            "--wheel_track_m: translation y is off by yaw_per_metre * b^2 / 4 "
-            "for a wheel track b (0.5 mm for 0.4 m), more than its stated 3 "
-            "sigma (0.27 mm) for a track over 0.29 m; give --wheel_track_m");
+            "--wheel_track_m: if the odometry's heading comes from the wheel "
+            "encoders, translation y would be off by about yaw_per_metre * "
+            "b^2 / 4 for a wheel track b (0.5 mm for 0.4 m), more than its "
+            "stated 3 sigma (0.27 mm) for a track over 0.29 m; give "
+            "--wheel_track_m");
   CalibrationResult result = drive.result;
   AddSystematicsWarnings(drive.estimate, &result);
   ASSERT_EQ(result.warnings.size(), 1u);
@@ -75,9 +78,14 @@ TEST(WheelTrackWarning, NoneWhenTheTrackIsGivenOrTheShiftIsWithinTheNoise) {
     drive.result.stddev_translation_xy_m.y() = 0.003;
     EXPECT_FALSE(WheelTrackWarning(drive.estimate, drive.result));
   }
-  {  // no estimate, no warning.
+  {  // no successful calibration, no warning.
     UnequalWheels drive;
-    drive.result.has_estimate = false;
+    drive.result.status = CalibrationStatus::kUnobservable;
+    EXPECT_FALSE(WheelTrackWarning(drive.estimate, drive.result));
+  }
+  {  // no stated uncertainty of y: nothing to compare with.
+    UnequalWheels drive;
+    drive.result.stddev_translation_xy_m.y() = 0.0;
     EXPECT_FALSE(WheelTrackWarning(drive.estimate, drive.result));
   }
 }
