@@ -7,8 +7,7 @@
 #include "odomcal/plugin/colmap_calibration.h"
 #include "odomcal/plugin/report_testing.h"
 #include "odomcal/solver/format_number.h"
-
-#include <unistd.h>
+#include "odomcal/tests/scratch_folder_test.h"
 
 #include <gtest/gtest.h>
 
@@ -42,20 +41,22 @@ void DropOdometryStart(const std::string& path, double duration_s) {
   std::ofstream(path) << header << "\n" << kept;
 }
 
+// Each test writes its simulated project(s) into a fresh folder of its own.
+class ColmapMetricExport : public ScratchFolderTest {
+ protected:
+  ColmapMetricExport() : ScratchFolderTest("metric_export_") {}
+};
+
 // The odometry starts 0.55 s after the first image: the images before it get
 // no pose from the odometry and are left out of sparse_metric/0, by name.
-TEST(ColmapMetricExport, NamesTheImagesOutsideTheOdometrySpan) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("metric_export_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+TEST_F(ColmapMetricExport, NamesTheImagesOutsideTheOdometrySpan) {
   SimulatedColmapProjectOptions options;
   options.duration_s = 20.0;
   const ColmapCalibrationInputs inputs =
-      WriteSimulatedColmapProject(dir.string(), options);
+      WriteSimulatedColmapProject(Path("project"), options);
   DropOdometryStart(inputs.odometry_path, 0.55);
 
   const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
-  fs::remove_all(dir);
   const CalibrationResult& result = run.check.result;
   ASSERT_TRUE(result.IsSuccess()) << result.message;
   ASSERT_EQ(run.metric_models.size(), 1u);
@@ -111,19 +112,15 @@ TEST(ColmapMetricExport, NamesTheImagesOutsideTheOdometrySpan) {
 // are its last image (only folded pairs hold it) and the image after its
 // last pair: both used to be exported with the nearest segment, 0.5 m off
 // on the rendered `small` scene.
-TEST(ColmapMetricExport, LeavesOutAFoldThatEndsTheModel) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("metric_export_fold_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+TEST_F(ColmapMetricExport, LeavesOutAFoldThatEndsTheModel) {
   SimulatedColmapProjectOptions options;
   options.duration_s = 20.0;
   options.fold = true;
   options.fold_at_end = true;
   const ColmapCalibrationInputs inputs =
-      WriteSimulatedColmapProject(dir.string(), options);
+      WriteSimulatedColmapProject(Path("project"), options);
 
   const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
-  fs::remove_all(dir);
   ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
   ASSERT_EQ(run.check.stretches.size(), 1u);
   const InconsistentStretch& fold = run.check.stretches[0];
@@ -166,14 +163,11 @@ std::set<std::string> ExportedImages(const ColmapCalibrationRun& run) {
 // pair holds it, so only its motion from the nearest keyframe shows it (the
 // rendered 1 000-image drive exported such an image). It is left out and
 // named; the same drive without it exports every image.
-TEST(ColmapMetricExport, LeavesOutAMisregisteredImageBetweenKeyframes) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("metric_export_between_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+TEST_F(ColmapMetricExport, LeavesOutAMisregisteredImageBetweenKeyframes) {
   SimulatedColmapProjectOptions options;
   options.duration_s = 20.0;
   const ColmapCalibrationRun clean = CalibrateColmapProject(
-      WriteSimulatedColmapProject(dir.string(), options));
+      WriteSimulatedColmapProject(Path("clean"), options));
   ASSERT_TRUE(clean.check.result.IsSuccess()) << clean.check.result.message;
   const std::vector<std::string>& names = clean.segments.at(0).image_names;
   EXPECT_EQ(ExportedImages(clean).size(), names.size());
@@ -192,11 +186,9 @@ TEST(ColmapMetricExport, LeavesOutAMisregisteredImageBetweenKeyframes) {
   }
   ASSERT_GE(between, 0) << "every image is a keyframe";
 
-  fs::remove_all(dir);
   options.misregistered_image = between;
   const ColmapCalibrationRun run = CalibrateColmapProject(
-      WriteSimulatedColmapProject(dir.string(), options));
-  fs::remove_all(dir);
+      WriteSimulatedColmapProject(Path("misregistered"), options));
   ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
   ASSERT_EQ(std::count(run.association.keyframe_stamps_ns.begin(),
                        run.association.keyframe_stamps_ns.end(),
@@ -221,16 +213,12 @@ TEST(ColmapMetricExport, LeavesOutAMisregisteredImageBetweenKeyframes) {
 // Camera poses 20x noisier (0.2 deg, 1 cm; at 0.3 deg the calibration itself
 // fails): no image between keyframes is read as misregistered, and every
 // image is exported.
-TEST(ColmapMetricExport, KeepsEveryImageOfANoisyDrive) {
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("metric_export_noisy_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+TEST_F(ColmapMetricExport, KeepsEveryImageOfANoisyDrive) {
   SimulatedColmapProjectOptions options;
   options.duration_s = 20.0;
   options.camera_rotation_noise_deg = 0.2;
   const ColmapCalibrationRun run = CalibrateColmapProject(
-      WriteSimulatedColmapProject(dir.string(), options));
-  fs::remove_all(dir);
+      WriteSimulatedColmapProject(Path("project"), options));
   ASSERT_TRUE(run.check.result.IsSuccess()) << run.check.result.message;
   EXPECT_EQ(ExportedImages(run).size(), run.segments.at(0).image_names.size());
   for (const std::string& warning : run.check.result.warnings) {

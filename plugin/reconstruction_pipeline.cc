@@ -951,10 +951,8 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       ReadColmapDatabaseCameras(database);
   if (cameras.size() == 1 && !cameras[0].camera.params.empty() &&
       cameras[0].camera.params[0] > 0.0) {
-    const double fov_deg =
-        2.0 *
-        std::atan(0.5 * cameras[0].camera.width / cameras[0].camera.params[0]) *
-        kRadToDeg;
+    const double fov_deg = FieldOfViewDeg(cameras[0].camera.params[0],
+                                          0.5 * cameras[0].camera.width);
     tuned.candidate_pairs.max_view_angle_deg =
         ViewAngleLimitDeg(fov_deg, run.candidate_pairs.max_view_angle_deg);
   }
