@@ -140,6 +140,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
     const MapperAttempt& attempt = run.mapper_attempts[i];
     mapper_attempts.push_back(
         {{"matching_round", attempt.matching_round},
+         {"chunk", attempt.chunk >= 0 ? json(attempt.chunk) : json(nullptr)},
          {"random_seed", attempt.random_seed},
          {"path", attempt.model_path},
          {"produced_model", attempt.produced_model},
@@ -518,10 +519,12 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
            "odometry; "
            "the model contradicted least is calibrated. When the seeds do not "
            "help, "
-           "the images are matched again (matching round 1) and mapped again."
+           "the images are matched again (matching round 1) and mapped again. "
+           "A drive mapped in chunks maps again only the chunk with a stretch "
+           "left out as folded."
            "</p>\n<table>"
            "<tr><th>matching "
-           "round</th><th>--random_seed</th><th>sub-models</th>"
+           "round</th><th>chunk</th><th>--random_seed</th><th>sub-models</th>"
            "<th>registered images</th><th>calibration status</th><th>pairs "
            "used</th>"
            "<th>contradicting pairs</th><th>calibrated in this "
@@ -529,8 +532,10 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
     for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
       const MapperAttempt& attempt = run.mapper_attempts[i];
       html << "<tr><td>" << attempt.matching_round << "</td><td>"
-           << attempt.random_seed << "</td><td>" << attempt.num_sub_models
-           << "</td><td>" << attempt.num_registered_images << "</td><td>"
+           << (attempt.chunk >= 0 ? std::to_string(attempt.chunk + 1) : "all")
+           << "</td><td>" << attempt.random_seed << "</td><td>"
+           << attempt.num_sub_models << "</td><td>"
+           << attempt.num_registered_images << "</td><td>"
            << (attempt.produced_model ? EscapeMarkup(ToString(attempt.status))
                                       : "no model")
            << "</td><td>" << attempt.num_pairs_used << " of "

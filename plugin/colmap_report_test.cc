@@ -171,7 +171,7 @@ TEST_F(ColmapReport, EveryTableColumnIsHeadedAndEveryRowHasAllColumns) {
     const std::vector<std::string> rows = Elements(table, "tr");
     ASSERT_EQ(rows.size(), 1u + run_->mapper_attempts.size());
     const std::vector<std::string> headers = Elements(rows[0], "th");
-    ASSERT_EQ(headers.size(), 8u);
+    ASSERT_EQ(headers.size(), 9u);
     for (const std::string& header : headers)
       EXPECT_FALSE(TextOf(header).empty()) << header;
     for (size_t r = 1; r < rows.size(); ++r) {

@@ -28,6 +28,10 @@ namespace odomcal {
 
 struct MapperAttempt {
   int matching_round = 0;  // 0: the first matches; 1: matched again
+  // A chunked drive (mapper_chunks.h): the chunk mapped again with
+  // `random_seed`, the others as chosen before; -1: every chunk mapped
+  // with seed 0, or a drive of one model.
+  int chunk = -1;
   int random_seed = 0;     // COLMAP's --random_seed
   std::string model_path;  // the mapper's output root (sub-models 0, 1, ...)
   bool produced_model = false;

@@ -16,16 +16,25 @@
 // for the calibration every chunk keeps only its own images (ChunkOwnRange)
 // and the first image of the next chunk's, so that no motion pair is counted
 // twice and the pair across the boundary still exists.
+//
+// A chunk whose model the odometry contradicts in a stretch (COLMAP folded
+// it) is mapped again with the next random seeds, as a one-model drive is
+// (FoldedPairsPerChunk names it).
 #pragma once
 
+#include "odomcal/solver/stretch_consistency.h"
+
+#include <cstdint>
 #include <vector>
 
 namespace odomcal {
 
 struct ChunkOptions {
-  int max_images = 100;  // 0: no chunks (one model of all images)
-  int overlap = 25;      // images shared by consecutive chunks
-  void Check() const;    // throws std::invalid_argument naming the field
+  // 0: no chunks (one model of all images). 50, not 100 (session 15): a
+  // chunk's bundle adjustments cost more than linearly in its images.
+  int max_images = 50;
+  int overlap = 12;    // images shared by consecutive chunks
+  void Check() const;  // throws std::invalid_argument naming the field
 };
 
 struct MapperChunk {
@@ -42,5 +51,15 @@ struct MapperChunk {
 // overlap by one image (own_last of a chunk = own_first of the next).
 std::vector<MapperChunk> SplitIntoChunks(int num_images,
                                          const ChunkOptions& options);
+
+// Per chunk, the motion pairs of the stretches the calibration left out as
+// folded (`stretches` not kept as a segment): a stretch counts for the chunk
+// whose own images' time range holds its middle (chunks share their own
+// ranges' end images, so the earlier one of two). `image_stamps_ns`: the
+// drive's images in time order, as `chunks` index them.
+std::vector<int> FoldedPairsPerChunk(
+    const std::vector<MapperChunk>& chunks,
+    const std::vector<int64_t>& image_stamps_ns,
+    const std::vector<InconsistentStretch>& stretches);
 
 }  // namespace odomcal

@@ -9,7 +9,8 @@ namespace odomcal {
 namespace {
 
 // The split's arithmetic with chunks of at most 200 images sharing 25 (the
-// default until session 13; the default is 100 now, benchmarks.md).
+// default until session 13; the default is 50 sharing 12 since session 15,
+// benchmarks.md).
 ChunkOptions TwoHundredImageChunks() {
   ChunkOptions options;
   options.max_images = 200;
@@ -25,8 +26,8 @@ TEST(SplitIntoChunks, DriveThatFitsIsOneChunk) {
   EXPECT_EQ(chunks[0].last, 199);
   EXPECT_EQ(chunks[0].own_first, 0);
   EXPECT_EQ(chunks[0].own_last, 199);
-  EXPECT_EQ(SplitIntoChunks(100, ChunkOptions()).size(), 1u);  // the default
-  EXPECT_EQ(SplitIntoChunks(101, ChunkOptions()).size(), 2u);
+  EXPECT_EQ(SplitIntoChunks(50, ChunkOptions()).size(), 1u);  // the default
+  EXPECT_EQ(SplitIntoChunks(51, ChunkOptions()).size(), 2u);
   options.max_images = 0;  // off
   EXPECT_EQ(SplitIntoChunks(5000, options).size(), 1u);
   EXPECT_TRUE(SplitIntoChunks(0, ChunkOptions()).empty());
@@ -76,16 +77,16 @@ TEST(SplitIntoChunks, ThreeHundredImagesAreTwoEqualChunks) {
   EXPECT_EQ(chunks[1].own_first, 149);
 }
 
-// The default on the rendered 1000-image drive's 855 selected images
-// (benchmarks.md, session 13): 12 chunks of 96, each owning about 70.
+// The default on the rendered 1000-image drive's 617 selected images
+// (benchmarks.md, session 15): 16 chunks of 50, each owning about 38.
 TEST(SplitIntoChunks, DefaultChunksOfTheThousandImageDrive) {
-  const std::vector<MapperChunk> chunks = SplitIntoChunks(855, ChunkOptions());
-  ASSERT_EQ(chunks.size(), 12u);
+  const std::vector<MapperChunk> chunks = SplitIntoChunks(617, ChunkOptions());
+  ASSERT_EQ(chunks.size(), 16u);
   for (const MapperChunk& chunk : chunks) {
-    EXPECT_EQ(chunk.last - chunk.first + 1, 96);
+    EXPECT_EQ(chunk.last - chunk.first + 1, 50);
   }
-  EXPECT_EQ(chunks[1].first, 69);
-  EXPECT_EQ(chunks.back().last, 854);
+  EXPECT_EQ(chunks[1].first, 37);
+  EXPECT_EQ(chunks.back().last, 616);
 }
 
 TEST(SplitIntoChunks, RejectsBadOptions) {
@@ -101,6 +102,37 @@ TEST(SplitIntoChunks, RejectsBadOptions) {
   options = ChunkOptions();
   options.max_images = -1;
   EXPECT_THROW(SplitIntoChunks(10, options), std::invalid_argument);
+}
+
+// A folded stretch counts for the chunk whose own images' time range holds
+// its middle; a stretch kept as a segment of its own (another scale) counts
+// for none. Chunks of 60 images (at most 50 sharing 12): own images 0-29 and
+// 29-59, image i at i seconds.
+TEST(FoldedPairsPerChunk, CountsEachFoldedStretchInTheChunkHoldingItsMiddle) {
+  ChunkOptions options;
+  const std::vector<MapperChunk> chunks = SplitIntoChunks(60, options);
+  ASSERT_EQ(chunks.size(), 2u);
+  ASSERT_EQ(chunks[0].own_last, 29);
+  std::vector<int64_t> stamps;
+  for (int i = 0; i < 60; ++i) stamps.push_back(int64_t{1000000000} * i);
+  auto stretch = [](int first_s, int last_s, int num_pairs, bool kept) {
+    InconsistentStretch s;
+    s.first_stamp_ns = int64_t{1000000000} * first_s;
+    s.last_stamp_ns = int64_t{1000000000} * last_s;
+    s.num_pairs = num_pairs;
+    s.kept_as_segment = kept;
+    return s;
+  };
+  EXPECT_EQ(FoldedPairsPerChunk(chunks, stamps, {}), std::vector<int>({0, 0}));
+  // Middles 10 s, 31 s (across the boundary, in the later chunk), 29 s (the
+  // image both chunks own: the earlier chunk), and one kept as a segment.
+  EXPECT_EQ(FoldedPairsPerChunk(chunks,
+                                stamps,
+                                {stretch(5, 15, 10, false),
+                                 stretch(28, 34, 6, false),
+                                 stretch(26, 32, 6, false),
+                                 stretch(40, 44, 4, true)}),
+            std::vector<int>({16, 6}));
 }
 
 }  // namespace

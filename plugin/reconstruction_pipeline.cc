@@ -687,27 +687,115 @@ double RunFieldOfViewDeg(const ReconstructionOptions& run) {
                   FieldOfViewDeg(params[fy], params[cy]));
 }
 
+// What a chunk's model kept: its sub-models, its images registered, and
+// those of the chunk's own images (mapper_chunks.h).
+struct ChunkCut {
+  size_t num_folders = 0;
+  size_t num_registered = 0;
+  size_t num_kept = 0;
+};
+
+// The sub-models of `output` (a mapper run on one chunk), cut to `own`,
+// written as the next numbered sub-models of `combined` (none when empty).
+ChunkCut CutChunkModel(const fs::path& output,
+                       const std::set<std::string>& own,
+                       const fs::path& combined,
+                       int* num_sub_models) {
+  ChunkCut cut;
+  const std::vector<std::string> folders =
+      FindColmapModelFolders(output.string());
+  cut.num_folders = folders.size();
+  for (const std::string& folder : folders) {
+    const ColmapModel model = ReadColmapModel(folder);
+    cut.num_registered += model.images.size();
+    std::set<uint32_t> ids;
+    for (const auto& [id, image] : model.images) {
+      if (own.count(image.name) > 0) ids.insert(id);
+    }
+    if (ids.size() < 2) continue;
+    cut.num_kept += ids.size();
+    if (combined.empty()) continue;
+    WriteColmapModel(ColmapModelSubset(model, ids),
+                     (combined / std::to_string((*num_sub_models)++)).string(),
+                     ColmapFormat::kBinary);
+  }
+  return cut;
+}
+
+// The chunks' models (`outputs`, one per chunk; empty: the chunk has none),
+// cut to their own images, written as the sub-models of `combined` (emptied
+// first) and calibrated; nothing without a sub-model.
+std::optional<ColmapCalibrationRun> CalibrateChunks(
+    const ReconstructionOptions& run,
+    const MatchingRound& round,
+    const std::vector<std::set<std::string>>& own,
+    const std::vector<fs::path>& outputs,
+    const std::string& combined_entry,
+    std::vector<ChunkCut>* cuts) {
+  const fs::path combined = fs::path(run.workspace_path) / combined_entry;
+  RemoveOwnedOutput(run.workspace_path, combined_entry);
+  std::error_code error;
+  fs::create_directories(combined, error);
+  int num_sub_models = 0;
+  cuts->assign(outputs.size(), ChunkCut());
+  for (size_t k = 0; k < outputs.size(); ++k) {
+    if (outputs[k].empty()) continue;
+    (*cuts)[k] = CutChunkModel(outputs[k], own[k], combined, &num_sub_models);
+  }
+  if (num_sub_models == 0) return std::nullopt;
+  ColmapCalibrationInputs inputs = run.project;
+  inputs.model_path = combined.string();
+  inputs.database_path = round.database;
+  return CalibrateColmapProject(inputs);
+}
+
+struct ChunkedMapping {
+  std::vector<MapperAttempt> attempts;  // all chunks, then each chunk again
+  int chosen = -1;                      // -1: no chunk gave a model
+  std::string model_path;               // the chosen chunks' sub-models
+};
+
 // [4] for a drive longer than one chunk (mapper_chunks.h): each chunk
-// mapped once (--random_seed 0) on the round's matches, and the sub-models
-// of every chunk, cut to the chunk's own images, written as numbered
+// mapped (--random_seed 0) on the round's matches, and the sub-models of
+// every chunk, cut to the chunk's own images, written as numbered
 // sub-models of mapper_attempts/chunks (segments with their own scale).
-// Returns that model's attempt (model_path empty when no chunk gave a
-// model). A chunk COLMAP fails on is left out; the stretches it leaves
-// unregistered are mapped again later (MapUnregisteredStretches).
-MapperAttempt MapInChunks(ColmapRunner* colmap,
-                          const ReconstructionOptions& run,
-                          const MatchingRound& round,
-                          const std::vector<TimedImage>& images,
-                          const std::vector<MapperChunk>& chunks,
-                          Progress* progress) {
+// A chunk in which the calibration leaves a stretch out as folded is mapped
+// again with the next seeds (up to --mapper_attempts runs), and a new model
+// of it kept when more motion pairs of the drive agree with the odometry.
+// A chunk COLMAP fails on is left out; the stretches it leaves unregistered
+// are mapped again later (MapUnregisteredStretches).
+ChunkedMapping MapInChunks(ColmapRunner* colmap,
+                           const ReconstructionOptions& run,
+                           const MatchingRound& round,
+                           const std::vector<TimedImage>& images,
+                           const std::vector<MapperChunk>& chunks,
+                           Progress* progress) {
   const fs::path workspace(run.workspace_path);
   std::error_code error;
   fs::create_directories(workspace / "chunks", error);
   const std::string combined_entry = "mapper_attempts/chunks";
-  const fs::path combined = workspace / combined_entry;
-  RemoveOwnedOutput(run.workspace_path, combined_entry);
-  fs::create_directories(combined, error);
-  int num_sub_models = 0;
+  std::vector<std::set<std::string>> own(chunks.size());
+  std::vector<fs::path> lists(chunks.size());
+  std::vector<fs::path> outputs(chunks.size());
+  // Maps chunk k with `seed` into mapper_attempts/<name>: its output folder,
+  // empty without a model.
+  auto map_chunk = [&](size_t k,
+                       int seed,
+                       const std::string& name,
+                       const std::string& title,
+                       std::optional<StageClock>* clock) {
+    const fs::path output = MapperOutput(run, name);
+    progress->SetNumImages(chunks[k].last - chunks[k].first + 1);
+    clock->emplace(progress, 4, title);
+    const std::optional<ColmapStageResult> result = RunExtraMapper(
+        colmap,
+        run,
+        name,
+        MapperArguments(run, round.database, output, lists[k], seed),
+        &**clock);
+    return result ? std::make_pair(output, Note(*result))
+                  : std::make_pair(fs::path(), std::string());
+  };
   for (size_t k = 0; k < chunks.size(); ++k) {
     const MapperChunk& chunk = chunks[k];
     const std::string name = "chunk_" + std::to_string(k);
@@ -715,59 +803,99 @@ MapperAttempt MapInChunks(ColmapRunner* colmap,
     for (int i = chunk.first; i <= chunk.last; ++i) {
       list << images[i].name << "\n";
     }
-    const fs::path list_path = workspace / "chunks" / (name + "_images.txt");
-    WriteFileAtomically(list_path.string(), list.str());
-    const fs::path output = MapperOutput(run, name);
-    const std::vector<std::string> arguments =
-        MapperArguments(run, round.database, output, list_path, 0);
-    const int size = chunk.last - chunk.first + 1;
-    progress->SetNumImages(size);
-    StageClock clock(progress,
-                     4,
-                     "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
-                         std::to_string(chunks.size()) + " (" +
-                         ImageRange(chunk.first, chunk.last) + ")");
-    const std::optional<ColmapStageResult> result =
-        RunExtraMapper(colmap, run, name, arguments, &clock);
-    if (!result) continue;
-    std::set<std::string> own;
     for (int i = chunk.own_first; i <= chunk.own_last; ++i) {
-      own.insert(images[i].name);
+      own[k].insert(images[i].name);
     }
-    size_t num_registered = 0;
-    size_t num_kept = 0;
-    const std::vector<std::string> folders =
-        FindColmapModelFolders(output.string());
-    for (const std::string& folder : folders) {
-      const ColmapModel model = ReadColmapModel(folder);
-      num_registered += model.images.size();
-      std::set<uint32_t> ids;
-      for (const auto& [id, image] : model.images) {
-        if (own.count(image.name) > 0) ids.insert(id);
-      }
-      if (ids.size() < 2) continue;
-      num_kept += ids.size();
-      WriteColmapModel(ColmapModelSubset(model, ids),
-                       (combined / std::to_string(num_sub_models++)).string(),
-                       ColmapFormat::kBinary);
-    }
-    clock.Done(Note(*result) + "; " + std::to_string(folders.size()) +
-               " sub-model(s), " + std::to_string(num_registered) + " of " +
-               std::to_string(size) + " images registered, " +
-               std::to_string(num_kept) + " of the chunk's own " +
-               std::to_string(chunk.own_last - chunk.own_first + 1) + " kept");
+    lists[k] = workspace / "chunks" / (name + "_images.txt");
+    WriteFileAtomically(lists[k].string(), list.str());
+    std::optional<StageClock> clock;
+    const auto [output, note] =
+        map_chunk(k,
+                  0,
+                  name,
+                  "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
+                      std::to_string(chunks.size()) + " (" +
+                      ImageRange(chunk.first, chunk.last) + ")",
+                  &clock);
+    if (output.empty()) continue;
+    outputs[k] = output;
+    // Only counted here; CalibrateChunks writes every chunk's cut.
+    int num_cut = 0;
+    const ChunkCut cut = CutChunkModel(output, own[k], fs::path(), &num_cut);
+    clock->Done(note + "; " + std::to_string(cut.num_folders) +
+                " sub-model(s), " + std::to_string(cut.num_registered) +
+                " of " + std::to_string(chunk.last - chunk.first + 1) +
+                " images registered, " + std::to_string(cut.num_kept) +
+                " of the chunk's own " +
+                std::to_string(chunk.own_last - chunk.own_first + 1) + " kept");
   }
   progress->SetNumImages(static_cast<int>(images.size()));
-  MapperAttempt attempt;
-  if (num_sub_models == 0) return attempt;
-  ColmapCalibrationInputs inputs = run.project;
-  inputs.model_path = combined.string();
-  inputs.database_path = round.database;
-  const ColmapCalibrationRun calibration = CalibrateColmapProject(inputs);
-  attempt = SummarizeMapperAttempt(
-      0, combined.string(), calibration.segments, calibration.check);
-  attempt.matching_round = round.index;
-  return attempt;
+
+  ChunkedMapping mapping;
+  mapping.model_path = (workspace / combined_entry).string();
+  std::vector<ChunkCut> cuts;
+  std::optional<ColmapCalibrationRun> calibration =
+      CalibrateChunks(run, round, own, outputs, combined_entry, &cuts);
+  if (!calibration) return mapping;
+  auto summarize = [&](int seed, const std::string& path, int chunk) {
+    MapperAttempt attempt = SummarizeMapperAttempt(
+        seed, path, calibration->segments, calibration->check);
+    attempt.matching_round = round.index;
+    attempt.chunk = chunk;
+    return attempt;
+  };
+  mapping.attempts.push_back(summarize(0, mapping.model_path, -1));
+  mapping.chosen = 0;
+  std::vector<int64_t> stamps;
+  for (const TimedImage& image : images) stamps.push_back(image.stamp_ns);
+  std::vector<int> folded =
+      FoldedPairsPerChunk(chunks, stamps, calibration->check.stretches);
+  bool combined_is_chosen = true;
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    for (int seed = 1; folded[k] > 0 && seed < run.mapper.max_seeds; ++seed) {
+      const std::string name =
+          "chunk_" + std::to_string(k) + "_seed_" + std::to_string(seed);
+      std::optional<StageClock> clock;
+      const auto [output, note] =
+          map_chunk(k,
+                    seed,
+                    name,
+                    "COLMAP mapping chunk " + std::to_string(k + 1) +
+                        " again, " + "--random_seed " + std::to_string(seed) +
+                        " (" + std::to_string(folded[k]) +
+                        " motion pairs of it left out as folded)",
+                    &clock);
+      if (output.empty()) continue;
+      std::vector<fs::path> candidate = outputs;
+      candidate[k] = output;
+      calibration =
+          CalibrateChunks(run, round, own, candidate, combined_entry, &cuts);
+      combined_is_chosen = false;
+      if (!calibration) continue;  // not reached: other chunks have models
+      mapping.attempts.push_back(
+          summarize(seed, output.string(), static_cast<int>(k)));
+      const MapperAttempt& attempt = mapping.attempts.back();
+      const MapperAttempt& best = mapping.attempts[mapping.chosen];
+      const std::string pairs =
+          std::to_string(attempt.num_pairs_used) + " of the drive's " +
+          std::to_string(attempt.num_pairs) + " motion pairs used (was " +
+          std::to_string(best.num_pairs_used) + ")";
+      if (attempt.num_pairs_used > best.num_pairs_used) {
+        outputs = candidate;
+        mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
+        combined_is_chosen = true;
+        folded =
+            FoldedPairsPerChunk(chunks, stamps, calibration->check.stretches);
+        clock->Done(note + "; " + pairs + ": this model kept");
+      } else {
+        clock->Done(note + "; " + pairs + ": not better");
+      }
+    }
+  }
+  if (!combined_is_chosen) {
+    CalibrateChunks(run, round, own, outputs, combined_entry, &cuts);
+  }
+  return mapping;
 }
 
 }  // namespace
@@ -1030,7 +1158,8 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   int chosen = -1;
   std::optional<std::string> contradiction_warning;
   std::string mapper_log = (workspace / "logs" / "mapper_seed_0.log").string();
-  std::string mapper_runs;  // "3 runs", "any of the 2 chunks"
+  std::string mapper_runs;        // "3 runs", "any of the 2 chunks"
+  std::string chunks_model_path;  // a chunked drive's model
   if (chunks.size() > 1) {
     progress.Note(3,
                   std::to_string(images.size()) + " images: mapped in " +
@@ -1038,15 +1167,14 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                       std::to_string(chunks[0].last - chunks[0].first + 1) +
                       " sharing at least " +
                       std::to_string(run.chunks.overlap) + " images");
-    const MapperAttempt attempt =
+    const ChunkedMapping mapping =
         MapInChunks(&colmap, run, rounds[0], images, chunks, &progress);
     result.num_chunks = static_cast<int>(chunks.size());
     mapper_log = (workspace / "logs" / "mapper_chunk_0.log").string();
     mapper_runs = "any of the " + std::to_string(chunks.size()) + " chunks";
-    if (!attempt.model_path.empty()) {
-      attempts.push_back(attempt);
-      chosen = 0;
-    }
+    attempts = mapping.attempts;
+    chosen = mapping.chosen;
+    chunks_model_path = mapping.model_path;
   } else {
     for (MapperStep step = policy.Next(); step.kind != MapperStep::Kind::kDone;
          step = policy.Next()) {
@@ -1078,7 +1206,10 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                       "): too little texture or overlap, or wrong intrinsics");
   }
 
-  const MapperAttempt& best = attempts[chosen];
+  // A chunked drive's chosen attempt names the chunk mapped again; its
+  // model is the chunks' sub-models.
+  MapperAttempt best = attempts[chosen];
+  if (!chunks_model_path.empty()) best.model_path = chunks_model_path;
   std::vector<fs::path> stretch_models;
   if (run.map_unregistered_stretches) {
     stretch_models =

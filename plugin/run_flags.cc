@@ -158,8 +158,11 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
         OptionRow<Run> row = NumberRow<Run>(
             "chunk_images",
             "drives of more selected images are mapped in chunks of at most "
-            "this many, sharing 25 images, each a sub-model with its own "
-            "scale (the mapper's cost bounded per chunk); 0: one model",
+            "this many, sharing " +
+                std::to_string(ChunkOptions().overlap) +
+                " images, each a sub-model with its own scale (the mapper's "
+                "cost bounded per chunk; a chunk COLMAP folds is mapped "
+                "again with the next seeds); 0: one model",
             [](auto& r) -> auto& { return r.chunks.max_images; });
         // Twice the overlap at least (ChunkOptions::Check).
         row.check = FlagCheck::Custom([](const std::string& text) {

@@ -293,8 +293,8 @@ TEST_F(CommandLine, RangeChecksOfOtherCommandsPrintTheirLimits) {
       "odomcal run: error: --frame_min_translation_m must be auto or a "
       "number, got 'far'");
   ExpectBadInput(
-      RunOdomcal(Run({"--chunk_images", "30"})),
-      "odomcal run: error: --chunk_images must be 0 or >= 50, got 30");
+      RunOdomcal(Run({"--chunk_images", "20"})),
+      "odomcal run: error: --chunk_images must be 0 or >= 24, got 20");
   ExpectBadInput(
       RunOdomcal({"demo", "--simulated", "--duration_s", "1"}),
       "odomcal demo: error: --duration_s must be in [5, 3600], got 1");
