@@ -1005,6 +1005,44 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
             0.1 * kPi / 180.0);
 }
 
+// Where a second seed folds the chunk as the first did, the fold is the
+// scene's: no third seed is tried (it would be clean here), and the first
+// model stays, its folded stretch left out and named.
+TEST_F(Robustness, ChunkFoldedByTwoSeedsIsNotMappedAThirdTime) {
+  constexpr int kImages = 60;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0", {40, 42, 44, 46});
+  WriteMapperModel(drive, kImages, "seed_1", {40, 42, 44, 46});
+  WriteMapperModel(drive, kImages, "seed_2");
+  const std::string bin = WriteFakeColmapWithMapperModels();
+  const CommandResult run = RunOdomcal(RunCommand({"--matcher",
+                                                   "sequential",
+                                                   "--estimate_time_offset",
+                                                   "off",
+                                                   "--chunk_images",
+                                                   "50",
+                                                   "--frame_min_translation_m",
+                                                   "0",
+                                                   "--frame_min_rotation_deg",
+                                                   "0"}),
+                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find(": not better, no further seed"), std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("--random_seed 2"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("contradicts the odometry: left out"),
+            std::string::npos)
+      << run.out;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  const json& attempts = result["colmap"]["mapper_attempts"];
+  ASSERT_EQ(attempts.size(), 2u) << attempts.dump(2);
+  EXPECT_TRUE(attempts[0]["chosen"].get<bool>());
+  EXPECT_EQ(attempts[1]["chunk"], 1);
+  EXPECT_FALSE(attempts[1]["chosen"].get<bool>());
+  EXPECT_LT(result["colmap"]["image_coverage"]["num_in_calibration"].get<int>(),
+            60);
+}
+
 // COLMAP reconstructed images 20-29 twice: in sub-model 0 on their own,
 // two of them 3 deg off, and in sub-model 1 with all the others. Sub-model
 // 0 is left out as a duplicate (its motions would count twice, and its
