@@ -520,8 +520,9 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
            "the model contradicted least is calibrated. When the seeds do not "
            "help, "
            "the images are matched again (matching round 1) and mapped again. "
-           "A drive mapped in chunks maps again only the chunk with a stretch "
-           "left out as folded."
+           "A drive mapped in chunks maps again only a chunk with a stretch "
+           "left out as folded (chunk: WS/chunks/chunk_&lt;k&gt;_images.txt; "
+           "the other chunks as chosen before)."
            "</p>\n<table>"
            "<tr><th>matching "
            "round</th><th>chunk</th><th>--random_seed</th><th>sub-models</th>"
@@ -532,7 +533,8 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
     for (size_t i = 0; i < run.mapper_attempts.size(); ++i) {
       const MapperAttempt& attempt = run.mapper_attempts[i];
       html << "<tr><td>" << attempt.matching_round << "</td><td>"
-           << (attempt.chunk >= 0 ? std::to_string(attempt.chunk + 1) : "all")
+           << (attempt.chunk >= 0 ? "chunk_" + std::to_string(attempt.chunk)
+                                  : std::string("-"))
            << "</td><td>" << attempt.random_seed << "</td><td>"
            << attempt.num_sub_models << "</td><td>"
            << attempt.num_registered_images << "</td><td>"

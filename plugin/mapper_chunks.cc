@@ -52,25 +52,17 @@ std::vector<MapperChunk> SplitIntoChunks(int num_images,
 }
 
 std::vector<int> FoldedPairsPerChunk(
-    const std::vector<MapperChunk>& chunks,
-    const std::vector<int64_t>& image_stamps_ns,
+    int num_chunks,
+    const std::vector<int>& chunk_of_segment,
     const std::vector<InconsistentStretch>& stretches) {
-  std::vector<int> folded(chunks.size(), 0);
+  std::vector<int> folded(static_cast<size_t>(std::max(num_chunks, 0)), 0);
   for (const InconsistentStretch& stretch : stretches) {
-    if (stretch.kept_as_segment) continue;
-    // Halved first: the sum of two stamps may overflow.
-    const int64_t middle =
-        stretch.first_stamp_ns / 2 + stretch.last_stamp_ns / 2 +
-        (stretch.first_stamp_ns % 2 + stretch.last_stamp_ns % 2) / 2;
-    for (size_t k = 0; k < chunks.size(); ++k) {
-      const MapperChunk& chunk = chunks[k];
-      if (chunk.own_last >= static_cast<int>(image_stamps_ns.size())) break;
-      if (image_stamps_ns[chunk.own_first] <= middle &&
-          middle <= image_stamps_ns[chunk.own_last]) {
-        folded[k] += stretch.num_pairs;
-        break;
-      }
+    if (stretch.kept_as_segment || stretch.input_segment < 0 ||
+        stretch.input_segment >= static_cast<int>(chunk_of_segment.size())) {
+      continue;
     }
+    const int chunk = chunk_of_segment[stretch.input_segment];
+    if (chunk >= 0 && chunk < num_chunks) folded[chunk] += stretch.num_pairs;
   }
   return folded;
 }

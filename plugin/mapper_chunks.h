@@ -24,7 +24,6 @@
 
 #include "odomcal/solver/stretch_consistency.h"
 
-#include <cstdint>
 #include <vector>
 
 namespace odomcal {
@@ -53,13 +52,12 @@ std::vector<MapperChunk> SplitIntoChunks(int num_images,
                                          const ChunkOptions& options);
 
 // Per chunk, the motion pairs of the stretches the calibration left out as
-// folded (`stretches` not kept as a segment): a stretch counts for the chunk
-// whose own images' time range holds its middle (chunks share their own
-// ranges' end images, so the earlier one of two). `image_stamps_ns`: the
-// drive's images in time order, as `chunks` index them.
+// folded (`stretches` not kept as a segment), counted for the chunk the
+// stretch's segment came from: `chunk_of_segment[s]` for the calibration's
+// input segment s (-1, or beyond its end: from no chunk).
 std::vector<int> FoldedPairsPerChunk(
-    const std::vector<MapperChunk>& chunks,
-    const std::vector<int64_t>& image_stamps_ns,
+    int num_chunks,
+    const std::vector<int>& chunk_of_segment,
     const std::vector<InconsistentStretch>& stretches);
 
 }  // namespace odomcal

@@ -104,35 +104,30 @@ TEST(SplitIntoChunks, RejectsBadOptions) {
   EXPECT_THROW(SplitIntoChunks(10, options), std::invalid_argument);
 }
 
-// A folded stretch counts for the chunk whose own images' time range holds
-// its middle; a stretch kept as a segment of its own (another scale) counts
-// for none. Chunks of 60 images (at most 50 sharing 12): own images 0-29 and
-// 29-59, image i at i seconds.
-TEST(FoldedPairsPerChunk, CountsEachFoldedStretchInTheChunkHoldingItsMiddle) {
-  ChunkOptions options;
-  const std::vector<MapperChunk> chunks = SplitIntoChunks(60, options);
-  ASSERT_EQ(chunks.size(), 2u);
-  ASSERT_EQ(chunks[0].own_last, 29);
-  std::vector<int64_t> stamps;
-  for (int i = 0; i < 60; ++i) stamps.push_back(int64_t{1000000000} * i);
-  auto stretch = [](int first_s, int last_s, int num_pairs, bool kept) {
+// A folded stretch counts for the chunk its segment's sub-model came from;
+// a stretch kept as a segment of its own (another scale), or of a segment
+// from no chunk, counts for none.
+TEST(FoldedPairsPerChunk, CountsEachFoldedStretchForTheChunkOfItsSegment) {
+  auto stretch = [](int segment, int num_pairs, bool kept) {
     InconsistentStretch s;
-    s.first_stamp_ns = int64_t{1000000000} * first_s;
-    s.last_stamp_ns = int64_t{1000000000} * last_s;
+    s.input_segment = segment;
     s.num_pairs = num_pairs;
     s.kept_as_segment = kept;
     return s;
   };
-  EXPECT_EQ(FoldedPairsPerChunk(chunks, stamps, {}), std::vector<int>({0, 0}));
-  // Middles 10 s, 31 s (across the boundary, in the later chunk), 29 s (the
-  // image both chunks own: the earlier chunk), and one kept as a segment.
-  EXPECT_EQ(FoldedPairsPerChunk(chunks,
-                                stamps,
-                                {stretch(5, 15, 10, false),
-                                 stretch(28, 34, 6, false),
-                                 stretch(26, 32, 6, false),
-                                 stretch(40, 44, 4, true)}),
-            std::vector<int>({16, 6}));
+  // Segments 0 and 1 from chunk 0, 2 from chunk 2, 3 from none.
+  const std::vector<int> chunk_of_segment = {0, 0, 2, -1};
+  EXPECT_EQ(FoldedPairsPerChunk(3, chunk_of_segment, {}),
+            std::vector<int>({0, 0, 0}));
+  EXPECT_EQ(FoldedPairsPerChunk(3,
+                                chunk_of_segment,
+                                {stretch(0, 10, false),
+                                 stretch(1, 6, false),
+                                 stretch(2, 4, false),
+                                 stretch(2, 5, true),
+                                 stretch(3, 7, false),
+                                 stretch(4, 8, false)}),
+            std::vector<int>({16, 0, 4}));
 }
 
 }  // namespace

@@ -693,14 +693,15 @@ struct ChunkCut {
   size_t num_folders = 0;
   size_t num_registered = 0;
   size_t num_kept = 0;
+  int num_written = 0;  // sub-models written (those keeping 2+ own images)
 };
 
 // The sub-models of `output` (a mapper run on one chunk), cut to `own`,
-// written as the next numbered sub-models of `combined` (none when empty).
+// written as the numbered sub-models of `combined` from `first_sub_model`.
 ChunkCut CutChunkModel(const fs::path& output,
                        const std::set<std::string>& own,
                        const fs::path& combined,
-                       int* num_sub_models) {
+                       int first_sub_model) {
   ChunkCut cut;
   const std::vector<std::string> folders =
       FindColmapModelFolders(output.string());
@@ -714,45 +715,80 @@ ChunkCut CutChunkModel(const fs::path& output,
     }
     if (ids.size() < 2) continue;
     cut.num_kept += ids.size();
-    if (combined.empty()) continue;
-    WriteColmapModel(ColmapModelSubset(model, ids),
-                     (combined / std::to_string((*num_sub_models)++)).string(),
-                     ColmapFormat::kBinary);
+    WriteColmapModel(
+        ColmapModelSubset(model, ids),
+        (combined / std::to_string(first_sub_model + cut.num_written++))
+            .string(),
+        ColmapFormat::kBinary);
   }
   return cut;
 }
 
-// The chunks' models (`outputs`, one per chunk; empty: the chunk has none),
-// cut to their own images, written as the sub-models of `combined` (emptied
-// first) and calibrated; nothing without a sub-model.
-std::optional<ColmapCalibrationRun> CalibrateChunks(
-    const ReconstructionOptions& run,
-    const MatchingRound& round,
-    const std::vector<std::set<std::string>>& own,
-    const std::vector<fs::path>& outputs,
-    const std::string& combined_entry,
-    std::vector<ChunkCut>* cuts) {
-  const fs::path combined = fs::path(run.workspace_path) / combined_entry;
-  RemoveOwnedOutput(run.workspace_path, combined_entry);
+// A combination of chunk models: mapper_attempts/<entry>, its numbered
+// sub-models, and the chunk each came from.
+struct ChunkCombination {
+  std::string entry;
+  std::vector<int> chunk_of_sub_model;
+};
+
+// Emptied first: a rerun must not mix new sub-models with stale ones.
+fs::path StartCombination(const ReconstructionOptions& run,
+                          ChunkCombination* combination) {
+  RemoveOwnedOutput(run.workspace_path, combination->entry);
+  combination->chunk_of_sub_model.clear();
+  const fs::path folder = fs::path(run.workspace_path) / combination->entry;
   std::error_code error;
-  fs::create_directories(combined, error);
-  int num_sub_models = 0;
-  cuts->assign(outputs.size(), ChunkCut());
-  for (size_t k = 0; k < outputs.size(); ++k) {
-    if (outputs[k].empty()) continue;
-    (*cuts)[k] = CutChunkModel(outputs[k], own[k], combined, &num_sub_models);
-  }
-  if (num_sub_models == 0) return std::nullopt;
+  fs::create_directories(folder, error);
+  return folder;
+}
+
+// Chunk k's model (`output`) cut and added to `combination`.
+ChunkCut AddChunkModel(const fs::path& folder,
+                       int k,
+                       const fs::path& output,
+                       const std::set<std::string>& own,
+                       ChunkCombination* combination) {
+  const ChunkCut cut =
+      CutChunkModel(output,
+                    own,
+                    folder,
+                    static_cast<int>(combination->chunk_of_sub_model.size()));
+  combination->chunk_of_sub_model.insert(
+      combination->chunk_of_sub_model.end(), cut.num_written, k);
+  return cut;
+}
+
+ColmapCalibrationRun CalibrateCombination(const ReconstructionOptions& run,
+                                          const MatchingRound& round,
+                                          const ChunkCombination& combination) {
   ColmapCalibrationInputs inputs = run.project;
-  inputs.model_path = combined.string();
+  inputs.model_path =
+      (fs::path(run.workspace_path) / combination.entry).string();
   inputs.database_path = round.database;
   return CalibrateColmapProject(inputs);
+}
+
+// Per chunk, the motion pairs its sub-models lost to stretches left out as
+// folded.
+std::vector<int> FoldedPairsOfChunks(const ColmapCalibrationRun& calibration,
+                                     const ChunkCombination& combination,
+                                     size_t num_chunks) {
+  std::vector<int> chunk_of_segment;
+  for (const ColmapSegment& segment : calibration.segments) {
+    // Sub-models are named by their number (StartCombination's folder).
+    const size_t sub_model = std::stoul(segment.sub_model);
+    chunk_of_segment.push_back(sub_model < combination.chunk_of_sub_model.size()
+                                   ? combination.chunk_of_sub_model[sub_model]
+                                   : -1);
+  }
+  return FoldedPairsPerChunk(static_cast<int>(num_chunks),
+                             chunk_of_segment,
+                             calibration.check.stretches);
 }
 
 struct ChunkedMapping {
   std::vector<MapperAttempt> attempts;  // all chunks, then each chunk again
   int chosen = -1;                      // -1: no chunk gave a model
-  std::string model_path;               // the chosen chunks' sub-models
 };
 
 // [4] for a drive longer than one chunk (mapper_chunks.h): each chunk
@@ -761,10 +797,13 @@ struct ChunkedMapping {
 // sub-models of mapper_attempts/chunks (segments with their own scale).
 // A chunk in which the calibration leaves a stretch out as folded is mapped
 // again with the next seeds (up to --mapper_attempts runs, until a seed does
-// not help), and a new model of it kept when more motion pairs of the drive
-// agree with the odometry.
-// A chunk COLMAP fails on is left out; the stretches it leaves unregistered
-// are mapped again later (MapUnregisteredStretches).
+// not help), each new combination written to
+// mapper_attempts/chunks_<k>_seed_<s> and kept when more motion pairs of the
+// drive agree with the odometry. Chunks are taken in order: one before a
+// chunk mapped again is not revisited (its fold, if the new fit showed one
+// there, would be the neighbour's scale, not its own). A chunk COLMAP fails
+// on is left out; the stretches it leaves unregistered are mapped again
+// later (MapUnregisteredStretches).
 ChunkedMapping MapInChunks(ColmapRunner* colmap,
                            const ReconstructionOptions& run,
                            const MatchingRound& round,
@@ -774,29 +813,25 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   const fs::path workspace(run.workspace_path);
   std::error_code error;
   fs::create_directories(workspace / "chunks", error);
-  const std::string combined_entry = "mapper_attempts/chunks";
   std::vector<std::set<std::string>> own(chunks.size());
   std::vector<fs::path> lists(chunks.size());
-  std::vector<fs::path> outputs(chunks.size());
-  // Maps chunk k with `seed` into mapper_attempts/<name>: its output folder,
-  // empty without a model.
-  auto map_chunk = [&](size_t k,
-                       int seed,
-                       const std::string& name,
-                       const std::string& title,
-                       std::optional<StageClock>* clock) {
-    const fs::path output = MapperOutput(run, name);
-    progress->SetNumImages(chunks[k].last - chunks[k].first + 1);
-    clock->emplace(progress, 4, title);
-    const std::optional<ColmapStageResult> result = RunExtraMapper(
-        colmap,
-        run,
-        name,
-        MapperArguments(run, round.database, output, lists[k], seed),
-        &**clock);
-    return result ? std::make_pair(output, Note(*result))
-                  : std::make_pair(fs::path(), std::string());
-  };
+  std::vector<fs::path> outputs(chunks.size());  // empty: no model
+  // Chunk k mapped with `seed` into mapper_attempts/<name>: its output
+  // folder (empty without a model) and the stage's note.
+  auto map_chunk =
+      [&](size_t k, int seed, const std::string& name, StageClock* clock) {
+        const fs::path output = MapperOutput(run, name);
+        const std::optional<ColmapStageResult> result = RunExtraMapper(
+            colmap,
+            run,
+            name,
+            MapperArguments(run, round.database, output, lists[k], seed),
+            clock);
+        return result ? std::make_pair(output, Note(*result))
+                      : std::make_pair(fs::path(), std::string());
+      };
+  ChunkCombination chosen{"mapper_attempts/chunks", {}};
+  const fs::path folder = StartCombination(run, &chosen);
   for (size_t k = 0; k < chunks.size(); ++k) {
     const MapperChunk& chunk = chunks[k];
     const std::string name = "chunk_" + std::to_string(k);
@@ -809,99 +844,101 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     }
     lists[k] = workspace / "chunks" / (name + "_images.txt");
     WriteFileAtomically(lists[k].string(), list.str());
-    std::optional<StageClock> clock;
-    const auto [output, note] =
-        map_chunk(k,
-                  0,
-                  name,
-                  "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
-                      std::to_string(chunks.size()) + " (" +
-                      ImageRange(chunk.first, chunk.last) + ")",
-                  &clock);
+    progress->SetNumImages(chunk.last - chunk.first + 1);
+    StageClock clock(progress,
+                     4,
+                     "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
+                         std::to_string(chunks.size()) + " (" +
+                         ImageRange(chunk.first, chunk.last) + ")");
+    const auto [output, note] = map_chunk(k, 0, name, &clock);
     if (output.empty()) continue;
     outputs[k] = output;
-    // Only counted here; CalibrateChunks writes every chunk's cut.
-    int num_cut = 0;
-    const ChunkCut cut = CutChunkModel(output, own[k], fs::path(), &num_cut);
-    clock->Done(note + "; " + std::to_string(cut.num_folders) +
-                " sub-model(s), " + std::to_string(cut.num_registered) +
-                " of " + std::to_string(chunk.last - chunk.first + 1) +
-                " images registered, " + std::to_string(cut.num_kept) +
-                " of the chunk's own " +
-                std::to_string(chunk.own_last - chunk.own_first + 1) + " kept");
+    const ChunkCut cut =
+        AddChunkModel(folder, static_cast<int>(k), output, own[k], &chosen);
+    clock.Done(note + "; " + std::to_string(cut.num_folders) +
+               " sub-model(s), " + std::to_string(cut.num_registered) + " of " +
+               std::to_string(chunk.last - chunk.first + 1) +
+               " images registered, " + std::to_string(cut.num_kept) +
+               " of the chunk's own " +
+               std::to_string(chunk.own_last - chunk.own_first + 1) + " kept");
   }
-  progress->SetNumImages(static_cast<int>(images.size()));
 
   ChunkedMapping mapping;
-  mapping.model_path = (workspace / combined_entry).string();
-  std::vector<ChunkCut> cuts;
-  std::optional<ColmapCalibrationRun> calibration =
-      CalibrateChunks(run, round, own, outputs, combined_entry, &cuts);
-  if (!calibration) return mapping;
-  auto summarize = [&](int seed, const std::string& path, int chunk) {
-    MapperAttempt attempt = SummarizeMapperAttempt(
-        seed, path, calibration->segments, calibration->check);
-    attempt.matching_round = round.index;
-    attempt.chunk = chunk;
-    return attempt;
-  };
-  mapping.attempts.push_back(summarize(0, mapping.model_path, -1));
+  if (chosen.chunk_of_sub_model.empty()) {
+    progress->SetNumImages(static_cast<int>(images.size()));
+    return mapping;
+  }
+  ColmapCalibrationRun calibration = CalibrateCombination(run, round, chosen);
+  auto summarize =
+      [&](int seed, const ChunkCombination& combination, int chunk) {
+        MapperAttempt attempt =
+            SummarizeMapperAttempt(seed,
+                                   (workspace / combination.entry).string(),
+                                   calibration.segments,
+                                   calibration.check);
+        attempt.matching_round = round.index;
+        attempt.chunk = chunk;
+        return attempt;
+      };
+  mapping.attempts.push_back(summarize(0, chosen, -1));
   mapping.chosen = 0;
-  std::vector<int64_t> stamps;
-  for (const TimedImage& image : images) stamps.push_back(image.stamp_ns);
   std::vector<int> folded =
-      FoldedPairsPerChunk(chunks, stamps, calibration->check.stretches);
-  bool combined_is_chosen = true;
+      FoldedPairsOfChunks(calibration, chosen, chunks.size());
   for (size_t k = 0; k < chunks.size(); ++k) {
     for (int seed = 1; folded[k] > 0 && seed < run.mapper.max_seeds; ++seed) {
-      const std::string name =
-          "chunk_" + std::to_string(k) + "_seed_" + std::to_string(seed);
-      std::optional<StageClock> clock;
-      const auto [output, note] =
-          map_chunk(k,
-                    seed,
-                    name,
-                    "COLMAP mapping chunk " + std::to_string(k + 1) +
-                        " again, " + "--random_seed " + std::to_string(seed) +
-                        " (" + std::to_string(folded[k]) +
-                        " motion pairs of it left out as folded)",
-                    &clock);
-      if (output.empty()) continue;
+      const std::string suffix =
+          std::to_string(k) + "_seed_" + std::to_string(seed);
+      progress->SetNumImages(chunks[k].last - chunks[k].first + 1);
+      StageClock clock(progress,
+                       4,
+                       "COLMAP mapping chunk " + std::to_string(k + 1) +
+                           " again, --random_seed " + std::to_string(seed) +
+                           " (" + std::to_string(folded[k]) +
+                           " motion pairs of it left out as folded)");
+      const auto [output, note] = map_chunk(k, seed, "chunk_" + suffix, &clock);
+      // A seed without a model did not help either.
+      if (output.empty()) break;
       std::vector<fs::path> candidate = outputs;
       candidate[k] = output;
-      calibration =
-          CalibrateChunks(run, round, own, candidate, combined_entry, &cuts);
-      combined_is_chosen = false;
-      if (!calibration) continue;  // not reached: other chunks have models
+      ChunkCombination combination{"mapper_attempts/chunks_" + suffix, {}};
+      const fs::path candidate_folder = StartCombination(run, &combination);
+      for (size_t j = 0; j < chunks.size(); ++j) {
+        if (candidate[j].empty()) continue;
+        AddChunkModel(candidate_folder,
+                      static_cast<int>(j),
+                      candidate[j],
+                      own[j],
+                      &combination);
+      }
+      // Chunk k's new model may keep none of its own images, and be the
+      // only chunk with a model.
+      if (combination.chunk_of_sub_model.empty()) break;
+      calibration = CalibrateCombination(run, round, combination);
       mapping.attempts.push_back(
-          summarize(seed, output.string(), static_cast<int>(k)));
+          summarize(seed, combination, static_cast<int>(k)));
       const MapperAttempt& attempt = mapping.attempts.back();
       const MapperAttempt& best = mapping.attempts[mapping.chosen];
       const std::string pairs =
           std::to_string(attempt.num_pairs_used) + " of the drive's " +
           std::to_string(attempt.num_pairs) + " motion pairs used (was " +
           std::to_string(best.num_pairs_used) + ")";
-      if (attempt.num_pairs_used > best.num_pairs_used) {
-        outputs = candidate;
-        mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
-        combined_is_chosen = true;
-        folded =
-            FoldedPairsPerChunk(chunks, stamps, calibration->check.stretches);
-        clock->Done(note + "; " + pairs + ": this model kept");
-      } else {
+      if (attempt.num_pairs_used <= best.num_pairs_used) {
         // The next seed is not tried either: where one seed did not help,
         // the fold is the scene's (measured on the rendered 1 000-image
         // drive: seeds 1 and 2 folded its turn close to a wall as seed 0
         // did, at 100 s each), as in a one-model drive whose seeds repeat
         // their contradictions (RepeatsContradictions).
-        clock->Done(note + "; " + pairs + ": not better, no further seed");
+        clock.Done(note + "; " + pairs + ": not better, no further seed");
         break;
       }
+      outputs = candidate;
+      chosen = combination;
+      mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
+      folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
+      clock.Done(note + "; " + pairs + ": this model kept");
     }
   }
-  if (!combined_is_chosen) {
-    CalibrateChunks(run, round, own, outputs, combined_entry, &cuts);
-  }
+  progress->SetNumImages(static_cast<int>(images.size()));
   return mapping;
 }
 
@@ -1158,15 +1195,15 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
 
   // [4] Mapping, each model checked against the odometry; when the random
   // seeds do not help, [3] and [4] once more on new matches
-  // (mapper_policy.h). A drive longer than one chunk: each chunk mapped once.
+  // (mapper_policy.h). A drive longer than one chunk: chunk by chunk, a
+  // chunk mapped again only where its model is folded (MapInChunks).
   const std::vector<MapperChunk> chunks =
       SplitIntoChunks(static_cast<int>(images.size()), run.chunks);
   std::vector<MapperAttempt> attempts;
   int chosen = -1;
   std::optional<std::string> contradiction_warning;
   std::string mapper_log = (workspace / "logs" / "mapper_seed_0.log").string();
-  std::string mapper_runs;        // "3 runs", "any of the 2 chunks"
-  std::string chunks_model_path;  // a chunked drive's model
+  std::string mapper_runs;  // "3 runs", "any of the 2 chunks"
   if (chunks.size() > 1) {
     progress.Note(3,
                   std::to_string(images.size()) + " images: mapped in " +
@@ -1181,7 +1218,6 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
     mapper_runs = "any of the " + std::to_string(chunks.size()) + " chunks";
     attempts = mapping.attempts;
     chosen = mapping.chosen;
-    chunks_model_path = mapping.model_path;
   } else {
     for (MapperStep step = policy.Next(); step.kind != MapperStep::Kind::kDone;
          step = policy.Next()) {
@@ -1213,10 +1249,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                       "): too little texture or overlap, or wrong intrinsics");
   }
 
-  // A chunked drive's chosen attempt names the chunk mapped again; its
-  // model is the chunks' sub-models.
-  MapperAttempt best = attempts[chosen];
-  if (!chunks_model_path.empty()) best.model_path = chunks_model_path;
+  const MapperAttempt& best = attempts[chosen];
   std::vector<fs::path> stretch_models;
   if (run.map_unregistered_stretches) {
     stretch_models =

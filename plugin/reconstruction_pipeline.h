@@ -58,8 +58,9 @@ struct ReconstructionOptions {
   CandidatePairOptions candidate_pairs;  // stretches and --matcher odometry
   InitialPairOptions initial_pair;
   // Drives of more selected images than chunks.max_images are mapped in
-  // chunks (mapper_chunks.h), each once (--random_seed 0), instead of the
-  // mapper attempts on all images; smaller drives are mapped as before.
+  // chunks (mapper_chunks.h), each with --random_seed 0 and again with the
+  // next seeds only where the odometry finds its model folded, instead of
+  // the mapper attempts on all images; smaller drives are mapped as before.
   ChunkOptions chunks;
 };
 

@@ -121,7 +121,8 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           "mapper_attempts",
           "COLMAP mapper runs (--random_seed 0, 1, ...) while the odometry "
           "contradicts motion pairs of the model; the model it contradicts "
-          "least is kept; per matching",
+          "least is kept; per matching (a drive in chunks: per chunk, while "
+          "its model is folded)",
           [](auto& r) -> auto& { return r.mapper.max_seeds; },
           FlagCheck::InRange(1, 20)),
       // --rematch on|off sets the matchings at most (2: match again once,

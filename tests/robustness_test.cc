@@ -991,7 +991,9 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   EXPECT_FALSE(attempts[0]["chosen"].get<bool>());
   EXPECT_EQ(attempts[1]["chunk"], 1);
   EXPECT_EQ(attempts[1]["random_seed"], 1);
-  EXPECT_EQ(attempts[1]["path"], Path("ws/mapper_attempts/chunk_1_seed_1"));
+  // The combination calibrated: chunk 0's model and chunk 1's new one.
+  EXPECT_EQ(attempts[1]["path"], Path("ws/mapper_attempts/chunks_1_seed_1"));
+  EXPECT_TRUE(fs::exists(Path("ws/mapper_attempts/chunk_1_seed_1/0")));
   EXPECT_EQ(attempts[1]["num_pairs_left_out"], 0);
   EXPECT_TRUE(attempts[1]["chosen"].get<bool>());
   EXPECT_EQ(result["colmap"]["image_coverage"]["num_in_calibration"], 60);
@@ -1005,14 +1007,14 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
             0.1 * kPi / 180.0);
 }
 
-// Where a second seed folds the chunk as the first did, the fold is the
+// Where a second seed folds the chunk too (here worse), the fold is the
 // scene's: no third seed is tried (it would be clean here), and the first
 // model stays, its folded stretch left out and named.
 TEST_F(Robustness, ChunkFoldedByTwoSeedsIsNotMappedAThirdTime) {
   constexpr int kImages = 60;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
   WriteMapperModel(drive, kImages, "seed_0", {40, 42, 44, 46});
-  WriteMapperModel(drive, kImages, "seed_1", {40, 42, 44, 46});
+  WriteMapperModel(drive, kImages, "seed_1", {36, 38, 40, 42, 44, 46, 48, 50});
   WriteMapperModel(drive, kImages, "seed_2");
   const std::string bin = WriteFakeColmapWithMapperModels();
   const CommandResult run = RunOdomcal(RunCommand({"--matcher",
@@ -1039,6 +1041,11 @@ TEST_F(Robustness, ChunkFoldedByTwoSeedsIsNotMappedAThirdTime) {
   EXPECT_TRUE(attempts[0]["chosen"].get<bool>());
   EXPECT_EQ(attempts[1]["chunk"], 1);
   EXPECT_FALSE(attempts[1]["chosen"].get<bool>());
+  EXPECT_LT(attempts[1]["num_pairs_used"], attempts[0]["num_pairs_used"]);
+  // What was calibrated is the first model: sparse/ holds its combination.
+  EXPECT_EQ(result["colmap"]["sub_models"][0]["path"], Path("ws/sparse/0"));
+  EXPECT_EQ(result["diagnostics"]["num_pairs_used"],
+            attempts[0]["num_pairs_used"]);
   EXPECT_LT(result["colmap"]["image_coverage"]["num_in_calibration"].get<int>(),
             60);
 }
