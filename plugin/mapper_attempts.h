@@ -32,8 +32,10 @@ struct MapperAttempt {
   // `random_seed`, the others as chosen before; -1: every chunk mapped
   // with seed 0, or a drive of one model.
   int chunk = -1;
-  int random_seed = 0;     // COLMAP's --random_seed
-  std::string model_path;  // the mapper's output root (sub-models 0, 1, ...)
+  int random_seed = 0;  // COLMAP's --random_seed
+  // The mapper's output root (sub-models 0, 1, ...); a chunked drive's
+  // combination of chunk models when it produced one.
+  std::string model_path;
   bool produced_model = false;
   int num_sub_models = 0;
   int num_registered_images = 0;                          // over all sub-models

@@ -29,8 +29,10 @@
 #include "odomcal/solver/format_number.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -775,8 +777,15 @@ std::vector<int> FoldedPairsOfChunks(const ColmapCalibrationRun& calibration,
                                      size_t num_chunks) {
   std::vector<int> chunk_of_segment;
   for (const ColmapSegment& segment : calibration.segments) {
-    // Sub-models are named by their number (StartCombination's folder).
-    const size_t sub_model = std::stoul(segment.sub_model);
+    // Sub-models are named by their number (StartCombination's folder);
+    // any other name is from no chunk.
+    const std::string& name = segment.sub_model;
+    const bool numbered =
+        !name.empty() && name.size() < 9 &&
+        std::all_of(name.begin(), name.end(), [](unsigned char c) {
+          return std::isdigit(c);
+        });
+    const size_t sub_model = numbered ? std::stoul(name) : SIZE_MAX;
     chunk_of_segment.push_back(sub_model < combination.chunk_of_sub_model.size()
                                    ? combination.chunk_of_sub_model[sub_model]
                                    : -1);
@@ -896,8 +905,17 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                            " (" + std::to_string(folded[k]) +
                            " motion pairs of it left out as folded)");
       const auto [output, note] = map_chunk(k, seed, "chunk_" + suffix, &clock);
-      // A seed without a model did not help either.
-      if (output.empty()) break;
+      // A seed without a model did not help either (recorded, as a
+      // one-model drive's mapper run without a model is).
+      if (output.empty()) {
+        MapperAttempt attempt;
+        attempt.matching_round = round.index;
+        attempt.chunk = static_cast<int>(k);
+        attempt.random_seed = seed;
+        attempt.model_path = MapperOutput(run, "chunk_" + suffix).string();
+        mapping.attempts.push_back(attempt);
+        break;
+      }
       std::vector<fs::path> candidate = outputs;
       candidate[k] = output;
       ChunkCombination combination{"mapper_attempts/chunks_" + suffix, {}};
@@ -912,8 +930,18 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       }
       // Chunk k's new model may keep none of its own images, and be the
       // only chunk with a model.
-      if (combination.chunk_of_sub_model.empty()) break;
-      calibration = CalibrateCombination(run, round, combination);
+      if (combination.chunk_of_sub_model.empty()) {
+        clock.Done(note + "; its model keeps none of the chunk's own images");
+        break;
+      }
+      // A model already chosen: one that cannot be calibrated is left out,
+      // as an extra mapper run's failure is (RunExtraMapper).
+      try {
+        calibration = CalibrateCombination(run, round, combination);
+      } catch (const FormatError& failure) {
+        clock.Done(note + "; left out: " + failure.what());
+        break;
+      }
       mapping.attempts.push_back(
           summarize(seed, combination, static_cast<int>(k)));
       const MapperAttempt& attempt = mapping.attempts.back();
