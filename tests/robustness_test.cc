@@ -318,6 +318,35 @@ class Robustness : public ::testing::Test {
         "exit 0\n");
   }
 
+  // `odomcal run` with `bin`'s COLMAP on WriteImageFolder's drive, every
+  // image kept (no frame spacing), in chunks of at most 50. The last image
+  // lies on the odometry's last sample: a clock offset estimated
+  // microseconds positive would leave it out of the metric model (and name
+  // it), which is not what these tests are about, so the offset is not
+  // estimated.
+  CommandResult RunInChunksOf50(const std::string& bin) const {
+    return RunOdomcal(RunCommand({"--matcher",
+                                  "sequential",
+                                  "--estimate_time_offset",
+                                  "off",
+                                  "--chunk_images",
+                                  "50",
+                                  "--frame_min_translation_m",
+                                  "0",
+                                  "--frame_min_rotation_deg",
+                                  "0"}),
+                      {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  }
+
+  // The angle between the result's odom_from_cam rotation and the drive's.
+  static double ExtrinsicRotationError(const json& result,
+                                       const SimulatedDrive& drive) {
+    const json& q = result["odom_from_cam"]["quaternion_wxyz"];
+    return RotationAngle(
+        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).conjugate() *
+        drive.odom_from_cam.rotation);
+  }
+
   std::vector<std::string> RunCommand(
       const std::vector<std::string>& extra = {}) const {
     std::vector<std::string> arguments = {"run",
@@ -880,14 +909,7 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
   EXPECT_EQ(ReadFile(dir_ / "ws" / "sparse" / "0" / "images.bin"),
             ReadFile(dir_ / "models" / "seed_2" / "images.bin"));
   EXPECT_EQ(result["colmap"]["sub_models"][0]["path"], Path("ws/sparse/0"));
-  EXPECT_LT(RotationAngle(Eigen::Quaterniond(
-                              result["odom_from_cam"]["quaternion_wxyz"][0],
-                              result["odom_from_cam"]["quaternion_wxyz"][1],
-                              result["odom_from_cam"]["quaternion_wxyz"][2],
-                              result["odom_from_cam"]["quaternion_wxyz"][3])
-                              .conjugate() *
-                          drive.odom_from_cam.rotation),
-            0.1 * kPi / 180.0);
+  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
 }
 
 // A drive of more selected images than --chunk_images is mapped in chunks
@@ -896,26 +918,12 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
 // the whole drive's model both times), each cut to its own images (1-30,
 // 30-60: the overlap split in the middle, one image shared) as a sub-model
 // of its own; the calibration of the two segments recovers the extrinsic.
-// The last image lies on the odometry's last sample: a clock offset
-// estimated microseconds positive would leave it out of the metric model
-// (and name it), which is not what this test is about, so the offset is not
-// estimated.
 TEST_F(Robustness, LongDriveIsMappedInChunks) {
   constexpr int kImages = 60;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
   WriteMapperModel(drive, kImages, "seed_0");
   const std::string bin = WriteFakeColmapWithMapperModels();
-  const CommandResult run = RunOdomcal(RunCommand({"--matcher",
-                                                   "sequential",
-                                                   "--estimate_time_offset",
-                                                   "off",
-                                                   "--chunk_images",
-                                                   "50",
-                                                   "--frame_min_translation_m",
-                                                   "0",
-                                                   "--frame_min_rotation_deg",
-                                                   "0"}),
-                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  const CommandResult run = RunInChunksOf50(bin);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("60 images: mapped in 2 chunks of 37 sharing at "
                          "least 12 images"),
@@ -940,14 +948,7 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
   EXPECT_EQ(sub_models[0]["num_registered_images"], 30);
   EXPECT_EQ(sub_models[1]["num_registered_images"], 31);
   EXPECT_EQ(result["colmap"]["image_coverage"]["num_in_calibration"], 60);
-  EXPECT_LT(RotationAngle(Eigen::Quaterniond(
-                              result["odom_from_cam"]["quaternion_wxyz"][0],
-                              result["odom_from_cam"]["quaternion_wxyz"][1],
-                              result["odom_from_cam"]["quaternion_wxyz"][2],
-                              result["odom_from_cam"]["quaternion_wxyz"][3])
-                              .conjugate() *
-                          drive.odom_from_cam.rotation),
-            0.1 * kPi / 180.0);
+  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
 }
 
 // A chunk whose model COLMAP folded is mapped again with the next seed
@@ -967,17 +968,7 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   WriteMapperModel(drive, kImages, "seed_0/1", {40, 42, 44, 46}, 15);
   WriteMapperModel(drive, kImages, "seed_1");
   const std::string bin = WriteFakeColmapWithMapperModels();
-  const CommandResult run = RunOdomcal(RunCommand({"--matcher",
-                                                   "sequential",
-                                                   "--estimate_time_offset",
-                                                   "off",
-                                                   "--chunk_images",
-                                                   "50",
-                                                   "--frame_min_translation_m",
-                                                   "0",
-                                                   "--frame_min_rotation_deg",
-                                                   "0"}),
-                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  const CommandResult run = RunInChunksOf50(bin);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_EQ(run.out.find("COLMAP mapping chunk 1 again"), std::string::npos)
       << run.out;
@@ -1001,14 +992,7 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   EXPECT_EQ(attempts[1]["num_pairs_left_out"], 0);
   EXPECT_TRUE(attempts[1]["chosen"].get<bool>());
   EXPECT_EQ(result["colmap"]["image_coverage"]["num_in_calibration"], 60);
-  EXPECT_LT(RotationAngle(Eigen::Quaterniond(
-                              result["odom_from_cam"]["quaternion_wxyz"][0],
-                              result["odom_from_cam"]["quaternion_wxyz"][1],
-                              result["odom_from_cam"]["quaternion_wxyz"][2],
-                              result["odom_from_cam"]["quaternion_wxyz"][3])
-                              .conjugate() *
-                          drive.odom_from_cam.rotation),
-            0.1 * kPi / 180.0);
+  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
 }
 
 // Where a second seed folds the chunk too (here worse), the fold is the
@@ -1021,17 +1005,7 @@ TEST_F(Robustness, ChunkFoldedByTwoSeedsIsNotMappedAThirdTime) {
   WriteMapperModel(drive, kImages, "seed_1", {36, 38, 40, 42, 44, 46, 48, 50});
   WriteMapperModel(drive, kImages, "seed_2");
   const std::string bin = WriteFakeColmapWithMapperModels();
-  const CommandResult run = RunOdomcal(RunCommand({"--matcher",
-                                                   "sequential",
-                                                   "--estimate_time_offset",
-                                                   "off",
-                                                   "--chunk_images",
-                                                   "50",
-                                                   "--frame_min_translation_m",
-                                                   "0",
-                                                   "--frame_min_rotation_deg",
-                                                   "0"}),
-                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  const CommandResult run = RunInChunksOf50(bin);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find(": not better, no further seed"), std::string::npos)
       << run.out;
