@@ -689,6 +689,17 @@ double RunFieldOfViewDeg(const ReconstructionOptions& run) {
                   FieldOfViewDeg(params[fy], params[cy]));
 }
 
+// The number a sub-model folder is named by ("0", "1", ...); -1 for any
+// other name.
+int SubModelNumber(const std::string& name) {
+  const bool numbered =
+      !name.empty() && name.size() < 9 &&
+      std::all_of(name.begin(), name.end(), [](unsigned char c) {
+        return std::isdigit(c);
+      });
+  return numbered ? std::stoi(name) : -1;
+}
+
 // What a chunk's model kept: its sub-models, its images registered, and
 // those of the chunk's own images (mapper_chunks.h).
 struct ChunkCut {
@@ -779,16 +790,12 @@ std::vector<int> FoldedPairsOfChunks(const ColmapCalibrationRun& calibration,
   for (const ColmapSegment& segment : calibration.segments) {
     // Sub-models are named by their number (StartCombination's folder);
     // any other name is from no chunk.
-    const std::string& name = segment.sub_model;
-    const bool numbered =
-        !name.empty() && name.size() < 9 &&
-        std::all_of(name.begin(), name.end(), [](unsigned char c) {
-          return std::isdigit(c);
-        });
-    const size_t sub_model = numbered ? std::stoul(name) : SIZE_MAX;
-    chunk_of_segment.push_back(sub_model < combination.chunk_of_sub_model.size()
-                                   ? combination.chunk_of_sub_model[sub_model]
-                                   : -1);
+    const int sub_model = SubModelNumber(segment.sub_model);
+    chunk_of_segment.push_back(
+        sub_model >= 0 && sub_model < static_cast<int>(
+                                          combination.chunk_of_sub_model.size())
+            ? combination.chunk_of_sub_model[sub_model]
+            : -1);
   }
   return FoldedPairsPerChunk(static_cast<int>(num_chunks),
                              chunk_of_segment,
@@ -1305,13 +1312,9 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   // The stretch models become the next numbered sub-models.
   int next_sub_model = 0;
   for (const std::string& folder : FindColmapModelFolders(sparse.string())) {
-    const std::string name = fs::path(folder).filename().string();
-    if (!name.empty() && name.size() < 9 &&
-        std::all_of(name.begin(), name.end(), [](unsigned char c) {
-          return std::isdigit(c);
-        })) {
-      next_sub_model = std::max(next_sub_model, std::stoi(name) + 1);
-    }
+    next_sub_model =
+        std::max(next_sub_model,
+                 SubModelNumber(fs::path(folder).filename().string()) + 1);
   }
   for (const fs::path& root : stretch_models) {
     for (const std::string& folder : FindColmapModelFolders(root.string())) {
