@@ -16,6 +16,7 @@
 #include "odomcal/plugin/output_file.h"
 #include "odomcal/plugin/output_folder.h"
 #include "odomcal/plugin/svg_plot.h"
+#include "odomcal/solver/format_number.h"
 
 #include <unistd.h>
 
@@ -54,7 +55,7 @@ std::string CsvNumber(double value) {
 std::string SweepCsv(const std::vector<SweepPointResult>& points) {
   std::ostringstream csv;
   csv << "value,method,rmse_rotation_deg,rmse_translation_m,rmse_scale_rel,"
-         "divergence_rate,failures,trials\n";
+         "divergence_rate,failures,trials,motions_used\n";
   for (const SweepPointResult& point : points) {
     for (const EvaluationMethod method : AllEvaluationMethods()) {
       const MethodSummary& s = point[method];
@@ -62,7 +63,8 @@ std::string SweepCsv(const std::vector<SweepPointResult>& points) {
           << CsvNumber(s.rmse_rotation_deg) << ","
           << CsvNumber(s.rmse_translation_m) << ","
           << CsvNumber(s.rmse_scale_rel) << "," << CsvNumber(s.divergence_rate)
-          << "," << s.num_failures << "," << s.num_trials << "\n";
+          << "," << s.num_failures << "," << s.num_trials << ","
+          << CsvNumber(s.motions_used) << "\n";
     }
   }
   return csv.str();
@@ -136,13 +138,14 @@ void PrintSweepTable(const PaperSweep& sweep,
               sweep.name.c_str(),
               sweep.x_label.c_str(),
               num_trials);
-  std::printf("  %8s  %-9s %10s %10s %9s %7s %5s\n",
+  std::printf("  %8s  %-9s %10s %10s %9s %7s %7s %5s\n",
               "value",
               "method",
               "rot[deg]",
               "xy[mm]",
               "scale[%]",
               "div[%]",
+              "used[%]",
               "fail");
   for (const SweepPointResult& point : points) {
     for (const EvaluationMethod method : AllEvaluationMethods()) {
@@ -152,13 +155,18 @@ void PrintSweepTable(const PaperSweep& sweep,
         std::snprintf(
             divergence, sizeof(divergence), "%.2f", 100.0 * s.divergence_rate);
       }
-      std::printf("  %8g  %-9s %10.4f %10.3f %9.4f %7s %5d\n",
+      char used[16] = "-";
+      if (std::isfinite(s.motions_used)) {
+        std::snprintf(used, sizeof(used), "%.1f", 100.0 * s.motions_used);
+      }
+      std::printf("  %8g  %-9s %10.4f %10.3f %9.4f %7s %7s %5d\n",
                   point.value,
                   ToString(method).c_str(),
                   s.rmse_rotation_deg,
                   1000.0 * s.rmse_translation_m,
                   100.0 * s.rmse_scale_rel,
                   divergence,
+                  used,
                   s.num_failures);
     }
   }
@@ -188,8 +196,12 @@ int RunSimulate(int argc, char** argv) {
   int num_threads = 2;
   std::string camera_noise = "landmarks";
   std::string two_view_starts = "all";
-  bool overwrite = false;
   EvaluationOptions evaluation;
+  std::string batch_refinement = ToString(evaluation.batch_refinement);
+  const PaperSimulationOptions landmark_defaults =
+      NominalPaperSimulation(CameraNoiseMode::kLandmarks);
+  double landmark_max_depth_m = landmark_defaults.max_depth_m;
+  bool overwrite = false;
   app.add_option("--output_path",
                  output_path,
                  "folder for <sweep>.csv, <sweep>.svg and divergence.csv "
@@ -225,6 +237,20 @@ int RunSimulate(int argc, char** argv) {
                  "(eight_point: the estimator before multi-start)")
       ->check(CLI::IsMember({"all", "eight_point"}))
       ->capture_default_str();
+  app.add_option("--landmark_max_depth_m",
+                 landmark_max_depth_m,
+                 "landmarks: the farthest landmark depth [m] (the nearest: " +
+                     FormatNumber(landmark_defaults.min_depth_m) + " m)")
+      ->check(InRange(1.0, 100.0))
+      ->capture_default_str();
+  app.add_option("--batch_refinement",
+                 batch_refinement,
+                 "B methods: paper (one refinement on every motion) or "
+                 "inlier_rounds (as odomcal refines: the motions within "
+                 "noise, the weights evaluated again at each result)")
+      ->check(CLI::IsMember({ToString(BatchRefinement::kPaper),
+                             ToString(BatchRefinement::kInlierRounds)}))
+      ->capture_default_str();
   app.add_option("--cm_iterations",
                  evaluation.cm_ransac_iterations,
                  "RANSAC samples of the CM baseline (fixed budget)")
@@ -258,6 +284,8 @@ int RunSimulate(int argc, char** argv) {
     const bool show_progress = isatty(STDERR_FILENO) != 0;
     PaperSimulationOptions nominal = NominalPaperSimulation(mode);
     nominal.two_view_multi_start = two_view_starts == "all";
+    nominal.max_depth_m = landmark_max_depth_m;
+    evaluation.batch_refinement = BatchRefinementFromString(batch_refinement);
     std::vector<DivergenceTotals> totals(kNumEvaluationMethods);
     const auto start = std::chrono::steady_clock::now();
     int total_trials = 0;

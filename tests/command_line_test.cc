@@ -301,6 +301,13 @@ TEST_F(CommandLine, RangeChecksOfOtherCommandsPrintTheirLimits) {
   ExpectBadInput(
       RunOdomcal({"simulate", "--output_path", Path("sim"), "--threads", "0"}),
       "odomcal simulate: error: --threads must be in [1, 256], got 0");
+  ExpectBadInput(RunOdomcal({"simulate",
+                             "--output_path",
+                             Path("sim"),
+                             "--landmark_max_depth_m",
+                             "0.4"}),
+                 "odomcal simulate: error: --landmark_max_depth_m must be in "
+                 "[1, 100], got 0.4");
   EXPECT_FALSE(fs::exists(Path("ws")));
   EXPECT_FALSE(fs::exists(Path("sim")));
 }

@@ -277,27 +277,34 @@ TEST(BatchDivergence, DISABLED_InconsistentTwoViewEstimates) {
 // default two-view estimator, 200 trials on one thread, nominal and 0.5 m
 // steps: rotation RMSE [deg], and divergence [%] for the B methods.
 TEST(BatchDivergence, DISABLED_NominalLandmarkPoint) {
-  std::cout << "| step SD | ALS | ALSP-L | CM | ALS-B | ALSP-L-B | CM-B | GT-B "
-               "|\n|---|---|---|---|---|---|---|---|\n";
+  std::cout << "| step SD | B inlier test | ALS | ALSP-L | CM | ALS-B | "
+               "ALSP-L-B | CM-B | GT-B "
+               "|\n|---|---|---|---|---|---|---|---|---|\n";
   for (const double step : {0.2, 0.5}) {
-    const SweepPointResult point = RunSweepPoint(Options(step, kEstimators[3]),
-                                                 EvaluationOptions(),
-                                                 "pixel_noise",
-                                                 3,
-                                                 1.0,
-                                                 200,
-                                                 1,
-                                                 0);
-    std::cout << "| " << step << " m";
-    for (const EvaluationMethod method : AllEvaluationMethods()) {
-      if (method == EvaluationMethod::kAlspOrthogonal) continue;
-      const MethodSummary& summary = point[method];
-      std::cout << " | " << summary.rmse_rotation_deg;
-      if (IsBatchMethod(method)) {
-        std::cout << " / " << 100.0 * summary.divergence_rate;
+    for (const bool inlier_test : {false, true}) {
+      EvaluationOptions evaluation;
+      evaluation.batch_refinement = inlier_test ? BatchRefinement::kInlierRounds
+                                                : BatchRefinement::kPaper;
+      const SweepPointResult point =
+          RunSweepPoint(Options(step, kEstimators[3]),
+                        evaluation,
+                        "pixel_noise",
+                        3,
+                        1.0,
+                        200,
+                        2,
+                        0);
+      std::cout << "| " << step << " m | " << (inlier_test ? "on" : "off");
+      for (const EvaluationMethod method : AllEvaluationMethods()) {
+        if (method == EvaluationMethod::kAlspOrthogonal) continue;
+        const MethodSummary& summary = point[method];
+        std::cout << " | " << summary.rmse_rotation_deg;
+        if (IsBatchMethod(method)) {
+          std::cout << " / " << 100.0 * summary.divergence_rate;
+        }
       }
+      std::cout << " |\n";
     }
-    std::cout << " |\n";
   }
 }
 

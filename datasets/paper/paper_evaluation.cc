@@ -14,6 +14,7 @@
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/hand_eye_linear.h"
 #include "odomcal/solver/hand_eye_refine.h"
+#include "odomcal/solver/noise_refinement.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -35,6 +36,10 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDivergenceSigmas = 3.0;
 // Information eigenvalues below this fraction of the largest: singular.
 constexpr double kMinInformationRatio = 1e-15;
+// BatchRefinement::kInlierRounds: refinements per B method, and the fewest
+// motions a refinement may keep.
+constexpr int kMaxInlierRounds = 6;
+constexpr size_t kMinInlierMotions = 5;
 
 uint64_t SplitMix64(uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
@@ -120,20 +125,62 @@ void TestDivergence(const PaperSimulation& truth,
   }
 }
 
+// The motions of `pairs` whose whitened residual passes odomcal's final
+// inlier test (noise_refinement.h) at (odom_from_cam, scales).
+std::vector<int> MotionsWithinNoise(const MotionPairs& pairs,
+                                    const Rigid3d& odom_from_cam,
+                                    const std::vector<double>& scales,
+                                    const CalibrationOptions& options) {
+  std::vector<int> within;
+  for (int i = 0; i < static_cast<int>(pairs.size()); ++i) {
+    const double scale = scales.at(pairs[i].segment);
+    if (std::isfinite(scale) &&
+        IsWithinNoise(pairs[i], odom_from_cam, scale, options.noise)) {
+      within.push_back(i);
+    }
+  }
+  return within;
+}
+
+// The B methods' refinement, see BatchRefinement.
 MethodError Refined(const PaperSimulation& truth,
-                    const std::vector<int>& indices,
                     const Rigid3d& start,
                     const std::vector<double>& start_scales,
-                    const CalibrationOptions& options) {
-  const RefinementResult refined =
-      RefineOdomFromCam(truth.pairs, indices, start, start_scales, options);
+                    const CalibrationOptions& options,
+                    BatchRefinement batch) {
+  std::vector<int> indices(truth.pairs.size());
+  std::iota(indices.begin(), indices.end(), 0);
+  const bool rounds = batch == BatchRefinement::kInlierRounds;
+  // The first refinement with a Cauchy loss: see BatchRefinement.
+  CalibrationOptions first = options;
+  if (rounds) first.robust_loss = RobustLoss::kCauchy;
+  RefinementResult refined =
+      RefineOdomFromCam(truth.pairs, indices, start, start_scales, first);
+  for (int round = 1; rounds && refined.usable && round < kMaxInlierRounds;
+       ++round) {
+    std::vector<int> next = MotionsWithinNoise(
+        truth.pairs, refined.odom_from_cam, refined.metric_scales, options);
+    // Too few motions within noise: the test is not trusted.
+    if (next.size() < kMinInlierMotions) break;
+    const bool same_motions = next == indices;
+    // From the last result, so with the weights evaluated there.
+    RefinementResult again = RefineOdomFromCam(truth.pairs,
+                                               next,
+                                               refined.odom_from_cam,
+                                               refined.metric_scales,
+                                               options);
+    if (!again.usable) break;
+    refined = std::move(again);
+    indices = std::move(next);
+    if (same_motions) break;
+  }
+  MethodError error;
   if (!refined.usable) {
-    MethodError error;
     error.failed = true;
     return error;
   }
-  MethodError error =
-      Errors(truth, refined.odom_from_cam, refined.metric_scales);
+  error = Errors(truth, refined.odom_from_cam, refined.metric_scales);
+  error.num_pairs_used = static_cast<int>(indices.size());
   if (!error.failed) TestDivergence(truth, refined, &error);
   return error;
 }
@@ -143,6 +190,19 @@ double Rmse(double sum_squares, int count) {
 }
 
 }  // namespace
+
+std::string ToString(BatchRefinement batch) {
+  return batch == BatchRefinement::kPaper ? "paper" : "inlier_rounds";
+}
+
+BatchRefinement BatchRefinementFromString(const std::string& text) {
+  for (const BatchRefinement batch :
+       {BatchRefinement::kPaper, BatchRefinement::kInlierRounds}) {
+    if (text == ToString(batch)) return batch;
+  }
+  throw std::invalid_argument(
+      "batch refinement must be paper or inlier_rounds, got '" + text + "'");
+}
 
 std::string ToString(EvaluationMethod method) {
   switch (method) {
@@ -265,8 +325,11 @@ TrialResult EvaluateTrial(const PaperSimulation& simulation,
       slot(method).failed = true;
       return;
     }
-    slot(method) = Refined(
-        simulation, indices, start.odom_from_cam, start.scales, refine_options);
+    slot(method) = Refined(simulation,
+                           start.odom_from_cam,
+                           start.scales,
+                           refine_options,
+                           options.batch_refinement);
   };
   batch(EvaluationMethod::kAlsB, als);
   batch(EvaluationMethod::kAlspLengthPreservingB, alsp_l);
@@ -288,6 +351,7 @@ SweepPointResult SummarizeTrials(double value,
     MethodSummary& summary = result.methods[static_cast<int>(method)];
     summary.num_trials = result.num_trials;
     double sum_rotation = 0.0, sum_translation = 0.0, sum_scale = 0.0;
+    double sum_used = 0.0;
     int num_ok = 0;
     for (const TrialResult& trial : trials) {
       const MethodError& error = trial[method];
@@ -299,6 +363,9 @@ SweepPointResult SummarizeTrials(double value,
       sum_rotation += error.rotation_deg * error.rotation_deg;
       sum_translation += error.translation_m * error.translation_m;
       sum_scale += error.scale_rel * error.scale_rel;
+      if (trial.num_pairs > 0) {
+        sum_used += static_cast<double>(error.num_pairs_used) / trial.num_pairs;
+      }
       if (error.has_covariance) {
         ++summary.num_with_covariance;
         if (error.diverged) ++summary.num_divergences;
@@ -307,6 +374,8 @@ SweepPointResult SummarizeTrials(double value,
     summary.rmse_rotation_deg = Rmse(sum_rotation, num_ok);
     summary.rmse_translation_m = Rmse(sum_translation, num_ok);
     summary.rmse_scale_rel = Rmse(sum_scale, num_ok);
+    summary.motions_used =
+        IsBatchMethod(method) && num_ok > 0 ? sum_used / num_ok : kNaN;
     summary.divergence_rate =
         IsBatchMethod(method) && summary.num_with_covariance > 0
             ? static_cast<double>(summary.num_divergences) /

@@ -15,10 +15,12 @@
 //   ALS-B, ALSP-L-B, CM-B   batch refinement (RefineOdomFromCam) started
 //              at ALS, ALSP-L, CM
 //   GT-B       batch refinement started at the truth
-// All use all pairs (no outlier rejection besides CM's own RANSAC); the
-// refinement weighs each pair by its odom_covariance and cam_covariance, has
-// no robust loss, and holds translation z at its true value (unobservable
-// under planar motion), as do the closed forms.
+// The closed forms use all pairs (no outlier rejection besides CM's own
+// RANSAC), the B methods as EvaluationOptions::batch_refinement says (the
+// paper's: every motion, no robust loss; the default: an inlier test); the
+// refinement weighs each pair by its odom_covariance and cam_covariance and
+// holds translation z at its true value (unobservable under planar motion),
+// as do the closed forms.
 //
 // Errors of an estimate (q_hat, p_hat, s_hat) against the truth (q, p, s):
 //   rotation_deg  = angle of dq = q_hat^-1 ⊗ q, in degrees (the paper's
@@ -66,10 +68,34 @@ bool IsBatchMethod(EvaluationMethod method);
 // All methods in the order above.
 std::array<EvaluationMethod, kNumEvaluationMethods> AllEvaluationMethods();
 
+// How the B methods refine (W_i, the weights, are evaluated at the start of
+// each refinement: hand_eye_refine.h).
+enum class BatchRefinement {
+  // One refinement from the method's start on every motion: the paper's.
+  kPaper,
+  // Rounds: first from the start on every motion with a Cauchy loss
+  // (robust_loss_scale 3 whitened units), then from each result, with the
+  // weights evaluated there and no loss, on the motions that pass odomcal's
+  // final inlier test at it (IsWithinNoise: chi-square, 6 dof, 99.9 %,
+  // under the motions' own covariances), until a round keeps the motions of
+  // the one before (at most 6 refinements). Like odomcal's calibration
+  // without its noise estimation. The first loss keeps a grossly wrong
+  // camera direction, whose length is exact (paper_simulation.h), from
+  // pulling the estimate so far that it passes the test and good motions
+  // fail it; the later rounds make the estimate independent of where the
+  // weights were first evaluated (GT-B's start is the truth).
+  kInlierRounds,
+};
+
+// "paper", "inlier_rounds"; FromString throws std::invalid_argument.
+std::string ToString(BatchRefinement batch);
+BatchRefinement BatchRefinementFromString(const std::string& text);
+
 struct EvaluationOptions {
   // CM's RANSAC: a fixed number of minimal samples (no adaptive stopping).
   int cm_ransac_iterations = 200;
   int max_refinement_iterations = 100;
+  BatchRefinement batch_refinement = BatchRefinement::kInlierRounds;
   void Check() const;  // throws std::invalid_argument naming the field
 };
 
@@ -82,6 +108,7 @@ struct MethodError {
   // test's outcome (false when there is no covariance).
   bool has_covariance = false;
   bool diverged = false;
+  int num_pairs_used = 0;  // B methods: the motions of the final refinement
 };
 
 struct TrialResult {
@@ -109,6 +136,9 @@ struct MethodSummary {
   int num_with_covariance = 0;
   int num_divergences = 0;
   double divergence_rate = 0.0;
+  // B methods: the mean fraction of a trial's motions in the final
+  // refinement (1 with BatchRefinement::kPaper); NaN for the other methods.
+  double motions_used = 0.0;
 };
 
 struct SweepPointResult {

@@ -50,6 +50,40 @@ TEST(RunSweepPoint, AlspLBMatchesGtBAndAlspLBeatsCm) {
   EXPECT_TRUE(std::isnan(alsp_l.divergence_rate));
 }
 
+// The B methods' inlier test leaves out gross motions and keeps good ones.
+TEST(RunSweepPoint, BatchInlierTestLeavesOutOutlierMotions) {
+  PaperSimulationOptions simulation =
+      NominalPaperSimulation(CameraNoiseMode::kParametric);
+  simulation.num_motions = 40;
+  simulation.outlier_fraction = 0.1;
+  EvaluationOptions all_motions;
+  all_motions.batch_refinement = BatchRefinement::kPaper;
+  EvaluationOptions inlier_test;
+  inlier_test.batch_refinement = BatchRefinement::kInlierRounds;
+  const SweepPointResult plain = RunSweepPoint(
+      simulation, all_motions, "test", 0, 0.1, 60, 2, TestSeed(321));
+  const SweepPointResult gated = RunSweepPoint(
+      simulation, inlier_test, "test", 0, 0.1, 60, 2, TestSeed(321));
+  for (const EvaluationMethod method :
+       {EvaluationMethod::kAlspLengthPreservingB, EvaluationMethod::kGtB}) {
+    SCOPED_TRACE(ToString(method));
+    EXPECT_EQ(plain[method].motions_used, 1.0);
+    // About 10 % outliers (the draw's own fraction varies by trial); the test
+    // rejects 0.1 % of good motions.
+    EXPECT_GT(gated[method].motions_used, 0.8);
+    EXPECT_LT(gated[method].motions_used, 0.97);
+    EXPECT_LT(gated[method].rmse_rotation_deg,
+              0.5 * plain[method].rmse_rotation_deg);
+    EXPECT_LT(gated[method].divergence_rate, 0.1);
+  }
+  EXPECT_TRUE(std::isnan(gated[EvaluationMethod::kAls].motions_used));
+
+  simulation.outlier_fraction = 0.0;
+  const SweepPointResult clean = RunSweepPoint(
+      simulation, inlier_test, "test", 0, 0.1, 60, 2, TestSeed(322));
+  EXPECT_GT(clean[EvaluationMethod::kGtB].motions_used, 0.98);
+}
+
 bool SameError(const MethodError& a, const MethodError& b) {
   return a.failed == b.failed && a.rotation_deg == b.rotation_deg &&
          a.translation_m == b.translation_m && a.scale_rel == b.scale_rel &&
