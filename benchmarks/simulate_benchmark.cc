@@ -2,10 +2,11 @@
 // paper's evaluation (datasets/paper/paper_evaluation.h) at the nominal sweep
 // point (datasets/paper/paper_sweeps.h: 20 motions, odometry yaw SD 0.05 rad,
 // translation SD 5 %, 1 px), for both camera-noise modes. One trial =
-// simulate (landmarks: 20 two-view 8-point + bundle adjustments) + ALS, ALSP-L,
-// ALSP-orth, CM (200 RANSAC samples) + 4 batch refinements.
-// items_per_second counts trials. BM_Trial runs on the calling thread;
-// BM_SweepPoint runs 20 trials per iteration on `threads` std::threads.
+// simulate (landmarks: 20 two-view multi-start bundle adjustments) + ALS,
+// ALSP-L, ALSP-orth, CM (200 RANSAC samples) + 4 batch refinements (2-6
+// refinements each with the default inlier rounds). items_per_second counts
+// trials. BM_Trial runs on the calling thread; BM_SweepPoint runs 20 trials per
+// iteration on `threads` std::threads.
 //   simulate_benchmark --benchmark_min_time=2
 
 #include "odomcal/datasets/paper/paper_evaluation.h"

@@ -246,8 +246,8 @@ int RunSimulate(int argc, char** argv) {
   app.add_option("--batch_refinement",
                  batch_refinement,
                  "B methods: paper (one refinement on every motion) or "
-                 "inlier_rounds (as odomcal refines: the motions within "
-                 "noise, the weights evaluated again at each result)")
+                 "inlier_rounds (a Cauchy loss, then rounds on the motions "
+                 "within noise, the weights evaluated again at each result)")
       ->check(CLI::IsMember({ToString(BatchRefinement::kPaper),
                              ToString(BatchRefinement::kInlierRounds)}))
       ->capture_default_str();

@@ -37,9 +37,11 @@ constexpr double kDivergenceSigmas = 3.0;
 // Information eigenvalues below this fraction of the largest: singular.
 constexpr double kMinInformationRatio = 1e-15;
 // BatchRefinement::kInlierRounds: refinements per B method, and the fewest
-// motions a refinement may keep.
+// motions (absolute, and as a fraction of all) a round's inlier test may keep
+// before it is not trusted.
 constexpr int kMaxInlierRounds = 6;
-constexpr size_t kMinInlierMotions = 5;
+constexpr size_t kMinInlierMotions = 3;
+constexpr double kMinInlierFraction = 0.5;
 
 uint64_t SplitMix64(uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
@@ -156,12 +158,18 @@ MethodError Refined(const PaperSimulation& truth,
   if (rounds) first.robust_loss = RobustLoss::kCauchy;
   RefinementResult refined =
       RefineOdomFromCam(truth.pairs, indices, start, start_scales, first);
+  // Whether `refined` comes from a refinement without loss (its information,
+  // and so the divergence test, then holds for the motions it used).
+  bool without_loss = !rounds;
   for (int round = 1; rounds && refined.usable && round < kMaxInlierRounds;
        ++round) {
     std::vector<int> next = MotionsWithinNoise(
         truth.pairs, refined.odom_from_cam, refined.metric_scales, options);
-    // Too few motions within noise: the test is not trusted.
-    if (next.size() < kMinInlierMotions) break;
+    // A test that keeps too few motions is not trusted.
+    if (next.size() < kMinInlierMotions ||
+        next.size() < kMinInlierFraction * truth.pairs.size()) {
+      break;
+    }
     const bool same_motions = next == indices;
     // From the last result, so with the weights evaluated there.
     RefinementResult again = RefineOdomFromCam(truth.pairs,
@@ -172,7 +180,16 @@ MethodError Refined(const PaperSimulation& truth,
     if (!again.usable) break;
     refined = std::move(again);
     indices = std::move(next);
+    without_loss = true;
     if (same_motions) break;
+  }
+  // No round was trusted: every motion, without loss, from the robust result.
+  if (refined.usable && !without_loss) {
+    refined = RefineOdomFromCam(truth.pairs,
+                                indices,
+                                refined.odom_from_cam,
+                                refined.metric_scales,
+                                options);
   }
   MethodError error;
   if (!refined.usable) {

@@ -78,12 +78,17 @@ enum class BatchRefinement {
   // weights evaluated there and no loss, on the motions that pass odomcal's
   // final inlier test at it (IsWithinNoise: chi-square, 6 dof, 99.9 %,
   // under the motions' own covariances), until a round keeps the motions of
-  // the one before (at most 6 refinements). Like odomcal's calibration
-  // without its noise estimation. The first loss keeps a grossly wrong
-  // camera direction, whose length is exact (paper_simulation.h), from
-  // pulling the estimate so far that it passes the test and good motions
-  // fail it; the later rounds make the estimate independent of where the
-  // weights were first evaluated (GT-B's start is the truth).
+  // the one before (at most 6 refinements). A round whose test keeps fewer
+  // than half of the motions (or fewer than 3) is not trusted; when no round
+  // is, the result is one refinement without loss on every motion from the
+  // robust one. So the result, its information and the divergence test
+  // always come from a refinement without loss. Similar to odomcal's final
+  // inlier test (noise_refinement.h) without its noise estimation. The first
+  // loss keeps a grossly wrong camera direction, whose length is exact
+  // (paper_simulation.h), from pulling the estimate so far that it passes
+  // the test and good motions fail it; the later rounds make the estimate
+  // independent of where the weights were first evaluated (GT-B's start is
+  // the truth).
   kInlierRounds,
 };
 
