@@ -144,61 +144,24 @@ std::vector<int> MotionsWithinNoise(const MotionPairs& pairs,
   return within;
 }
 
-// The B methods' refinement, see BatchRefinement.
+// The B methods' error and divergence test.
 MethodError Refined(const PaperSimulation& truth,
                     const Rigid3d& start,
                     const std::vector<double>& start_scales,
                     const CalibrationOptions& options,
                     BatchRefinement batch) {
-  std::vector<int> indices(truth.pairs.size());
-  std::iota(indices.begin(), indices.end(), 0);
-  const bool rounds = batch == BatchRefinement::kInlierRounds;
-  // The first refinement with a Cauchy loss: see BatchRefinement.
-  CalibrationOptions first = options;
-  if (rounds) first.robust_loss = RobustLoss::kCauchy;
-  RefinementResult refined =
-      RefineOdomFromCam(truth.pairs, indices, start, start_scales, first);
-  // Whether `refined` comes from a refinement without loss (its information,
-  // and so the divergence test, then holds for the motions it used).
-  bool without_loss = !rounds;
-  for (int round = 1; rounds && refined.usable && round < kMaxInlierRounds;
-       ++round) {
-    std::vector<int> next = MotionsWithinNoise(
-        truth.pairs, refined.odom_from_cam, refined.metric_scales, options);
-    // A test that keeps too few motions is not trusted.
-    if (next.size() < kMinInlierMotions ||
-        next.size() < kMinInlierFraction * truth.pairs.size()) {
-      break;
-    }
-    const bool same_motions = next == indices;
-    // From the last result, so with the weights evaluated there.
-    RefinementResult again = RefineOdomFromCam(truth.pairs,
-                                               next,
-                                               refined.odom_from_cam,
-                                               refined.metric_scales,
-                                               options);
-    if (!again.usable) break;
-    refined = std::move(again);
-    indices = std::move(next);
-    without_loss = true;
-    if (same_motions) break;
-  }
-  // No round was trusted: every motion, without loss, from the robust result.
-  if (refined.usable && !without_loss) {
-    refined = RefineOdomFromCam(truth.pairs,
-                                indices,
-                                refined.odom_from_cam,
-                                refined.metric_scales,
-                                options);
-  }
+  const BatchRefined refined =
+      RefineBatch(truth.pairs, start, start_scales, options, batch);
   MethodError error;
-  if (!refined.usable) {
+  if (!refined.refinement.usable) {
     error.failed = true;
     return error;
   }
-  error = Errors(truth, refined.odom_from_cam, refined.metric_scales);
-  error.num_pairs_used = static_cast<int>(indices.size());
-  if (!error.failed) TestDivergence(truth, refined, &error);
+  error = Errors(truth,
+                 refined.refinement.odom_from_cam,
+                 refined.refinement.metric_scales);
+  error.num_pairs_used = static_cast<int>(refined.used.size());
+  if (!error.failed) TestDivergence(truth, refined.refinement, &error);
   return error;
 }
 
@@ -219,6 +182,52 @@ BatchRefinement BatchRefinementFromString(const std::string& text) {
   }
   throw std::invalid_argument(
       "batch refinement must be paper or inlier_rounds, got '" + text + "'");
+}
+
+BatchRefined RefineBatch(const MotionPairs& pairs,
+                         const Rigid3d& start,
+                         const std::vector<double>& start_scales,
+                         const CalibrationOptions& options,
+                         BatchRefinement batch) {
+  std::vector<int> indices(pairs.size());
+  std::iota(indices.begin(), indices.end(), 0);
+  const bool rounds = batch == BatchRefinement::kInlierRounds;
+  // The first refinement with a Cauchy loss: see BatchRefinement.
+  CalibrationOptions first = options;
+  if (rounds) first.robust_loss = RobustLoss::kCauchy;
+  RefinementResult refined =
+      RefineOdomFromCam(pairs, indices, start, start_scales, first);
+  // Whether `refined` comes from a refinement without loss (its information,
+  // and so the divergence test, then holds for the motions it used).
+  bool without_loss = !rounds;
+  for (int round = 1; rounds && refined.usable && round < kMaxInlierRounds;
+       ++round) {
+    std::vector<int> next = MotionsWithinNoise(
+        pairs, refined.odom_from_cam, refined.metric_scales, options);
+    // A test that keeps too few motions is not trusted.
+    if (next.size() < kMinInlierMotions ||
+        next.size() < kMinInlierFraction * pairs.size()) {
+      break;
+    }
+    const bool same_motions = next == indices;
+    // From the last result, so with the weights evaluated there.
+    RefinementResult again = RefineOdomFromCam(
+        pairs, next, refined.odom_from_cam, refined.metric_scales, options);
+    if (!again.usable) break;
+    refined = std::move(again);
+    indices = std::move(next);
+    without_loss = true;
+    if (same_motions) break;
+  }
+  // No round was trusted: every motion, without loss, from the robust result.
+  if (refined.usable && !without_loss) {
+    refined = RefineOdomFromCam(
+        pairs, indices, refined.odom_from_cam, refined.metric_scales, options);
+  }
+  BatchRefined result;
+  result.refinement = std::move(refined);
+  result.used = std::move(indices);
+  return result;
 }
 
 std::string ToString(EvaluationMethod method) {

@@ -41,6 +41,10 @@
 #pragma once
 
 #include "odomcal/datasets/paper/paper_simulation.h"
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/hand_eye_refine.h"
+#include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/rigid3.h"
 
 #include <array>
 #include <cstdint>
@@ -91,6 +95,20 @@ enum class BatchRefinement {
   // the truth).
   kInlierRounds,
 };
+
+// The B methods' refinement of `pairs` from (start, start_scales): the
+// refinement kept (usable: see its field) and the motions it used.
+// `options` is the refinement's (no robust loss; the first inlier round
+// adds the Cauchy loss).
+struct BatchRefined {
+  RefinementResult refinement;
+  std::vector<int> used;
+};
+BatchRefined RefineBatch(const MotionPairs& pairs,
+                         const Rigid3d& start,
+                         const std::vector<double>& start_scales,
+                         const CalibrationOptions& options,
+                         BatchRefinement batch);
 
 // "paper", "inlier_rounds"; FromString throws std::invalid_argument.
 std::string ToString(BatchRefinement batch);
