@@ -65,18 +65,26 @@ TEST(AddTwoViewErrors, WhitensWithTheFiveObservableDimensions) {
 // px, 20 motions per simulation): the same motions and observations with
 // the 8-point start only and with every start. Numbers of larger runs:
 // docs/paper_reproduction.md, "Two-view estimates".
+// The two-view consistency of `num_simulations` nominal landmark
+// simulations of 20 motions, with every start or the 8-point start only.
+TwoViewConsistency NominalTwoViewConsistency(bool multi_start,
+                                             int num_simulations,
+                                             uint64_t seed) {
+  PaperSimulationOptions options =
+      NominalPaperSimulation(CameraNoiseMode::kLandmarks);
+  options.two_view_multi_start = multi_start;
+  auto rng = SeededRng(seed);
+  TwoViewErrors errors;
+  for (int k = 0; k < num_simulations; ++k) {
+    AddTwoViewErrors(SimulatePaperMotions(options, &rng), &errors);
+  }
+  return SummarizeTwoViewErrors(errors);
+}
+
 TEST(TwoViewConsistency, MultiStartShortensTheTailOnTheNominalProtocol) {
   TwoViewConsistency summaries[2];
   for (const bool multi_start : {false, true}) {
-    PaperSimulationOptions options =
-        NominalPaperSimulation(CameraNoiseMode::kLandmarks);
-    options.two_view_multi_start = multi_start;
-    auto rng = SeededRng(700);
-    TwoViewErrors errors;
-    for (int k = 0; k < 30; ++k) {
-      AddTwoViewErrors(SimulatePaperMotions(options, &rng), &errors);
-    }
-    summaries[multi_start] = SummarizeTwoViewErrors(errors);
+    summaries[multi_start] = NominalTwoViewConsistency(multi_start, 30, 700);
     const TwoViewConsistency& c = summaries[multi_start];
     std::cout << (multi_start ? "every start: " : "8-point start: ")
               << c.num_motions << " motions, NEES median " << c.nees_median
@@ -100,15 +108,8 @@ TEST(TwoViewConsistency, DISABLED_LargeSet) {
   std::cout << "| two-view starts | motions | NEES median | p90 | p99 | max | "
                "gross [%] |\n| --- | --- | --- | --- | --- | --- | --- |\n";
   for (const bool multi_start : {false, true}) {
-    PaperSimulationOptions options =
-        NominalPaperSimulation(CameraNoiseMode::kLandmarks);
-    options.two_view_multi_start = multi_start;
-    auto rng = SeededRng(704);
-    TwoViewErrors errors;
-    for (int k = 0; k < 250; ++k) {
-      AddTwoViewErrors(SimulatePaperMotions(options, &rng), &errors);
-    }
-    const TwoViewConsistency c = SummarizeTwoViewErrors(errors);
+    const TwoViewConsistency c =
+        NominalTwoViewConsistency(multi_start, 250, 704);
     std::cout << "| "
               << (multi_start ? "every start (default)" : "8-point only")
               << " | " << c.num_motions << " | " << std::setprecision(3)
