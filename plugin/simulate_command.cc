@@ -133,11 +133,13 @@ std::string SweepSvg(const PaperSweep& sweep,
 
 void PrintSweepTable(const PaperSweep& sweep,
                      const std::vector<SweepPointResult>& points,
-                     int num_trials) {
-  std::printf("%s: %s, %d trials per point\n",
+                     int num_trials,
+                     BatchRefinement batch) {
+  std::printf("%s: %s, %d trials per point, B methods: %s\n",
               sweep.name.c_str(),
               sweep.x_label.c_str(),
-              num_trials);
+              num_trials,
+              ToString(batch).c_str());
   std::printf("  %8s  %-9s %10s %10s %9s %7s %7s %5s\n",
               "value",
               "method",
@@ -334,7 +336,7 @@ int RunSimulate(int argc, char** argv) {
                           SweepCsv(points));
       WriteFileAtomically((root / (sweep.name + ".svg")).string(),
                           SweepSvg(sweep, points, num_trials, mode));
-      PrintSweepTable(sweep, points, num_trials);
+      PrintSweepTable(sweep, points, num_trials, evaluation.batch_refinement);
     }
 
     std::ostringstream csv;

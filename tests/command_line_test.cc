@@ -312,6 +312,51 @@ TEST_F(CommandLine, RangeChecksOfOtherCommandsPrintTheirLimits) {
   EXPECT_FALSE(fs::exists(Path("sim")));
 }
 
+// The printed table and the CSV say which batch the B methods used: the
+// paper's keeps every motion, the default rounds may leave some out.
+TEST_F(CommandLine, SimulateNamesTheBatchRefinement) {
+  for (const std::string batch : {"paper", "inlier_rounds"}) {
+    SCOPED_TRACE(batch);
+    const std::string folder = Path("sim_" + batch);
+    const CommandResult result = RunOdomcal({"simulate",
+                                             "--output_path",
+                                             folder,
+                                             "--camera_noise",
+                                             "parametric",
+                                             "--sweep",
+                                             "num_motions",
+                                             "--trials",
+                                             "3",
+                                             "--batch_refinement",
+                                             batch});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.out.find("3 trials per point, B methods: " + batch),
+              std::string::npos)
+        << result.out;
+    std::ifstream csv(folder + "/num_motions.csv");
+    std::string line;
+    ASSERT_TRUE(std::getline(csv, line));
+    EXPECT_EQ(line.substr(line.rfind(',') + 1), "motions_used");
+    int num_batch_rows = 0;
+    while (std::getline(csv, line)) {
+      const std::string used = line.substr(line.rfind(',') + 1);
+      if (line.find("-B,") == std::string::npos) {
+        EXPECT_EQ(used, "") << line;  // closed forms: no refinement
+        continue;
+      }
+      ++num_batch_rows;
+      const double fraction = std::stod(used);
+      if (batch == "paper") {
+        EXPECT_EQ(fraction, 1.0) << line;
+      } else {
+        EXPECT_GT(fraction, 0.5) << line;
+        EXPECT_LE(fraction, 1.0) << line;
+      }
+    }
+    EXPECT_EQ(num_batch_rows, 5 * 4);  // 5 motion counts, 4 B methods
+  }
+}
+
 // `odomcal calibrate <arguments>` in this process (RunCalibrate, as main()
 // calls it), with its stdout and stderr captured: ~250 runs would take a
 // minute as processes, which load Ceres and OpenCV.
