@@ -40,6 +40,21 @@ bool IsWithinNoise(const MotionPair& pair,
          kThreshold;
 }
 
+std::vector<int> PairsWithinNoise(const MotionPairs& pairs,
+                                  const Rigid3d& odom_from_cam,
+                                  const std::vector<double>& metric_scales,
+                                  const NoiseModel& noise) {
+  std::vector<int> within;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const size_t segment = static_cast<size_t>(pairs[i].segment);
+    if (segment < metric_scales.size() && metric_scales[segment] > 0.0 &&
+        IsWithinNoise(pairs[i], odom_from_cam, metric_scales[segment], noise)) {
+      within.push_back(static_cast<int>(i));
+    }
+  }
+  return within;
+}
+
 NoiseRefinement RefineWithNoiseEstimation(
     const MotionPairs& pairs,
     const std::vector<int>& used,
@@ -81,18 +96,11 @@ NoiseRefinement RefineWithNoiseEstimation(
     const ComponentFactors next = result.noise.component_factors;
     std::vector<int> inliers = result.used;
     if (options.use_ransac) {
-      inliers.clear();
-      const NoiseModel& noise = result.noise.noise;
-      const MotionPairs next_pairs =
-          ScaleCovariances(pairs, CovarianceFactors(next));
-      for (size_t i = 0; i < pairs.size(); ++i) {
-        const int segment = pairs[i].segment;
-        if (static_cast<size_t>(segment) < scales.size() &&
-            scales[segment] > 0.0 &&
-            IsWithinNoise(next_pairs[i], estimate, scales[segment], noise)) {
-          inliers.push_back(static_cast<int>(i));
-        }
-      }
+      inliers =
+          PairsWithinNoise(ScaleCovariances(pairs, CovarianceFactors(next)),
+                           estimate,
+                           scales,
+                           result.noise.noise);
       if (static_cast<int>(inliers.size()) < options.min_num_pairs) {
         inliers = result.used;
       }

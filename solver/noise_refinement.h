@@ -35,6 +35,14 @@ bool IsWithinNoise(const MotionPair& pair,
                    double metric_scale,
                    const NoiseModel& noise);
 
+// The indices of the pairs that pass IsWithinNoise at odom_from_cam and the
+// metric scale of their segment; a pair whose segment has no positive scale
+// in `metric_scales` fails.
+std::vector<int> PairsWithinNoise(const MotionPairs& pairs,
+                                  const Rigid3d& odom_from_cam,
+                                  const std::vector<double>& metric_scales,
+                                  const NoiseModel& noise);
+
 struct NoiseRefinement {
   RefinementResult refinement;  // the last one; usable: see its field
   std::vector<int> used;        // the pairs of the last refinement

@@ -1,6 +1,7 @@
 #include "odomcal/solver/noise_refinement.h"
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/tests/test_seed.h"
 
@@ -8,6 +9,29 @@
 
 namespace odomcal {
 namespace {
+
+// Exact pairs pass; a pair with a camera motion turned by 10 degrees, and a
+// pair of a segment without a positive scale, do not.
+TEST(PairsWithinNoise, KeepsExactPairsOnly) {
+  std::mt19937_64 rng(TestSeed(146));
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 6;
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  ASSERT_EQ(truth.metric_scales.size(), 1u);
+  MotionPairs pairs = truth.pairs;
+  Rigid3d& turned = pairs[2].cam_i_from_cam_j;
+  turned.rotation =
+      (Eigen::AngleAxisd(10.0 * kDegToRad, Eigen::Vector3d::UnitZ()) *
+       turned.rotation)
+          .normalized();
+  pairs[4].segment = 1;  // no scale for segment 1
+  EXPECT_EQ(PairsWithinNoise(
+                pairs, truth.odom_from_cam, truth.metric_scales, NoiseModel()),
+            (std::vector<int>{0, 1, 3, 5}));
+  pairs[4].segment = 0;
+  EXPECT_EQ(PairsWithinNoise(pairs, truth.odom_from_cam, {-1.0}, NoiseModel()),
+            std::vector<int>{});
+}
 
 // Clean pairs three times as noisy as the given model says (standard
 // deviations): RANSAC's first choice under the given noise and its 1 deg /

@@ -127,23 +127,6 @@ void TestDivergence(const PaperSimulation& truth,
   }
 }
 
-// The motions of `pairs` whose whitened residual passes odomcal's final
-// inlier test (noise_refinement.h) at (odom_from_cam, scales).
-std::vector<int> MotionsWithinNoise(const MotionPairs& pairs,
-                                    const Rigid3d& odom_from_cam,
-                                    const std::vector<double>& scales,
-                                    const CalibrationOptions& options) {
-  std::vector<int> within;
-  for (int i = 0; i < static_cast<int>(pairs.size()); ++i) {
-    const double scale = scales.at(pairs[i].segment);
-    if (std::isfinite(scale) &&
-        IsWithinNoise(pairs[i], odom_from_cam, scale, options.noise)) {
-      within.push_back(i);
-    }
-  }
-  return within;
-}
-
 // The B methods' error and divergence test.
 MethodError Refined(const PaperSimulation& truth,
                     const Rigid3d& start,
@@ -202,8 +185,8 @@ BatchRefined RefineBatch(const MotionPairs& pairs,
   bool without_loss = !rounds;
   for (int round = 1; rounds && refined.usable && round < kMaxInlierRounds;
        ++round) {
-    std::vector<int> next = MotionsWithinNoise(
-        pairs, refined.odom_from_cam, refined.metric_scales, options);
+    std::vector<int> next = PairsWithinNoise(
+        pairs, refined.odom_from_cam, refined.metric_scales, options.noise);
     // A test that keeps too few motions is not trusted.
     if (next.size() < kMinInlierMotions ||
         next.size() < kMinInlierFraction * pairs.size()) {
