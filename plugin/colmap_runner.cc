@@ -77,16 +77,15 @@ std::string LastNonEmptyLine(const fs::path& path) {
   return last;
 }
 
-// Runs argv with stdout/stderr appended to log_path; returns the exit code
-// (128 + signal for a signal, 127 when the program cannot be started).
 // Reads the lines appended to a log file since the last call.
 class LogFollower {
  public:
-  LogFollower(fs::path path, const OutputLineCallback& on_line)
-      : path_(std::move(path)), on_line_(on_line) {}
+  explicit LogFollower(fs::path path) : path_(std::move(path)) {}
 
-  void Poll() {
-    if (!on_line_) return;
+  // The complete lines appended since the last call, to `on_line`; nothing
+  // is read without a listener, so a later one gets every line.
+  void Poll(const OutputLineCallback& on_line) {
+    if (!on_line) return;
     std::ifstream file(path_, std::ios::binary);
     if (!file) return;
     file.seekg(offset_);
@@ -98,27 +97,26 @@ class LogFollower {
     while ((end = pending_.find_first_of("\n\r")) != std::string::npos) {
       const std::string line = pending_.substr(0, end);
       pending_.erase(0, end + 1);
-      if (!line.empty()) on_line_(line);
+      if (!line.empty()) on_line(line);
     }
   }
 
-  // The last line, also without its end of line.
-  void Finish() {
-    Poll();
-    if (on_line_ && !pending_.empty()) on_line_(pending_);
+  // The rest, the last line also without its end of line.
+  void Finish(const OutputLineCallback& on_line) {
+    Poll(on_line);
+    if (on_line && !pending_.empty()) on_line(pending_);
     pending_.clear();
   }
 
  private:
   fs::path path_;
-  const OutputLineCallback& on_line_;
   std::streamoff offset_ = 0;
   std::string pending_;
 };
 
-int Spawn(const std::vector<std::string>& argv,
-          const fs::path& log_path,
-          const OutputLineCallback& on_line = {}) {
+// Starts argv with stdout/stderr appended to log_path; -1 when the program
+// cannot be started.
+pid_t Spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
   const int log_fd =
       ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log_fd < 0) {
@@ -157,36 +155,28 @@ int Spawn(const std::vector<std::string>& argv,
                                        env_pointers.data());
   posix_spawn_file_actions_destroy(&actions);
   ::close(log_fd);
-  if (spawn_error != 0) {
-    return kExitNotFound;
-  }
-  // With a listener, the log is read every quarter second while COLMAP runs.
-  LogFollower follower(log_path, on_line);
-  int status = 0;
-  for (;;) {
-    const pid_t waited = ::waitpid(pid, &status, on_line ? WNOHANG : 0);
-    if (waited == pid) break;
-    if (waited < 0 && errno != EINTR) {
-      throw ColmapError(std::string("waitpid failed: ") + std::strerror(errno));
-    }
-    if (waited == 0) {
-      try {
-        follower.Poll();
-      } catch (...) {
-        // The listener threw (e.g. a Python progress callback raised): stop
-        // COLMAP and reap it before the exception leaves.
-        ::kill(pid, SIGTERM);
-        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-        }
-        throw;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(250));
-    }
-  }
-  follower.Finish();
+  return spawn_error != 0 ? -1 : pid;
+}
+
+// The exit code of a waitpid status: 128 + signal for a signal.
+int ExitCode(int status) {
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
+}
+
+// Runs argv to the end; returns the exit code, 127 when the program cannot
+// be started.
+int RunToEnd(const std::vector<std::string>& argv, const fs::path& log_path) {
+  const pid_t pid = Spawn(argv, log_path);
+  if (pid < 0) return kExitNotFound;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) {
+      throw ColmapError(std::string("waitpid failed: ") + std::strerror(errno));
+    }
+  }
+  return ExitCode(status);
 }
 
 }  // namespace
@@ -252,7 +242,7 @@ const ColmapVersion& ColmapRunner::Version() {
       fs::path(options_.workspace) / "logs" / "colmap_help.log";
   std::error_code error;
   fs::remove(log, error);
-  const int code = Spawn({options_.executable, "help"}, log);
+  const int code = RunToEnd({options_.executable, "help"}, log);
   if (code == kExitNotFound) {
     throw ColmapError("COLMAP not found: '" + options_.executable +
                       "' is not an executable on PATH (install Debian's colmap "
@@ -309,50 +299,150 @@ bool ColmapRunner::WillReuse(const std::string& stage,
       });
 }
 
+std::string NotFoundMessage(const std::string& executable) {
+  return "COLMAP not found: '" + executable +
+         "' is not an executable on PATH (install Debian's colmap package or "
+         "pass --colmap_path)";
+}
+
+struct RunningStage::State {
+  std::string stage;
+  std::string program;  // the COLMAP command, e.g. "mapper"
+  std::string executable;
+  fs::path marker;
+  std::string record;  // what the marker gets once the stage succeeded
+  ColmapStageResult result;
+  std::chrono::steady_clock::time_point start;
+  pid_t pid = -1;  // -1: not running (reused, ended, or never started)
+  bool ended = false;
+  int exit_code = 0;
+  std::string start_error;  // e.g. the log could not be opened
+  std::unique_ptr<LogFollower> follower;
+};
+
+RunningStage::RunningStage(std::unique_ptr<State> state)
+    : state_(std::move(state)) {}
+RunningStage::RunningStage(RunningStage&&) noexcept = default;
+RunningStage& RunningStage::operator=(RunningStage&& other) noexcept {
+  Stop();
+  state_ = std::move(other.state_);
+  return *this;
+}
+RunningStage::~RunningStage() { Stop(); }
+
+void RunningStage::Stop() noexcept {
+  if (!state_ || state_->pid < 0) return;
+  ::kill(state_->pid, SIGTERM);
+  int status = 0;
+  while (::waitpid(state_->pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  state_->pid = -1;
+}
+
+const std::string& RunningStage::stage() const { return state_->stage; }
+
+bool RunningStage::Poll(const OutputLineCallback& on_line) {
+  State& state = *state_;
+  if (state.ended) return true;
+  int status = 0;
+  const pid_t waited = ::waitpid(state.pid, &status, WNOHANG);
+  if (waited < 0 && errno != EINTR) {
+    throw ColmapError(std::string("waitpid failed: ") + std::strerror(errno));
+  }
+  if (waited != state.pid) {
+    // A listener that throws (e.g. a Python progress callback raised) leaves
+    // COLMAP to the destructor, which stops it.
+    state.follower->Poll(on_line);
+    return false;
+  }
+  state.pid = -1;
+  state.ended = true;
+  state.exit_code = ExitCode(status);
+  state.result.seconds = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - state.start)
+                             .count();
+  state.follower->Finish(on_line);
+  return true;
+}
+
+void RunningStage::WaitForEnd(const OutputLineCallback& on_line) {
+  while (!Poll(on_line)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+}
+
+ColmapStageResult RunningStage::Finish() {
+  const State& state = *state_;
+  if (!state.ended) {
+    throw std::logic_error("RunningStage::Finish before the stage ended");
+  }
+  if (state.result.reused) return state.result;
+  if (!state.start_error.empty()) throw ColmapError(state.start_error);
+  if (state.exit_code == kExitNotFound) {
+    throw ColmapError(NotFoundMessage(state.executable));
+  }
+  if (state.exit_code != 0) {
+    const std::string last = LastNonEmptyLine(state.result.log_path);
+    const std::string why =
+        state.exit_code == 134 ? " (COLMAP aborted on a failed CHECK)" : "";
+    throw ColmapError("COLMAP " + state.program + " failed with exit code " +
+                      std::to_string(state.exit_code) + why + "; see " +
+                      state.result.log_path +
+                      (last.empty() ? "" : " (last line: " + last + ")"));
+  }
+  std::ofstream(state.marker) << state.record;
+  return state.result;
+}
+
+RunningStage ColmapRunner::StartStage(const std::string& stage,
+                                      const std::vector<std::string>& arguments,
+                                      const std::vector<std::string>& outputs) {
+  auto state = std::make_unique<RunningStage::State>();
+  const fs::path workspace(options_.workspace);
+  state->stage = stage;
+  state->program = arguments.empty() ? stage : arguments[0];
+  state->executable = options_.executable;
+  state->marker = workspace / "stages" / (stage + ".done");
+  state->result.log_path = (workspace / "logs" / (stage + ".log")).string();
+  state->ended = true;
+  if (WillReuse(stage, arguments, outputs)) {
+    state->result.reused = true;
+    return RunningStage(std::move(state));
+  }
+  reuse_allowed_ = false;
+  std::error_code error;
+  fs::remove(state->marker, error);
+  fs::remove(state->result.log_path, error);
+  state->record = StageRecord(arguments);
+  {
+    std::ofstream commands(workspace / "commands.txt", std::ios::app);
+    commands << CommandLine(arguments) << "\n";
+  }
+  std::vector<std::string> argv = {options_.executable};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  state->start = std::chrono::steady_clock::now();
+  try {
+    state->pid = Spawn(argv, state->result.log_path);
+  } catch (const ColmapError& failure) {
+    state->start_error = failure.what();
+    return RunningStage(std::move(state));
+  }
+  if (state->pid < 0) {
+    state->exit_code = kExitNotFound;  // Finish says COLMAP is missing
+    return RunningStage(std::move(state));
+  }
+  state->follower = std::make_unique<LogFollower>(state->result.log_path);
+  state->ended = false;
+  return RunningStage(std::move(state));
+}
+
 ColmapStageResult ColmapRunner::RunStage(
     const std::string& stage,
     const std::vector<std::string>& arguments,
     const std::vector<std::string>& outputs) {
-  std::vector<std::string> argv = {options_.executable};
-  argv.insert(argv.end(), arguments.begin(), arguments.end());
-  const std::string command_line = JoinQuoted(argv);
-  const fs::path workspace(options_.workspace);
-  const fs::path marker = workspace / "stages" / (stage + ".done");
-  ColmapStageResult result;
-  result.log_path = (workspace / "logs" / (stage + ".log")).string();
-  if (WillReuse(stage, arguments, outputs)) {
-    result.reused = true;
-    return result;
-  }
-  reuse_allowed_ = false;
-  std::error_code error;
-  fs::remove(marker, error);
-  fs::remove(result.log_path, error);
-  {
-    std::ofstream commands(workspace / "commands.txt", std::ios::app);
-    commands << command_line << "\n";
-  }
-  const auto start = std::chrono::steady_clock::now();
-  const int code = Spawn(argv, result.log_path, options_.on_output_line);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-          .count();
-  if (code == kExitNotFound) {
-    throw ColmapError("COLMAP not found: '" + options_.executable +
-                      "' is not an executable on PATH (install Debian's colmap "
-                      "package or pass --colmap_path)");
-  }
-  if (code != 0) {
-    const std::string last = LastNonEmptyLine(result.log_path);
-    const std::string why =
-        code == 134 ? " (COLMAP aborted on a failed CHECK)" : "";
-    throw ColmapError("COLMAP " + (arguments.empty() ? stage : arguments[0]) +
-                      " failed with exit code " + std::to_string(code) + why +
-                      "; see " + result.log_path +
-                      (last.empty() ? "" : " (last line: " + last + ")"));
-  }
-  std::ofstream(marker) << StageRecord(arguments);
-  return result;
+  RunningStage running = StartStage(stage, arguments, outputs);
+  running.WaitForEnd(options_.on_output_line);
+  return running.Finish();
 }
 
 }  // namespace odomcal

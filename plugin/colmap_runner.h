@@ -13,6 +13,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -52,6 +53,40 @@ struct ColmapStageResult {
 // Gets each line COLMAP prints while a stage runs (without its end of line).
 using OutputLineCallback = std::function<void(const std::string& line)>;
 
+class ColmapRunner;
+
+// A stage ColmapRunner::StartStage started: COLMAP running in the
+// background (or the stage reused). Poll it while other work goes on, e.g.
+// other stages, or Wait for it; destroying it while COLMAP runs stops COLMAP
+// (SIGTERM) and waits for it to end. Not thread-safe: poll from one thread.
+class RunningStage {
+ public:
+  RunningStage(RunningStage&&) noexcept;
+  RunningStage& operator=(RunningStage&&) noexcept;
+  ~RunningStage();
+
+  // The lines COLMAP printed since the last call go to `on_line` (without
+  // a listener none are read, so a later one gets them all); true once the
+  // stage ended.
+  bool Poll(const OutputLineCallback& on_line = {});
+
+  // Polls every quarter second until the stage ends.
+  void WaitForEnd(const OutputLineCallback& on_line = {});
+
+  // Once Poll said the stage ended: marks it finished and returns its
+  // result, or throws ColmapError as ColmapRunner::RunStage does.
+  ColmapStageResult Finish();
+
+  const std::string& stage() const;
+
+ private:
+  friend class ColmapRunner;
+  struct State;
+  explicit RunningStage(std::unique_ptr<State> state);
+  void Stop() noexcept;
+  std::unique_ptr<State> state_;
+};
+
 class ColmapRunner {
  public:
   struct Options {
@@ -78,10 +113,20 @@ class ColmapRunner {
                              const std::vector<std::string>& arguments,
                              const std::vector<std::string>& outputs);
 
+  // RunStage without waiting: COLMAP runs in the background while the
+  // caller polls the returned stage (several stages may run side by side,
+  // e.g. the mapper on independent chunks). Its failures, including a
+  // missing COLMAP, are thrown by the stage's Finish().
+  RunningStage StartStage(const std::string& stage,
+                          const std::vector<std::string>& arguments,
+                          const std::vector<std::string>& outputs);
+
   // Whether RunStage with these arguments would reuse a finished stage.
   bool WillReuse(const std::string& stage,
                  const std::vector<std::string>& arguments,
                  const std::vector<std::string>& outputs) const;
+
+  const Options& options() const { return options_; }
 
   // No stage is reused from now on: the caller changed an input that the
   // stage markers do not record.

@@ -201,6 +201,93 @@ TEST_F(ColmapRunnerTest, MissingColmapIsAClearError) {
   }
 }
 
+// A fake colmap whose `mapper` runs the shell command in its last argument:
+// stages that wait for each other.
+std::string WriteWaitingFake(const fs::path& dir) {
+  const std::string fake = (dir / "fake_colmap").string();
+  std::ofstream script(fake);
+  script << "#!/bin/sh\n"
+         << "if [ \"$1\" = help ]; then echo 'COLMAP 3.8 -- "
+            "Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
+         << "for last in \"$@\"; do :; done\n"
+         << "eval \"$last\"\n";
+  script.close();
+  ::chmod(fake.c_str(), 0755);
+  return fake;
+}
+
+// Two stages started side by side run at the same time: the first ends
+// well only once the second has started (it waits up to 20 s for its
+// mark). Each is marked finished only by its Finish, and its lines go to
+// the listener of the Poll that read them.
+TEST_F(ColmapRunnerTest, StagesStartedSideBySideRunAtTheSameTime) {
+  fake_ = WriteWaitingFake(dir_);
+  ColmapRunner runner = Runner();
+  const std::string mark = (dir_ / "second_started").string();
+  RunningStage first = runner.StartStage(
+      "mapper_a",
+      {"mapper",
+       "i=0; while [ ! -f " + mark +
+           " ]; do i=$((i+1)); [ $i -gt 200 ] && exit 3; sleep 0.1; done; "
+           "echo first done"},
+      {});
+  RunningStage second = runner.StartStage(
+      "mapper_b", {"mapper", "echo second; touch " + mark}, {});
+  std::vector<std::string> lines;
+  const OutputLineCallback listener = [&lines](const std::string& line) {
+    lines.push_back(line);
+  };
+  second.WaitForEnd();
+  first.WaitForEnd(listener);
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "stages" / "mapper_a.done"));
+  EXPECT_NO_THROW(first.Finish());
+  EXPECT_NO_THROW(second.Finish());
+  EXPECT_TRUE(fs::exists(dir_ / "ws" / "stages" / "mapper_a.done"));
+  EXPECT_TRUE(fs::exists(dir_ / "ws" / "stages" / "mapper_b.done"));
+  EXPECT_EQ(lines, std::vector<std::string>{"first done"});
+  EXPECT_NE(Read(dir_ / "ws" / "logs" / "mapper_b.log").find("second"),
+            std::string::npos);
+}
+
+// A stage dropped while COLMAP runs stops it: without that, the destructor
+// would wait 30 s and the stage write its mark.
+TEST_F(ColmapRunnerTest, AStageDroppedWhileRunningIsStopped) {
+  fake_ = WriteWaitingFake(dir_);
+  ColmapRunner runner = Runner();
+  const fs::path mark = dir_ / "ran_to_the_end";
+  {
+    RunningStage stage = runner.StartStage(
+        "mapper_a", {"mapper", "sleep 30; touch " + mark.string()}, {});
+    EXPECT_FALSE(stage.Poll());
+  }
+  EXPECT_FALSE(fs::exists(mark));
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "stages" / "mapper_a.done"));
+}
+
+// Failures of a started stage come from its Finish: a missing program, and
+// an exit code, as RunStage reports them.
+TEST_F(ColmapRunnerTest, AStartedStageReportsItsFailureWhenFinished) {
+  WriteFake("3.8", 134);
+  ColmapRunner runner = Runner();
+  RunningStage failing = runner.StartStage("map", {"mapper"}, {});
+  failing.WaitForEnd();
+  EXPECT_THROW(failing.Finish(), ColmapError);
+  EXPECT_FALSE(fs::exists(dir_ / "ws" / "stages" / "map.done"));
+
+  ColmapRunner::Options options;
+  options.executable = "odomcal-no-such-colmap";
+  options.workspace = (dir_ / "ws").string();
+  ColmapRunner missing(options);
+  RunningStage nothing = missing.StartStage("map", {"mapper"}, {});
+  EXPECT_TRUE(nothing.Poll());
+  try {
+    nothing.Finish();
+    FAIL() << "no error for a missing program";
+  } catch (const ColmapError& error) {
+    EXPECT_NE(std::string(error.what()).find("not found"), std::string::npos);
+  }
+}
+
 // The real program, when installed: Debian 12 ships COLMAP 3.8.
 TEST(ColmapRunnerReal, DetectsInstalledColmap) {
   const fs::path workspace = fs::path(::testing::TempDir()) / "runner_real";

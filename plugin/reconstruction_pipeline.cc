@@ -40,6 +40,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
 
 namespace odomcal {
 namespace {
@@ -145,9 +146,13 @@ class StageClock {
                                          start_)
         .count();
   }
-  void Done(const std::string& note) {
-    progress_->Send(
-        PipelineProgress::Event::kStageFinished, index_, note, Seconds());
+  // `seconds`: the stage's own time when it ran beside others (a chunk's
+  // mapper), instead of the time since this clock started.
+  void Done(const std::string& note, std::optional<double> seconds = {}) {
+    progress_->Send(PipelineProgress::Event::kStageFinished,
+                    index_,
+                    note,
+                    seconds.value_or(Seconds()));
   }
 
  private:
@@ -324,7 +329,8 @@ std::vector<std::string> MapperArguments(const ReconstructionOptions& run,
                                          const std::string& database,
                                          const fs::path& output,
                                          const fs::path& image_list,
-                                         std::optional<int> random_seed) {
+                                         std::optional<int> random_seed,
+                                         int num_threads) {
   const bool fixed_intrinsics = !run.camera_params.empty();
   std::vector<std::string> arguments = {"mapper",
                                         "--database_path",
@@ -341,7 +347,7 @@ std::vector<std::string> MapperArguments(const ReconstructionOptions& run,
   }
   arguments.insert(arguments.end(),
                    {"--Mapper.num_threads",
-                    std::to_string(run.num_threads),
+                    std::to_string(num_threads),
                     "--Mapper.ba_refine_focal_length",
                     fixed_intrinsics ? "0" : "1",
                     "--Mapper.ba_refine_principal_point",
@@ -351,13 +357,13 @@ std::vector<std::string> MapperArguments(const ReconstructionOptions& run,
   return arguments;
 }
 
-// Runs `arguments` (MapperArguments into MapperOutput(run, entry)) as stage
-// "mapper_<entry>". Unless the stage is reused, its output folder is
+// Starts `arguments` (MapperArguments into MapperOutput(run, entry)) as
+// stage "mapper_<entry>". Unless the stage is reused, its output folder is
 // emptied first: a rerun must not mix new sub-models with stale ones.
-ColmapStageResult RunMapper(ColmapRunner* colmap,
-                            const ReconstructionOptions& run,
-                            const std::string& entry,
-                            const std::vector<std::string>& arguments) {
+RunningStage StartMapper(ColmapRunner* colmap,
+                         const ReconstructionOptions& run,
+                         const std::string& entry,
+                         const std::vector<std::string>& arguments) {
   const std::string stage = "mapper_" + entry;
   const fs::path output = MapperOutput(run, entry);
   const std::vector<std::string> outputs = {(output / "0").string()};
@@ -366,35 +372,113 @@ ColmapStageResult RunMapper(ColmapRunner* colmap,
   }
   std::error_code error;
   fs::create_directories(output, error);
-  return colmap->RunStage(stage, arguments, outputs);
+  return colmap->StartStage(stage, arguments, outputs);
+}
+
+// StartMapper, waited for (COLMAP's lines to the runner's listener).
+ColmapStageResult RunMapper(ColmapRunner* colmap,
+                            const ReconstructionOptions& run,
+                            const std::string& entry,
+                            const std::vector<std::string>& arguments) {
+  RunningStage stage = StartMapper(colmap, run, entry, arguments);
+  stage.WaitForEnd(colmap->options().on_output_line);
+  return stage.Finish();
 }
 
 // Whether a mapper run into `output` produced a model.
 bool HasModel(const fs::path& output) { return fs::exists(output / "0"); }
 
-// RunMapper for a model beside the main one (a stretch, a chunk): it is
-// extra, so COLMAP failing on it (e.g. a CHECK on images without features)
-// or giving no model ends `clock`'s stage with "no model..." and returns
-// nothing, and the run goes on without it.
+// The end of a mapper run for a model beside the main one (a stretch, a
+// chunk): it is extra, so COLMAP failing on it (e.g. a CHECK on images
+// without features) or giving no model ends `clock`'s stage with "no
+// model..." and returns nothing, and the run goes on without it.
+std::optional<ColmapStageResult> FinishExtraMapper(
+    RunningStage* stage,
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    StageClock* clock) {
+  ColmapStageResult result;
+  try {
+    result = stage->Finish();
+  } catch (const ColmapError& failure) {
+    clock->Done(std::string("no model: ") + failure.what());
+    return std::nullopt;
+  }
+  if (!HasModel(MapperOutput(run, entry))) {
+    clock->Done("no model, log " + result.log_path, result.seconds);
+    return std::nullopt;
+  }
+  return result;
+}
+
+// An extra mapper run (FinishExtraMapper), started and waited for.
 std::optional<ColmapStageResult> RunExtraMapper(
     ColmapRunner* colmap,
     const ReconstructionOptions& run,
     const std::string& entry,
     const std::vector<std::string>& arguments,
     StageClock* clock) {
-  ColmapStageResult result;
-  try {
-    result = RunMapper(colmap, run, entry, arguments);
-  } catch (const ColmapError& failure) {
-    clock->Done(std::string("no model: ") + failure.what());
-    return std::nullopt;
-  }
-  if (!HasModel(MapperOutput(run, entry))) {
-    clock->Done("no model, log " + result.log_path);
-    return std::nullopt;
-  }
-  return result;
+  RunningStage stage = StartMapper(colmap, run, entry, arguments);
+  stage.WaitForEnd(colmap->options().on_output_line);
+  return FinishExtraMapper(&stage, run, entry, clock);
 }
+
+// Mapper runs on independent image sets (the chunks of a drive) side by
+// side: queued in order, at most `at_once` running at a time, each waited
+// for in the order queued while the others go on. Runs still going when
+// the queue is destroyed (not waited for, or an exception) are stopped.
+class MapperQueue {
+ public:
+  MapperQueue(ColmapRunner* colmap,
+              const ReconstructionOptions& run,
+              int at_once)
+      : colmap_(colmap), run_(run), at_once_(std::max(1, at_once)) {}
+
+  // Queues MapperArguments into MapperOutput(run, entry); its index.
+  size_t Add(const std::string& entry, std::vector<std::string> arguments) {
+    queued_.push_back({entry, std::move(arguments)});
+    return queued_.size() - 1;
+  }
+
+  // Waits for run `i` to end, its COLMAP lines to `on_line`, starting
+  // queued runs whenever fewer than `at_once` are going.
+  RunningStage& WaitFor(size_t i, const OutputLineCallback& on_line) {
+    for (;;) {
+      while (started_.size() < queued_.size() && Going() < at_once_) {
+        const Queued& next = queued_[started_.size()];
+        started_.push_back(
+            StartMapper(colmap_, run_, next.entry, next.arguments));
+        ended_.push_back(false);
+      }
+      bool any_ended = false;
+      for (size_t k = 0; k < started_.size(); ++k) {
+        if (ended_[k]) continue;
+        ended_[k] = started_[k].Poll(k == i ? on_line : OutputLineCallback());
+        any_ended = any_ended || ended_[k];
+      }
+      if (i < started_.size() && ended_[i]) return started_[i];
+      if (!any_ended) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(250));
+      }
+    }
+  }
+
+ private:
+  struct Queued {
+    std::string entry;
+    std::vector<std::string> arguments;
+  };
+  int Going() const {
+    return static_cast<int>(std::count(ended_.begin(), ended_.end(), false));
+  }
+
+  ColmapRunner* colmap_;
+  const ReconstructionOptions& run_;
+  int at_once_;
+  std::vector<Queued> queued_;
+  std::vector<RunningStage> started_;
+  std::vector<bool> ended_;
+};
 
 // [4]: `colmap mapper` with `seed` on the round's matches, its model
 // calibrated and recorded in `policy`.
@@ -416,12 +500,16 @@ void MapWithSeed(ColmapRunner* colmap,
                        ", --random_seed " + std::to_string(seed));
   const std::string entry = prefix + "seed_" + std::to_string(seed);
   const fs::path output = MapperOutput(run, entry);
-  const ColmapStageResult stage = RunMapper(
-      colmap,
-      run,
-      entry,
-      MapperArguments(
-          run, round.database, output, workspace / "image_list.txt", seed));
+  const ColmapStageResult stage =
+      RunMapper(colmap,
+                run,
+                entry,
+                MapperArguments(run,
+                                round.database,
+                                output,
+                                workspace / "image_list.txt",
+                                seed,
+                                run.num_threads));
   attempt.model_path = output.string();
   if (!HasModel(output)) {
     policy->Record(attempt);
@@ -591,8 +679,8 @@ std::vector<fs::path> MapUnregisteredStretches(
       if (given_pair && !initial) continue;
       const std::string entry = name + (given_pair ? "" : "_free");
       const fs::path output = MapperOutput(run, entry);
-      std::vector<std::string> arguments =
-          MapperArguments(run, database, output, list_path, std::nullopt);
+      std::vector<std::string> arguments = MapperArguments(
+          run, database, output, list_path, std::nullopt, run.num_threads);
       // The default 16 deg and 0.95 refuse what a robot driving ahead
       // sees; the odometry checks the model that results.
       arguments.insert(arguments.end(),
@@ -832,22 +920,46 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   std::vector<std::set<std::string>> own(chunks.size());
   std::vector<fs::path> lists(chunks.size());
   std::vector<fs::path> outputs(chunks.size());  // empty: no model
-  // Chunk k mapped with `seed` into mapper_attempts/<name>: its output
-  // folder (empty without a model) and the stage's note.
-  auto map_chunk =
-      [&](size_t k, int seed, const std::string& name, StageClock* clock) {
-        const fs::path output = MapperOutput(run, name);
-        const std::optional<ColmapStageResult> result = RunExtraMapper(
-            colmap,
-            run,
-            name,
-            MapperArguments(run, round.database, output, lists[k], seed),
-            clock);
-        return result ? std::make_pair(output, Note(*result))
-                      : std::make_pair(fs::path(), std::string());
-      };
+  // Chunks are independent, and COLMAP's mapper keeps about one core busy
+  // on one (docs/benchmarks.md: 27 s of CPU in 24 s with two threads): so
+  // --num_threads chunks are mapped side by side, one thread each.
+  const int at_once =
+      std::clamp(run.num_threads, 1, static_cast<int>(chunks.size()));
+  const int threads_each = std::max(1, run.num_threads / at_once);
+  auto chunk_arguments = [&](size_t k, int seed, const std::string& name) {
+    return MapperArguments(run,
+                           round.database,
+                           MapperOutput(run, name),
+                           lists[k],
+                           seed,
+                           threads_each);
+  };
+  const OutputLineCallback live = [progress](const std::string& line) {
+    progress->ColmapLine(line);
+  };
+  // Chunk k's run `i` of `queue` (mapped into mapper_attempts/<name>), once
+  // it ended: its output folder (empty without a model), the stage's note
+  // and the run's own time.
+  struct ChunkRun {
+    fs::path output;
+    std::string note;
+    double seconds = 0.0;
+  };
+  auto take_chunk = [&](MapperQueue* queue,
+                        size_t i,
+                        const std::string& name,
+                        StageClock* clock) {
+    RunningStage& stage = queue->WaitFor(i, live);
+    const std::optional<ColmapStageResult> result =
+        FinishExtraMapper(&stage, run, name, clock);
+    return result ? ChunkRun{MapperOutput(run, name),
+                             Note(*result),
+                             result->seconds}
+                  : ChunkRun{};
+  };
   ChunkCombination chosen{"mapper_attempts/chunks", {}};
   const fs::path folder = StartCombination(run, &chosen);
+  MapperQueue queue(colmap, run, at_once);
   for (size_t k = 0; k < chunks.size(); ++k) {
     const MapperChunk& chunk = chunks[k];
     const std::string name = "chunk_" + std::to_string(k);
@@ -860,23 +972,44 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     }
     lists[k] = workspace / "chunks" / (name + "_images.txt");
     WriteFileAtomically(lists[k].string(), list.str());
+    queue.Add(name, chunk_arguments(k, 0, name));
+  }
+  const auto mapping_start = std::chrono::steady_clock::now();
+  double mapper_seconds = 0.0;
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    const MapperChunk& chunk = chunks[k];
     progress->SetNumImages(chunk.last - chunk.first + 1);
     StageClock clock(progress,
                      4,
                      "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
                          std::to_string(chunks.size()) + " (" +
                          ImageRange(chunk.first, chunk.last) + ")");
-    const auto [output, note] = map_chunk(k, 0, name, &clock);
-    if (output.empty()) continue;
-    outputs[k] = output;
-    const ChunkCut cut =
-        AddChunkModel(folder, static_cast<int>(k), output, own[k], &chosen);
-    clock.Done(note + "; " + std::to_string(cut.num_folders) +
-               " sub-model(s), " + std::to_string(cut.num_registered) + " of " +
-               std::to_string(chunk.last - chunk.first + 1) +
-               " images registered, " + std::to_string(cut.num_kept) +
-               " of the chunk's own " +
-               std::to_string(chunk.own_last - chunk.own_first + 1) + " kept");
+    const ChunkRun mapped =
+        take_chunk(&queue, k, "chunk_" + std::to_string(k), &clock);
+    mapper_seconds += mapped.seconds;
+    if (mapped.output.empty()) continue;
+    outputs[k] = mapped.output;
+    const ChunkCut cut = AddChunkModel(
+        folder, static_cast<int>(k), mapped.output, own[k], &chosen);
+    clock.Done(mapped.note + "; " + std::to_string(cut.num_folders) +
+                   " sub-model(s), " + std::to_string(cut.num_registered) +
+                   " of " + std::to_string(chunk.last - chunk.first + 1) +
+                   " images registered, " + std::to_string(cut.num_kept) +
+                   " of the chunk's own " +
+                   std::to_string(chunk.own_last - chunk.own_first + 1) +
+                   " kept",
+               mapped.seconds);
+  }
+  if (at_once > 1) {
+    progress->Note(
+        4,
+        "    " + std::to_string(chunks.size()) + " chunks mapped, " +
+            std::to_string(at_once) + " side by side (--num_threads " +
+            std::to_string(run.num_threads) + "), in " +
+            FormatRounded(std::chrono::duration<double>(
+                              std::chrono::steady_clock::now() - mapping_start)
+                              .count()) +
+            " s (their runs: " + FormatRounded(mapper_seconds) + " s)");
   }
 
   ChunkedMapping mapping;
@@ -900,6 +1033,17 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   mapping.chosen = 0;
   std::vector<int> folded =
       FoldedPairsOfChunks(calibration, chosen, chunks.size());
+  // Every chunk with a fold now is mapped again with seed 1 (unless an
+  // earlier chunk's new model takes its fold away): those runs go side by
+  // side from the start; later seeds, and seed 1 of a fold that only an
+  // earlier chunk's new model shows, run when their turn comes.
+  MapperQueue retries(colmap, run, at_once);
+  std::vector<std::optional<size_t>> first_retry(chunks.size());
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    if (folded[k] == 0 || run.mapper.max_seeds < 2) continue;
+    const std::string name = "chunk_" + std::to_string(k) + "_seed_1";
+    first_retry[k] = retries.Add(name, chunk_arguments(k, 1, name));
+  }
   for (size_t k = 0; k < chunks.size(); ++k) {
     for (int seed = 1; folded[k] > 0 && seed < run.mapper.max_seeds; ++seed) {
       const std::string suffix =
@@ -911,7 +1055,17 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                            " again, --random_seed " + std::to_string(seed) +
                            " (" + std::to_string(folded[k]) +
                            " motion pairs of it left out as folded)");
-      const auto [output, note] = map_chunk(k, seed, "chunk_" + suffix, &clock);
+      const std::string name = "chunk_" + suffix;
+      MapperQueue alone(colmap, run, 1);
+      const ChunkRun mapped =
+          seed == 1 && first_retry[k]
+              ? take_chunk(&retries, *first_retry[k], name, &clock)
+              : take_chunk(&alone,
+                           alone.Add(name, chunk_arguments(k, seed, name)),
+                           name,
+                           &clock);
+      const fs::path& output = mapped.output;
+      const std::string& note = mapped.note;
       // A seed without a model did not help either (recorded, as a
       // one-model drive's mapper run without a model is).
       if (output.empty()) {
@@ -938,7 +1092,8 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       // Chunk k's new model may keep none of its own images, and be the
       // only chunk with a model.
       if (combination.chunk_of_sub_model.empty()) {
-        clock.Done(note + "; its model keeps none of the chunk's own images");
+        clock.Done(note + "; its model keeps none of the chunk's own images",
+                   mapped.seconds);
         break;
       }
       // A model already chosen: one that cannot be calibrated is left out,
@@ -946,7 +1101,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       try {
         calibration = CalibrateCombination(run, round, combination);
       } catch (const FormatError& failure) {
-        clock.Done(note + "; left out: " + failure.what());
+        clock.Done(note + "; left out: " + failure.what(), mapped.seconds);
         break;
       }
       mapping.attempts.push_back(
@@ -963,14 +1118,15 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
         // drive: seeds 1 and 2 folded its turn close to a wall as seed 0
         // did, at 100 s each), as in a one-model drive whose seeds repeat
         // their contradictions (RepeatsContradictions).
-        clock.Done(note + "; " + pairs + ": not better, no further seed");
+        clock.Done(note + "; " + pairs + ": not better, no further seed",
+                   mapped.seconds);
         break;
       }
       outputs = candidate;
       chosen = combination;
       mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
       folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
-      clock.Done(note + "; " + pairs + ": this model kept");
+      clock.Done(note + "; " + pairs + ": this model kept", mapped.seconds);
     }
   }
   progress->SetNumImages(static_cast<int>(images.size()));

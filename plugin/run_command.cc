@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <utility>
 
 namespace odomcal {
@@ -57,7 +58,9 @@ class ProgressPrinter {
         Live(progress.message);
         break;
       case PipelineProgress::Event::kStageFinished:
-        if (progress.stage < progress.num_stages) Finish(progress.message);
+        if (progress.stage < progress.num_stages) {
+          Finish(progress.message, progress.seconds);
+        }
         break;
       case PipelineProgress::Event::kNote:
         std::cout << progress.message << "\n" << std::flush;
@@ -65,21 +68,24 @@ class ProgressPrinter {
     }
   }
 
-  void Finish(const std::string& note) {
+  // `seconds`: the stage's own time (a chunk mapped beside others); by
+  // default the time since its title.
+  void Finish(const std::string& note, std::optional<double> seconds = {}) {
     open_ = false;
-    char seconds[32];
+    char took[32];
     std::snprintf(
-        seconds,
-        sizeof(seconds),
+        took,
+        sizeof(took),
         "%.1f s",
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
-            .count());
+        seconds.value_or(std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start_)
+                             .count()));
     if (live_shown_ && terminal_) {
       std::cout << "\r" << title_ << kClearToEndOfLine;
     } else if (live_shown_) {
       std::cout << "   ";
     }
-    std::cout << " ... " << note << " (" << seconds << ")\n" << std::flush;
+    std::cout << " ... " << note << " (" << took << ")\n" << std::flush;
   }
 
  private:

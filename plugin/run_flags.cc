@@ -103,7 +103,8 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           FlagCheck::AtLeast(1)),
       NumberRow<Run>(
           "num_threads",
-          "COLMAP threads",
+          "COLMAP threads; a drive mapped in chunks maps this many chunks "
+          "side by side, one thread each",
           [](auto& r) -> auto& { return r.num_threads; },
           FlagCheck::AtLeast(1)),
       FrameSpacingRow(

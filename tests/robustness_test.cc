@@ -324,18 +324,21 @@ class Robustness : public ::testing::Test {
   // microseconds positive would leave it out of the metric model (and name
   // it), which is not what these tests are about, so the offset is not
   // estimated.
-  CommandResult RunInChunksOf50(const std::string& bin) const {
-    return RunOdomcal(RunCommand({"--matcher",
-                                  "sequential",
-                                  "--estimate_time_offset",
-                                  "off",
-                                  "--chunk_images",
-                                  "50",
-                                  "--frame_min_translation_m",
-                                  "0",
-                                  "--frame_min_rotation_deg",
-                                  "0"}),
-                      {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  CommandResult RunInChunksOf50(const std::string& bin,
+                                int num_threads = 1) const {
+    std::vector<std::string> command = RunCommand({"--matcher",
+                                                   "sequential",
+                                                   "--estimate_time_offset",
+                                                   "off",
+                                                   "--chunk_images",
+                                                   "50",
+                                                   "--frame_min_translation_m",
+                                                   "0",
+                                                   "--frame_min_rotation_deg",
+                                                   "0"});
+    *(std::find(command.begin(), command.end(), "--num_threads") + 1) =
+        std::to_string(num_threads);
+    return RunOdomcal(command, {{"PATH=" + bin + ":/usr/bin:/bin"}});
   }
 
   // The angle between the result's odom_from_cam rotation and the drive's.
@@ -923,7 +926,7 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
   WriteMapperModel(drive, kImages, "seed_0");
   const std::string bin = WriteFakeColmapWithMapperModels();
-  const CommandResult run = RunInChunksOf50(bin);
+  const CommandResult run = RunInChunksOf50(bin, 2);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("60 images: mapped in 2 chunks of 37 sharing at "
                          "least 12 images"),
@@ -940,6 +943,19 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
                          "chunks)"),
             std::string::npos)
       << run.out;
+  // The default --num_threads 2: both chunks mapped side by side, one
+  // thread each.
+  EXPECT_NE(run.out.find("2 chunks mapped, 2 side by side (--num_threads 2)"),
+            std::string::npos)
+      << run.out;
+  const std::string commands = ReadFile(Path("ws/commands.txt"));
+  for (const std::string chunk : {"chunk_0", "chunk_1"}) {
+    EXPECT_NE(commands.find("mapper_attempts/" + chunk + " --image_list_path " +
+                            Path("ws/chunks/" + chunk + "_images.txt") +
+                            " --random_seed 0 --Mapper.num_threads 1 "),
+              std::string::npos)
+        << commands;
+  }
   const json result = json::parse(ReadFile(Path("ws/calibration.json")));
   EXPECT_EQ(result["status"], "success");
   EXPECT_EQ(result["options"]["run"]["chunk_images"], 50);
