@@ -7,6 +7,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -179,6 +180,28 @@ int RunToEnd(const std::vector<std::string>& argv, const fs::path& log_path) {
   return ExitCode(status);
 }
 
+std::string NotFoundMessage(const std::string& executable) {
+  return "COLMAP not found: '" + executable +
+         "' is not an executable on PATH (install Debian's colmap package or "
+         "pass --colmap_path)";
+}
+
+// When `path` was last written, on the steady clock (now if unknown).
+std::chrono::steady_clock::time_point LastWrite(const fs::path& path) {
+  const auto steady_now = std::chrono::steady_clock::now();
+  struct stat info;
+  if (::stat(path.c_str(), &info) != 0) return steady_now;
+  const auto written = std::chrono::system_clock::time_point(
+      std::chrono::duration_cast<std::chrono::system_clock::duration>(
+          std::chrono::seconds(info.st_mtim.tv_sec) +
+          std::chrono::nanoseconds(info.st_mtim.tv_nsec)));
+  const auto ago = std::chrono::system_clock::now() - written;
+  return ago > std::chrono::system_clock::duration::zero()
+             ? steady_now - std::chrono::duration_cast<
+                                std::chrono::steady_clock::duration>(ago)
+             : steady_now;
+}
+
 }  // namespace
 
 bool ColmapVersion::AtLeast(int major_at_least, int minor_at_least) const {
@@ -244,9 +267,7 @@ const ColmapVersion& ColmapRunner::Version() {
   fs::remove(log, error);
   const int code = RunToEnd({options_.executable, "help"}, log);
   if (code == kExitNotFound) {
-    throw ColmapError("COLMAP not found: '" + options_.executable +
-                      "' is not an executable on PATH (install Debian's colmap "
-                      "package or pass --colmap_path)");
+    throw ColmapError(NotFoundMessage(options_.executable));
   }
   std::istringstream text(ReadWholeFile(log));
   std::string first_line;
@@ -299,12 +320,6 @@ bool ColmapRunner::WillReuse(const std::string& stage,
       });
 }
 
-std::string NotFoundMessage(const std::string& executable) {
-  return "COLMAP not found: '" + executable +
-         "' is not an executable on PATH (install Debian's colmap package or "
-         "pass --colmap_path)";
-}
-
 struct RunningStage::State {
   std::string stage;
   std::string program;  // the COLMAP command, e.g. "mapper"
@@ -318,6 +333,7 @@ struct RunningStage::State {
   int exit_code = 0;
   std::string start_error;  // e.g. the log could not be opened
   std::unique_ptr<LogFollower> follower;
+  bool* runner_reuse_allowed = nullptr;  // the runner's chain (see Finish)
 };
 
 RunningStage::RunningStage(std::unique_ptr<State> state)
@@ -342,11 +358,16 @@ void RunningStage::Stop() noexcept {
 const std::string& RunningStage::stage() const { return state_->stage; }
 
 bool RunningStage::Poll(const OutputLineCallback& on_line) {
+  return Reap(on_line, WNOHANG);
+}
+
+bool RunningStage::Reap(const OutputLineCallback& on_line, int wait_options) {
   State& state = *state_;
   if (state.ended) return true;
   int status = 0;
-  const pid_t waited = ::waitpid(state.pid, &status, WNOHANG);
+  const pid_t waited = ::waitpid(state.pid, &status, wait_options);
   if (waited < 0 && errno != EINTR) {
+    state.pid = -1;  // not ours any more: never signalled again
     throw ColmapError(std::string("waitpid failed: ") + std::strerror(errno));
   }
   if (waited != state.pid) {
@@ -358,17 +379,32 @@ bool RunningStage::Poll(const OutputLineCallback& on_line) {
   state.pid = -1;
   state.ended = true;
   state.exit_code = ExitCode(status);
-  state.result.seconds = std::chrono::duration<double>(
-                             std::chrono::steady_clock::now() - state.start)
-                             .count();
+  // Noticed late when nobody polled for a while: COLMAP's last log line
+  // tells when it ended.
+  const auto end = std::max(state.start,
+                            std::min(std::chrono::steady_clock::now(),
+                                     LastWrite(state.result.log_path)));
+  state.result.seconds =
+      std::chrono::duration<double>(end - state.start).count();
   state.follower->Finish(on_line);
   return true;
 }
 
 void RunningStage::WaitForEnd(const OutputLineCallback& on_line) {
+  if (!on_line) {
+    while (!Reap(on_line, 0)) {
+    }
+    return;
+  }
   while (!Poll(on_line)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
   }
+}
+
+double RunningStage::seconds() const { return state_->result.seconds; }
+
+std::chrono::steady_clock::time_point RunningStage::started() const {
+  return state_->start;
 }
 
 ColmapStageResult RunningStage::Finish() {
@@ -377,6 +413,10 @@ ColmapStageResult RunningStage::Finish() {
     throw std::logic_error("RunningStage::Finish before the stage ended");
   }
   if (state.result.reused) return state.result;
+  // Ran anew: every stage started from now on runs anew too. (Not at the
+  // start: stages started side by side do not depend on each other, and a
+  // stage dropped unfinished leaves the chain as it was.)
+  *state.runner_reuse_allowed = false;
   if (!state.start_error.empty()) throw ColmapError(state.start_error);
   if (state.exit_code == kExitNotFound) {
     throw ColmapError(NotFoundMessage(state.executable));
@@ -409,7 +449,7 @@ RunningStage ColmapRunner::StartStage(const std::string& stage,
     state->result.reused = true;
     return RunningStage(std::move(state));
   }
-  reuse_allowed_ = false;
+  state->runner_reuse_allowed = &reuse_allowed_;
   std::error_code error;
   fs::remove(state->marker, error);
   fs::remove(state->result.log_path, error);

@@ -8,10 +8,13 @@
 //   logs/<stage>.log      stdout + stderr of the stage (glog to stderr)
 //   stages/<stage>.done   the exact argv of a finished stage
 //
-// Stages form one chain: once a stage runs anew, every later stage of the
-// same runner runs anew too, since its inputs may have changed.
+// Stages form one chain: once a stage that ran anew has finished, every
+// stage of the same runner started later runs anew too, since its inputs
+// may have changed (stages started side by side do not depend on each
+// other).
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -58,7 +61,8 @@ class ColmapRunner;
 // A stage ColmapRunner::StartStage started: COLMAP running in the
 // background (or the stage reused). Poll it while other work goes on, e.g.
 // other stages, or Wait for it; destroying it while COLMAP runs stops COLMAP
-// (SIGTERM) and waits for it to end. Not thread-safe: poll from one thread.
+// (SIGTERM) and waits for it to end. Not thread-safe: poll from one thread;
+// the runner must outlive its stages.
 class RunningStage {
  public:
   RunningStage(RunningStage&&) noexcept;
@@ -70,8 +74,14 @@ class RunningStage {
   // stage ended.
   bool Poll(const OutputLineCallback& on_line = {});
 
-  // Polls every quarter second until the stage ends.
+  // Until the stage ends: polls every quarter second, or without a
+  // listener just waits.
   void WaitForEnd(const OutputLineCallback& on_line = {});
+
+  // The stage's own time once it ended (when COLMAP last wrote its log, if
+  // nobody polled for a while); 0 for a reused stage.
+  double seconds() const;
+  std::chrono::steady_clock::time_point started() const;
 
   // Once Poll said the stage ended: marks it finished and returns its
   // result, or throws ColmapError as ColmapRunner::RunStage does.
@@ -83,6 +93,7 @@ class RunningStage {
   friend class ColmapRunner;
   struct State;
   explicit RunningStage(std::unique_ptr<State> state);
+  bool Reap(const OutputLineCallback& on_line, int wait_options);
   void Stop() noexcept;
   std::unique_ptr<State> state_;
 };

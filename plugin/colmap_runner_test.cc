@@ -1,9 +1,12 @@
 #include "odomcal/plugin/colmap_runner.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -249,17 +252,32 @@ TEST_F(ColmapRunnerTest, StagesStartedSideBySideRunAtTheSameTime) {
             std::string::npos);
 }
 
-// A stage dropped while COLMAP runs stops it: without that, the destructor
-// would wait 30 s and the stage write its mark.
+// A stage dropped while COLMAP runs stops it and reaps it: no process (not
+// even a zombie) is left with its pid, and the stage never wrote its mark.
 TEST_F(ColmapRunnerTest, AStageDroppedWhileRunningIsStopped) {
   fake_ = WriteWaitingFake(dir_);
   ColmapRunner runner = Runner();
+  const fs::path pid_file = dir_ / "pid";
   const fs::path mark = dir_ / "ran_to_the_end";
   {
     RunningStage stage = runner.StartStage(
-        "mapper_a", {"mapper", "sleep 30; touch " + mark.string()}, {});
-    EXPECT_FALSE(stage.Poll());
+        "mapper_a",
+        {"mapper",
+         "echo $$ > " + pid_file.string() +
+             "; sleep 30 & child=$!; trap 'kill $child; exit 143' TERM; "
+             "wait $child; touch " +
+             mark.string()},
+        {});
+    for (int i = 0; i < 200 && !fs::exists(pid_file); ++i) {
+      EXPECT_FALSE(stage.Poll());
+      ::usleep(50000);
+    }
   }
+  std::ifstream file(pid_file);
+  pid_t pid = 0;
+  ASSERT_TRUE(file >> pid);
+  EXPECT_EQ(::kill(pid, 0), -1);
+  EXPECT_EQ(errno, ESRCH);
   EXPECT_FALSE(fs::exists(mark));
   EXPECT_FALSE(fs::exists(dir_ / "ws" / "stages" / "mapper_a.done"));
 }

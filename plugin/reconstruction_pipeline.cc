@@ -34,8 +34,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -109,6 +111,13 @@ class Progress {
 
   // The images COLMAP works on (the mapper's fraction).
   void SetNumImages(int num_images) { num_images_ = num_images; }
+
+  // The current stage's COLMAP run started at `start` (before the stage's
+  // title: a chunk mapped beside others): its elapsed time and time left
+  // count from there.
+  void SetLiveStart(std::chrono::steady_clock::time_point start) {
+    live_start_ = std::min(live_start_, start);
+  }
 
   // A line COLMAP printed during the current stage.
   void ColmapLine(const std::string& line) {
@@ -401,11 +410,11 @@ std::optional<ColmapStageResult> FinishExtraMapper(
   try {
     result = stage->Finish();
   } catch (const ColmapError& failure) {
-    clock->Done(std::string("no model: ") + failure.what());
+    clock->Done(std::string("no model: ") + failure.what(), stage->seconds());
     return std::nullopt;
   }
   if (!HasModel(MapperOutput(run, entry))) {
-    clock->Done("no model, log " + result.log_path, result.seconds);
+    clock->Done("no model, log " + result.log_path, stage->seconds());
     return std::nullopt;
   }
   return result;
@@ -424,39 +433,67 @@ std::optional<ColmapStageResult> RunExtraMapper(
 }
 
 // Mapper runs on independent image sets (the chunks of a drive) side by
-// side: queued in order, at most `at_once` running at a time, each waited
-// for in the order queued while the others go on. Runs still going when
+// side: queued, at most `at_once` going at a time, started in queue order
+// (or first, when queued so), each waited for when its turn comes while the
+// others go on. A run no longer needed is cancelled; runs still going when
 // the queue is destroyed (not waited for, or an exception) are stopped.
 class MapperQueue {
  public:
+  using StartedCallback =
+      std::function<void(std::chrono::steady_clock::time_point)>;
+
   MapperQueue(ColmapRunner* colmap,
               const ReconstructionOptions& run,
               int at_once)
       : colmap_(colmap), run_(run), at_once_(std::max(1, at_once)) {}
 
-  // Queues MapperArguments into MapperOutput(run, entry); its index.
-  size_t Add(const std::string& entry, std::vector<std::string> arguments) {
-    queued_.push_back({entry, std::move(arguments)});
-    return queued_.size() - 1;
+  // Queues MapperArguments into MapperOutput(run, entry), to be started
+  // after those queued before it, or before them with `first`; its index.
+  size_t Add(const std::string& entry,
+             std::vector<std::string> arguments,
+             bool first = false) {
+    runs_.push_back({entry, std::move(arguments), std::nullopt, false});
+    if (first) {
+      waiting_.push_front(runs_.size() - 1);
+    } else {
+      waiting_.push_back(runs_.size() - 1);
+    }
+    return runs_.size() - 1;
   }
 
-  // Waits for run `i` to end, its COLMAP lines to `on_line`, starting
-  // queued runs whenever fewer than `at_once` are going.
-  RunningStage& WaitFor(size_t i, const OutputLineCallback& on_line) {
+  // Run `i` is not needed: not started, or stopped.
+  void Cancel(size_t i) {
+    waiting_.erase(std::remove(waiting_.begin(), waiting_.end(), i),
+                   waiting_.end());
+    runs_[i].stage.reset();
+    runs_[i].ended = true;
+  }
+
+  // Waits for run `i` (not cancelled) to end: its COLMAP lines to
+  // `on_line`, its start time to `on_started` once it started; meanwhile
+  // queued runs start whenever fewer than `at_once` are going.
+  RunningStage& WaitFor(size_t i,
+                        const OutputLineCallback& on_line,
+                        const StartedCallback& on_started) {
+    bool told = false;
     for (;;) {
-      while (started_.size() < queued_.size() && Going() < at_once_) {
-        const Queued& next = queued_[started_.size()];
-        started_.push_back(
-            StartMapper(colmap_, run_, next.entry, next.arguments));
-        ended_.push_back(false);
+      while (!waiting_.empty() && Going() < at_once_) {
+        Run& next = runs_[waiting_.front()];
+        waiting_.pop_front();
+        next.stage = StartMapper(colmap_, run_, next.entry, next.arguments);
+      }
+      if (!told && runs_[i].stage) {
+        on_started(runs_[i].stage->started());
+        told = true;
       }
       bool any_ended = false;
-      for (size_t k = 0; k < started_.size(); ++k) {
-        if (ended_[k]) continue;
-        ended_[k] = started_[k].Poll(k == i ? on_line : OutputLineCallback());
-        any_ended = any_ended || ended_[k];
+      for (size_t k = 0; k < runs_.size(); ++k) {
+        Run& run = runs_[k];
+        if (!run.stage || run.ended) continue;
+        run.ended = run.stage->Poll(k == i ? on_line : OutputLineCallback());
+        any_ended = any_ended || run.ended;
       }
-      if (i < started_.size() && ended_[i]) return started_[i];
+      if (runs_[i].stage && runs_[i].ended) return *runs_[i].stage;
       if (!any_ended) {
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
       }
@@ -464,20 +501,24 @@ class MapperQueue {
   }
 
  private:
-  struct Queued {
+  struct Run {
     std::string entry;
     std::vector<std::string> arguments;
+    std::optional<RunningStage> stage;  // once started
+    bool ended = false;
   };
   int Going() const {
-    return static_cast<int>(std::count(ended_.begin(), ended_.end(), false));
+    return static_cast<int>(
+        std::count_if(runs_.begin(), runs_.end(), [](const Run& run) {
+          return run.stage && !run.ended;
+        }));
   }
 
   ColmapRunner* colmap_;
   const ReconstructionOptions& run_;
   int at_once_;
-  std::vector<Queued> queued_;
-  std::vector<RunningStage> started_;
-  std::vector<bool> ended_;
+  std::vector<Run> runs_;
+  std::deque<size_t> waiting_;  // queued, not started, in start order
 };
 
 // [4]: `colmap mapper` with `seed` on the round's matches, its model
@@ -922,7 +963,8 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   std::vector<fs::path> outputs(chunks.size());  // empty: no model
   // Chunks are independent, and COLMAP's mapper keeps about one core busy
   // on one (docs/benchmarks.md: 27 s of CPU in 24 s with two threads): so
-  // --num_threads chunks are mapped side by side, one thread each.
+  // up to --num_threads chunks are mapped side by side, the threads shared
+  // among them (one each when there are at least as many chunks).
   const int at_once =
       std::clamp(run.num_threads, 1, static_cast<int>(chunks.size()));
   const int threads_each = std::max(1, run.num_threads / at_once);
@@ -937,6 +979,10 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   const OutputLineCallback live = [progress](const std::string& line) {
     progress->ColmapLine(line);
   };
+  const MapperQueue::StartedCallback live_start =
+      [progress](std::chrono::steady_clock::time_point start) {
+        progress->SetLiveStart(start);
+      };
   // Chunk k's run `i` of `queue` (mapped into mapper_attempts/<name>), once
   // it ended: its output folder (empty without a model), the stage's note
   // and the run's own time.
@@ -949,17 +995,18 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                         size_t i,
                         const std::string& name,
                         StageClock* clock) {
-    RunningStage& stage = queue->WaitFor(i, live);
+    RunningStage& stage = queue->WaitFor(i, live, live_start);
     const std::optional<ColmapStageResult> result =
         FinishExtraMapper(&stage, run, name, clock);
     return result ? ChunkRun{MapperOutput(run, name),
                              Note(*result),
-                             result->seconds}
-                  : ChunkRun{};
+                             stage.seconds()}
+                  : ChunkRun{fs::path(), std::string(), stage.seconds()};
   };
   ChunkCombination chosen{"mapper_attempts/chunks", {}};
   const fs::path folder = StartCombination(run, &chosen);
   MapperQueue queue(colmap, run, at_once);
+  std::vector<size_t> in_queue;  // chunk k's run in `queue`
   for (size_t k = 0; k < chunks.size(); ++k) {
     const MapperChunk& chunk = chunks[k];
     const std::string name = "chunk_" + std::to_string(k);
@@ -972,7 +1019,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     }
     lists[k] = workspace / "chunks" / (name + "_images.txt");
     WriteFileAtomically(lists[k].string(), list.str());
-    queue.Add(name, chunk_arguments(k, 0, name));
+    in_queue.push_back(queue.Add(name, chunk_arguments(k, 0, name)));
   }
   const auto mapping_start = std::chrono::steady_clock::now();
   double mapper_seconds = 0.0;
@@ -985,7 +1032,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                          std::to_string(chunks.size()) + " (" +
                          ImageRange(chunk.first, chunk.last) + ")");
     const ChunkRun mapped =
-        take_chunk(&queue, k, "chunk_" + std::to_string(k), &clock);
+        take_chunk(&queue, in_queue[k], "chunk_" + std::to_string(k), &clock);
     mapper_seconds += mapped.seconds;
     if (mapped.output.empty()) continue;
     outputs[k] = mapped.output;
@@ -1033,10 +1080,11 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   mapping.chosen = 0;
   std::vector<int> folded =
       FoldedPairsOfChunks(calibration, chosen, chunks.size());
-  // Every chunk with a fold now is mapped again with seed 1 (unless an
-  // earlier chunk's new model takes its fold away): those runs go side by
-  // side from the start; later seeds, and seed 1 of a fold that only an
-  // earlier chunk's new model shows, run when their turn comes.
+  // Every chunk with a fold now is mapped again with seed 1: those runs go
+  // side by side from the start, and one whose fold an earlier chunk's new
+  // model takes away is cancelled. Later seeds, and seed 1 of a fold that
+  // only an earlier chunk's new model shows, are queued first when their
+  // turn comes.
   MapperQueue retries(colmap, run, at_once);
   std::vector<std::optional<size_t>> first_retry(chunks.size());
   for (size_t k = 0; k < chunks.size(); ++k) {
@@ -1056,14 +1104,11 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                            " (" + std::to_string(folded[k]) +
                            " motion pairs of it left out as folded)");
       const std::string name = "chunk_" + suffix;
-      MapperQueue alone(colmap, run, 1);
-      const ChunkRun mapped =
+      const size_t index =
           seed == 1 && first_retry[k]
-              ? take_chunk(&retries, *first_retry[k], name, &clock)
-              : take_chunk(&alone,
-                           alone.Add(name, chunk_arguments(k, seed, name)),
-                           name,
-                           &clock);
+              ? *first_retry[k]
+              : retries.Add(name, chunk_arguments(k, seed, name), true);
+      const ChunkRun mapped = take_chunk(&retries, index, name, &clock);
       const fs::path& output = mapped.output;
       const std::string& note = mapped.note;
       // A seed without a model did not help either (recorded, as a
@@ -1126,6 +1171,12 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       chosen = combination;
       mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
       folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
+      for (size_t j = k + 1; j < chunks.size(); ++j) {
+        if (folded[j] == 0 && first_retry[j]) {
+          retries.Cancel(*first_retry[j]);
+          first_retry[j].reset();
+        }
+      }
       clock.Done(note + "; " + pairs + ": this model kept", mapped.seconds);
     }
   }

@@ -103,8 +103,8 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           FlagCheck::AtLeast(1)),
       NumberRow<Run>(
           "num_threads",
-          "COLMAP threads; a drive mapped in chunks maps this many chunks "
-          "side by side, one thread each",
+          "COLMAP threads; a drive mapped in chunks maps up to this many "
+          "chunks side by side, the threads shared among them",
           [](auto& r) -> auto& { return r.num_threads; },
           FlagCheck::AtLeast(1)),
       FrameSpacingRow(

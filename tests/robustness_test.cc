@@ -295,7 +295,20 @@ class Robustness : public ::testing::Test {
   // matches of database_rematched.db: models/rematch_seed_<...>/) to
   // <--output_path>/0 (its sub-models 0, 1, ... to <--output_path>/ when
   // it has them), or writes nothing when there is no such model.
-  std::string WriteFakeColmapWithMapperModels() const {
+  // With `chunks_side_by_side`, the mapper of chunk 0 gives no model
+  // unless chunk 1's mapper starts while it runs (it waits up to 20 s).
+  std::string WriteFakeColmapWithMapperModels(
+      bool chunks_side_by_side = false) const {
+    const std::string mark = Path("chunk_1_started");
+    const std::string wait_for_chunk_1 =
+        chunks_side_by_side
+            ? "  case \"$out\" in */chunk_1) touch " + mark +
+                  ";;\n"
+                  "    */chunk_0) i=0; while [ ! -f " +
+                  mark +
+                  " ]; do i=$((i+1)); [ $i -gt 200 ] && exit 3; sleep 0.1; "
+                  "done;; esac\n"
+            : std::string();
     return WriteFakeColmap(
         "if [ \"$1\" = feature_extractor ]; then cp " +
         WritePreparedDatabase() +
@@ -307,9 +320,8 @@ class Robustness : public ::testing::Test {
         "      --database_path) case \"$2\" in *rematched.db) round=rematch_;; "
         "esac;; esac\n"
         "    shift\n"
-        "  done\n"
-        "  model=" +
-        Path("models") +
+        "  done\n" +
+        wait_for_chunk_1 + "  model=" + Path("models") +
         "/${round}seed_$seed\n"
         "  if [ -d \"$model/0\" ]; then cp -r \"$model\"/* \"$out/\";\n"
         "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* "
@@ -925,7 +937,7 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
   constexpr int kImages = 60;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
   WriteMapperModel(drive, kImages, "seed_0");
-  const std::string bin = WriteFakeColmapWithMapperModels();
+  const std::string bin = WriteFakeColmapWithMapperModels(true);
   const CommandResult run = RunInChunksOf50(bin, 2);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_NE(run.out.find("60 images: mapped in 2 chunks of 37 sharing at "
@@ -943,8 +955,8 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
                          "chunks)"),
             std::string::npos)
       << run.out;
-  // The default --num_threads 2: both chunks mapped side by side, one
-  // thread each.
+  // --num_threads 2: both chunks mapped side by side (chunk 0's fake
+  // mapper gives a model only so), one thread each.
   EXPECT_NE(run.out.find("2 chunks mapped, 2 side by side (--num_threads 2)"),
             std::string::npos)
       << run.out;
@@ -984,7 +996,7 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   WriteMapperModel(drive, kImages, "seed_0/1", {40, 42, 44, 46}, 15);
   WriteMapperModel(drive, kImages, "seed_1");
   const std::string bin = WriteFakeColmapWithMapperModels();
-  const CommandResult run = RunInChunksOf50(bin);
+  const CommandResult run = RunInChunksOf50(bin, 2);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_EQ(run.out.find("COLMAP mapping chunk 1 again"), std::string::npos)
       << run.out;
