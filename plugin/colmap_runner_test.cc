@@ -25,6 +25,22 @@ std::string Read(const fs::path& path) {
   return buffer.str();
 }
 
+// dir/fake_colmap: prints COLMAP `version`'s banner for `help`, otherwise
+// runs `body` (sh); its path.
+std::string WriteFakeColmapScript(const fs::path& dir,
+                                  const std::string& body,
+                                  const std::string& version = "3.8") {
+  const std::string fake = (dir / "fake_colmap").string();
+  std::ofstream script(fake);
+  script << "#!/bin/sh\n"
+         << "if [ \"$1\" = help ]; then echo 'COLMAP " << version
+         << " -- Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
+         << body;
+  script.close();
+  ::chmod(fake.c_str(), 0755);
+  return fake;
+}
+
 // A stand-in for the colmap program: prints a version banner for `help`,
 // records its arguments one per line, and exits with $FAKE_EXIT.
 class ColmapRunnerTest : public ::testing::Test {
@@ -40,18 +56,15 @@ class ColmapRunnerTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   void WriteFake(const std::string& version, int exit_code) {
-    fake_ = (dir_ / "fake_colmap").string();
-    std::ofstream script(fake_);
-    script << "#!/bin/sh\n"
-           << "if [ \"$1\" = help ]; then echo 'COLMAP " << version
-           << " -- Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
-           << "for a in \"$@\"; do echo \"$a\" >> "
-           << (dir_ / "args.txt").string() << "; done\n"
-           << "echo \"glog_to_stderr=$GLOG_logtostderr\"\n"
-           << "echo 'Check failed: something' >&2\n"
-           << "exit " << exit_code << "\n";
-    script.close();
-    ::chmod(fake_.c_str(), 0755);
+    fake_ = WriteFakeColmapScript(
+        dir_,
+        "for a in \"$@\"; do echo \"$a\" >> " + (dir_ / "args.txt").string() +
+            "; done\n"
+            "echo \"glog_to_stderr=$GLOG_logtostderr\"\n"
+            "echo 'Check failed: something' >&2\n"
+            "exit " +
+            std::to_string(exit_code) + "\n",
+        version);
   }
 
   ColmapRunner Runner() const {
@@ -207,16 +220,9 @@ TEST_F(ColmapRunnerTest, MissingColmapIsAClearError) {
 // A fake colmap whose `mapper` runs the shell command in its last argument:
 // stages that wait for each other.
 std::string WriteWaitingFake(const fs::path& dir) {
-  const std::string fake = (dir / "fake_colmap").string();
-  std::ofstream script(fake);
-  script << "#!/bin/sh\n"
-         << "if [ \"$1\" = help ]; then echo 'COLMAP 3.8 -- "
-            "Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
-         << "for last in \"$@\"; do :; done\n"
-         << "eval \"$last\"\n";
-  script.close();
-  ::chmod(fake.c_str(), 0755);
-  return fake;
+  return WriteFakeColmapScript(dir,
+                               "for last in \"$@\"; do :; done\n"
+                               "eval \"$last\"\n");
 }
 
 // Two stages started side by side run at the same time: the first ends
@@ -334,17 +340,11 @@ TEST(ColmapRunnerOutput, FollowsTheLogWhileTheStageRuns) {
   const fs::path dir = fs::path(::testing::TempDir()) / "runner_output";
   fs::remove_all(dir);
   fs::create_directories(dir / "ws");
-  const std::string fake = (dir / "fake_colmap").string();
-  {
-    std::ofstream script(fake);
-    script << "#!/bin/sh\n"
-           << "if [ \"$1\" = help ]; then echo 'COLMAP 3.8 -- "
-              "Structure-from-Motion and Multi-View Stereo'; exit 0; fi\n"
-           << "echo 'Matching image [1/2] in 0.100s'\n"
-           << "sleep 0.4\n"
-           << "printf 'Matching image [2/2]'\n";
-  }
-  ::chmod(fake.c_str(), 0755);
+  const std::string fake =
+      WriteFakeColmapScript(dir,
+                            "echo 'Matching image [1/2] in 0.100s'\n"
+                            "sleep 0.4\n"
+                            "printf 'Matching image [2/2]'\n");
   std::vector<std::string> lines;
   ColmapRunner::Options options;
   options.executable = fake;
