@@ -142,6 +142,7 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
         {{"matching_round", attempt.matching_round},
          {"chunk", attempt.chunk >= 0 ? json(attempt.chunk) : json(nullptr)},
          {"random_seed", attempt.random_seed},
+         {"posed_from_odometry", attempt.posed_from_odometry},
          {"path", attempt.model_path},
          {"produced_model", attempt.produced_model},
          {"num_sub_models", attempt.num_sub_models},
@@ -522,7 +523,9 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
            "the images are matched again (matching round 1) and mapped again. "
            "A drive mapped in chunks maps again only a chunk with a stretch "
            "left out as folded (chunk: WS/chunks/chunk_&lt;k&gt;_images.txt; "
-           "the other chunks as chosen before)."
+           "the other chunks as chosen before), after first posing the "
+           "fold from the odometry and letting COLMAP triangulate and adjust "
+           "it again (&quot;folds posed from the odometry&quot;)."
            "</p>\n<table>"
            "<tr><th>matching "
            "round</th><th>chunk</th><th>--random_seed</th><th>sub-models</th>"
@@ -535,8 +538,10 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
       html << "<tr><td>" << attempt.matching_round << "</td><td>"
            << (attempt.chunk >= 0 ? "chunk_" + std::to_string(attempt.chunk)
                                   : std::string("-"))
-           << "</td><td>" << attempt.random_seed << "</td><td>"
-           << attempt.num_sub_models << "</td><td>"
+           << "</td><td>" << attempt.random_seed
+           << (attempt.posed_from_odometry ? ", folds posed from the odometry"
+                                           : "")
+           << "</td><td>" << attempt.num_sub_models << "</td><td>"
            << attempt.num_registered_images << "</td><td>"
            << (attempt.produced_model ? EscapeMarkup(ToString(attempt.status))
                                       : "no model")

@@ -33,6 +33,10 @@ struct MapperAttempt {
   // with seed 0, or a drive of one model.
   int chunk = -1;
   int random_seed = 0;  // COLMAP's --random_seed
+  // The chunk's model (mapped with `random_seed`) with its folded stretches
+  // posed again from the odometry, triangulated and adjusted again
+  // (fold_reposing.h).
+  bool posed_from_odometry = false;
   // The mapper's output root (sub-models 0, 1, ...); a chunked drive's
   // combination of chunk models when it produced one.
   std::string model_path;

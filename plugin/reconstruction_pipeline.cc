@@ -19,6 +19,7 @@
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/colmap_progress.h"
 #include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/fold_reposing.h"
 #include "odomcal/plugin/image_coverage.h"
 #include "odomcal/plugin/mapper_stretches.h"
 #include "odomcal/plugin/odometry_inputs.h"
@@ -38,6 +39,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
@@ -931,6 +933,159 @@ std::vector<int> FoldedPairsOfChunks(const ColmapCalibrationRun& calibration,
                              calibration.check.stretches);
 }
 
+// Whether the files of model folders `a` and `b` are byte for byte the same
+// (false when either is missing).
+bool SameModelFiles(const fs::path& a, const fs::path& b) {
+  for (const char* name : {"cameras.bin", "images.bin", "points3D.bin"}) {
+    std::ifstream file_a(a / name, std::ios::binary);
+    std::ifstream file_b(b / name, std::ios::binary);
+    if (!file_a || !file_b) return false;
+    const std::string bytes_a((std::istreambuf_iterator<char>(file_a)),
+                              std::istreambuf_iterator<char>());
+    const std::string bytes_b((std::istreambuf_iterator<char>(file_b)),
+                              std::istreambuf_iterator<char>());
+    if (bytes_a != bytes_b) return false;
+  }
+  return true;
+}
+
+// Chunk k's sub-models in `chosen`, each with a stretch left out as folded
+// posed again from the odometry (fold_reposing.h), then `colmap
+// point_triangulator` and `colmap bundle_adjuster` on it (intrinsics held
+// as the mapper holds them), written as chunk k's model
+// mapper_attempts/<entry> (its other sub-models copied unchanged). Returns
+// the number of sub-models posed again (0: none could be, or COLMAP failed
+// on one; `why` says which).
+int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
+                               const ReconstructionOptions& run,
+                               const MatchingRound& round,
+                               const ColmapCalibrationRun& calibration,
+                               const ChunkCombination& chosen,
+                               size_t k,
+                               const std::string& entry,
+                               std::string* why) {
+  const fs::path combined = fs::path(run.workspace_path) / chosen.entry;
+  const fs::path root = MapperOutput(run, entry);
+  std::error_code error;
+  fs::create_directories(root, error);
+  const StretchCheckResult& check = calibration.check;
+  const bool fixed_intrinsics = !run.camera_params.empty();
+  int num_written = 0;
+  int num_posed = 0;
+  std::vector<std::string> notes;
+  for (size_t sub = 0; sub < chosen.chunk_of_sub_model.size(); ++sub) {
+    if (chosen.chunk_of_sub_model[sub] != static_cast<int>(k)) continue;
+    const fs::path source = combined / std::to_string(sub);
+    const std::string number = std::to_string(num_written++);
+    const fs::path target = root / number;
+    std::optional<FoldToRepose> fold;
+    int segment = -1;
+    for (size_t i = 0; i < calibration.segments.size(); ++i) {
+      if (calibration.segments[i].sub_model == std::to_string(sub)) {
+        segment = static_cast<int>(i);
+      }
+    }
+    for (const InconsistentStretch& stretch : check.stretches) {
+      if (stretch.kept_as_segment || stretch.input_segment != segment ||
+          (fold && fold->first_stamp_ns <= stretch.first_stamp_ns)) {
+        continue;
+      }
+      fold = FoldToRepose{};
+      fold->first_stamp_ns = stretch.first_stamp_ns;
+    }
+    std::optional<ReposedModel> reposed;
+    if (fold && check.result.has_estimate) {
+      for (size_t o = 0; o < check.input_segment_of_output_segment.size();
+           ++o) {
+        if (check.input_segment_of_output_segment[o] == segment) {
+          fold->metres_per_unit = check.result.metric_scales.at(o);
+          break;
+        }
+      }
+      fold->camera_time_offset_ns =
+          calibration.systematics.camera_time_offset_ns;
+      fold->odom_from_cam = check.result.odom_from_cam;
+      fold->max_odometry_gap_s = calibration.association.max_odometry_gap_s;
+      reposed = ReposeFoldFromOdometry(ReadColmapModel(source.string()),
+                                       calibration.segments[segment],
+                                       calibration.odometry,
+                                       *fold);
+    }
+    const fs::path entry_path = fs::path("mapper_attempts") / entry;
+    if (!reposed) {
+      RemoveOwnedOutput(run.workspace_path, (entry_path / number).string());
+      fs::copy(source, target, fs::copy_options::recursive);
+      continue;
+    }
+    // Stage reuse compares the arguments, not the posed model they read: a
+    // model posed differently (another calibration) runs both stages anew.
+    const fs::path posed = root / ("posed_" + number);
+    const fs::path posed_new = root / ("posed_" + number + ".new");
+    const fs::path triangulated = root / ("triangulated_" + number);
+    WriteColmapModel(reposed->model, posed_new.string(), ColmapFormat::kBinary);
+    if (!SameModelFiles(posed, posed_new)) {
+      for (const std::string& stale : {"triangulated_" + number, number}) {
+        RemoveOwnedOutput(run.workspace_path, (entry_path / stale).string());
+      }
+      fs::remove_all(posed, error);
+      fs::rename(posed_new, posed);
+    } else {
+      fs::remove_all(posed_new, error);
+    }
+    fs::create_directories(triangulated, error);
+    fs::create_directories(target, error);
+    const std::string stage = entry + "_" + number;
+    try {
+      colmap->RunStage("triangulate_" + stage,
+                       {"point_triangulator",
+                        "--database_path",
+                        round.database,
+                        "--image_path",
+                        run.image_path,
+                        "--input_path",
+                        posed.string(),
+                        "--output_path",
+                        triangulated.string(),
+                        "--clear_points",
+                        "1"},
+                       {(triangulated / "images.bin").string()});
+      colmap->RunStage("adjust_" + stage,
+                       {"bundle_adjuster",
+                        "--input_path",
+                        triangulated.string(),
+                        "--output_path",
+                        target.string(),
+                        "--BundleAdjustment.refine_focal_length",
+                        fixed_intrinsics ? "0" : "1",
+                        "--BundleAdjustment.refine_principal_point",
+                        "0",
+                        "--BundleAdjustment.refine_extra_params",
+                        fixed_intrinsics ? "0" : "1"},
+                       {(target / "images.bin").string()});
+    } catch (const ColmapError& failure) {
+      *why = failure.what();
+      return 0;
+    }
+    if (!DetectColmapModelFormat(target.string())) {
+      *why = "colmap bundle_adjuster wrote no model to " + target.string();
+      return 0;
+    }
+    ++num_posed;
+    notes.push_back(std::to_string(reposed->num_reposed) + " images from " +
+                    reposed->anchor_image + " on");
+  }
+  if (num_posed == 0) {
+    *why = "no folded stretch of it starts at an image with an odometry pose";
+  } else {
+    std::string list;
+    for (const std::string& note : notes) {
+      list += (list.empty() ? "" : "; ") + note;
+    }
+    *why = list;
+  }
+  return num_posed;
+}
+
 struct ChunkedMapping {
   std::vector<MapperAttempt> attempts;  // all chunks, then each chunk again
   int chosen = -1;                      // -1: no chunk gave a model
@@ -1080,6 +1235,77 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   mapping.chosen = 0;
   std::vector<int> folded =
       FoldedPairsOfChunks(calibration, chosen, chunks.size());
+  // A chunk with a fold is first posed again from the odometry where the
+  // fold starts (seconds, where a mapper run takes minutes, and it escapes
+  // folds that no seed does: fold_reposing.h); the new model is kept when
+  // fewer motion pairs are left out as folded and no fewer are used.
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    if (folded[k] == 0) continue;
+    StageClock clock(progress,
+                     4,
+                     "COLMAP chunk " + std::to_string(k + 1) +
+                         ": the folded stretch posed from the odometry, "
+                         "triangulated and adjusted again (" +
+                         std::to_string(folded[k]) +
+                         " motion pairs of it left out as folded)");
+    const std::string entry =
+        "chunk_" + std::to_string(k) + "_posed_from_odometry";
+    std::string why;
+    if (PoseChunkFoldsFromOdometry(
+            colmap, run, round, calibration, chosen, k, entry, &why) == 0) {
+      clock.Done("not posed: " + why);
+      continue;
+    }
+    std::vector<fs::path> candidate = outputs;
+    candidate[k] = MapperOutput(run, entry);
+    ChunkCombination combination{
+        "mapper_attempts/chunks_" + std::to_string(k) + "_posed_from_odometry",
+        {}};
+    const fs::path candidate_folder = StartCombination(run, &combination);
+    for (size_t j = 0; j < chunks.size(); ++j) {
+      if (candidate[j].empty()) continue;
+      AddChunkModel(candidate_folder,
+                    static_cast<int>(j),
+                    candidate[j],
+                    own[j],
+                    &combination);
+    }
+    ColmapCalibrationRun posed_calibration;
+    try {
+      posed_calibration = CalibrateCombination(run, round, combination);
+    } catch (const FormatError& failure) {
+      clock.Done(why + "; left out: " + failure.what());
+      continue;
+    }
+    MapperAttempt attempt =
+        SummarizeMapperAttempt(0,
+                               (workspace / combination.entry).string(),
+                               posed_calibration.segments,
+                               posed_calibration.check);
+    attempt.matching_round = round.index;
+    attempt.chunk = static_cast<int>(k);
+    attempt.posed_from_odometry = true;
+    mapping.attempts.push_back(attempt);
+    const MapperAttempt& best = mapping.attempts[mapping.chosen];
+    const std::string pairs =
+        std::to_string(attempt.num_pairs_left_out) +
+        " motion pairs of the drive left out as folded (was " +
+        std::to_string(best.num_pairs_left_out) + "), " +
+        std::to_string(attempt.num_pairs_used) + " of " +
+        std::to_string(attempt.num_pairs) + " used (was " +
+        std::to_string(best.num_pairs_used) + ")";
+    if (attempt.num_pairs_left_out >= best.num_pairs_left_out ||
+        attempt.num_pairs_used < best.num_pairs_used) {
+      clock.Done(why + "; " + pairs + ": not better");
+      continue;
+    }
+    outputs = candidate;
+    chosen = combination;
+    calibration = std::move(posed_calibration);
+    mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
+    folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
+    clock.Done(why + "; " + pairs + ": this model kept");
+  }
   // Every chunk with a fold now is mapped again with seed 1: those runs go
   // side by side from the start, and one whose fold an earlier chunk's new
   // model takes away is cancelled. Later seeds, and seed 1 of a fold that

@@ -297,8 +297,12 @@ class Robustness : public ::testing::Test {
   // it has them), or writes nothing when there is no such model.
   // With `chunks_side_by_side`, the mapper of chunk 0 gives no model
   // unless chunk 1's mapper starts while it runs (it waits up to 20 s).
-  std::string WriteFakeColmapWithMapperModels(
-      bool chunks_side_by_side = false) const {
+  // With `adjusts`, point_triangulator and bundle_adjuster copy their
+  // --input_path model to their --output_path unchanged (a bundle
+  // adjustment that finds the poses it was given right); without, they
+  // write nothing.
+  std::string WriteFakeColmapWithMapperModels(bool chunks_side_by_side = false,
+                                              bool adjusts = false) const {
     const std::string mark = Path("chunk_1_started");
     const std::string wait_for_chunk_1 =
         chunks_side_by_side
@@ -326,7 +330,17 @@ class Robustness : public ::testing::Test {
         "  if [ -d \"$model/0\" ]; then cp -r \"$model\"/* \"$out/\";\n"
         "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* "
         "\"$out/0/\"; fi\n"
-        "fi\n"
+        "fi\n" +
+        (adjusts
+             ? "case \"$1\" in point_triangulator|bundle_adjuster)\n"
+               "  while [ $# -gt 0 ]; do\n"
+               "    case \"$1\" in --input_path) in=\"$2\";; --output_path) "
+               "out=\"$2\";; esac\n"
+               "    shift\n"
+               "  done\n"
+               "  cp \"$in\"/* \"$out\"/;;\n"
+               "esac\n"
+             : std::string()) +
         "exit 0\n");
   }
 
@@ -988,7 +1002,9 @@ TEST_F(Robustness, LongDriveIsMappedInChunks) {
 // third sub-model (the first chunk's two, then the second chunk's one that
 // keeps its own images), which came from the second chunk: only that chunk
 // is mapped again (--random_seed 1, a clean model), and its new model is
-// kept: every image is in the calibration.
+// kept: every image is in the calibration. The fake COLMAP's
+// bundle_adjuster writes nothing, so posing the fold from the odometry
+// (tried first) fails, and the seeds take over.
 TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   constexpr int kImages = 60;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
@@ -999,6 +1015,9 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   const CommandResult run = RunInChunksOf50(bin, 2);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
   EXPECT_EQ(run.out.find("COLMAP mapping chunk 1 again"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("not posed: colmap bundle_adjuster wrote no model"),
+            std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("COLMAP mapping chunk 2 again, --random_seed 1 ("),
             std::string::npos)
@@ -1021,6 +1040,68 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsMappedAgain) {
   EXPECT_TRUE(attempts[1]["chosen"].get<bool>());
   EXPECT_EQ(result["colmap"]["image_coverage"]["num_in_calibration"], 60);
   EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
+}
+
+// The same fold, and no seed that would give a model: the folded stretch is
+// posed again from the odometry first (images 39 on, from the calibration of
+// the first combination), triangulated and adjusted again (the fake keeps the
+// poses it is given), and that model is kept without any mapper run again.
+TEST_F(Robustness, ChunkWithAFoldedStretchIsPosedFromTheOdometry) {
+  constexpr int kImages = 60;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, 15, "seed_0/0");
+  WriteMapperModel(drive, kImages, "seed_0/1", {40, 42, 44, 46}, 15);
+  const std::string bin = WriteFakeColmapWithMapperModels(false, true);
+  const CommandResult run = RunInChunksOf50(bin, 2);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("COLMAP chunk 2: the folded stretch posed from the "
+                         "odometry, triangulated and adjusted again ("),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("images from 000039.png on; 0 motion pairs of the "
+                         "drive left out as folded (was "),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find(": this model kept"), std::string::npos) << run.out;
+  EXPECT_EQ(run.out.find("again, --random_seed"), std::string::npos) << run.out;
+  const std::string commands = ReadFile(Path("ws/commands.txt"));
+  EXPECT_TRUE(Contains(commands, "point_triangulator")) << commands;
+  EXPECT_TRUE(Contains(commands, "--clear_points 1")) << commands;
+  EXPECT_TRUE(Contains(commands,
+                       "bundle_adjuster --input_path " +
+                           Path("ws/mapper_attempts/"
+                                "chunk_1_posed_from_odometry/triangulated_0")))
+      << commands;
+  EXPECT_TRUE(Contains(commands, "--BundleAdjustment.refine_focal_length 0"))
+      << commands;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  const json& attempts = result["colmap"]["mapper_attempts"];
+  ASSERT_EQ(attempts.size(), 2u) << attempts.dump(2);
+  EXPECT_FALSE(attempts[0]["posed_from_odometry"].get<bool>());
+  EXPECT_GE(attempts[0]["num_pairs_left_out"].get<int>(), 3);
+  EXPECT_EQ(attempts[1]["chunk"], 1);
+  EXPECT_EQ(attempts[1]["random_seed"], 0);
+  EXPECT_TRUE(attempts[1]["posed_from_odometry"].get<bool>());
+  EXPECT_EQ(attempts[1]["path"],
+            Path("ws/mapper_attempts/chunks_1_posed_from_odometry"));
+  EXPECT_EQ(attempts[1]["num_pairs_left_out"], 0);
+  EXPECT_TRUE(attempts[1]["chosen"].get<bool>());
+  EXPECT_EQ(result["colmap"]["image_coverage"]["num_in_calibration"], 60);
+  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
+
+  // Run again: the same fold posed the same way, so COLMAP's two stages
+  // are reused (their output is not written anew) and so is every later
+  // stage; the result is the same.
+  const fs::path adjusted =
+      Path("ws/mapper_attempts/chunk_1_posed_from_odometry/0/images.bin");
+  const auto written = fs::last_write_time(adjusted);
+  const CommandResult rerun = RunInChunksOf50(bin, 2);
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.out << rerun.err;
+  EXPECT_EQ(fs::last_write_time(adjusted), written);
+  const json again = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(again["odom_from_cam"], result["odom_from_cam"]);
+  EXPECT_TRUE(again["colmap"]["mapper_attempts"][1]["chosen"].get<bool>());
 }
 
 // Where a second seed folds the chunk too (here worse), the fold is the
