@@ -200,6 +200,7 @@ int RunSimulate(int argc, char** argv) {
   std::string two_view_starts = "all";
   EvaluationOptions evaluation;
   std::string batch_refinement = ToString(evaluation.batch_refinement);
+  std::string batch_variance_factor = evaluation.variance_factor ? "on" : "off";
   const PaperSimulationOptions landmark_defaults =
       NominalPaperSimulation(CameraNoiseMode::kLandmarks);
   double landmark_max_depth_m = landmark_defaults.max_depth_m;
@@ -253,6 +254,13 @@ int RunSimulate(int argc, char** argv) {
       ->check(CLI::IsMember({ToString(BatchRefinement::kPaper),
                              ToString(BatchRefinement::kInlierRounds)}))
       ->capture_default_str();
+  app.add_option("--batch_variance_factor",
+                 batch_variance_factor,
+                 "B methods' divergence test: on (the covariance widened by "
+                 "the trial's a posteriori variance factor when above 1) or "
+                 "off (the paper's test on the covariance alone)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   app.add_option("--cm_iterations",
                  evaluation.cm_ransac_iterations,
                  "RANSAC samples of the CM baseline (fixed budget)")
@@ -288,6 +296,7 @@ int RunSimulate(int argc, char** argv) {
     nominal.two_view_multi_start = two_view_starts == "all";
     nominal.max_depth_m = landmark_max_depth_m;
     evaluation.batch_refinement = BatchRefinementFromString(batch_refinement);
+    evaluation.variance_factor = batch_variance_factor == "on";
     std::vector<DivergenceTotals> totals(kNumEvaluationMethods);
     const auto start = std::chrono::steady_clock::now();
     int total_trials = 0;

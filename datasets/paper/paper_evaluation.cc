@@ -95,6 +95,8 @@ MethodError Errors(const PaperSimulation& truth,
 // Divergence test of a refinement, see the header.
 void TestDivergence(const PaperSimulation& truth,
                     const RefinementResult& refined,
+                    int num_used,
+                    bool variance_factor,
                     MethodError* error) {
   const Eigen::MatrixXd& information = refined.information;
   const int n = static_cast<int>(information.rows());
@@ -106,9 +108,13 @@ void TestDivergence(const PaperSimulation& truth,
       0.5 * (information + information.transpose()));
   const Eigen::VectorXd values = eigen.eigenvalues();
   if (!(values(0) > kMinInformationRatio * values(n - 1))) return;
-  const Eigen::MatrixXd covariance = eigen.eigenvectors() *
-                                     values.cwiseInverse().asDiagonal() *
-                                     eigen.eigenvectors().transpose();
+  Eigen::MatrixXd covariance = eigen.eigenvectors() *
+                               values.cwiseInverse().asDiagonal() *
+                               eigen.eigenvectors().transpose();
+  if (variance_factor) {
+    const double factor = PosteriorVarianceFactor(refined, num_used);
+    if (factor > 1.0) covariance *= factor;
+  }
   Eigen::VectorXd e(n);
   e.head<3>() = LogRotation(truth.odom_from_cam.rotation *
                             refined.odom_from_cam.rotation.conjugate());
@@ -132,9 +138,9 @@ MethodError Refined(const PaperSimulation& truth,
                     const Rigid3d& start,
                     const std::vector<double>& start_scales,
                     const CalibrationOptions& options,
-                    BatchRefinement batch) {
-  const BatchRefined refined =
-      RefineBatch(truth.pairs, start, start_scales, options, batch);
+                    const EvaluationOptions& evaluation) {
+  const BatchRefined refined = RefineBatch(
+      truth.pairs, start, start_scales, options, evaluation.batch_refinement);
   MethodError error;
   if (!refined.refinement.usable) {
     error.failed = true;
@@ -144,7 +150,13 @@ MethodError Refined(const PaperSimulation& truth,
                  refined.refinement.odom_from_cam,
                  refined.refinement.metric_scales);
   error.num_pairs_used = static_cast<int>(refined.used.size());
-  if (!error.failed) TestDivergence(truth, refined.refinement, &error);
+  if (!error.failed) {
+    TestDivergence(truth,
+                   refined.refinement,
+                   error.num_pairs_used,
+                   evaluation.variance_factor,
+                   &error);
+  }
   return error;
 }
 
@@ -153,6 +165,15 @@ double Rmse(double sum_squares, int count) {
 }
 
 }  // namespace
+
+double PosteriorVarianceFactor(const RefinementResult& refined,
+                               int num_motions_used) {
+  const int degrees_of_freedom =
+      6 * num_motions_used - 5 -
+      static_cast<int>(refined.information_segments.size());
+  if (degrees_of_freedom <= 0) return kNaN;
+  return 2.0 * refined.final_cost / degrees_of_freedom;
+}
 
 std::string ToString(BatchRefinement batch) {
   return batch == BatchRefinement::kPaper ? "paper" : "inlier_rounds";
@@ -334,11 +355,8 @@ TrialResult EvaluateTrial(const PaperSimulation& simulation,
       slot(method).failed = true;
       return;
     }
-    slot(method) = Refined(simulation,
-                           start.odom_from_cam,
-                           start.scales,
-                           refine_options,
-                           options.batch_refinement);
+    slot(method) = Refined(
+        simulation, start.odom_from_cam, start.scales, refine_options, options);
   };
   batch(EvaluationMethod::kAlsB, als);
   batch(EvaluationMethod::kAlspLengthPreservingB, alsp_l);

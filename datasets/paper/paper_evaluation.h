@@ -31,9 +31,10 @@
 // refinement's information (order [rx, ry, rz, tx, ty, s_k...], rotation a
 // left perturbation R = Exp(phi) R_hat), the error
 //   e = [Log(q ⊗ q_hat^-1), p.xy - p_hat.xy, s - s_hat]
-// is a divergence when |e_k| > 3 sqrt(C_kk) for any k. (For a consistent
-// Gaussian estimate this happens by chance with probability up to
-// 1 - 0.9973^(5+K), 1.6 % for one segment.)
+// is a divergence when |e_k| > 3 sqrt(C_kk) for any k (C widened by the
+// trial's variance factor unless EvaluationOptions::variance_factor is
+// off). (For a consistent Gaussian estimate this happens by chance with
+// probability up to 1 - 0.9973^(5+K), 1.6 % for one segment.)
 //
 // A method that returns no estimate (closed form or CM failing, refinement
 // not usable, or a B method whose start failed) is a failure: counted, and
@@ -110,6 +111,14 @@ BatchRefined RefineBatch(const MotionPairs& pairs,
                          const CalibrationOptions& options,
                          BatchRefinement batch);
 
+// The a posteriori variance factor of a refinement without loss on
+// `num_motions_used` motions: its chi-square 2 * final_cost over the degrees
+// of freedom, 6 per motion minus the 5 + K parameters (K scales); about 1
+// when the motions scatter as their covariances say, k^2 when they scatter k
+// times wider. NaN without degrees of freedom.
+double PosteriorVarianceFactor(const RefinementResult& refined,
+                               int num_motions_used);
+
 // "paper", "inlier_rounds"; FromString throws std::invalid_argument.
 std::string ToString(BatchRefinement batch);
 BatchRefinement BatchRefinementFromString(const std::string& text);
@@ -119,6 +128,13 @@ struct EvaluationOptions {
   int cm_ransac_iterations = 200;
   int max_refinement_iterations = 100;
   BatchRefinement batch_refinement = BatchRefinement::kInlierRounds;
+  // The divergence test's covariance C scaled by the trial's
+  // PosteriorVarianceFactor f when f > 1: a trial whose motions scatter
+  // wider than their (first-order) covariances say is tested against what
+  // its residuals show, as odomcal's own calibration estimates its noise
+  // from the data. Never narrowed (f < 1 keeps C), and the estimate is
+  // unchanged. false: the paper's test on C alone.
+  bool variance_factor = true;
   void Check() const;  // throws std::invalid_argument naming the field
 };
 

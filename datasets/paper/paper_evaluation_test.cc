@@ -143,6 +143,48 @@ TEST(RunTrials, IndependentOfTheThreadCount) {
   }
 }
 
+// GT-B (the truth as start, the paper's batch) on one large parametric
+// simulation whose stated covariances are divided by `understatement`.
+double VarianceFactorOfLargeSimulation(double understatement) {
+  PaperSimulationOptions options =
+      NominalPaperSimulation(CameraNoiseMode::kParametric);
+  options.num_motions = 1000;
+  auto rng = SeededRng(330);
+  PaperSimulation simulation = SimulatePaperMotions(options, &rng);
+  for (MotionPair& pair : simulation.pairs) {
+    *pair.odom_covariance /= understatement;
+    *pair.cam_covariance /= understatement;
+  }
+  CalibrationOptions refine;
+  refine.fixed_translation_z_m = simulation.odom_from_cam.translation.z();
+  const BatchRefined refined = RefineBatch(simulation.pairs,
+                                           simulation.odom_from_cam,
+                                           simulation.metric_scales,
+                                           refine,
+                                           BatchRefinement::kPaper);
+  EXPECT_TRUE(refined.refinement.usable);
+  return PosteriorVarianceFactor(refined.refinement,
+                                 static_cast<int>(refined.used.size()));
+}
+
+// 1000 motions, 5994 degrees of freedom: the factor's own standard deviation
+// is 2 %, so 10 % is a wide margin.
+TEST(PosteriorVarianceFactor, NearOneWhenTheMotionsScatterAsStated) {
+  EXPECT_NEAR(VarianceFactorOfLargeSimulation(1.0), 1.0, 0.1);
+}
+
+TEST(PosteriorVarianceFactor, RecoversCovariancesStatedFourTimesTooSmall) {
+  EXPECT_NEAR(VarianceFactorOfLargeSimulation(4.0) / 4.0, 1.0, 0.1);
+}
+
+TEST(PosteriorVarianceFactor, NotANumberWithoutDegreesOfFreedom) {
+  RefinementResult refined;
+  refined.final_cost = 1.0;
+  refined.information_segments = {0};
+  EXPECT_TRUE(std::isnan(PosteriorVarianceFactor(refined, 1)));
+  EXPECT_NEAR(PosteriorVarianceFactor(refined, 2), 2.0 / 6.0, 1e-12);
+}
+
 TEST(TrialSeed, DependsOnEveryInput) {
   const uint64_t seed = TrialSeed(1, "a", 0, 0);
   EXPECT_EQ(seed, TrialSeed(1, "a", 0, 0));
