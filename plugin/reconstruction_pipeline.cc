@@ -1074,6 +1074,16 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
     notes.push_back(std::to_string(reposed->num_reposed) + " images from " +
                     reposed->anchor_image + " on");
   }
+  // Sub-models a run before this one wrote beyond this chunk's.
+  std::vector<std::string> stale;
+  for (const auto& item : fs::directory_iterator(root, error)) {
+    const std::string name = item.path().filename().string();
+    if (SubModelNumber(name) >= num_written) stale.push_back(name);
+  }
+  for (const std::string& name : stale) {
+    RemoveOwnedOutput(run.workspace_path,
+                      (fs::path("mapper_attempts") / entry / name).string());
+  }
   if (num_posed == 0) {
     *why = "no folded stretch of it starts at an image with an odometry pose";
   } else {
