@@ -1093,12 +1093,18 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsPosedFromTheOdometry) {
   // Run again: the same fold posed the same way, so COLMAP's two stages
   // are reused (their output is not written anew) and so is every later
   // stage; the result is the same.
+  // A sub-model left from an earlier run with more of them must not be
+  // combined.
   const fs::path adjusted =
       Path("ws/mapper_attempts/chunk_1_posed_from_odometry/0/images.bin");
   const auto written = fs::last_write_time(adjusted);
+  const fs::path stale =
+      Path("ws/mapper_attempts/chunk_1_posed_from_odometry/1");
+  fs::copy(adjusted.parent_path(), stale);
   const CommandResult rerun = RunInChunksOf50(bin, 2);
   ASSERT_EQ(rerun.exit_code, 0) << rerun.out << rerun.err;
   EXPECT_EQ(fs::last_write_time(adjusted), written);
+  EXPECT_FALSE(fs::exists(stale));
   const json again = json::parse(ReadFile(Path("ws/calibration.json")));
   EXPECT_EQ(again["odom_from_cam"], result["odom_from_cam"]);
   EXPECT_TRUE(again["colmap"]["mapper_attempts"][1]["chosen"].get<bool>());
