@@ -902,6 +902,23 @@ ChunkCut AddChunkModel(const fs::path& folder,
   return cut;
 }
 
+// The chunks' models `outputs` (empty: none), each cut to the chunk's own
+// images, as the combination `entry` (started anew).
+ChunkCombination CombineChunkModels(
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    const std::vector<fs::path>& outputs,
+    const std::vector<std::set<std::string>>& own) {
+  ChunkCombination combination{entry, {}};
+  const fs::path folder = StartCombination(run, &combination);
+  for (size_t j = 0; j < outputs.size(); ++j) {
+    if (outputs[j].empty()) continue;
+    AddChunkModel(
+        folder, static_cast<int>(j), outputs[j], own[j], &combination);
+  }
+  return combination;
+}
+
 ColmapCalibrationRun CalibrateCombination(const ReconstructionOptions& run,
                                           const MatchingRound& round,
                                           const ChunkCombination& combination) {
@@ -1268,18 +1285,11 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     }
     std::vector<fs::path> candidate = outputs;
     candidate[k] = MapperOutput(run, entry);
-    ChunkCombination combination{
+    const ChunkCombination combination = CombineChunkModels(
+        run,
         "mapper_attempts/chunks_" + std::to_string(k) + "_posed_from_odometry",
-        {}};
-    const fs::path candidate_folder = StartCombination(run, &combination);
-    for (size_t j = 0; j < chunks.size(); ++j) {
-      if (candidate[j].empty()) continue;
-      AddChunkModel(candidate_folder,
-                    static_cast<int>(j),
-                    candidate[j],
-                    own[j],
-                    &combination);
-    }
+        candidate,
+        own);
     ColmapCalibrationRun posed_calibration;
     try {
       posed_calibration = CalibrateCombination(run, round, combination);
@@ -1360,16 +1370,8 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       }
       std::vector<fs::path> candidate = outputs;
       candidate[k] = output;
-      ChunkCombination combination{"mapper_attempts/chunks_" + suffix, {}};
-      const fs::path candidate_folder = StartCombination(run, &combination);
-      for (size_t j = 0; j < chunks.size(); ++j) {
-        if (candidate[j].empty()) continue;
-        AddChunkModel(candidate_folder,
-                      static_cast<int>(j),
-                      candidate[j],
-                      own[j],
-                      &combination);
-      }
+      const ChunkCombination combination = CombineChunkModels(
+          run, "mapper_attempts/chunks_" + suffix, candidate, own);
       // Chunk k's new model may keep none of its own images, and be the
       // only chunk with a model.
       if (combination.chunk_of_sub_model.empty()) {
