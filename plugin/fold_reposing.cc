@@ -63,6 +63,7 @@ std::optional<ReposedModel> ReposeFoldFromOdometry(const ColmapModel& model,
     image->second.cam_from_world =
         Inverse(world_from_anchor_cam * anchor_cam_from_cam);
     keep.insert(image->first);
+    reposed.reposed_image_ids.push_back(image->first);
     ++reposed.num_reposed;
   }
   if (reposed.num_reposed == 0) return std::nullopt;

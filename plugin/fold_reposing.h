@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace odomcal {
 
@@ -37,6 +38,7 @@ struct ReposedModel {
   ColmapModel model;
   std::string anchor_image;  // kept where COLMAP put it
   int num_reposed = 0;
+  std::vector<uint32_t> reposed_image_ids;  // in time order
   int num_left_out = 0;  // after the anchor, without an odometry pose
 };
 

@@ -113,6 +113,9 @@ TEST(FoldReposing, ImagesAfterTheAnchorGetTheirTruePoses) {
   ASSERT_TRUE(reposed.has_value());
   EXPECT_EQ(reposed->anchor_image, "image_1100.png");
   EXPECT_EQ(reposed->num_reposed, 20);
+  ASSERT_EQ(reposed->reposed_image_ids.size(), 20u);
+  EXPECT_EQ(reposed->reposed_image_ids.front(), 106u);
+  EXPECT_EQ(reposed->reposed_image_ids.back(), 201u);
   EXPECT_EQ(reposed->num_left_out, 0);
   ASSERT_EQ(reposed->model.images.size(), scene.truth.images.size());
   for (const auto& [id, image] : reposed->model.images) {

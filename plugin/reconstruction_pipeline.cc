@@ -950,6 +950,11 @@ std::vector<int> FoldedPairsOfChunks(const ColmapCalibrationRun& calibration,
                              calibration.check.stretches);
 }
 
+// A posed image must see at least this many triangulated points after the
+// adjustment: COLMAP's mapper registers an image from 30 inliers
+// (--Mapper.abs_pose_min_num_inliers).
+constexpr int kMinPointsOfPosedImage = 30;
+
 // Whether the files of model folders `a` and `b` are byte for byte the same
 // (false when either is missing).
 bool SameModelFiles(const fs::path& a, const fs::path& b) {
@@ -1086,6 +1091,28 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
     if (!DetectColmapModelFormat(target.string())) {
       *why = "colmap bundle_adjuster wrote no model to " + target.string();
       return 0;
+    }
+    // The images must hold their new poses on their own: where the
+    // adjustment has too few points to move an image, its pose would be the
+    // odometry's, and its motion pairs would agree with the odometry by
+    // construction.
+    const ColmapModel adjusted = ReadColmapModel(target.string());
+    for (const uint32_t id : reposed->reposed_image_ids) {
+      const auto image = adjusted.images.find(id);
+      int observations = 0;
+      if (image != adjusted.images.end()) {
+        for (const ColmapPoint2D& point : image->second.points2D) {
+          observations += point.point3D_id != kColmapNoPoint3D ? 1 : 0;
+        }
+      }
+      if (observations < kMinPointsOfPosedImage) {
+        *why = reposed->model.images.at(id).name + " sees only " +
+               std::to_string(observations) +
+               " triangulated points after the adjustment (COLMAP's mapper "
+               "registers an image from " +
+               std::to_string(kMinPointsOfPosedImage) + ")";
+        return 0;
+      }
     }
     ++num_posed;
     notes.push_back(std::to_string(reposed->num_reposed) + " images from " +

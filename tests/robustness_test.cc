@@ -264,11 +264,13 @@ class Robustness : public ::testing::Test {
   // models/<name>/: the model COLMAP's mapper would make of WriteImageFolder's
   // images first .. count - 1 (the drive's camera poses, no points), with the
   // images `misregistered` 3 deg off about their own x axis.
+  // With `num_points`, every image sees points 0 .. num_points - 1.
   void WriteMapperModel(const SimulatedDrive& drive,
                         int count,
                         const std::string& name,
                         const std::vector<int>& misregistered = {},
-                        int first = 0) const {
+                        int first = 0,
+                        int num_points = 0) const {
     ColmapModel model;
     model.cameras[1] = MakeColmapCamera(
         1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
@@ -284,6 +286,11 @@ class Robustness : public ::testing::Test {
             Eigen::AngleAxisd(3.0 * kPi / 180.0, Eigen::Vector3d::UnitX()) *
             image.cam_from_world.rotation;
       }
+      for (int p = 0; p < num_points; ++p) {
+        image.points2D.push_back({Eigen::Vector2d(p, p), p});
+        model.points3D[p].point3D_id = p;
+        model.points3D[p].track.push_back({id, static_cast<uint32_t>(p)});
+      }
       model.images[id] = image;
     }
     fs::create_directories(dir_ / "models" / name);
@@ -297,10 +304,11 @@ class Robustness : public ::testing::Test {
   // it has them), or writes nothing when there is no such model.
   // With `chunks_side_by_side`, the mapper of chunk 0 gives no model
   // unless chunk 1's mapper starts while it runs (it waits up to 20 s).
-  // With `adjusts`, point_triangulator and bundle_adjuster copy their
-  // --input_path model to their --output_path unchanged (a bundle
-  // adjustment that finds the poses it was given right); without, they
-  // write nothing.
+  // With `adjusts`, point_triangulator copies models/triangulated/ (when
+  // the test wrote one: the points it would triangulate) or else its
+  // --input_path model to its --output_path, and bundle_adjuster copies its
+  // input unchanged (an adjustment that finds the poses it was given right);
+  // without, they write nothing.
   std::string WriteFakeColmapWithMapperModels(bool chunks_side_by_side = false,
                                               bool adjusts = false) const {
     const std::string mark = Path("chunk_1_started");
@@ -331,16 +339,19 @@ class Robustness : public ::testing::Test {
         "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* "
         "\"$out/0/\"; fi\n"
         "fi\n" +
-        (adjusts
-             ? "case \"$1\" in point_triangulator|bundle_adjuster)\n"
-               "  while [ $# -gt 0 ]; do\n"
-               "    case \"$1\" in --input_path) in=\"$2\";; --output_path) "
-               "out=\"$2\";; esac\n"
-               "    shift\n"
-               "  done\n"
-               "  cp \"$in\"/* \"$out\"/;;\n"
-               "esac\n"
-             : std::string()) +
+        (adjusts ? "case \"$1\" in point_triangulator|bundle_adjuster)\n"
+                   "  [ \"$1\" = point_triangulator ] && [ -d " +
+                       Path("models/triangulated") +
+                       " ] && triangulated=" + Path("models/triangulated") +
+                       "\n"
+                       "  while [ $# -gt 0 ]; do\n"
+                       "    case \"$1\" in --input_path) in=\"$2\";; "
+                       "--output_path) out=\"$2\";; esac\n"
+                       "    shift\n"
+                       "  done\n"
+                       "  cp \"${triangulated:-$in}\"/* \"$out\"/;;\n"
+                       "esac\n"
+                 : std::string()) +
         "exit 0\n");
   }
 
@@ -1051,6 +1062,7 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsPosedFromTheOdometry) {
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
   WriteMapperModel(drive, 15, "seed_0/0");
   WriteMapperModel(drive, kImages, "seed_0/1", {40, 42, 44, 46}, 15);
+  WriteMapperModel(drive, kImages, "triangulated", {}, 15, 30);
   const std::string bin = WriteFakeColmapWithMapperModels(false, true);
   const CommandResult run = RunInChunksOf50(bin, 2);
   ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
@@ -1108,6 +1120,34 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsPosedFromTheOdometry) {
   const json again = json::parse(ReadFile(Path("ws/calibration.json")));
   EXPECT_EQ(again["odom_from_cam"], result["odom_from_cam"]);
   EXPECT_TRUE(again["colmap"]["mapper_attempts"][1]["chosen"].get<bool>());
+}
+
+// The same, but the adjustment leaves the posed images without the points
+// that would hold them (29 each, one fewer than COLMAP's mapper registers an
+// image from): their poses would be the odometry's, agreeing with it by
+// construction, so the posed model is not used and the fold stays left out.
+TEST_F(Robustness, PosedStretchWithoutPointsToHoldItIsNotUsed) {
+  constexpr int kImages = 60;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, 15, "seed_0/0");
+  WriteMapperModel(drive, kImages, "seed_0/1", {40, 42, 44, 46}, 15);
+  WriteMapperModel(drive, kImages, "triangulated", {}, 15, 29);
+  const std::string bin = WriteFakeColmapWithMapperModels(false, true);
+  const CommandResult run = RunInChunksOf50(bin, 2);
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_NE(run.out.find("sees only 29 triangulated points after the "
+                         "adjustment"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("contradicts the odometry: left out"),
+            std::string::npos)
+      << run.out;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  for (const json& attempt : result["colmap"]["mapper_attempts"]) {
+    EXPECT_FALSE(attempt["posed_from_odometry"].get<bool>());
+  }
+  EXPECT_LT(result["colmap"]["image_coverage"]["num_in_calibration"].get<int>(),
+            60);
 }
 
 // Where a second seed folds the chunk too (here worse), the fold is the
