@@ -971,6 +971,35 @@ bool SameModelFiles(const fs::path& a, const fs::path& b) {
   return true;
 }
 
+// The earliest stretch of input segment `segment` left out as folded, with
+// what posing it from the odometry needs from `calibration`; nothing without
+// such a stretch or without an estimate.
+std::optional<FoldToRepose> FoldOfSegment(
+    const ColmapCalibrationRun& calibration, int segment) {
+  const StretchCheckResult& check = calibration.check;
+  if (!check.result.has_estimate) return std::nullopt;
+  std::optional<FoldToRepose> fold;
+  for (const InconsistentStretch& stretch : check.stretches) {
+    if (stretch.kept_as_segment || stretch.input_segment != segment ||
+        (fold && fold->first_stamp_ns <= stretch.first_stamp_ns)) {
+      continue;
+    }
+    fold = FoldToRepose{};
+    fold->first_stamp_ns = stretch.first_stamp_ns;
+  }
+  if (!fold) return std::nullopt;
+  for (size_t o = 0; o < check.input_segment_of_output_segment.size(); ++o) {
+    if (check.input_segment_of_output_segment[o] == segment) {
+      fold->metres_per_unit = check.result.metric_scales.at(o);
+      break;
+    }
+  }
+  fold->camera_time_offset_ns = calibration.systematics.camera_time_offset_ns;
+  fold->odom_from_cam = check.result.odom_from_cam;
+  fold->max_odometry_gap_s = calibration.association.max_odometry_gap_s;
+  return fold;
+}
+
 // Chunk k's sub-models in `chosen`, each with a stretch left out as folded
 // posed again from the odometry (fold_reposing.h), then `colmap
 // point_triangulator` and `colmap bundle_adjuster` on it (intrinsics held
@@ -990,7 +1019,6 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
   const fs::path root = MapperOutput(run, entry);
   std::error_code error;
   fs::create_directories(root, error);
-  const StretchCheckResult& check = calibration.check;
   const bool fixed_intrinsics = !run.camera_params.empty();
   int num_written = 0;
   int num_posed = 0;
@@ -1000,39 +1028,20 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
     const fs::path source = combined / std::to_string(sub);
     const std::string number = std::to_string(num_written++);
     const fs::path target = root / number;
-    std::optional<FoldToRepose> fold;
     int segment = -1;
     for (size_t i = 0; i < calibration.segments.size(); ++i) {
       if (calibration.segments[i].sub_model == std::to_string(sub)) {
         segment = static_cast<int>(i);
       }
     }
-    for (const InconsistentStretch& stretch : check.stretches) {
-      if (stretch.kept_as_segment || stretch.input_segment != segment ||
-          (fold && fold->first_stamp_ns <= stretch.first_stamp_ns)) {
-        continue;
-      }
-      fold = FoldToRepose{};
-      fold->first_stamp_ns = stretch.first_stamp_ns;
-    }
-    std::optional<ReposedModel> reposed;
-    if (fold && check.result.has_estimate) {
-      for (size_t o = 0; o < check.input_segment_of_output_segment.size();
-           ++o) {
-        if (check.input_segment_of_output_segment[o] == segment) {
-          fold->metres_per_unit = check.result.metric_scales.at(o);
-          break;
-        }
-      }
-      fold->camera_time_offset_ns =
-          calibration.systematics.camera_time_offset_ns;
-      fold->odom_from_cam = check.result.odom_from_cam;
-      fold->max_odometry_gap_s = calibration.association.max_odometry_gap_s;
-      reposed = ReposeFoldFromOdometry(ReadColmapModel(source.string()),
-                                       calibration.segments[segment],
-                                       calibration.odometry,
-                                       *fold);
-    }
+    const std::optional<FoldToRepose> fold =
+        FoldOfSegment(calibration, segment);
+    const std::optional<ReposedModel> reposed =
+        fold ? ReposeFoldFromOdometry(ReadColmapModel(source.string()),
+                                      calibration.segments[segment],
+                                      calibration.odometry,
+                                      *fold)
+             : std::nullopt;
     const fs::path entry_path = fs::path("mapper_attempts") / entry;
     if (!reposed) {
       RemoveOwnedOutput(run.workspace_path, (entry_path / number).string());
