@@ -144,8 +144,12 @@ bool WithinEndTolerance(const std::vector<StampedPose>& poses,
 
 void AssociationOptions::Check() const {
   CheckMaxGap(max_odometry_gap_s, "max_odometry_gap_s", true);
-  CheckNonNegative(keyframe_min_rotation_deg, "keyframe_min_rotation_deg");
-  CheckNonNegative(keyframe_min_translation_m, "keyframe_min_translation_m");
+  if (keyframe_min_rotation_deg != kAutomaticKeyframeSpacing) {
+    CheckNonNegative(keyframe_min_rotation_deg, "keyframe_min_rotation_deg");
+  }
+  if (keyframe_min_translation_m != kAutomaticKeyframeSpacing) {
+    CheckNonNegative(keyframe_min_translation_m, "keyframe_min_translation_m");
+  }
 }
 
 double MedianSampleIntervalS(const Trajectory& odometry) {
@@ -222,10 +226,27 @@ AssociationResult AssociateCameraWithOdometry(
     const AssociationOptions& options) {
   options.Check();
   CheckIncreasing(odometry, "odometry");
-  const double min_rotation_rad =
-      options.keyframe_min_rotation_deg * kPi / 180.0;
-
   AssociationResult result;
+  result.keyframe_min_rotation_deg = options.keyframe_min_rotation_deg;
+  result.keyframe_min_translation_m = options.keyframe_min_translation_m;
+  result.keyframe_spacing_automatic =
+      options.keyframe_min_rotation_deg == kAutomaticKeyframeSpacing ||
+      options.keyframe_min_translation_m == kAutomaticKeyframeSpacing;
+  if (result.keyframe_spacing_automatic) {
+    result.camera_pose_drift =
+        TestCameraPoseDrift(camera_segments, CameraPoseDriftOptions());
+    const KeyframeSpacing chosen = result.camera_pose_drift.drifting
+                                       ? kDriftingPosesKeyframeSpacing
+                                       : kConsistentPosesKeyframeSpacing;
+    if (result.keyframe_min_rotation_deg == kAutomaticKeyframeSpacing) {
+      result.keyframe_min_rotation_deg = chosen.min_rotation_deg;
+    }
+    if (result.keyframe_min_translation_m == kAutomaticKeyframeSpacing) {
+      result.keyframe_min_translation_m = chosen.min_translation_m;
+    }
+  }
+  const double min_rotation_rad =
+      result.keyframe_min_rotation_deg * kPi / 180.0;
   result.camera_time_offset_ns = options.camera_time_offset_ns;
   result.num_pairs_per_segment.assign(camera_segments.size(), 0);
   const double median_interval_s = MedianSampleIntervalS(odometry);
@@ -276,7 +297,7 @@ AssociationResult AssociateCameraWithOdometry(
         new_keyframe =
             RotationAngle(odom_i_from_odom_j.rotation) >= min_rotation_rad ||
             odom_i_from_odom_j.translation.norm() >=
-                options.keyframe_min_translation_m;
+                result.keyframe_min_translation_m;
         if (new_keyframe) {
           MotionPair pair;
           pair.odom_i_from_odom_j = odom_i_from_odom_j;

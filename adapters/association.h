@@ -12,6 +12,7 @@
 // which satisfy the hand-eye equation of motion_pair.h.
 #pragma once
 
+#include "odomcal/adapters/camera_pose_drift.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
@@ -26,6 +27,21 @@ namespace odomcal {
 // own sampling (AutomaticOdometryGapS).
 constexpr double kAutomaticOdometryGap = 0.0;
 
+// The keyframe thresholds' "automatic" value: the spacing then follows the
+// camera poses' errors (camera_pose_drift.h): drifting poses (visual
+// odometry) pair every frame the robot moved to with the next, other poses
+// (a bundle-adjusted model) keep the longer steps, whose scale short steps
+// of per-pose errors would bias (docs/benchmarks.md, "Which frames make the
+// motion pairs"). Both thresholds automatic or either set: an automatic one
+// takes the chosen spacing's value.
+constexpr double kAutomaticKeyframeSpacing = -1.0;
+struct KeyframeSpacing {
+  double min_rotation_deg = 0.0;
+  double min_translation_m = 0.0;
+};
+constexpr KeyframeSpacing kConsistentPosesKeyframeSpacing{5.0, 0.10};
+constexpr KeyframeSpacing kDriftingPosesKeyframeSpacing{1.0, 0.02};
+
 struct AssociationOptions {
   // A camera time between two odometry samples further apart than this is
   // refused (the vehicle may have done anything in between). Seconds, > 0,
@@ -33,13 +49,10 @@ struct AssociationOptions {
   double max_odometry_gap_s = kAutomaticOdometryGap;
   // A new keyframe once the odometry has moved by either threshold since the
   // previous keyframe (rotation angle in degrees, translation norm in metres).
-  // Both >= 0; zero makes every usable camera pose a keyframe. 1 deg / 2 cm
-  // pairs every frame the robot moved to with the next: best for drifting
-  // (VO-like) camera poses, but short steps of globally consistent poses (a
-  // COLMAP model) bias the scale, so the defaults stay at 5 deg / 10 cm
-  // (docs/benchmarks.md, "Which frames make the motion pairs").
-  double keyframe_min_rotation_deg = 5.0;
-  double keyframe_min_translation_m = 0.10;
+  // Each >= 0 (zero makes every usable camera pose a keyframe) or
+  // kAutomaticKeyframeSpacing (the default; see there).
+  double keyframe_min_rotation_deg = kAutomaticKeyframeSpacing;
+  double keyframe_min_translation_m = kAutomaticKeyframeSpacing;
   // Added to camera times before the odometry lookup:
   // odometry_time = camera_time + camera_time_offset_ns.
   int64_t camera_time_offset_ns = 0;
@@ -143,6 +156,12 @@ struct AssociationResult {
   double odometry_rate_hz = 0.0;
   double max_odometry_gap_s = 0.0;
   bool max_odometry_gap_automatic = false;
+  // The keyframe thresholds used, whether either was automatic, and then the
+  // test of the camera poses that chose them.
+  double keyframe_min_rotation_deg = 0.0;
+  double keyframe_min_translation_m = 0.0;
+  bool keyframe_spacing_automatic = false;
+  CameraPoseDriftTest camera_pose_drift;
   // The clock offset the stamps include (options.camera_time_offset_ns):
   // the estimated one when the systematics loop associated.
   int64_t camera_time_offset_ns = 0;
@@ -158,8 +177,10 @@ struct AssociationResult {
 // a keyframe; each later usable pose becomes the next keyframe when the
 // odometry motion since the previous keyframe has a rotation angle >=
 // keyframe_min_rotation_deg OR a translation norm >=
-// keyframe_min_translation_m, and each consecutive keyframe pair of a chain
-// gives one MotionPair (see the top of this file). Covariances are left empty.
+// keyframe_min_translation_m (automatic thresholds: TestCameraPoseDrift over
+// all camera segments chooses them), and each consecutive keyframe pair of a
+// chain gives one MotionPair (see the top of this file). Covariances are left
+// empty.
 //
 // Throws std::invalid_argument from options.Check(), and when a trajectory's
 // stamps are not strictly increasing (naming the trajectory and index).

@@ -317,6 +317,18 @@ json CalibrationToJson(const CalibrationResult& result,
       {"num_pairs_per_segment", a.num_pairs_per_segment},
       {"odometry_rate_hz", a.odometry_rate_hz},
   };
+  if (a.keyframe_spacing_automatic) {
+    const CameraPoseDriftTest& drift = a.camera_pose_drift;
+    diagnostics["association"]["camera_pose_drift"] = {
+        {"decided", drift.decided},
+        {"drifting", drift.drifting},
+        {"span", drift.span},
+        {"num_pairs", drift.num_pairs},
+        {"rotation_ratio", drift.rotation_ratio},
+        {"translation_ratio", drift.translation_ratio},
+        {"threshold", drift.threshold},
+    };
+  }
   if (result.has_estimate) {
     const CalibrationDiagnostics& d = result.diagnostics;
     json linear_scales = json::array();
@@ -354,6 +366,14 @@ json CalibrationToJson(const CalibrationResult& result,
     inputs["max_odometry_gap_s"] = context.association.max_odometry_gap_s;
     inputs["max_odometry_gap_automatic"] =
         context.association.max_odometry_gap_automatic;
+  }
+  if (context.association.keyframe_spacing_automatic) {
+    // The keyframe thresholds used, and that the camera poses chose them.
+    inputs["keyframe_min_rotation_deg"] =
+        context.association.keyframe_min_rotation_deg;
+    inputs["keyframe_min_translation_m"] =
+        context.association.keyframe_min_translation_m;
+    inputs["keyframe_spacing_automatic"] = true;
   }
   const json options = flag_echo.value("options", json::object());
   out["inputs"] = inputs;
@@ -423,6 +443,20 @@ std::string AssociationSummary(const AssociationResult& a) {
       << " s" << (a.max_odometry_gap_automatic ? ", automatic" : "")
       << "); odometry at " << a.odometry_rate_hz << " Hz; " << a.num_keyframes
       << " keyframes, " << a.pairs.size() << " motion pairs";
+  if (a.keyframe_spacing_automatic) {
+    const CameraPoseDriftTest& drift = a.camera_pose_drift;
+    out << "; keyframes every " << a.keyframe_min_rotation_deg << " deg / "
+        << a.keyframe_min_translation_m << " m: camera poses ";
+    if (!drift.decided) {
+      out << "not tested for drift (too few poses, or exact)";
+    } else {
+      out << (drift.drifting ? "drift" : "do not drift")
+          << " (errors across the plane over " << drift.span
+          << " frames / over 1: rotation " << drift.rotation_ratio
+          << ", translation " << drift.translation_ratio << "; drift from "
+          << drift.threshold << ")";
+    }
+  }
   return out.str();
 }
 

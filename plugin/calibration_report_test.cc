@@ -172,7 +172,17 @@ TEST(CalibrationToJson, TheOptionsEchoDefaultsToTheContextsOptions) {
   const json out = CalibrationToJson(run.result, context);
   EXPECT_EQ(out["options"]["robust_loss"], "huber");
   EXPECT_EQ(out["options"]["noise"]["odom_yaw_sigma_deg"], 0.7);
-  EXPECT_EQ(out["inputs"]["keyframe_min_rotation_deg"], 7.5);
+  // Automatic keyframe thresholds are echoed as the association chose them.
+  ASSERT_TRUE(context.association.keyframe_spacing_automatic);
+  EXPECT_EQ(out["inputs"]["keyframe_min_rotation_deg"],
+            context.association.keyframe_min_rotation_deg);
+  EXPECT_EQ(out["inputs"]["keyframe_spacing_automatic"], true);
+  EXPECT_TRUE(out["diagnostics"]["association"].contains("camera_pose_drift"));
+  // A threshold given is echoed as given.
+  context.association.keyframe_spacing_automatic = false;
+  EXPECT_EQ(CalibrationToJson(run.result,
+                              context)["inputs"]["keyframe_min_rotation_deg"],
+            7.5);
   // The gap limit is the one the association used, not the option's "auto".
   EXPECT_EQ(out["inputs"]["max_odometry_gap_s"],
             context.association.max_odometry_gap_s);

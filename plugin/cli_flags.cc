@@ -71,14 +71,20 @@ const OptionTable<AssociationOptions>& AssociationFlags() {
   static const OptionTable<Association> table = {
       TimeOffsetRow(),
       OdometryGapRow(),
-      NumberRow<Association>(
+      AutoOrNumberRow<Association>(
           "keyframe_min_rotation_deg",
-          "next keyframe after this much odometry rotation...",
-          [](auto& o) -> auto& { return o.keyframe_min_rotation_deg; }),
-      NumberRow<Association>(
+          "next keyframe after this much odometry rotation... (auto: 1 for "
+          "drifting camera poses, else 5)",
+          [](auto& o) -> auto& { return o.keyframe_min_rotation_deg; },
+          kAutomaticKeyframeSpacing,
+          AutoOrNumberLimit{0.0, true}),
+      AutoOrNumberRow<Association>(
           "keyframe_min_translation_m",
-          "...or this much odometry translation",
-          [](auto& o) -> auto& { return o.keyframe_min_translation_m; }),
+          "...or this much odometry translation (auto: 0.02 for drifting "
+          "camera poses, else 0.1)",
+          [](auto& o) -> auto& { return o.keyframe_min_translation_m; },
+          kAutomaticKeyframeSpacing,
+          AutoOrNumberLimit{0.0, true}),
   };
   return table;
 }

@@ -187,9 +187,9 @@ bool ContradictedBetweenKeyframes(
     pair.odom_i_from_odom_j =
         Inverse(*origin_from_odom_ref) * *origin_from_odom;
     if (RotationAngle(pair.odom_i_from_odom_j.rotation) >=
-            2.0 * inputs.association.keyframe_min_rotation_deg * kDegToRad ||
+            2.0 * run.association.keyframe_min_rotation_deg * kDegToRad ||
         pair.odom_i_from_odom_j.translation.norm() >=
-            2.0 * inputs.association.keyframe_min_translation_m) {
+            2.0 * run.association.keyframe_min_translation_m) {
       continue;
     }
     pair.cam_i_from_cam_j = Inverse(poses[reference].world_from_sensor) *

@@ -230,7 +230,7 @@ TEST_F(CommandLine, OptionErrorsNameTheFlag) {
   ExpectBadInput(
       RunOdomcal(Calibrate({"--keyframe_min_translation_m", "-0.25"})),
       std::string(kCalibrateError) +
-          "--keyframe_min_translation_m must be finite and >= 0, got -0.25");
+          "--keyframe_min_translation_m must be >= 0, got -0.25");
   ExpectBadInput(RunOdomcal(Calibrate({"--odom_yaw_sigma_deg", "-1"})),
                  std::string(kCalibrateError) +
                      "--odom_yaw_sigma_deg must be finite and >= 0, got -1");
