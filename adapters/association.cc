@@ -247,9 +247,13 @@ AssociationResult AssociateCameraWithOdometry(
   }
   const double min_rotation_rad =
       result.keyframe_min_rotation_deg * kPi / 180.0;
+  const double median_interval_s = MedianSampleIntervalS(odometry);
+  if (result.keyframe_spacing_automatic) {
+    result.keyframe_min_span_s =
+        kKeyframeMinSpanOdometryIntervals * median_interval_s;
+  }
   result.camera_time_offset_ns = options.camera_time_offset_ns;
   result.num_pairs_per_segment.assign(camera_segments.size(), 0);
-  const double median_interval_s = MedianSampleIntervalS(odometry);
   result.odometry_rate_hz =
       median_interval_s > 0.0 ? 1.0 / median_interval_s : 0.0;
   result.max_odometry_gap_automatic =
@@ -295,9 +299,11 @@ AssociationResult AssociateCameraWithOdometry(
         const Rigid3d odom_i_from_odom_j =
             Inverse(keyframe_origin_from_odom) * *origin_from_odom;
         new_keyframe =
-            RotationAngle(odom_i_from_odom_j.rotation) >= min_rotation_rad ||
-            odom_i_from_odom_j.translation.norm() >=
-                result.keyframe_min_translation_m;
+            (RotationAngle(odom_i_from_odom_j.rotation) >= min_rotation_rad ||
+             odom_i_from_odom_j.translation.norm() >=
+                 result.keyframe_min_translation_m) &&
+            ElapsedSeconds(keyframe_stamp_ns, odometry_stamp_ns) >=
+                result.keyframe_min_span_s;
         if (new_keyframe) {
           MotionPair pair;
           pair.odom_i_from_odom_j = odom_i_from_odom_j;

@@ -152,5 +152,33 @@ TEST(CameraPoseDrift, AutomaticKeyframesFollowTheTest) {
   EXPECT_EQ(given.keyframe_min_translation_m, 0.1);
 }
 
+TEST(CameraPoseDrift, AutomaticKeyframesSpanAnOdometryInterval) {
+  // 2 Hz odometry (every 25th sample of 50 Hz) under a 10 Hz camera: the
+  // drifting poses' 1 deg / 0.02 m would pair consecutive frames, five to an
+  // interpolated odometry interval.
+  SimulatedDrive drive = Drive(CameraErrors::kDrifting, 7);
+  std::vector<StampedPose> kept;
+  for (size_t k = 0; k < drive.odometry.poses.size(); k += 25) {
+    kept.push_back(drive.odometry.poses[k]);
+  }
+  drive.odometry.poses = kept;
+  const AssociationResult automatic = AssociateCameraWithOdometry(
+      {drive.camera}, drive.odometry, AssociationOptions());
+  ASSERT_TRUE(automatic.camera_pose_drift.drifting);
+  EXPECT_NEAR(automatic.keyframe_min_span_s, 0.45, 1e-9);
+  ASSERT_GT(automatic.pairs.size(), 50u);
+  for (const MotionPair& pair : automatic.pairs) {
+    EXPECT_GE(pair.stamp_j_ns - pair.stamp_i_ns, 450000000);
+  }
+  // Thresholds given: no minimum span.
+  AssociationOptions given;
+  given.keyframe_min_rotation_deg = 1.0;
+  given.keyframe_min_translation_m = 0.02;
+  const AssociationResult explicit_spacing =
+      AssociateCameraWithOdometry({drive.camera}, drive.odometry, given);
+  EXPECT_EQ(explicit_spacing.keyframe_min_span_s, 0.0);
+  EXPECT_GT(explicit_spacing.pairs.size(), 3 * automatic.pairs.size());
+}
+
 }  // namespace
 }  // namespace odomcal

@@ -328,6 +328,7 @@ json CalibrationToJson(const CalibrationResult& result,
         {"translation_ratio", drift.translation_ratio},
         {"threshold", drift.threshold},
     };
+    diagnostics["association"]["keyframe_min_span_s"] = a.keyframe_min_span_s;
   }
   if (result.has_estimate) {
     const CalibrationDiagnostics& d = result.diagnostics;
@@ -443,19 +444,26 @@ std::string AssociationSummary(const AssociationResult& a) {
       << " s" << (a.max_odometry_gap_automatic ? ", automatic" : "")
       << "); odometry at " << a.odometry_rate_hz << " Hz; " << a.num_keyframes
       << " keyframes, " << a.pairs.size() << " motion pairs";
-  if (a.keyframe_spacing_automatic) {
-    const CameraPoseDriftTest& drift = a.camera_pose_drift;
-    out << "; keyframes every " << a.keyframe_min_rotation_deg << " deg / "
-        << a.keyframe_min_translation_m << " m: camera poses ";
-    if (!drift.decided) {
-      out << "not tested for drift (too few poses, or exact)";
-    } else {
-      out << (drift.drifting ? "drift" : "do not drift")
-          << " (errors across the plane over " << drift.span
-          << " frames / over 1: rotation " << drift.rotation_ratio
-          << ", translation " << drift.translation_ratio << "; drift from "
-          << drift.threshold << ")";
-    }
+  return out.str();
+}
+
+std::string KeyframeSpacingSummary(const AssociationResult& a) {
+  if (!a.keyframe_spacing_automatic) return "";
+  const CameraPoseDriftTest& drift = a.camera_pose_drift;
+  std::ostringstream out;
+  out << std::setprecision(3) << "every " << a.keyframe_min_rotation_deg
+      << " deg / " << a.keyframe_min_translation_m << " m of odometry motion, "
+      << a.keyframe_min_span_s << " s apart at least (automatic): ";
+  if (!drift.decided) {
+    out << "the camera poses were not tested for drift (fewer than "
+        << CameraPoseDriftOptions().min_num_pairs
+        << " pairs of poses, exact poses or motion off the plane)";
+  } else {
+    out << "the camera poses " << (drift.drifting ? "drift" : "do not drift")
+        << " (their error across the plane of motion over " << drift.span
+        << " frames is " << drift.rotation_ratio << "x in rotation and "
+        << drift.translation_ratio << "x in translation that over one; "
+        << "drift from " << drift.threshold << "x)";
   }
   return out.str();
 }
@@ -475,6 +483,9 @@ std::string CalibrationSummary(const CalibrationResult& result,
   }
   const AssociationResult& a = context.association;
   out << "  input: " << AssociationSummary(a) << "\n";
+  if (a.keyframe_spacing_automatic) {
+    out << "  keyframes: " << KeyframeSpacingSummary(a) << "\n";
+  }
   if (!result.has_estimate) {
     out << "  no estimate; undetermined:";
     for (const std::string& name : UnobservableNames(result.observability)) {

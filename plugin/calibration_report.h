@@ -54,6 +54,10 @@ std::string CalibrationToYaml(const CalibrationResult& result);
 // 281 keyframes, 280 motion pairs".
 std::string AssociationSummary(const AssociationResult& association);
 
+// With automatic keyframe thresholds: the spacing used and the camera pose
+// drift test that chose it, for the summary's keyframes line; else "".
+std::string KeyframeSpacingSummary(const AssociationResult& association);
+
 // Multi-line human summary: status, rotation as roll/pitch/yaw and
 // quaternion, translation in cm with 3-sigma bounds, scales, residuals,
 // warnings.

@@ -233,5 +233,30 @@ TEST(AssociationSummary, CountsOutsideAndInGapsApart) {
       << AssociationSummary(a);
 }
 
+// The keyframes line says the spacing used and what the drift test saw.
+TEST(KeyframeSpacingSummary, SaysWhatTheDriftTestSaw) {
+  AssociationResult a;
+  EXPECT_EQ(KeyframeSpacingSummary(a), "");  // thresholds given
+  a.keyframe_spacing_automatic = true;
+  a.keyframe_min_rotation_deg = 1.0;
+  a.keyframe_min_translation_m = 0.02;
+  a.keyframe_min_span_s = 0.237;
+  a.camera_pose_drift.decided = true;
+  a.camera_pose_drift.drifting = true;
+  a.camera_pose_drift.span = 8;
+  a.camera_pose_drift.rotation_ratio = 7.91;
+  a.camera_pose_drift.translation_ratio = 8.52;
+  a.camera_pose_drift.threshold = 4.5;
+  EXPECT_EQ(KeyframeSpacingSummary(a),
+            "every 1 deg / 0.02 m of odometry motion, 0.237 s apart at least "
+            "(automatic): the camera poses drift (their error across the "
+            "plane of motion over 8 frames is 7.91x in rotation and 8.52x in "
+            "translation that over one; drift from 4.5x)");
+  a.camera_pose_drift.decided = false;
+  a.camera_pose_drift.drifting = false;
+  EXPECT_NE(KeyframeSpacingSummary(a).find("not tested for drift"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace odomcal
