@@ -73,15 +73,21 @@ const OptionTable<AssociationOptions>& AssociationFlags() {
       OdometryGapRow(),
       AutoOrNumberRow<Association>(
           "keyframe_min_rotation_deg",
-          "next keyframe after this much odometry rotation... (auto: 1 for "
-          "drifting camera poses, else 5)",
+          "next keyframe after this much odometry rotation... (auto: " +
+              FormatNumber(kDriftingPosesKeyframeSpacing.min_rotation_deg) +
+              " for drifting camera poses, else " +
+              FormatNumber(kConsistentPosesKeyframeSpacing.min_rotation_deg) +
+              ")",
           [](auto& o) -> auto& { return o.keyframe_min_rotation_deg; },
           kAutomaticKeyframeSpacing,
           AutoOrNumberLimit{0.0, true}),
       AutoOrNumberRow<Association>(
           "keyframe_min_translation_m",
-          "...or this much odometry translation (auto: 0.02 for drifting "
-          "camera poses, else 0.1)",
+          "...or this much odometry translation (auto: " +
+              FormatNumber(kDriftingPosesKeyframeSpacing.min_translation_m) +
+              " for drifting camera poses, else " +
+              FormatNumber(kConsistentPosesKeyframeSpacing.min_translation_m) +
+              ")",
           [](auto& o) -> auto& { return o.keyframe_min_translation_m; },
           kAutomaticKeyframeSpacing,
           AutoOrNumberLimit{0.0, true}),
