@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -65,32 +67,40 @@ OptionRow<Association> OdometryGapRow() {
       AutoOrNumberLimit{0.0, false});
 }
 
+// A keyframe threshold: "auto" (the default: the camera poses choose the
+// spacing, association.h) or a number >= 0. The help names both automatic
+// values from association.h's spacings.
+template <typename Field>
+OptionRow<Association> KeyframeThresholdRow(std::string name,
+                                            const std::string& help,
+                                            double KeyframeSpacing::*spacing,
+                                            Field field) {
+  return AutoOrNumberRow<Association>(
+      std::move(name),
+      help + " (auto: " + FormatNumber(kDriftingPosesKeyframeSpacing.*spacing) +
+          " for drifting camera poses, else " +
+          FormatNumber(kConsistentPosesKeyframeSpacing.*spacing) + ")",
+      field,
+      kAutomaticKeyframeSpacing,
+      AutoOrNumberLimit{0.0, true});
+}
+
 }  // namespace
 
 const OptionTable<AssociationOptions>& AssociationFlags() {
   static const OptionTable<Association> table = {
       TimeOffsetRow(),
       OdometryGapRow(),
-      AutoOrNumberRow<Association>(
+      KeyframeThresholdRow(
           "keyframe_min_rotation_deg",
-          "next keyframe after this much odometry rotation... (auto: " +
-              FormatNumber(kDriftingPosesKeyframeSpacing.min_rotation_deg) +
-              " for drifting camera poses, else " +
-              FormatNumber(kConsistentPosesKeyframeSpacing.min_rotation_deg) +
-              ")",
-          [](auto& o) -> auto& { return o.keyframe_min_rotation_deg; },
-          kAutomaticKeyframeSpacing,
-          AutoOrNumberLimit{0.0, true}),
-      AutoOrNumberRow<Association>(
+          "next keyframe after this much odometry rotation...",
+          &KeyframeSpacing::min_rotation_deg,
+          [](auto& o) -> auto& { return o.keyframe_min_rotation_deg; }),
+      KeyframeThresholdRow(
           "keyframe_min_translation_m",
-          "...or this much odometry translation (auto: " +
-              FormatNumber(kDriftingPosesKeyframeSpacing.min_translation_m) +
-              " for drifting camera poses, else " +
-              FormatNumber(kConsistentPosesKeyframeSpacing.min_translation_m) +
-              ")",
-          [](auto& o) -> auto& { return o.keyframe_min_translation_m; },
-          kAutomaticKeyframeSpacing,
-          AutoOrNumberLimit{0.0, true}),
+          "...or this much odometry translation",
+          &KeyframeSpacing::min_translation_m,
+          [](auto& o) -> auto& { return o.keyframe_min_translation_m; }),
   };
   return table;
 }
