@@ -109,6 +109,7 @@ bool LandmarkCameraMeasurement(const Rigid3d& metric_motion,
   two_view.num_minimal_samples = options.two_view_minimal_samples;
   two_view.covariance_of_other_minima =
       options.two_view_covariance_of_other_minima;
+  two_view.direction_scan_points = options.two_view_direction_scan_points;
   for (int attempt = 0; attempt < options.max_two_view_attempts; ++attempt) {
     std::vector<Eigen::Vector2d> observed_i, observed_j;
     for (int k = 0; k < options.num_landmarks; ++k) {
@@ -189,6 +190,11 @@ void PaperSimulationOptions::Check() const {
   CheckPositive(max_normalized_coordinate, "max_normalized_coordinate");
   if (max_two_view_attempts < 1) {
     throw std::invalid_argument("max_two_view_attempts must be >= 1");
+  }
+  if (two_view_direction_scan_points < 0) {
+    throw std::invalid_argument(
+        "two_view_direction_scan_points must be >= 0, got " +
+        std::to_string(two_view_direction_scan_points));
   }
   if (two_view_minimal_samples < 0) {
     throw std::invalid_argument("two_view_minimal_samples must be >= 0, got " +

@@ -104,10 +104,12 @@ struct PaperSimulationOptions {
   double outlier_fraction = 0.0;
 
   // Two-view estimator additions (two_view_pose.h), with
-  // two_view_multi_start: minimal-sample starts and the covariance of the
-  // other minima the data cannot tell apart.
+  // two_view_multi_start: minimal-sample starts, the covariance of the
+  // other minima the data cannot tell apart and the direction scan
+  // (two_view_direction_scan.h).
   int two_view_minimal_samples = 10;
   bool two_view_covariance_of_other_minima = true;
+  int two_view_direction_scan_points = 200;  // 0: no direction scan
 
   void Check() const;  // throws std::invalid_argument naming the field
 };

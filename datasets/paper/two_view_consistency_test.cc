@@ -61,18 +61,32 @@ TEST(AddTwoViewErrors, WhitensWithTheFiveObservableDimensions) {
   EXPECT_NEAR(errors.direction_error_deg[0], std::asin(0.01) * kRadToDeg, 1e-9);
 }
 
-// The nominal landmark protocol (1 px, 12 landmarks 0.5-5 m deep, f = 400
-// px, 20 motions per simulation): the same motions and observations with
-// the 8-point start only and with every start. Numbers of larger runs:
+// The two-view estimators compared on the nominal landmark protocol (1 px,
+// 12 landmarks 0.5-5 m deep, f = 400 px, 20 motions per simulation): the
+// same motions and observations for each. Numbers of larger runs:
 // docs/paper_reproduction.md, "Two-view estimates".
+struct TwoViewEstimator {
+  const char* name;
+  bool multi_start;
+  int direction_scan_points;
+};
+const TwoViewEstimator kEightPointOnly = {"8-point only", false, 0};
+const TwoViewEstimator kEveryStartNoScan = {
+    "every start, no direction scan", true, 0};
+const TwoViewEstimator kDefaultEstimator = {
+    "every start and the direction scan (default)",
+    true,
+    TwoViewOptions().direction_scan_points};
+
 // The two-view consistency of `num_simulations` nominal landmark
-// simulations of 20 motions, with every start or the 8-point start only.
-TwoViewConsistency NominalTwoViewConsistency(bool multi_start,
+// simulations of 20 motions.
+TwoViewConsistency NominalTwoViewConsistency(const TwoViewEstimator& estimator,
                                              int num_simulations,
                                              uint64_t seed) {
   PaperSimulationOptions options =
       NominalPaperSimulation(CameraNoiseMode::kLandmarks);
-  options.two_view_multi_start = multi_start;
+  options.two_view_multi_start = estimator.multi_start;
+  options.two_view_direction_scan_points = estimator.direction_scan_points;
   auto rng = SeededRng(seed);
   TwoViewErrors errors;
   for (int k = 0; k < num_simulations; ++k) {
@@ -81,23 +95,30 @@ TwoViewConsistency NominalTwoViewConsistency(bool multi_start,
   return SummarizeTwoViewErrors(errors);
 }
 
-TEST(TwoViewConsistency, MultiStartShortensTheTailOnTheNominalProtocol) {
-  TwoViewConsistency summaries[2];
-  for (const bool multi_start : {false, true}) {
-    summaries[multi_start] = NominalTwoViewConsistency(multi_start, 30, 700);
-    const TwoViewConsistency& c = summaries[multi_start];
-    std::cout << (multi_start ? "every start: " : "8-point start: ")
-              << c.num_motions << " motions, NEES median " << c.nees_median
+TEST(TwoViewConsistency, EveryStartAndTheScanShortenTheTail) {
+  std::vector<TwoViewConsistency> summaries;
+  for (const TwoViewEstimator& estimator :
+       {kEightPointOnly, kEveryStartNoScan, kDefaultEstimator}) {
+    summaries.push_back(NominalTwoViewConsistency(estimator, 30, 700));
+    const TwoViewConsistency& c = summaries.back();
+    std::cout << estimator.name << ": " << c.num_motions
+              << " motions, NEES median " << c.nees_median
               << ", 99th percentile " << c.nees_quantile_99 << ", gross "
               << 100.0 * c.gross_error_rate << " %\n";
   }
   const TwoViewConsistency& eight_point = summaries[0];
-  const TwoViewConsistency& multi_start = summaries[1];
-  ASSERT_GT(multi_start.num_motions, 570);
-  // The bulk follows chi-square(5) (median 4.35) either way.
-  EXPECT_NEAR(multi_start.nees_median, kChiSquare5Median, 0.8);
-  EXPECT_LE(multi_start.gross_error_rate, eight_point.gross_error_rate);
-  EXPECT_LT(multi_start.nees_quantile_99, 0.6 * eight_point.nees_quantile_99);
+  const TwoViewConsistency& no_scan = summaries[1];
+  const TwoViewConsistency& scanned = summaries[2];
+  ASSERT_GT(scanned.num_motions, 570);
+  // The bulk follows chi-square(5) (median 4.35).
+  EXPECT_NEAR(scanned.nees_median, kChiSquare5Median, 0.8);
+  EXPECT_LE(no_scan.gross_error_rate, eight_point.gross_error_rate);
+  EXPECT_LT(no_scan.nees_quantile_99, 0.6 * eight_point.nees_quantile_99);
+  // The scan changes covariances only (so not the gross errors) and brings
+  // the tail within issue 17's target, 2x chi-square's 99th percentile.
+  EXPECT_EQ(scanned.gross_error_rate, no_scan.gross_error_rate);
+  EXPECT_LT(scanned.nees_quantile_99, 0.8 * no_scan.nees_quantile_99);
+  EXPECT_LT(scanned.nees_quantile_99, 2.0 * kChiSquare5Quantile99);
 }
 
 // The figures of docs/paper_reproduction.md, "Two-view estimates", on 5 000
@@ -105,17 +126,16 @@ TEST(TwoViewConsistency, MultiStartShortensTheTailOnTheNominalProtocol) {
 //   paper_evaluation_test --gtest_also_run_disabled_tests
 //       --gtest_filter=TwoViewConsistency.DISABLED_LargeSet
 TEST(TwoViewConsistency, DISABLED_LargeSet) {
-  std::cout << "| two-view starts | motions | NEES median | p90 | p99 | max | "
-               "gross [%] |\n| --- | --- | --- | --- | --- | --- | --- |\n";
-  for (const bool multi_start : {false, true}) {
-    const TwoViewConsistency c =
-        NominalTwoViewConsistency(multi_start, 250, 704);
-    std::cout << "| "
-              << (multi_start ? "every start (default)" : "8-point only")
-              << " | " << c.num_motions << " | " << std::setprecision(3)
-              << c.nees_median << " | " << c.nees_quantile_90 << " | "
-              << c.nees_quantile_99 << " | " << c.nees_max << " | "
-              << 100.0 * c.gross_error_rate << " |\n";
+  std::cout
+      << "| two-view estimator | motions | NEES median | p90 | p99 | max | "
+         "gross [%] |\n| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const TwoViewEstimator& estimator :
+       {kEightPointOnly, kEveryStartNoScan, kDefaultEstimator}) {
+    const TwoViewConsistency c = NominalTwoViewConsistency(estimator, 250, 704);
+    std::cout << "| " << estimator.name << " | " << c.num_motions << " | "
+              << std::setprecision(3) << c.nees_median << " | "
+              << c.nees_quantile_90 << " | " << c.nees_quantile_99 << " | "
+              << c.nees_max << " | " << 100.0 * c.gross_error_rate << " |\n";
   }
   std::cout << "| chi-square(5) | | " << kChiSquare5Median << " | 9.24 | "
             << kChiSquare5Quantile99 << " | | |\n";
@@ -181,7 +201,8 @@ TEST(EstimateTwoViewPose, EveryStartNeverEndsAboveTheEightPointStart) {
                     .eigenvalues()
                     .minCoeff(),
                 -1e-9 * scale);
-      if (every_start.num_other_minima > 0) {
+      if (every_start.num_other_minima > 0 ||
+          every_start.num_direction_cells > 0) {
         ++num_widened;
         EXPECT_GT(widening.trace(), 1e-6 * scale);
       } else {

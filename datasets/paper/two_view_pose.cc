@@ -11,6 +11,8 @@
 
 #include "odomcal/datasets/paper/two_view_pose.h"
 
+#include "odomcal/datasets/paper/two_view_direction_scan.h"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <ceres/ceres.h>
@@ -626,6 +628,10 @@ void TwoViewOptions::Check() const {
     throw std::invalid_argument(
         "num_minimal_samples and num_minimal_sample_starts must be >= 0");
   }
+  if (direction_scan_points < 0) {
+    throw std::invalid_argument("direction_scan_points must be >= 0, got " +
+                                std::to_string(direction_scan_points));
+  }
   if (max_num_iterations < 1) {
     throw std::invalid_argument("max_num_iterations must be >= 1, got " +
                                 std::to_string(max_num_iterations));
@@ -732,6 +738,19 @@ TwoViewEstimate EstimateTwoViewPose(
                    minima,
                    options,
                    &estimate);
+  }
+  if (options.multi_start) {
+    const DirectionScan scan =
+        ScanTranslationDirection(normalized_in_cam_i,
+                                 normalized_in_cam_j,
+                                 estimate.cam_i_from_cam_j,
+                                 estimate.covariance,
+                                 options.focal_length_px,
+                                 options.pixel_sigma,
+                                 options.direction_scan_points);
+    estimate.covariance = scan.covariance;
+    estimate.direction_scanned = scan.scanned;
+    estimate.num_direction_cells = scan.num_cells_used;
   }
   estimate.success = true;
   return estimate;

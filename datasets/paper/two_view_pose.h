@@ -49,6 +49,12 @@
 // d_k = [Log(R_k R_best^T), (I - t t^T) t_k], t the best unit translation
 // (the rank-5 structure is kept). That is the covariance about the best pose
 // of the mixture of the minima, each with C_best.
+//
+// Direction scan (direction_scan_points): the minima the starts reach are not
+// all the data cannot rule out; at low parallax the cost is flat along a
+// curved valley of directions. ScanTranslationDirection widens the
+// covariance by the likelihood mass on a grid of directions
+// (two_view_direction_scan.h).
 #pragma once
 
 #include "odomcal/solver/motion_pair.h"
@@ -79,6 +85,10 @@ struct TwoViewOptions {
   // With multi_start: the covariance also covers the other minima the data
   // cannot tell from the best one (see the file comment).
   bool covariance_of_other_minima = true;
+  // With multi_start: the covariance also covers the directions on a grid of
+  // this many over the hemisphere that fit the data almost as well
+  // (two_view_direction_scan.h). 0: no scan.
+  int direction_scan_points = 200;
   // When set, the bundle adjustment starts here (unit translation) instead
   // of at the 8-point solution (tests, multi-start).
   std::optional<Rigid3d> initial_cam_i_from_cam_j;
@@ -93,13 +103,15 @@ struct TwoViewEstimate {
   // bundle adjustment) or when pixel_sigma is 0.
   MotionCovariance covariance = MotionCovariance::Zero();
   std::vector<Eigen::Vector3d> points_in_cam_i;  // triangulated / refined
-  double initial_rms_px = 0.0;  // reprojection RMS after the 8-point step
-  double final_rms_px = 0.0;    // after the bundle adjustment
-  double final_cost = 0.0;      // Ceres cost, 1/2 sum of squared px
-  int num_iterations = 0;       // of the winning bundle adjustment
-  int num_starts = 0;           // bundle adjustments run
-  int best_start = 0;           // index of the winner (0: the 8-point start)
-  int num_other_minima = 0;     // in the covariance (see the file comment)
+  double initial_rms_px = 0.0;     // reprojection RMS after the 8-point step
+  double final_rms_px = 0.0;       // after the bundle adjustment
+  double final_cost = 0.0;         // Ceres cost, 1/2 sum of squared px
+  int num_iterations = 0;          // of the winning bundle adjustment
+  int num_starts = 0;              // bundle adjustments run
+  int best_start = 0;              // index of the winner (0: the 8-point start)
+  int num_other_minima = 0;        // in the covariance (see the file comment)
+  bool direction_scanned = false;  // two_view_direction_scan.h
+  int num_direction_cells = 0;     // scan cells in the covariance
 };
 
 // Needs at least 8 correspondences (same order in both lists). Throws
