@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace odomcal {
