@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <numeric>
 #include <random>
@@ -355,6 +356,61 @@ TEST(BatchDivergence, DISABLED_GtBInlierRoundsAgainstControl) {
                        : "two-view estimates",
                rounds ? "inlier rounds" : "paper",
                d);
+    }
+  }
+}
+
+// The two-view direction scan in the B methods (session 20; docs/
+// paper_reproduction.md, "The direction scan"): at three points of the
+// sweeps, with their seeds (base seed 1), the scan off, on, and on with the
+// inlier rounds testing each motion under its core covariance (the default).
+// About 14 minutes on two threads.
+TEST(BatchDivergence, DISABLED_DirectionScanInTheBatch) {
+  struct Point {
+    const char* sweep;
+    int index;
+    double odom_translation_sigma_rel;
+    double pixel_sigma;
+  };
+  const Point points[] = {{"pixel_noise", 3, 0.05, 1.0},
+                          {"translation_noise", 2, 0.05, 1.0},
+                          {"pixel_noise", 5, 0.05, 2.0}};
+  std::cout << "| sweep point | variant | GT-B rot [deg] / x-y [mm] / scale "
+               "[%]; divergence [%] (used [%]) | ALSP-L-B |\n| --- | --- | "
+               "--- | --- |\n";
+  for (const Point& point : points) {
+    for (int variant = 0; variant < 3; ++variant) {
+      PaperSimulationOptions simulation =
+          NominalPaperSimulation(CameraNoiseMode::kLandmarks);
+      simulation.odom_translation_sigma_rel = point.odom_translation_sigma_rel;
+      simulation.pixel_sigma = point.pixel_sigma;
+      if (variant == 0) simulation.two_view_direction_scan_points = 0;
+      EvaluationOptions evaluation;
+      evaluation.inlier_test_on_core_covariance = variant == 2;
+      const SweepPointResult result = RunSweepPoint(simulation,
+                                                    evaluation,
+                                                    point.sweep,
+                                                    point.index,
+                                                    point.pixel_sigma,
+                                                    1000,
+                                                    2,
+                                                    1);
+      const char* names[] = {"no scan",
+                             "scan, inlier test on the full covariance",
+                             "scan, inlier test on the core (default)"};
+      std::cout << "| " << point.sweep << " " << point.index << " | "
+                << names[variant];
+      for (const EvaluationMethod method :
+           {EvaluationMethod::kGtB, EvaluationMethod::kAlspLengthPreservingB}) {
+        const MethodSummary& m = result[method];
+        std::printf(" | %.3f / %.2f / %.2f; %.1f (%.1f)",
+                    m.rmse_rotation_deg,
+                    1e3 * m.rmse_translation_m,
+                    100.0 * m.rmse_scale_rel,
+                    100.0 * m.divergence_rate,
+                    100.0 * m.motions_used);
+      }
+      std::cout << " |" << std::endl;
     }
   }
 }

@@ -139,8 +139,21 @@ MethodError Refined(const PaperSimulation& truth,
                     const std::vector<double>& start_scales,
                     const CalibrationOptions& options,
                     const EvaluationOptions& evaluation) {
-  const BatchRefined refined = RefineBatch(
-      truth.pairs, start, start_scales, options, evaluation.batch_refinement);
+  MotionPairs core_pairs;
+  if (evaluation.inlier_test_on_core_covariance &&
+      truth.cam_core_covariances.size() == truth.pairs.size()) {
+    core_pairs = truth.pairs;
+    for (size_t k = 0; k < core_pairs.size(); ++k) {
+      core_pairs[k].cam_covariance = truth.cam_core_covariances[k];
+    }
+  }
+  const BatchRefined refined =
+      RefineBatch(truth.pairs,
+                  start,
+                  start_scales,
+                  options,
+                  evaluation.batch_refinement,
+                  core_pairs.empty() ? nullptr : &core_pairs);
   MethodError error;
   if (!refined.refinement.usable) {
     error.failed = true;
@@ -192,7 +205,8 @@ BatchRefined RefineBatch(const MotionPairs& pairs,
                          const Rigid3d& start,
                          const std::vector<double>& start_scales,
                          const CalibrationOptions& options,
-                         BatchRefinement batch) {
+                         BatchRefinement batch,
+                         const MotionPairs* inlier_test_pairs) {
   std::vector<int> indices(pairs.size());
   std::iota(indices.begin(), indices.end(), 0);
   const bool rounds = batch == BatchRefinement::kInlierRounds;
@@ -206,8 +220,11 @@ BatchRefined RefineBatch(const MotionPairs& pairs,
   bool without_loss = !rounds;
   for (int round = 1; rounds && refined.usable && round < kMaxInlierRounds;
        ++round) {
-    std::vector<int> next = PairsWithinNoise(
-        pairs, refined.odom_from_cam, refined.metric_scales, options.noise);
+    std::vector<int> next =
+        PairsWithinNoise(inlier_test_pairs ? *inlier_test_pairs : pairs,
+                         refined.odom_from_cam,
+                         refined.metric_scales,
+                         options.noise);
     // A test that keeps too few motions is not trusted.
     if (next.size() < kMinInlierMotions ||
         next.size() < kMinInlierFraction * pairs.size()) {

@@ -100,7 +100,8 @@ enum class BatchRefinement {
 // The B methods' refinement of `pairs` from (start, start_scales): the
 // refinement kept (usable: see its field) and the motions it used.
 // `options` is the refinement's (no robust loss; the first inlier round
-// adds the Cauchy loss).
+// adds the Cauchy loss). The inlier rounds test the motions of
+// `inlier_test_pairs` (the same motions, other covariances) when given.
 struct BatchRefined {
   RefinementResult refinement;
   std::vector<int> used;
@@ -109,7 +110,8 @@ BatchRefined RefineBatch(const MotionPairs& pairs,
                          const Rigid3d& start,
                          const std::vector<double>& start_scales,
                          const CalibrationOptions& options,
-                         BatchRefinement batch);
+                         BatchRefinement batch,
+                         const MotionPairs* inlier_test_pairs = nullptr);
 
 // The a posteriori variance factor of a refinement without loss on
 // `num_motions_used` motions: its chi-square 2 * final_cost over the degrees
@@ -135,6 +137,13 @@ struct EvaluationOptions {
   // from the data. Never narrowed (f < 1 keeps C), and the estimate is
   // unchanged. false: the paper's test on C alone.
   bool variance_factor = true;
+  // The inlier rounds test each motion under its core camera covariance
+  // (PaperSimulation::cam_core_covariances, before the two-view direction
+  // scan) and weight it with the full one: a motion whose residual puts its
+  // truth outside the core sits in the wide part of a far from Gaussian
+  // error, where its estimate pulls the batch rather than informs it.
+  // false: tested and weighted with the full covariance.
+  bool inlier_test_on_core_covariance = true;
   void Check() const;  // throws std::invalid_argument naming the field
 };
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace odomcal {
@@ -141,6 +142,39 @@ TEST(RunTrials, IndependentOfTheThreadCount) {
           << "trial " << t << " method " << m;
     }
   }
+}
+
+// The inlier rounds test each motion on `inlier_test_pairs` when given and
+// weight it with `pairs`: a wrong motion whose weighting covariance is wide
+// enough to pass is still dropped when its test covariance is its own.
+TEST(RefineBatch, InlierRoundsTestOnTheTestPairs) {
+  PaperSimulationOptions options =
+      NominalPaperSimulation(CameraNoiseMode::kParametric);
+  auto rng = SeededRng(331);
+  PaperSimulation simulation = SimulatePaperMotions(options, &rng);
+  ASSERT_EQ(simulation.pairs.size(), 20u);
+  const MotionPairs test_pairs = simulation.pairs;
+  MotionPair& wrong = simulation.pairs[7];
+  wrong.cam_i_from_cam_j.rotation =
+      ExpRotation(Eigen::Vector3d(0.0, 0.3, 0.0)) *
+      wrong.cam_i_from_cam_j.rotation;
+  *wrong.cam_covariance *= 1e4;
+  MotionPairs wrong_test_pairs = test_pairs;
+  wrong_test_pairs[7].cam_i_from_cam_j = wrong.cam_i_from_cam_j;
+  CalibrationOptions refine;
+  refine.fixed_translation_z_m = simulation.odom_from_cam.translation.z();
+  const auto used = [&](const MotionPairs* test) {
+    const BatchRefined refined = RefineBatch(simulation.pairs,
+                                             simulation.odom_from_cam,
+                                             simulation.metric_scales,
+                                             refine,
+                                             BatchRefinement::kInlierRounds,
+                                             test);
+    EXPECT_TRUE(refined.refinement.usable);
+    return std::count(refined.used.begin(), refined.used.end(), 7);
+  };
+  EXPECT_EQ(used(nullptr), 1);
+  EXPECT_EQ(used(&wrong_test_pairs), 0);
 }
 
 // GT-B (the truth as start, the paper's batch) on one large parametric

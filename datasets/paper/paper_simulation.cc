@@ -93,7 +93,8 @@ bool LandmarkCameraMeasurement(const Rigid3d& metric_motion,
                                const PaperSimulationOptions& options,
                                std::mt19937_64* rng,
                                Rigid3d* measured,
-                               MotionCovariance* covariance) {
+                               MotionCovariance* covariance,
+                               MotionCovariance* core_covariance) {
   std::uniform_real_distribution<double> depth(options.min_depth_m,
                                                options.max_depth_m);
   std::uniform_real_distribution<double> coordinate(
@@ -138,6 +139,9 @@ bool LandmarkCameraMeasurement(const Rigid3d& metric_motion,
     *covariance = estimate.covariance;
     covariance->bottomRows<3>() *= length;
     covariance->rightCols<3>() *= length;
+    *core_covariance = estimate.core_covariance;
+    core_covariance->bottomRows<3>() *= length;
+    core_covariance->rightCols<3>() *= length;
     return true;
   }
   return false;
@@ -256,20 +260,25 @@ PaperSimulation SimulatePaperMotions(const PaperSimulationOptions& options,
 
     const double cam_length = truth.cam_i_from_cam_j.translation.norm();
     MotionCovariance cam_covariance;
+    MotionCovariance cam_core_covariance;
     if (options.camera_noise == CameraNoiseMode::kParametric) {
       pair.cam_i_from_cam_j = ParametricCameraMeasurement(
           truth.cam_i_from_cam_j, options, rng, &cam_covariance);
+      cam_core_covariance = cam_covariance;
     } else if (!LandmarkCameraMeasurement(metric_cam_motion,
                                           cam_length,
                                           options,
                                           rng,
                                           &pair.cam_i_from_cam_j,
-                                          &cam_covariance)) {
+                                          &cam_covariance,
+                                          &cam_core_covariance)) {
       ++result.num_two_view_failures;
       continue;
     }
     AddFloor(cam_length, &cam_covariance);
+    AddFloor(cam_length, &cam_core_covariance);
     pair.cam_covariance = cam_covariance;
+    result.cam_core_covariances.push_back(cam_core_covariance);
 
     const bool outlier = uniform(*rng) < options.outlier_fraction;
     if (outlier) {

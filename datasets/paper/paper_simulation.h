@@ -120,7 +120,11 @@ struct PaperSimulation {
   MotionPairs pairs;                  // measured, with covariances
   MotionPairs true_pairs;             // the same motions without noise
   std::vector<char> is_outlier;       // per pair
-  int num_two_view_failures = 0;      // motions dropped (kLandmarks)
+  // Per pair: the camera covariance before the two-view direction scan
+  // (TwoViewEstimate::core_covariance, scaled and floored like
+  // cam_covariance; equal to it without a scan).
+  std::vector<MotionCovariance> cam_core_covariances;
+  int num_two_view_failures = 0;  // motions dropped (kLandmarks)
 };
 
 // For a given extrinsic and scales (metric_scales.size() segments).

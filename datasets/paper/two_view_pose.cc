@@ -739,6 +739,7 @@ TwoViewEstimate EstimateTwoViewPose(
                    options,
                    &estimate);
   }
+  estimate.core_covariance = estimate.covariance;
   if (options.multi_start) {
     const DirectionScan scan =
         ScanTranslationDirection(normalized_in_cam_i,

@@ -103,13 +103,16 @@ struct TwoViewEstimate {
   // bundle adjustment) or when pixel_sigma is 0.
   MotionCovariance covariance = MotionCovariance::Zero();
   std::vector<Eigen::Vector3d> points_in_cam_i;  // triangulated / refined
-  double initial_rms_px = 0.0;     // reprojection RMS after the 8-point step
-  double final_rms_px = 0.0;       // after the bundle adjustment
-  double final_cost = 0.0;         // Ceres cost, 1/2 sum of squared px
-  int num_iterations = 0;          // of the winning bundle adjustment
-  int num_starts = 0;              // bundle adjustments run
-  int best_start = 0;              // index of the winner (0: the 8-point start)
-  int num_other_minima = 0;        // in the covariance (see the file comment)
+  double initial_rms_px = 0.0;  // reprojection RMS after the 8-point step
+  double final_rms_px = 0.0;    // after the bundle adjustment
+  double final_cost = 0.0;      // Ceres cost, 1/2 sum of squared px
+  int num_iterations = 0;       // of the winning bundle adjustment
+  int num_starts = 0;           // bundle adjustments run
+  int best_start = 0;           // index of the winner (0: the 8-point start)
+  int num_other_minima = 0;     // in the covariance (see the file comment)
+  // The covariance before the direction scan (the bundle adjustment's and
+  // the other minima's): the core the scan adds its cells' spread to.
+  MotionCovariance core_covariance = MotionCovariance::Zero();
   bool direction_scanned = false;  // two_view_direction_scan.h
   int num_direction_cells = 0;     // scan cells in the covariance
 };
