@@ -1,6 +1,7 @@
 #include "odomcal/datasets/paper/two_view_direction_scan.h"
 
 #include "odomcal/datasets/paper/two_view_pose.h"
+#include "odomcal/datasets/paper/two_view_test_views.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <Eigen/Eigenvalues>
@@ -14,54 +15,12 @@
 namespace odomcal {
 namespace {
 
-struct Views {
-  Rigid3d cam_i_from_cam_j;  // unit translation
-  std::vector<Eigen::Vector2d> u_i, u_j;
-};
-
-// 12 points at depths [min_depth, 5] m within +-45 degrees, seen from two
-// poses `baseline_m` apart with up to 60 degrees of rotation, 1 px noise at
-// f = 400 px.
-Views RandomViews(double baseline_m,
-                  double min_depth_m,
-                  double pixel_sigma,
-                  std::mt19937_64* rng) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  std::uniform_real_distribution<double> depth(min_depth_m, 5.0);
-  Eigen::Vector3d axis, direction;
-  for (int c = 0; c < 3; ++c) axis(c) = normal(*rng);
-  for (int c = 0; c < 3; ++c) direction(c) = normal(*rng);
-  const double angle = 0.5 * (uniform(*rng) + 1.0);
-  Views views;
-  views.cam_i_from_cam_j =
-      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())),
-              direction.normalized());
-  Rigid3d metric = views.cam_i_from_cam_j;
-  metric.translation *= baseline_m;
-  const Rigid3d cam_j_from_cam_i = Inverse(metric);
-  const double sigma = pixel_sigma / 400.0;
-  while (views.u_i.size() < 12) {
-    const double z = depth(*rng);
-    const double x = uniform(*rng);
-    const double y = uniform(*rng);
-    const Eigen::Vector3d p_j =
-        cam_j_from_cam_i * Eigen::Vector3d(x * z, y * z, z);
-    if (p_j.z() < 0.5) continue;
-    Eigen::Vector4d n;
-    for (int c = 0; c < 4; ++c) n(c) = sigma * normal(*rng);
-    views.u_i.emplace_back(x + n(0), y + n(1));
-    views.u_j.emplace_back(p_j.x() / p_j.z() + n(2), p_j.y() / p_j.z() + n(3));
-  }
-  return views;
-}
-
 // A well-determined direction (0.5 m against points 1-5 m deep, 0.1 px) is
 // left alone: its cost is quadratic over many grid cells.
 TEST(ScanTranslationDirection, LeavesAWellDeterminedDirectionAlone) {
   auto rng = SeededRng(721);
   for (int trial = 0; trial < 20; ++trial) {
-    const Views views = RandomViews(0.5, 1.0, 0.1, &rng);
+    const TwoViewTestViews views = RandomTwoViewTestViews(0.5, 0.1, &rng);
     TwoViewOptions options;
     options.pixel_sigma = 0.1;
     options.num_minimal_samples = 0;
@@ -89,7 +48,7 @@ TEST(ScanTranslationDirection, OnlyWidensAndCanBeTurnedOff) {
   auto rng = SeededRng(722);
   int num_widened = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const Views views = RandomViews(0.02, 1.0, 1.0, &rng);
+    const TwoViewTestViews views = RandomTwoViewTestViews(0.02, 1.0, &rng);
     TwoViewOptions options;
     options.num_minimal_samples = 0;
     options.direction_scan_points = 0;

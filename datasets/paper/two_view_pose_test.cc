@@ -1,5 +1,6 @@
 #include "odomcal/datasets/paper/two_view_pose.h"
 
+#include "odomcal/datasets/paper/two_view_test_views.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <Eigen/Eigenvalues>
@@ -20,51 +21,12 @@ constexpr double kExactRotationRad = 1e-9;
 constexpr double kExactDirection = 1e-9;
 constexpr double kEightPointTolerance = 1e-5;
 
-struct TwoViewProblem {
-  Rigid3d cam_i_from_cam_j;  // unit translation
-  std::vector<Eigen::Vector2d> u_i, u_j;
-};
-
-// A random relative pose (rotation up to 60 degrees) and 12 points 1-5 m in
-// front of both cameras, observed with `pixel_sigma` noise at f = 400 px.
-TwoViewProblem RandomProblem(double pixel_sigma, std::mt19937_64* rng) {
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  std::uniform_real_distribution<double> depth(1.0, 5.0);
-  TwoViewProblem problem;
-  Eigen::Vector3d axis, direction;
-  for (int c = 0; c < 3; ++c) axis(c) = normal(*rng);
-  for (int c = 0; c < 3; ++c) direction(c) = normal(*rng);
-  const double angle = 0.5 * (uniform(*rng) + 1.0);
-  problem.cam_i_from_cam_j =
-      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized())),
-              direction.normalized());
-  // Metric baseline of 0.3 m for the geometry; the estimate is unit-length.
-  Rigid3d metric = problem.cam_i_from_cam_j;
-  metric.translation *= 0.3;
-  const Rigid3d cam_j_from_cam_i = Inverse(metric);
-  const double sigma = pixel_sigma / 400.0;
-  while (problem.u_i.size() < 12) {
-    const double z = depth(*rng);
-    const double x = uniform(*rng);
-    const double y = uniform(*rng);
-    const Eigen::Vector3d p_i(x * z, y * z, z);
-    const Eigen::Vector3d p_j = cam_j_from_cam_i * p_i;
-    if (p_j.z() < 0.5) continue;
-    Eigen::Vector4d n;
-    for (int c = 0; c < 4; ++c) n(c) = sigma * normal(*rng);
-    problem.u_i.emplace_back(x + n(0), y + n(1));
-    problem.u_j.emplace_back(p_j.x() / p_j.z() + n(2),
-                             p_j.y() / p_j.z() + n(3));
-  }
-  return problem;
-}
-
 TEST(EstimateTwoViewPose, ExactWithoutNoise) {
   auto rng = SeededRng(300);
   for (int trial = 0; trial < 50; ++trial) {
     SCOPED_TRACE(trial);
-    const TwoViewProblem problem = RandomProblem(0.0, &rng);
+    // 0.3 m baselines against points 1-5 m deep.
+    const TwoViewTestViews problem = RandomTwoViewTestViews(0.3, 0.0, &rng);
     for (const bool refine : {false, true}) {
       SCOPED_TRACE(refine ? "refined" : "8-point");
       TwoViewOptions options;
@@ -100,7 +62,8 @@ std::vector<double> NeesSamples(double pixel_sigma,
                                 std::mt19937_64* rng) {
   std::vector<double> samples;
   for (int trial = 0; trial < num_trials; ++trial) {
-    const TwoViewProblem problem = RandomProblem(pixel_sigma, rng);
+    const TwoViewTestViews problem =
+        RandomTwoViewTestViews(0.3, pixel_sigma, rng);
     TwoViewOptions options;
     options.pixel_sigma = pixel_sigma;
     // The bundle adjustment's own covariance; the minimal-sample starts
