@@ -122,7 +122,7 @@ TEST(TwoViewConsistency, EveryStartAndTheScanShortenTheTail) {
 }
 
 // The figures of docs/paper_reproduction.md, "Two-view estimates", on 5 000
-// motions of the nominal protocol (seed 704), both estimators:
+// motions of the nominal protocol (seed 704), the three estimators:
 //   paper_evaluation_test --gtest_also_run_disabled_tests
 //       --gtest_filter=TwoViewConsistency.DISABLED_LargeSet
 TEST(TwoViewConsistency, DISABLED_LargeSet) {
