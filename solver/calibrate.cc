@@ -684,14 +684,23 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // biases roll/pitch and x/y beyond the planar covariance. Named, and the
   // covariance inflated by the measured excess (planarity_check.h) before
   // the standard deviations are tested against their limits.
-  // The check uses each sensor's estimated noise level in the given shape:
-  // the shape components (camera translation across the motion, which
-  // includes the vertical) could otherwise take the form of the slope and
-  // hide it.
-  NoiseModel planarity_noise =
-      result.noise_estimate
-          ? ScaleNoise(options.noise, result.noise_estimate->variance_factors)
-          : weighted.noise;
+  // The check uses the camera's estimated noise level in the given shape:
+  // its shape components (translation across the motion, which includes the
+  // vertical) could otherwise take the form of the slope and hide it. The
+  // odometry's components stay as estimated: of a planar log only the
+  // constant translation part reaches the height, and no slope (a height
+  // proportional to the step) can take its form.
+  NoiseModel planarity_noise = weighted.noise;
+  if (result.noise_estimate) {
+    planarity_noise =
+        ScaleNoise(options.noise, result.noise_estimate->variance_factors);
+    planarity_noise.odom_yaw_sigma_deg = weighted.noise.odom_yaw_sigma_deg;
+    planarity_noise.odom_yaw_sigma_rel = weighted.noise.odom_yaw_sigma_rel;
+    planarity_noise.odom_translation_sigma_m =
+        weighted.noise.odom_translation_sigma_m;
+    planarity_noise.odom_translation_sigma_rel =
+        weighted.noise.odom_translation_sigma_rel;
+  }
   // The tilt noise is the assumption under test: as given, not scaled with
   // the odometry rotation's (yaw-dominated) level.
   planarity_noise.odom_tilt_sigma_deg = options.noise.odom_tilt_sigma_deg;

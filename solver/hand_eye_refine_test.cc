@@ -4,6 +4,7 @@
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/hand_eye_cost.h"
 #include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/planarity_check.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <ceres/gradient_checker.h>
@@ -53,6 +54,14 @@ TEST(HandEyeResidualCovariance, MatchesMonteCarlo) {
   const double deg = kPi / 180.0;
   const double yaw =
       std::abs(LogRotation(exact.odom_i_from_odom_j.rotation).z());
+  const double length = exact.odom_i_from_odom_j.translation.norm();
+  const double in_plane = noise.odom_translation_sigma_m +
+                          noise.odom_translation_sigma_rel * length;
+  // A planar log's height error: the constant part and the slope over the
+  // step, not the in-plane slip.
+  ASSERT_TRUE(IsPlanarMotion(exact.odom_i_from_odom_j));
+  const double height =
+      std::hypot(noise.odom_translation_sigma_m, 0.1 * deg * length);
   for (int n = 0; n < kSamples; ++n) {
     MotionPair noisy = exact;
     noisy.odom_i_from_odom_j =
@@ -61,10 +70,7 @@ TEST(HandEyeResidualCovariance, MatchesMonteCarlo) {
                                       0.1 * deg,
                                       noise.odom_yaw_sigma_deg * deg +
                                           noise.odom_yaw_sigma_rel * yaw),
-                      Eigen::Vector3d::Constant(
-                          noise.odom_translation_sigma_m +
-                          noise.odom_translation_sigma_rel *
-                              exact.odom_i_from_odom_j.translation.norm()),
+                      Eigen::Vector3d(in_plane, in_plane, height),
                       &rng);
     noisy.cam_i_from_cam_j = PerturbMotion(
         exact.cam_i_from_cam_j,

@@ -56,14 +56,15 @@ double CorrelationLength(const std::vector<Eigen::Vector3d>& whitened) {
 
 }  // namespace
 
+bool IsPlanarMotion(const Rigid3d& odom_i_from_odom_j) {
+  const Eigen::Vector3d rotation = LogRotation(odom_i_from_odom_j.rotation);
+  return rotation.head<2>().norm() <= kPlanarTolerance &&
+         std::abs(odom_i_from_odom_j.translation.z()) <= kPlanarTolerance;
+}
+
 bool IsPlanarOdometry(const MotionPairs& pairs) {
   for (const MotionPair& pair : pairs) {
-    const Eigen::Vector3d rotation =
-        LogRotation(pair.odom_i_from_odom_j.rotation);
-    if (rotation.head<2>().norm() > kPlanarTolerance ||
-        std::abs(pair.odom_i_from_odom_j.translation.z()) > kPlanarTolerance) {
-      return false;
-    }
+    if (!IsPlanarMotion(pair.odom_i_from_odom_j)) return false;
   }
   return true;
 }

@@ -71,8 +71,12 @@ struct PlanarityCheck {
 // (1e-16 to 1e-12); far below any real slope (1e-3 rad) or noise model.
 constexpr double kPlanarTolerance = 1e-9;
 
-// True when every pair's odometry motion is a rotation about z and a
-// translation in the x-y plane (to kPlanarTolerance): a planar log.
+// True when an odometry motion is a rotation about z and a translation in
+// the x-y plane (to kPlanarTolerance).
+bool IsPlanarMotion(const Rigid3d& odom_i_from_odom_j);
+
+// True when every pair's odometry motion is planar (IsPlanarMotion): a
+// planar log.
 bool IsPlanarOdometry(const MotionPairs& pairs);
 
 // Measures the above for `used` pairs under the estimate; checked = false
