@@ -190,6 +190,7 @@ json NoiseToJson(const NoiseEstimate& estimate) {
       {"groups", groups},
       {"cam_translation_along_sigma_rel", n.CamTranslationAlongSigmaRel()},
       {"components", components},
+      {"stddev_widening", estimate.stddev_widening},
   };
 }
 

@@ -655,6 +655,14 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
       result.metric_scales = refined.metric_scales;
       information = refined.information;
       information_segments = refined.information_segments;
+      // The weights are estimated, not known: widen for their uncertainty.
+      if (result.noise_estimate) {
+        information =
+            WidenForEstimatedNoise(information,
+                                   information_segments,
+                                   *result.noise_estimate,
+                                   &result.noise_estimate->stddev_widening);
+      }
     }
   }
   if (information.size() == 0) {

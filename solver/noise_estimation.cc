@@ -257,6 +257,31 @@ struct Pass {
   Eigen::MatrixXd helmert;          // H_pq = sum tr(M D_p M D_q)
 };
 
+// One pair's Cov(r) at the multipliers `all` (the free parameters', then
+// the fixed one's 1) and its derivatives D_p by the free multipliers.
+Matrix6d PairCovariance(const PairTerms& term,
+                        const PairForm& form,
+                        const Eigen::VectorXd& all,
+                        Matrix6d* derivatives) {
+  const int num_free = static_cast<int>(all.size()) - 1;
+  Matrix6d covariance = term.interpolation;
+  for (int p = 0; p <= num_free; ++p) covariance += all(p) * form.bases[p];
+  for (int p = 0; p < num_free; ++p) derivatives[p] = form.bases[p];
+  for (const Cross& cross : form.crosses) {
+    covariance += std::sqrt(all(cross.p) * all(cross.q)) * cross.x;
+    if (cross.p < num_free) {
+      derivatives[cross.p] +=
+          0.5 * std::sqrt(all(cross.q) / all(cross.p)) * cross.x;
+    }
+    if (cross.q < num_free) {
+      derivatives[cross.q] +=
+          0.5 * std::sqrt(all(cross.p) / all(cross.q)) * cross.x;
+    }
+  }
+  covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
+  return covariance;
+}
+
 // mu: one multiplier per free parameter.
 Pass Evaluate(const std::vector<PairTerms>& terms,
               const std::vector<PairForm>& forms,
@@ -270,24 +295,8 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   // derivatives[i * num_free + p]: D_p of pair i.
   std::vector<Matrix6d> derivatives(terms.size() * num_free);
   for (size_t i = 0; i < terms.size(); ++i) {
-    const PairForm& form = forms[i];
-    Matrix6d covariance = terms[i].interpolation;
-    for (int p = 0; p <= num_free; ++p) covariance += all(p) * form.bases[p];
-    for (int p = 0; p < num_free; ++p) {
-      derivatives[i * num_free + p] = form.bases[p];
-    }
-    for (const Cross& cross : form.crosses) {
-      covariance += std::sqrt(all(cross.p) * all(cross.q)) * cross.x;
-      if (cross.p < num_free) {
-        derivatives[i * num_free + cross.p] +=
-            0.5 * std::sqrt(all(cross.q) / all(cross.p)) * cross.x;
-      }
-      if (cross.q < num_free) {
-        derivatives[i * num_free + cross.q] +=
-            0.5 * std::sqrt(all(cross.p) / all(cross.q)) * cross.x;
-      }
-    }
-    covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
+    const Matrix6d covariance = PairCovariance(
+        terms[i], forms[i], all, derivatives.data() + i * num_free);
     precisions[i] = covariance.ldlt().solve(Matrix6d::Identity());
     normal += terms[i].jacobian.transpose() * precisions[i] * terms[i].jacobian;
   }
@@ -395,6 +404,55 @@ MultiplierUncertainty Uncertainty(
   u.worst_relative = u.worst < 0 ? 0.0 : u.relative(u.worst);
   if (u.worst < 0) u.worst = 0;
   return u;
+}
+
+// The Kenward-Roger term A of the estimate's covariance with estimated noise
+// (Kenward & Roger 1997, eq. 3 and 4 without the second derivatives, which
+// only the cross terms of added standard deviations have): Phi + 2 Phi A Phi
+// with Phi = N^-1, A = sum_pq W_pq (Q_pq - P_p Phi P_q), P_p = sum J^T P D_p
+// P J, Q_pq = sum J^T P D_p P D_q P J and W the multipliers' covariance.
+// Phi alone treats the estimated noise as known; with a few pairs the
+// weights' own errors add to the estimate's.
+Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
+                                 const std::vector<PairForm>& forms,
+                                 const Eigen::VectorXd& mu,
+                                 const Eigen::MatrixXd& multiplier_covariance) {
+  const int num_free = static_cast<int>(mu.size());
+  Eigen::VectorXd all(num_free + 1);
+  all << mu, 1.0;
+  const int num_columns = static_cast<int>(terms.front().jacobian.cols());
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  std::vector<Eigen::MatrixXd> first(num_free, normal);
+  std::vector<Eigen::MatrixXd> second(num_free * num_free, normal);
+  std::vector<Matrix6d> derivatives(num_free);
+  std::vector<Matrix6X> pdpj(num_free);
+  for (size_t i = 0; i < terms.size(); ++i) {
+    const Matrix6d covariance =
+        PairCovariance(terms[i], forms[i], all, derivatives.data());
+    const Matrix6d precision = covariance.ldlt().solve(Matrix6d::Identity());
+    const Matrix6X pj = precision * terms[i].jacobian;
+    normal += terms[i].jacobian.transpose() * pj;
+    for (int p = 0; p < num_free; ++p) {
+      pdpj[p] = derivatives[p] * pj;
+      first[p] += pj.transpose() * pdpj[p];
+    }
+    for (int p = 0; p < num_free; ++p) {
+      for (int q = 0; q < num_free; ++q) {
+        second[p * num_free + q] += pdpj[p].transpose() * precision * pdpj[q];
+      }
+    }
+  }
+  const Eigen::MatrixXd phi =
+      normal.completeOrthogonalDecomposition().pseudoInverse();
+  Eigen::MatrixXd term = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  for (int p = 0; p < num_free; ++p) {
+    for (int q = 0; q < num_free; ++q) {
+      const double w = multiplier_covariance(p, q);
+      if (w == 0.0) continue;
+      term += w * (second[p * num_free + q] - first[p] * phi * first[q]);
+    }
+  }
+  return 0.5 * (term + term.transpose());
 }
 
 std::string Ratio(double value) {
@@ -719,6 +777,11 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     const Eigen::VectorXd& relative = uncertainty.relative;
     const int worst = uncertainty.worst;
     if (uncertainty.worst_relative <= kMaxRelativeStddev) {
+      estimate.kenward_roger_term =
+          KenwardRogerTerm(terms, forms, mu, covariance);
+      for (const auto& [segment, column] : scale_columns) {
+        estimate.kenward_roger_segments.push_back(segment);
+      }
       for (int p = 0; p < num_free; ++p) {
         const int representative =
             *std::min_element(parameters[p].begin(), parameters[p].end());
@@ -824,6 +887,57 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   return estimate;
 }
 
+Eigen::MatrixXd WidenForEstimatedNoise(
+    const Eigen::MatrixXd& information,
+    const std::vector<int>& information_segments,
+    const NoiseEstimate& estimate,
+    double* stddev_widening) {
+  if (stddev_widening) *stddev_widening = 1.0;
+  const Eigen::MatrixXd& term = estimate.kenward_roger_term;
+  const int n = static_cast<int>(information.rows());
+  if (term.size() == 0 || n < 5) return information;
+  // Column of `term` for each column of `information` (-1: none).
+  std::vector<int> source(n, -1);
+  for (int k = 0; k < 5; ++k) source[k] = k;
+  for (size_t k = 0; k < information_segments.size() && 5 + k < source.size();
+       ++k) {
+    const auto found = std::find(estimate.kenward_roger_segments.begin(),
+                                 estimate.kenward_roger_segments.end(),
+                                 information_segments[k]);
+    if (found != estimate.kenward_roger_segments.end()) {
+      source[5 + k] =
+          5 + static_cast<int>(found - estimate.kenward_roger_segments.begin());
+    }
+  }
+  Eigen::MatrixXd mapped = Eigen::MatrixXd::Zero(n, n);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      if (source[r] >= 0 && source[c] >= 0 && source[r] < term.rows() &&
+          source[c] < term.cols()) {
+        mapped(r, c) = term(source[r], source[c]);
+      }
+    }
+  }
+  Eigen::MatrixXd widened = information * (information + 2.0 * mapped)
+                                              .completeOrthogonalDecomposition()
+                                              .solve(information);
+  widened = 0.5 * (widened + widened.transpose());
+  if (stddev_widening) {
+    const Eigen::VectorXd before = information.completeOrthogonalDecomposition()
+                                       .pseudoInverse()
+                                       .diagonal();
+    const Eigen::VectorXd after =
+        widened.completeOrthogonalDecomposition().pseudoInverse().diagonal();
+    for (int k = 0; k < n; ++k) {
+      if (before(k) > 0.0 && std::isfinite(after(k))) {
+        *stddev_widening =
+            std::max(*stddev_widening, std::sqrt(after(k) / before(k)));
+      }
+    }
+  }
+  return widened;
+}
+
 std::string NoiseSummary(const NoiseEstimate& estimate) {
   std::ostringstream text;
   text << "noise estimated from " << estimate.num_pairs
@@ -860,6 +974,11 @@ std::string NoiseSummary(const NoiseEstimate& estimate) {
       text << (k == 0 ? "" : ", ") << kept[k];
     }
     text << " (not determined by these pairs)";
+  }
+  if (estimate.stddev_widening >= 1.005) {
+    text << "; standard deviations widened by up to x"
+         << Ratio(estimate.stddev_widening)
+         << " for this estimate's own uncertainty (Kenward-Roger)";
   }
   return text.str();
 }

@@ -45,6 +45,8 @@
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
 
+#include <Eigen/Core>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -144,6 +146,18 @@ struct NoiseEstimate {
       0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
   std::array<double, kNumNoiseComponents> component_relative_stddev = {};
 
+  // The estimate's covariance with this noise is Phi + 2 Phi A Phi (Kenward
+  // and Roger 1997), Phi the inverse information under the noise and A this
+  // term: the estimated factors' own uncertainty (few pairs) widens it.
+  // Columns: rotation (3), translation x, y, then one scale per segment of
+  // kenward_roger_segments (ascending). Empty when nothing was estimated.
+  Eigen::MatrixXd kenward_roger_term;
+  std::vector<int> kenward_roger_segments;
+  // Set by the calibration (WidenForEstimatedNoise): the largest ratio, over
+  // the estimate's parameters, of the standard deviation with that widening
+  // to the one without (1: not widened).
+  double stddev_widening = 1.0;
+
   int num_pairs = 0;
   int num_iterations = 0;
   // The given NoiseModel scaled by the component factors: the noise the
@@ -176,6 +190,19 @@ NoiseEstimate EstimateNoise(
     const CalibrationOptions& options,
     bool estimate_z = false,
     const ComponentFactors& start = kUnitComponentFactors);
+
+// The information N of the refinement (columns: rotation, translation x, y,
+// one scale per entry of `information_segments`, then z if estimated)
+// widened for the noise's estimation: (Phi + 2 Phi A Phi)^-1 = N (N + 2 A)^-1
+// N, with A = estimate.kenward_roger_term mapped onto these columns (none
+// for z: the noise was estimated with z held). Returns `information` when
+// the estimate has no term. `stddev_widening` (optional): the largest ratio
+// of a parameter's standard deviation after to before.
+Eigen::MatrixXd WidenForEstimatedNoise(
+    const Eigen::MatrixXd& information,
+    const std::vector<int>& information_segments,
+    const NoiseEstimate& estimate,
+    double* stddev_widening = nullptr);
 
 // "noise estimated from 118 pairs (standard deviations relative to the given
 // noise): odometry yaw, constant part x1.8, odometry translation,
