@@ -88,6 +88,29 @@ TEST(HandEyeResidualCovariance, MatchesMonteCarlo) {
   }
 }
 
+// A planar log's height error is its constant part and the ground's slope
+// over the step, not the in-plane slip; SE(3) odometry keeps it per axis.
+TEST(HandEyeResidualCovariance, PlanarOdometryHeightIsNotSlip) {
+  NoiseModel noise;
+  noise.odom_translation_sigma_m = 0.002;
+  noise.odom_translation_sigma_rel = 0.01;
+  noise.odom_tilt_sigma_deg = 0.5;
+  MotionPair pair;
+  pair.odom_i_from_odom_j =
+      Rigid3d(YawRotation(0.3), Eigen::Vector3d(3.0, 4.0, 0.0));
+  const double in_plane = 0.002 + 0.01 * 5.0;
+  const double slope = 0.5 * kPi / 180.0 * 5.0;
+  MotionCovariance planar = OdometryCovariance(pair, noise);
+  EXPECT_NEAR(planar(3, 3), in_plane * in_plane, 1e-15);
+  EXPECT_NEAR(planar(4, 4), in_plane * in_plane, 1e-15);
+  EXPECT_NEAR(planar(5, 5), 0.002 * 0.002 + slope * slope, 1e-15);
+  pair.odom_i_from_odom_j.translation.z() = 0.01;
+  const double length = pair.odom_i_from_odom_j.translation.norm();
+  const double per_axis = 0.002 + 0.01 * length;
+  EXPECT_NEAR(
+      OdometryCovariance(pair, noise)(5, 5), per_axis * per_axis, 1e-15);
+}
+
 TEST(HandEyeCost, GradientCheckerPasses) {
   auto rng = SeededRng(22);
   MotionSimulatorOptions options;
