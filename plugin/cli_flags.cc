@@ -199,12 +199,14 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
           "noise",
           NumberRow<C>(
               "odom_tilt_sigma_deg",
-              "odometry roll/pitch noise per pair",
+              "odometry roll/pitch noise per pair (a planar log: also its "
+              "height noise, this slope over the step)",
               [](auto& o) -> auto& { return o.noise.odom_tilt_sigma_deg; })),
       EchoedIn("noise",
                NumberRow<C>(
                    "odom_translation_sigma_m",
-                   "odometry translation noise per axis and pair",
+                   "odometry translation noise per axis and pair (a planar "
+                   "log's height: only this constant part)",
                    [](auto& o) -> auto& {
                      return o.noise.odom_translation_sigma_m;
                    })),
