@@ -976,9 +976,12 @@ std::string NoiseSummary(const NoiseEstimate& estimate) {
     text << " (not determined by these pairs)";
   }
   if (estimate.stddev_widening >= 1.005) {
-    text << "; standard deviations widened by up to x"
-         << Ratio(estimate.stddev_widening)
-         << " for this estimate's own uncertainty (Kenward-Roger)";
+    std::ostringstream percent;
+    percent.setf(std::ios::fixed);
+    percent.precision(1);
+    percent << 100.0 * (estimate.stddev_widening - 1.0);
+    text << "; standard deviations widened by up to " << percent.str()
+         << " % for this estimate's own uncertainty (Kenward-Roger)";
   }
   return text.str();
 }

@@ -232,7 +232,7 @@ TEST(NoiseEstimation, WidensTheCovarianceForTheEstimatedNoise) {
   NoiseEstimate reported;
   reported.stddev_widening = 1.06;
   EXPECT_NE(NoiseSummary(reported).find(
-                "; standard deviations widened by up to x1.1 for this "
+                "; standard deviations widened by up to 6.0 % for this "
                 "estimate's own uncertainty (Kenward-Roger)"),
             std::string::npos);
   reported.stddev_widening = 1.004;
