@@ -257,6 +257,13 @@ struct Pass {
   Eigen::MatrixXd helmert;          // H_pq = sum tr(M D_p M D_q)
 };
 
+// The free parameters' multipliers followed by the fixed parameter's, 1.
+Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu) {
+  Eigen::VectorXd all(mu.size() + 1);
+  all << mu, 1.0;
+  return all;
+}
+
 // One pair's Cov(r) at the multipliers `all` (the free parameters', then
 // the fixed one's 1) and its derivatives D_p by the free multipliers.
 Matrix6d PairCovariance(const PairTerms& term,
@@ -287,8 +294,7 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
               const std::vector<PairForm>& forms,
               const Eigen::VectorXd& mu) {
   const int num_free = static_cast<int>(mu.size());
-  Eigen::VectorXd all(num_free + 1);
-  all << mu, 1.0;
+  const Eigen::VectorXd all = WithFixedParameter(mu);
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
   std::vector<Matrix6d> precisions(terms.size());
@@ -418,8 +424,7 @@ Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
                                  const Eigen::VectorXd& mu,
                                  const Eigen::MatrixXd& multiplier_covariance) {
   const int num_free = static_cast<int>(mu.size());
-  Eigen::VectorXd all(num_free + 1);
-  all << mu, 1.0;
+  const Eigen::VectorXd all = WithFixedParameter(mu);
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
   std::vector<Eigen::MatrixXd> first(num_free, normal);
@@ -777,10 +782,13 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     const Eigen::VectorXd& relative = uncertainty.relative;
     const int worst = uncertainty.worst;
     if (uncertainty.worst_relative <= kMaxRelativeStddev) {
-      estimate.kenward_roger_term =
-          KenwardRogerTerm(terms, forms, mu, covariance);
-      for (const auto& [segment, column] : scale_columns) {
-        estimate.kenward_roger_segments.push_back(segment);
+      // In the refinement's columns, which hold z (WidenForEstimatedNoise).
+      if (!estimate_z) {
+        estimate.kenward_roger_term =
+            KenwardRogerTerm(terms, forms, mu, covariance);
+        for (const auto& [segment, column] : scale_columns) {
+          estimate.kenward_roger_segments.push_back(segment);
+        }
       }
       for (int p = 0; p < num_free; ++p) {
         const int representative =

@@ -150,7 +150,8 @@ struct NoiseEstimate {
   // and Roger 1997), Phi the inverse information under the noise and A this
   // term: the estimated factors' own uncertainty (few pairs) widens it.
   // Columns: rotation (3), translation x, y, then one scale per segment of
-  // kenward_roger_segments (ascending). Empty when nothing was estimated.
+  // kenward_roger_segments (ascending). Empty when nothing was estimated or
+  // z was (estimate_z).
   Eigen::MatrixXd kenward_roger_term;
   std::vector<int> kenward_roger_segments;
   // Set by the calibration (WidenForEstimatedNoise): the largest ratio, over

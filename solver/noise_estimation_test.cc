@@ -45,11 +45,9 @@ CalibrationOptions OptionsFor(const SimulatedMotions& truth,
   return options;
 }
 
-// Noise 2x and 0.5x the given model (standard deviations), separable groups:
-// each group's ratio recovered within 10 % through the whole pipeline.
-TEST(NoiseEstimation, RecoversPerGroupNoiseThroughTheCalibration) {
-  const uint64_t seed = TestSeed(141);
-  SCOPED_TRACE("seed " + std::to_string(seed));
+// A given noise with one component per group (no proportional parts): the
+// groups are separable with enough pairs.
+NoiseModel OneComponentPerGroup() {
   NoiseModel prior;
   prior.odom_yaw_sigma_deg = 0.3;
   prior.odom_yaw_sigma_rel = 0.0;
@@ -57,6 +55,15 @@ TEST(NoiseEstimation, RecoversPerGroupNoiseThroughTheCalibration) {
   prior.odom_translation_sigma_rel = 0.0;
   prior.cam_rotation_sigma_deg = 0.1;
   prior.cam_translation_sigma_rel = 0.02;
+  return prior;
+}
+
+// Noise 2x and 0.5x the given model (standard deviations), separable groups:
+// each group's ratio recovered within 10 % through the whole pipeline.
+TEST(NoiseEstimation, RecoversPerGroupNoiseThroughTheCalibration) {
+  const uint64_t seed = TestSeed(141);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  const NoiseModel prior = OneComponentPerGroup();
   const NoiseFactors truth_factors = {4.0, 0.25, 0.25, 4.0};
   const SimulatedMotions truth = Simulate(prior, truth_factors, 1500, seed);
   const CalibrationResult result =
@@ -178,13 +185,7 @@ TEST(NoiseEstimation, StopsAtTheFloorOnExactData) {
 TEST(NoiseEstimation, WidensTheCovarianceForTheEstimatedNoise) {
   const uint64_t seed = TestSeed(147);
   SCOPED_TRACE("seed " + std::to_string(seed));
-  NoiseModel prior;  // one component per group, as in the recovery test
-  prior.odom_yaw_sigma_deg = 0.3;
-  prior.odom_yaw_sigma_rel = 0.0;
-  prior.odom_translation_sigma_m = 0.01;
-  prior.odom_translation_sigma_rel = 0.0;
-  prior.cam_rotation_sigma_deg = 0.1;
-  prior.cam_translation_sigma_rel = 0.02;
+  const NoiseModel prior = OneComponentPerGroup();
   std::vector<double> widenings;
   for (const int num_pairs : {20, 1500}) {
     SCOPED_TRACE(std::to_string(num_pairs) + " pairs");
