@@ -655,14 +655,6 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
       result.metric_scales = refined.metric_scales;
       information = refined.information;
       information_segments = refined.information_segments;
-      // The weights are estimated, not known: widen for their uncertainty.
-      if (result.noise_estimate) {
-        information =
-            WidenForEstimatedNoise(information,
-                                   information_segments,
-                                   *result.noise_estimate,
-                                   &result.noise_estimate->stddev_widening);
-      }
     }
   }
   if (information.size() == 0) {
@@ -686,6 +678,15 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   }
   for (const int i : used) d.inlier_mask[i] = 1;
   d.num_pairs_used = static_cast<int>(used.size());
+  // The weights are estimated, not known: widen for their uncertainty (after
+  // the z step, which replaces the information for SE(3) odometry).
+  if (result.noise_estimate && d.refined) {
+    information =
+        WidenForEstimatedNoise(information,
+                               information_segments,
+                               *result.noise_estimate,
+                               &result.noise_estimate->stddev_widening);
+  }
 
   ComputeResiduals(weighted_pairs, used, weighted, &result);
   // Planar odometry cannot see slopes: a camera motion that leaves the plane
