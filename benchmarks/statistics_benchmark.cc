@@ -27,7 +27,9 @@
 // camera); yaw_scale divides the odometry's yaw increments (1.05: the
 // sensors' yaw increments disagree by 5 %). The drive mode also prints the
 // plain batch over all consecutive frames (no keyframes, no RANSAC), the
-// issue's rotation reference.
+// issue's rotation reference, without and with the clock offset and the
+// odometry intrinsics estimated (the like-for-like reference of the CLI's
+// default), and the rotation RMSE ratios with paired bootstrap intervals.
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/systematics_estimation.h"
@@ -44,6 +46,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <numeric>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -75,6 +80,12 @@ struct Tally {
   int rotation_covered = 0, x_covered = 0, y_covered = 0, scale_covered = 0;
   double nees = 0.0;
   double used_fraction = 0.0;
+  // Each run's squared rotation error in deg^2, NaN where it failed (runs
+  // of the same seed line up across tallies, for the paired bootstrap).
+  std::vector<double> rotation_errors2;
+  // Sum of the stated rotation variances (trace of the rotation block):
+  // its root mean is what the covariance predicts the rotation RMSE to be.
+  double stated_rotation_variance = 0.0;
 
   void Add(const CalibrationResult& result,
            const Rigid3d& truth,
@@ -83,11 +94,13 @@ struct Tally {
     if (!result.has_estimate || result.metric_scales.empty() ||
         !std::isfinite(result.metric_scales[0])) {
       ++failures;
+      rotation_errors2.push_back(std::numeric_limits<double>::quiet_NaN());
       return;
     }
     const Errors e = ErrorsOf(
         result.odom_from_cam, result.metric_scales[0], truth, true_scale);
     rotation2 += e.rotation_deg * e.rotation_deg;
+    rotation_errors2.push_back(e.rotation_deg * e.rotation_deg);
     translation2 += e.translation_m * e.translation_m;
     scale2 += e.scale_rel * e.scale_rel;
     used_fraction += static_cast<double>(result.diagnostics.num_pairs_used) /
@@ -109,6 +122,12 @@ struct Tally {
     y_covered += within(4);
     scale_covered += within(5);
     nees += error.dot(c.topLeftCorner<6, 6>().ldlt().solve(error));
+    stated_rotation_variance += c.topLeftCorner<3, 3>().trace();
+  }
+
+  double StatedRotationDeg() const {
+    return std::sqrt(stated_rotation_variance / std::max(1, with_covariance)) *
+           kRadToDeg;
   }
 
   double Rmse(double sum) const {
@@ -118,14 +137,16 @@ struct Tally {
     const double n = std::max(1, with_covariance);
     std::printf(
         "%-22s runs %3d fail %2d | RMSE rot %.4f deg  xy %.2f mm  scale "
-        "%.3f %% | within 3 sigma: rot %3.0f %%  x %3.0f %%  y %3.0f %%  "
-        "scale %3.0f %% | mean NEES %.2f (6) | pairs used %.1f %%\n",
+        "%.3f %% | stated rot %.4f deg | within 3 sigma: rot %3.0f %%  x "
+        "%3.0f %%  y %3.0f %%  scale %3.0f %% | mean NEES %.2f (6) | pairs "
+        "used %.1f %%\n",
         name,
         runs,
         failures,
         Rmse(rotation2),
         1000.0 * Rmse(translation2),
         100.0 * Rmse(scale2),
+        StatedRotationDeg(),
         100.0 * rotation_covered / n,
         100.0 * x_covered / n,
         100.0 * y_covered / n,
@@ -134,6 +155,50 @@ struct Tally {
         100.0 * used_fraction / std::max(1, runs - failures));
   }
 };
+
+// Rotation RMSE of `a` over that of `b` on the seeds both solved, with the
+// 95 % interval of a paired bootstrap over the seeds: a ratio over 30 runs
+// is itself uncertain, and this says by how much.
+struct RmseRatio {
+  double ratio = 0.0, low = 0.0, high = 0.0;
+};
+
+RmseRatio RotationRmseRatio(const Tally& a, const Tally& b) {
+  std::vector<std::pair<double, double>> runs;
+  for (size_t i = 0;
+       i < std::min(a.rotation_errors2.size(), b.rotation_errors2.size());
+       ++i) {
+    if (std::isfinite(a.rotation_errors2[i]) &&
+        std::isfinite(b.rotation_errors2[i])) {
+      runs.emplace_back(a.rotation_errors2[i], b.rotation_errors2[i]);
+    }
+  }
+  RmseRatio result;
+  if (runs.empty()) return result;
+  auto ratio_of = [&](const std::vector<int>& draw) {
+    double sum_a = 0.0, sum_b = 0.0;
+    for (int k : draw) {
+      sum_a += runs[k].first;
+      sum_b += runs[k].second;
+    }
+    return std::sqrt(sum_a / sum_b);
+  };
+  std::vector<int> all(runs.size());
+  std::iota(all.begin(), all.end(), 0);
+  result.ratio = ratio_of(all);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(runs.size()) - 1);
+  std::vector<double> ratios;
+  std::vector<int> draw(runs.size());
+  for (int r = 0; r < 4000; ++r) {
+    for (int& k : draw) k = pick(rng);
+    ratios.push_back(ratio_of(draw));
+  }
+  std::sort(ratios.begin(), ratios.end());
+  result.low = ratios[static_cast<size_t>(0.025 * ratios.size())];
+  result.high = ratios[static_cast<size_t>(0.975 * ratios.size())];
+  return result;
+}
 
 int RunPaper(int seeds, int motions, double outlier_fraction) {
   PaperSimulationOptions simulation;
@@ -257,7 +322,7 @@ int RunDrive(int seeds,
              bool wheel_scale_errors,
              double resample_hz,
              double yaw_scale) {
-  Tally estimated, given, batch, cli;
+  Tally estimated, given, batch, cli, batch_systematics;
   int cli_failures = 0;
   double yaw_scale_error2 = 0.0;
   int yaw_scale_estimated = 0, yaw_scale_covered = 0;
@@ -300,27 +365,37 @@ int RunDrive(int seeds,
     given.Add(CalibrateOdomCam(association.pairs, calibration),
               drive.odom_from_cam,
               drive.metric_scale);
-    // As `odomcal calibrate` with its defaults: the clock offset and the
-    // odometry intrinsics estimated with the extrinsic.
-    {
-      CalibrationOptions defaults;
-      defaults.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+    // The clock offset and the odometry intrinsics estimated with the
+    // extrinsic (EstimateSystematics, as the CLI does), for the given
+    // association and calibration options.
+    auto with_systematics = [&](const AssociationOptions& association_options,
+                                const CalibrationOptions& calibration_options,
+                                SystematicsEstimate* systematics) {
       MotionPairs pairs;
       CalibrationResult result;
       AssociationResult final_association;
-      const SystematicsEstimate systematics = EstimateSystematics(
+      *systematics = EstimateSystematics(
           {drive.camera},
           drive.odometry,
-          AssociationOptions(),
-          defaults,
+          association_options,
+          calibration_options,
           SystematicsEstimationOptions(),
           [&](const AssociationResult& associated) {
             pairs = associated.pairs;
-            result = CalibrateOdomCam(pairs, defaults);
+            result = CalibrateOdomCam(pairs, calibration_options);
             return std::make_pair(static_cast<const MotionPairs*>(&pairs),
                                   &result);
           },
           &final_association);
+      return result;
+    };
+    // As `odomcal calibrate` with its defaults.
+    {
+      CalibrationOptions defaults;
+      defaults.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+      SystematicsEstimate systematics;
+      const CalibrationResult result =
+          with_systematics(AssociationOptions(), defaults, &systematics);
       cli.Add(result, drive.odom_from_cam, drive.metric_scale);
       cli_failures += result.status != CalibrationStatus::kSuccess;
       if (systematics.intrinsics_estimated[0]) {
@@ -331,7 +406,9 @@ int RunDrive(int seeds,
             std::abs(error) <= 3.0 * systematics.intrinsics_stddev[0];
       }
     }
-    // The reference: every consecutive camera frame, no RANSAC.
+    // The reference: every consecutive camera frame, no RANSAC; without and
+    // with the systematics (the like-for-like reference of the CLI's
+    // default, which estimates them).
     AssociationOptions all_frames;
     all_frames.keyframe_min_rotation_deg = 0.0;
     all_frames.keyframe_min_translation_m = 0.0;
@@ -344,6 +421,10 @@ int RunDrive(int seeds,
                                plain),
               drive.odom_from_cam,
               drive.metric_scale);
+    SystematicsEstimate unused;
+    batch_systematics.Add(with_systematics(all_frames, plain, &unused),
+                          drive.odom_from_cam,
+                          drive.metric_scale);
   }
   std::printf(
       "drives: %d seeds, 120 s, odometry %g Hz, camera %g Hz, noise %g x "
@@ -369,12 +450,22 @@ int RunDrive(int seeds,
   given.Print("--estimate_noise off");
   cli.Print("default + systematics");
   batch.Print("plain batch, all frames");
-  std::printf(
-      "%-22s rotation RMSE / plain batch: default %.3f, default + "
-      "systematics %.3f\n",
-      "",
-      estimated.Rmse(estimated.rotation2) / batch.Rmse(batch.rotation2),
-      cli.Rmse(cli.rotation2) / batch.Rmse(batch.rotation2));
+  batch_systematics.Print("plain batch + systematics");
+  auto print_ratio = [](const char* name, const RmseRatio& r) {
+    std::printf(
+        "%-22s rotation RMSE %s: %.3f (95 %% paired bootstrap "
+        "%.3f-%.3f)\n",
+        "",
+        name,
+        r.ratio,
+        r.low,
+        r.high);
+  };
+  print_ratio("default / plain batch", RotationRmseRatio(estimated, batch));
+  print_ratio("default + systematics / plain batch",
+              RotationRmseRatio(cli, batch));
+  print_ratio("default + systematics / plain batch + systematics",
+              RotationRmseRatio(cli, batch_systematics));
   std::printf(
       "%-22s default + systematics: %d of %d runs not successful (exit != "
       "0); yaw_scale estimated in %d, RMSE %.4f, within 3 sigma %d\n",
