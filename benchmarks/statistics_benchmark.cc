@@ -80,9 +80,9 @@ struct Tally {
   int rotation_covered = 0, x_covered = 0, y_covered = 0, scale_covered = 0;
   double nees = 0.0;
   double used_fraction = 0.0;
-  // Each run's squared rotation error in deg^2, NaN where it failed (runs
-  // of the same seed line up across tallies, for the paired bootstrap).
-  std::vector<double> rotation_errors2;
+  // Each run's squared errors, NaN where it failed (runs of the same seed
+  // line up across tallies, for the paired bootstrap).
+  std::vector<double> rotation_errors2, translation_errors2, scale_errors2;
   // Sum of the stated rotation variances (trace of the rotation block):
   // its root mean is what the covariance predicts the rotation RMSE to be.
   double stated_rotation_variance = 0.0;
@@ -94,13 +94,18 @@ struct Tally {
     if (!result.has_estimate || result.metric_scales.empty() ||
         !std::isfinite(result.metric_scales[0])) {
       ++failures;
-      rotation_errors2.push_back(std::numeric_limits<double>::quiet_NaN());
+      for (auto* errors2 :
+           {&rotation_errors2, &translation_errors2, &scale_errors2}) {
+        errors2->push_back(std::numeric_limits<double>::quiet_NaN());
+      }
       return;
     }
     const Errors e = ErrorsOf(
         result.odom_from_cam, result.metric_scales[0], truth, true_scale);
     rotation2 += e.rotation_deg * e.rotation_deg;
     rotation_errors2.push_back(e.rotation_deg * e.rotation_deg);
+    translation_errors2.push_back(e.translation_m * e.translation_m);
+    scale_errors2.push_back(e.scale_rel * e.scale_rel);
     translation2 += e.translation_m * e.translation_m;
     scale2 += e.scale_rel * e.scale_rel;
     used_fraction += static_cast<double>(result.diagnostics.num_pairs_used) /
@@ -156,21 +161,19 @@ struct Tally {
   }
 };
 
-// Rotation RMSE of `a` over that of `b` on the seeds both solved, with the
-// 95 % interval of a paired bootstrap over the seeds: a ratio over 30 runs
-// is itself uncertain, and this says by how much.
+// RMSE of `a` over that of `b` (squared errors per seed) on the seeds both
+// solved, with the 95 % interval of a paired bootstrap over the seeds: a
+// ratio over 30 runs is itself uncertain, and this says by how much.
 struct RmseRatio {
   double ratio = 0.0, low = 0.0, high = 0.0;
 };
 
-RmseRatio RotationRmseRatio(const Tally& a, const Tally& b) {
+RmseRatio PairedRmseRatio(const std::vector<double>& a,
+                          const std::vector<double>& b) {
   std::vector<std::pair<double, double>> runs;
-  for (size_t i = 0;
-       i < std::min(a.rotation_errors2.size(), b.rotation_errors2.size());
-       ++i) {
-    if (std::isfinite(a.rotation_errors2[i]) &&
-        std::isfinite(b.rotation_errors2[i])) {
-      runs.emplace_back(a.rotation_errors2[i], b.rotation_errors2[i]);
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+    if (std::isfinite(a[i]) && std::isfinite(b[i])) {
+      runs.emplace_back(a[i], b[i]);
     }
   }
   RmseRatio result;
@@ -209,9 +212,7 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
   simulation.cam_rotation_sigma_rad = 0.005;
   simulation.cam_direction_sigma_rad = 0.01;
   simulation.outlier_fraction = outlier_fraction;
-  Tally estimated, given;
-  double gt_rotation2 = 0.0, gt_translation2 = 0.0, gt_scale2 = 0.0;
-  int gt_runs = 0;
+  Tally estimated, given, gt_b;
   for (int seed = 0; seed < seeds; ++seed) {
     std::mt19937_64 rng(1000 + seed);
     const Rigid3d truth = RandomOdomFromCam(&rng);
@@ -228,14 +229,11 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
     }
     const RefinementResult gt =
         RefineOdomFromCam(sim.pairs, inliers, truth, {scale}, options);
-    if (gt.usable) {
-      const Errors e =
-          ErrorsOf(gt.odom_from_cam, gt.metric_scales[0], truth, scale);
-      gt_rotation2 += e.rotation_deg * e.rotation_deg;
-      gt_translation2 += e.translation_m * e.translation_m;
-      gt_scale2 += e.scale_rel * e.scale_rel;
-      ++gt_runs;
-    }
+    CalibrationResult gt_result;  // GT-B's estimate; no covariance
+    gt_result.has_estimate = gt.usable;
+    gt_result.odom_from_cam = gt.odom_from_cam;
+    gt_result.metric_scales = gt.metric_scales;
+    gt_b.Add(gt_result, truth, scale);
     MotionPairs plain = sim.pairs;
     for (MotionPair& pair : plain) {
       pair.odom_covariance.reset();
@@ -249,27 +247,38 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
               seeds,
               motions,
               100.0 * outlier_fraction);
-  const double n = std::max(1, gt_runs);
-  const double gt_r = std::sqrt(gt_rotation2 / n);
-  const double gt_t = std::sqrt(gt_translation2 / n);
-  const double gt_s = std::sqrt(gt_scale2 / n);
   std::printf(
-      "%-22s runs %3d         | RMSE rot %.4f deg  xy %.2f mm  scale "
+      "%-22s runs %3d fail %2d | RMSE rot %.4f deg  xy %.2f mm  scale "
       "%.3f %%\n",
       "GT-B (inliers)",
-      gt_runs,
-      gt_r,
-      1000.0 * gt_t,
-      100.0 * gt_s);
+      gt_b.runs,
+      gt_b.failures,
+      gt_b.Rmse(gt_b.rotation2),
+      1000.0 * gt_b.Rmse(gt_b.translation2),
+      100.0 * gt_b.Rmse(gt_b.scale2));
   for (const auto& [name, tally] :
        {std::pair<const char*, const Tally&>{"default", estimated},
         std::pair<const char*, const Tally&>{"--estimate_noise off", given}}) {
     tally.Print(name);
-    std::printf("%-22s RMSE / GT-B: rot %.3f  xy %.3f  scale %.3f\n",
-                "",
-                tally.Rmse(tally.rotation2) / gt_r,
-                tally.Rmse(tally.translation2) / gt_t,
-                tally.Rmse(tally.scale2) / gt_s);
+    const RmseRatio r =
+        PairedRmseRatio(tally.rotation_errors2, gt_b.rotation_errors2);
+    const RmseRatio t =
+        PairedRmseRatio(tally.translation_errors2, gt_b.translation_errors2);
+    const RmseRatio c =
+        PairedRmseRatio(tally.scale_errors2, gt_b.scale_errors2);
+    std::printf(
+        "%-22s RMSE / GT-B (95 %% paired bootstrap): rot %.3f (%.3f-%.3f)  "
+        "xy %.3f (%.3f-%.3f)  scale %.3f (%.3f-%.3f)\n",
+        "",
+        r.ratio,
+        r.low,
+        r.high,
+        t.ratio,
+        t.low,
+        t.high,
+        c.ratio,
+        c.low,
+        c.high);
   }
   return 0;
 }
@@ -461,11 +470,14 @@ int RunDrive(int seeds,
         r.low,
         r.high);
   };
-  print_ratio("default / plain batch", RotationRmseRatio(estimated, batch));
+  auto rotation_ratio = [](const Tally& a, const Tally& b) {
+    return PairedRmseRatio(a.rotation_errors2, b.rotation_errors2);
+  };
+  print_ratio("default / plain batch", rotation_ratio(estimated, batch));
   print_ratio("default + systematics / plain batch",
-              RotationRmseRatio(cli, batch));
+              rotation_ratio(cli, batch));
   print_ratio("default + systematics / plain batch + systematics",
-              RotationRmseRatio(cli, batch_systematics));
+              rotation_ratio(cli, batch_systematics));
   std::printf(
       "%-22s default + systematics: %d of %d runs not successful (exit != "
       "0); yaw_scale estimated in %d, RMSE %.4f, within 3 sigma %d\n",
