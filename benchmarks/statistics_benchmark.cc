@@ -76,7 +76,6 @@ Errors ErrorsOf(const Rigid3d& estimate,
 // Sums over runs of one configuration.
 struct Tally {
   int runs = 0, failures = 0, with_covariance = 0;
-  double rotation2 = 0.0, translation2 = 0.0, scale2 = 0.0;
   int rotation_covered = 0, x_covered = 0, y_covered = 0, scale_covered = 0;
   double nees = 0.0;
   double used_fraction = 0.0;
@@ -102,12 +101,9 @@ struct Tally {
     }
     const Errors e = ErrorsOf(
         result.odom_from_cam, result.metric_scales[0], truth, true_scale);
-    rotation2 += e.rotation_deg * e.rotation_deg;
     rotation_errors2.push_back(e.rotation_deg * e.rotation_deg);
     translation_errors2.push_back(e.translation_m * e.translation_m);
     scale_errors2.push_back(e.scale_rel * e.scale_rel);
-    translation2 += e.translation_m * e.translation_m;
-    scale2 += e.scale_rel * e.scale_rel;
     used_fraction += static_cast<double>(result.diagnostics.num_pairs_used) /
                      result.diagnostics.num_pairs_in;
     if (!result.covariance || result.covariance->rows() < 6) return;
@@ -135,8 +131,16 @@ struct Tally {
            kRadToDeg;
   }
 
-  double Rmse(double sum) const {
-    return std::sqrt(sum / std::max(1, runs - failures));
+  // Over the runs that solved.
+  static double Rmse(const std::vector<double>& errors2) {
+    double sum = 0.0;
+    int n = 0;
+    for (double e2 : errors2) {
+      if (!std::isfinite(e2)) continue;
+      sum += e2;
+      ++n;
+    }
+    return std::sqrt(sum / std::max(1, n));
   }
   void Print(const char* name) const {
     const double n = std::max(1, with_covariance);
@@ -148,9 +152,9 @@ struct Tally {
         name,
         runs,
         failures,
-        Rmse(rotation2),
-        1000.0 * Rmse(translation2),
-        100.0 * Rmse(scale2),
+        Rmse(rotation_errors2),
+        1000.0 * Rmse(translation_errors2),
+        100.0 * Rmse(scale_errors2),
         StatedRotationDeg(),
         100.0 * rotation_covered / n,
         100.0 * x_covered / n,
@@ -253,9 +257,9 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
       "GT-B (inliers)",
       gt_b.runs,
       gt_b.failures,
-      gt_b.Rmse(gt_b.rotation2),
-      1000.0 * gt_b.Rmse(gt_b.translation2),
-      100.0 * gt_b.Rmse(gt_b.scale2));
+      Tally::Rmse(gt_b.rotation_errors2),
+      1000.0 * Tally::Rmse(gt_b.translation_errors2),
+      100.0 * Tally::Rmse(gt_b.scale_errors2));
   for (const auto& [name, tally] :
        {std::pair<const char*, const Tally&>{"default", estimated},
         std::pair<const char*, const Tally&>{"--estimate_noise off", given}}) {
