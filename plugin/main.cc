@@ -34,7 +34,7 @@ const Command kCommands[] = {
      "image folder + odometry -> COLMAP -> calibration and metric model",
      &odomcal::RunRun},
     {"demo",
-     "simulated drive -> files -> calibration, compared with ground truth",
+     "rendered scene -> COLMAP -> calibration, compared with ground truth",
      &odomcal::RunDemo},
     {"render",
      "write a rendered synthetic dataset (images, odometry, ground truth)",
