@@ -12,9 +12,8 @@
 namespace odomcal {
 namespace {
 
-// A wrap by 2 pi leaves the real step, which at any sampling rate of a
-// wheeled robot is far below this.
-constexpr double kMaxWrappedYawStepRad = kPi / 4.0;
+// Slack for yaw written with few digits (pi as 3.14159).
+constexpr double kYawTextSlackRad = 1e-3;
 // Pairs that rotate less than this on both sensors say nothing about the
 // unit of the angles.
 constexpr double kMinPairAngleRad = 1.0 * kPi / 180.0;
@@ -51,14 +50,20 @@ std::optional<std::string> YawStepProblem(double previous_yaw_rad,
                                           bool yaw_unit_named) {
   const double step = yaw_rad - previous_yaw_rad;
   if (!(std::abs(step) > kPi)) return std::nullopt;
-  const double turns = std::round(step / (2.0 * kPi));
-  const double wrapped = step - 2.0 * kPi * turns;
-  if (std::abs(turns) == 1.0 && std::abs(wrapped) <= kMaxWrappedYawStepRad) {
+  // A wrap: both samples in -pi..pi, or both in 0..2 pi.
+  const auto within = [](double yaw, double low, double high) {
+    return yaw >= low - kYawTextSlackRad && yaw <= high + kYawTextSlackRad;
+  };
+  if ((within(previous_yaw_rad, -kPi, kPi) && within(yaw_rad, -kPi, kPi)) ||
+      (within(previous_yaw_rad, 0.0, 2.0 * kPi) &&
+       within(yaw_rad, 0.0, 2.0 * kPi))) {
     return std::nullopt;
   }
   const std::string what =
       "yaw jumps from " + Format("%.6g", previous_yaw_rad) + " to " +
-      Format("%.6g", yaw_rad) + " rad, more than pi and not a 2 pi wrap";
+      Format("%.6g", yaw_rad) +
+      " rad, more than pi and not a wrap of a yaw kept in -pi..pi or "
+      "0..2 pi";
   if (yaw_unit_named) return what;
   return what +
          ": the yaw looks like degrees; name the column yaw_deg in the header "

@@ -40,9 +40,14 @@ inline constexpr double kMaxExtrinsicDistanceM = 5.0;
 inline constexpr int64_t kMinImageIntervalNs = 1000000;  // 1 ms
 
 // The reason a yaw step from `previous_yaw_rad` to `yaw_rad` (consecutive
-// samples, in radians as read) cannot be a real turn, or std::nullopt when
-// it can: more than pi and not a 2 pi wrap. `yaw_unit_named`: the header
-// named the yaw unit, so the message does not suggest naming it.
+// samples, in radians as read) cannot come from a radian log, or
+// std::nullopt when it can. A radian log turns by at most pi between samples
+// either way (a sparse log, one sample per image, may turn that far): its
+// raw step is at most pi, or it wraps, and then both samples lie in the
+// interval the log keeps its yaw in (-pi..pi or 0..2 pi). Anything else
+// cannot be radians; a log in degrees that never wraps is left to
+// CheckRotationAngleUnits. `yaw_unit_named`: the header named the yaw unit,
+// so the message does not suggest naming it.
 std::optional<std::string> YawStepProblem(double previous_yaw_rad,
                                           double yaw_rad,
                                           bool yaw_unit_named);

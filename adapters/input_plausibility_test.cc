@@ -33,22 +33,35 @@ TEST(YawStepProblem, AcceptsSmallStepsAndTwoPiWraps) {
   EXPECT_FALSE(YawStepProblem(3.1, -3.1, false).has_value());  // wrap at pi
   EXPECT_FALSE(YawStepProblem(-3.12, 3.13, false).has_value());
   EXPECT_FALSE(YawStepProblem(100.0, 100.5, false).has_value());  // unwrapped
+  EXPECT_FALSE(YawStepProblem(6.2, 0.1, false).has_value());  // wrap at 2 pi
+  // pi written with six digits, at both ends of -pi..pi.
+  EXPECT_FALSE(YawStepProblem(-3.14159, 3.14159, false).has_value());
+}
+
+// Odometry logged once per image turns up to pi between samples: a 70 deg
+// turn across +-pi (the paper's simulation protocol) is a radian log's step.
+TEST(YawStepProblem, SparseLogsTurnUpToPiAcrossTheWrap) {
+  EXPECT_FALSE(YawStepProblem(-1.98621, 3.07096, false).has_value());
+  EXPECT_FALSE(YawStepProblem(1.6, -1.6, false).has_value());  // 176 deg
+  EXPECT_FALSE(YawStepProblem(0.0, 4.0, false).has_value());   // in 0..2 pi
+  EXPECT_FALSE(YawStepProblem(2.5, 0.0, false).has_value());   // no wrap
 }
 
 TEST(YawStepProblem, DegreesWrappingAtPlusMinus180AreNamed) {
   const auto problem = YawStepProblem(179.0, -179.0, false);
   ASSERT_TRUE(problem.has_value());
   EXPECT_EQ(*problem,
-            "yaw jumps from 179 to -179 rad, more than pi and not a 2 pi wrap: "
-            "the yaw "
-            "looks like degrees; name the column yaw_deg in the header or "
-            "convert it to "
-            "radians");
-  // A step of a few degrees read as radians, more than pi: not a wrap either.
+            "yaw jumps from 179 to -179 rad, more than pi and not a wrap of a "
+            "yaw kept in -pi..pi or 0..2 pi: the yaw looks like degrees; name "
+            "the column yaw_deg in the header or convert it to radians");
+  // Outside -pi..pi and 0..2 pi a step of more than pi is no wrap: degrees
+  // of an unwrapped log, or a glitch.
   EXPECT_TRUE(YawStepProblem(10.0, 14.0, false).has_value());
+  EXPECT_TRUE(YawStepProblem(-2.0, 5.0, false).has_value());
   // With the unit named in the header there is nothing to rename.
-  EXPECT_EQ(*YawStepProblem(0.0, 4.0, true),
-            "yaw jumps from 0 to 4 rad, more than pi and not a 2 pi wrap");
+  EXPECT_EQ(*YawStepProblem(0.0, 7.0, true),
+            "yaw jumps from 0 to 7 rad, more than pi and not a wrap of a yaw "
+            "kept in -pi..pi or 0..2 pi");
 }
 
 TEST(CheckOdometrySpeed, AcceptsARobotAndACar) {

@@ -503,9 +503,9 @@ TEST(ReadOdometryCsv, DegreesAsRadiansAreNamed) {
       "degrees.csv",
       "0,0,0,179.5\n0.1,0,0,179.9\n0.2,0,0,-179.8\n",
       3,
-      "yaw jumps from 179.9 to -179.8 rad, more than pi and not a 2 pi wrap: "
-      "the yaw looks like degrees; name the column yaw_deg in the header or "
-      "convert it to radians");
+      "yaw jumps from 179.9 to -179.8 rad, more than pi and not a wrap of a "
+      "yaw kept in -pi..pi or 0..2 pi: the yaw looks like degrees; name the "
+      "column yaw_deg in the header or convert it to radians");
   // Named as degrees, the same file reads.
   const std::string named = WriteTextFile(
       "degrees_named.csv",

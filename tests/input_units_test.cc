@@ -235,7 +235,8 @@ TEST_F(InputUnits, DegreesWrappingAt180AreNamed) {
   ExpectBadInputContaining(
       RunOdomcal(Calibrate("odometry.csv")),
       kCalibrateError + Path("odometry.csv") + ":",
-      {"more than pi and not a 2 pi wrap: the yaw looks like degrees; "
+      {"more than pi and not a wrap of a yaw kept in -pi..pi or 0..2 pi: the "
+       "yaw looks like degrees; "
        "name the column yaw_deg in the header or convert it to radians"});
 }
 
