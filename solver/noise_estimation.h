@@ -43,6 +43,8 @@
 
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/motion_pair.h"
+#include "odomcal/solver/noise_components.h"
+#include "odomcal/solver/noise_scaling.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -52,71 +54,6 @@
 #include <vector>
 
 namespace odomcal {
-
-enum class NoiseGroup {
-  kOdometryRotation = 0,     // odom_yaw_sigma_*, odom_tilt_sigma_deg
-  kOdometryTranslation = 1,  // odom_translation_sigma_*
-  kCameraRotation = 2,       // cam_rotation_sigma_deg
-  kCameraTranslation = 3,    // cam_translation_sigma_rel
-};
-constexpr int kNumNoiseGroups = 4;
-
-// "odometry rotation", ... (used in messages and the JSON).
-std::string ToString(NoiseGroup group);
-
-// Variance factor per group, indexed by NoiseGroup.
-using NoiseFactors = std::array<double, kNumNoiseGroups>;
-constexpr NoiseFactors kUnitNoiseFactors = {1.0, 1.0, 1.0, 1.0};
-
-// The estimated components, each with its own variance factor.
-enum class NoiseComponent {
-  kOdometryYawConstant = 0,              // odom_yaw_sigma_deg
-  kOdometryYawProportional = 1,          // odom_yaw_sigma_rel
-  kOdometryTilt = 2,                     // odom_tilt_sigma_deg
-  kOdometryTranslationConstant = 3,      // odom_translation_sigma_m
-  kOdometryTranslationProportional = 4,  // odom_translation_sigma_rel
-  kCameraRotation = 5,                   // cam_rotation_sigma_deg
-  kCameraTranslationAcross = 6,          // cam_translation_sigma_rel
-  kCameraTranslationAlong = 7,           // cam_translation_along_sigma_rel
-  kOdometryRotationCovariance = 8,       // the pairs' own covariances
-  kOdometryTranslationCovariance = 9,
-  kCameraRotationCovariance = 10,
-  kCameraTranslationCovariance = 11,
-};
-constexpr int kNumNoiseComponents = 12;
-
-// "odometry yaw, constant part", ... (used in the summary and the JSON).
-std::string ToString(NoiseComponent component);
-NoiseGroup GroupOf(NoiseComponent component);
-
-// Variance factor per component, indexed by NoiseComponent.
-using ComponentFactors = std::array<double, kNumNoiseComponents>;
-constexpr ComponentFactors kUnitComponentFactors = {
-    1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
-
-// The noise model with each component's standard deviation scaled by
-// sqrt(factor) (the along-track camera noise made explicit).
-NoiseModel ScaleNoiseComponents(const NoiseModel& noise,
-                                const ComponentFactors& factors);
-// The factors of the pairs' own covariances, per group (ScaleCovariances).
-NoiseFactors CovarianceFactors(const ComponentFactors& factors);
-
-// The noise model with each group's standard deviations scaled by
-// sqrt(factor) (the noise's shape kept).
-NoiseModel ScaleNoise(const NoiseModel& noise, const NoiseFactors& factors);
-
-// The pairs with their own covariances (where present) scaled by group: the
-// rotation and translation blocks by their factors, the cross blocks by the
-// geometric mean.
-MotionPairs ScaleCovariances(const MotionPairs& pairs,
-                             const NoiseFactors& factors);
-
-struct NoiseEstimate;
-// The pairs weighted as the covariance under `estimate` weighs them: their
-// own covariances scaled by CovarianceFactors(estimate.component_factors).
-// Pair them with estimate.noise.
-MotionPairs ScaleCovariances(const MotionPairs& pairs,
-                             const NoiseEstimate& estimate);
 
 struct NoiseEstimate {
   // Per group: the ratio of the estimated to the given contribution to the
@@ -174,6 +111,12 @@ struct NoiseEstimate {
   // Standard deviation ratio sqrt(factor) of a component.
   double SigmaRatio(NoiseComponent component) const;
 };
+
+// The pairs weighted as the covariance under `estimate` weighs them: their
+// own covariances scaled by CovarianceFactors(estimate.component_factors).
+// Pair them with estimate.noise.
+MotionPairs ScaleCovariances(const MotionPairs& pairs,
+                             const NoiseEstimate& estimate);
 
 // Relative standard deviation of a factor above which its component is not
 // separable (tied) or not determined (kept).

@@ -1,0 +1,111 @@
+// The Kenward-Roger widening of the estimate's covariance for the estimated
+// noise: the term A (noise_estimation_internal.h) and its application to the
+// refinement's information (WidenForEstimatedNoise).
+
+#include "odomcal/solver/noise_estimation.h"
+#include "odomcal/solver/noise_estimation_internal.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace odomcal {
+namespace internal {
+
+Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
+                                 const std::vector<PairForm>& forms,
+                                 const Eigen::VectorXd& mu,
+                                 const Eigen::MatrixXd& multiplier_covariance) {
+  const int num_free = static_cast<int>(mu.size());
+  const Eigen::VectorXd all = WithFixedParameter(mu);
+  const int num_columns = static_cast<int>(terms.front().jacobian.cols());
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  std::vector<Eigen::MatrixXd> first(num_free, normal);
+  std::vector<Eigen::MatrixXd> second(num_free * num_free, normal);
+  std::vector<Matrix6d> derivatives(num_free);
+  std::vector<Matrix6X> pdpj(num_free);
+  for (size_t i = 0; i < terms.size(); ++i) {
+    const Matrix6d covariance =
+        PairCovariance(terms[i], forms[i], all, derivatives.data());
+    const Matrix6d precision = covariance.ldlt().solve(Matrix6d::Identity());
+    const Matrix6X pj = precision * terms[i].jacobian;
+    normal += terms[i].jacobian.transpose() * pj;
+    for (int p = 0; p < num_free; ++p) {
+      pdpj[p] = derivatives[p] * pj;
+      first[p] += pj.transpose() * pdpj[p];
+    }
+    for (int p = 0; p < num_free; ++p) {
+      for (int q = 0; q < num_free; ++q) {
+        second[p * num_free + q] += pdpj[p].transpose() * precision * pdpj[q];
+      }
+    }
+  }
+  const Eigen::MatrixXd phi =
+      normal.completeOrthogonalDecomposition().pseudoInverse();
+  Eigen::MatrixXd term = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  for (int p = 0; p < num_free; ++p) {
+    for (int q = 0; q < num_free; ++q) {
+      const double w = multiplier_covariance(p, q);
+      if (w == 0.0) continue;
+      term += w * (second[p * num_free + q] - first[p] * phi * first[q]);
+    }
+  }
+  return 0.5 * (term + term.transpose());
+}
+
+}  // namespace internal
+
+Eigen::MatrixXd WidenForEstimatedNoise(
+    const Eigen::MatrixXd& information,
+    const std::vector<int>& information_segments,
+    const NoiseEstimate& estimate,
+    double* stddev_widening) {
+  if (stddev_widening) *stddev_widening = 1.0;
+  const Eigen::MatrixXd& term = estimate.kenward_roger_term;
+  const int n = static_cast<int>(information.rows());
+  if (term.size() == 0 || n < 5) return information;
+  // Column of `term` for each column of `information` (-1: none).
+  std::vector<int> source(n, -1);
+  for (int k = 0; k < 5; ++k) source[k] = k;
+  for (size_t k = 0; k < information_segments.size() && 5 + k < source.size();
+       ++k) {
+    const auto found = std::find(estimate.kenward_roger_segments.begin(),
+                                 estimate.kenward_roger_segments.end(),
+                                 information_segments[k]);
+    if (found != estimate.kenward_roger_segments.end()) {
+      source[5 + k] =
+          5 + static_cast<int>(found - estimate.kenward_roger_segments.begin());
+    }
+  }
+  Eigen::MatrixXd mapped = Eigen::MatrixXd::Zero(n, n);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      if (source[r] >= 0 && source[c] >= 0 && source[r] < term.rows() &&
+          source[c] < term.cols()) {
+        mapped(r, c) = term(source[r], source[c]);
+      }
+    }
+  }
+  Eigen::MatrixXd widened = information * (information + 2.0 * mapped)
+                                              .completeOrthogonalDecomposition()
+                                              .solve(information);
+  widened = 0.5 * (widened + widened.transpose());
+  if (stddev_widening) {
+    const Eigen::VectorXd before = information.completeOrthogonalDecomposition()
+                                       .pseudoInverse()
+                                       .diagonal();
+    const Eigen::VectorXd after =
+        widened.completeOrthogonalDecomposition().pseudoInverse().diagonal();
+    for (int k = 0; k < n; ++k) {
+      if (before(k) > 0.0 && std::isfinite(after(k))) {
+        *stddev_widening =
+            std::max(*stddev_widening, std::sqrt(after(k) / before(k)));
+      }
+    }
+  }
+  return widened;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,219 @@
+// One pair's residual covariance split into the noise components'
+// contributions, and as a quadratic form in the parameters' multipliers
+// (noise_estimation_internal.h).
+
+#include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/noise_estimation_internal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <optional>
+
+namespace odomcal::internal {
+namespace {
+
+bool IsOdometry(int component) {
+  return GroupOf(static_cast<NoiseComponent>(component)) ==
+             NoiseGroup::kOdometryRotation ||
+         GroupOf(static_cast<NoiseComponent>(component)) ==
+             NoiseGroup::kOdometryTranslation;
+}
+bool IsOwnCovariance(int component) {
+  return component >= Index(NoiseComponent::kOdometryRotationCovariance);
+}
+
+// The noise model with only the given components' standard deviations.
+NoiseModel OnlyComponents(const NoiseModel& noise,
+                          std::initializer_list<int> components) {
+  NoiseModel only;
+  only.odom_yaw_sigma_deg = 0.0;
+  only.odom_yaw_sigma_rel = 0.0;
+  only.odom_tilt_sigma_deg = 0.0;
+  only.odom_translation_sigma_m = 0.0;
+  only.odom_translation_sigma_rel = 0.0;
+  only.cam_rotation_sigma_deg = 0.0;
+  only.cam_translation_sigma_rel = 0.0;
+  only.cam_translation_along_sigma_rel = 0.0;
+  for (const int c : components) {
+    switch (static_cast<NoiseComponent>(c)) {
+      case NoiseComponent::kOdometryYawConstant:
+        only.odom_yaw_sigma_deg = noise.odom_yaw_sigma_deg;
+        break;
+      case NoiseComponent::kOdometryYawProportional:
+        only.odom_yaw_sigma_rel = noise.odom_yaw_sigma_rel;
+        break;
+      case NoiseComponent::kOdometryTilt:
+        only.odom_tilt_sigma_deg = noise.odom_tilt_sigma_deg;
+        break;
+      case NoiseComponent::kOdometryTranslationConstant:
+        only.odom_translation_sigma_m = noise.odom_translation_sigma_m;
+        break;
+      case NoiseComponent::kOdometryTranslationProportional:
+        only.odom_translation_sigma_rel = noise.odom_translation_sigma_rel;
+        break;
+      case NoiseComponent::kCameraRotation:
+        only.cam_rotation_sigma_deg = noise.cam_rotation_sigma_deg;
+        break;
+      case NoiseComponent::kCameraTranslationAcross:
+        only.cam_translation_sigma_rel = noise.cam_translation_sigma_rel;
+        break;
+      case NoiseComponent::kCameraTranslationAlong:
+        only.cam_translation_along_sigma_rel =
+            noise.CamTranslationAlongSigmaRel();
+        break;
+      default:
+        break;
+    }
+  }
+  return only;
+}
+
+}  // namespace
+
+Matrix6d Contribution(const MotionPair& pair,
+                      const Rigid3d& odom_from_cam,
+                      double scale,
+                      const NoiseModel& start_noise,
+                      std::initializer_list<int> components) {
+  const int first = *components.begin();
+  const bool odometry = IsOdometry(first);
+  const bool own = IsOwnCovariance(first);
+  const std::optional<MotionCovariance>& given =
+      odometry ? pair.odom_covariance : pair.cam_covariance;
+  if (own != given.has_value()) return Matrix6d::Zero();
+  MotionPair masked = pair;
+  masked.odom_interpolation_covariance.reset();
+  (odometry ? masked.cam_covariance : masked.odom_covariance) =
+      MotionCovariance::Zero();
+  NoiseModel noise = start_noise;
+  if (own) {
+    std::vector<int> blocks;
+    MotionCovariance covariance = MotionCovariance::Zero();
+    for (const int c : components) {
+      const int block = GroupOf(static_cast<NoiseComponent>(c)) ==
+                                    NoiseGroup::kOdometryRotation ||
+                                GroupOf(static_cast<NoiseComponent>(c)) ==
+                                    NoiseGroup::kCameraRotation
+                            ? 0
+                            : 1;
+      blocks.push_back(block);
+    }
+    const MotionCovariance& full = *given;
+    if (blocks.size() == 2) {
+      covariance = full;
+    } else {
+      covariance.block<3, 3>(3 * blocks[0], 3 * blocks[0]) =
+          full.block<3, 3>(3 * blocks[0], 3 * blocks[0]);
+    }
+    (odometry ? masked.odom_covariance : masked.cam_covariance) = covariance;
+  } else {
+    noise = OnlyComponents(start_noise, components);
+  }
+  return HandEyeResidualCovariance(masked, odom_from_cam, scale, noise);
+}
+
+// Contribution of the odometry's interpolation error to Cov(r), which no
+// noise factor scales (zero for pairs without one).
+Matrix6d InterpolationContribution(const MotionPair& pair,
+                                   const Rigid3d& odom_from_cam,
+                                   double scale,
+                                   const NoiseModel& noise) {
+  if (!pair.odom_interpolation_covariance) return Matrix6d::Zero();
+  MotionPair only = pair;
+  only.odom_covariance = MotionCovariance::Zero();
+  only.cam_covariance = MotionCovariance::Zero();
+  return HandEyeResidualCovariance(only, odom_from_cam, scale, noise);
+}
+
+Matrix6X ResidualJacobian(const MotionPair& pair,
+                          const Rigid3d& odom_from_cam,
+                          double scale,
+                          int scale_column,
+                          int num_columns,
+                          bool estimate_z) {
+  Matrix6X jacobian = Matrix6X::Zero(6, num_columns);
+  constexpr double kStep = 1e-6;
+  for (int k = 0; k < 3; ++k) {
+    Rigid3d plus = odom_from_cam, minus = odom_from_cam;
+    plus.rotation =
+        ExpRotation(Eigen::Vector3d::Unit(k) * kStep) * odom_from_cam.rotation;
+    minus.rotation =
+        ExpRotation(-Eigen::Vector3d::Unit(k) * kStep) * odom_from_cam.rotation;
+    jacobian.col(k) = (HandEyeResidual(pair, plus, scale) -
+                       HandEyeResidual(pair, minus, scale)) /
+                      (2.0 * kStep);
+  }
+  const int num_translations = estimate_z ? 3 : 2;
+  for (int k = 0; k < num_translations; ++k) {
+    Rigid3d plus = odom_from_cam, minus = odom_from_cam;
+    plus.translation(k) += kStep;
+    minus.translation(k) -= kStep;
+    jacobian.col(3 + k) = (HandEyeResidual(pair, plus, scale) -
+                           HandEyeResidual(pair, minus, scale)) /
+                          (2.0 * kStep);
+  }
+  const double h = kStep * std::max(1.0, std::abs(scale));
+  jacobian.col(scale_column) =
+      (HandEyeResidual(pair, odom_from_cam, scale + h) -
+       HandEyeResidual(pair, odom_from_cam, scale - h)) /
+      (2.0 * h);
+  return jacobian;
+}
+
+std::vector<PairForm> Forms(
+    const std::vector<PairTerms>& terms,
+    const std::array<int, kNumNoiseComponents>& parameter_of,
+    int num_free) {
+  std::vector<PairForm> forms(terms.size());
+  for (size_t i = 0; i < terms.size(); ++i) {
+    PairForm& form = forms[i];
+    form.bases.assign(num_free + 1, Matrix6d::Zero());
+    for (int c = 0; c < kNumNoiseComponents; ++c) {
+      form.bases[parameter_of[c]] += terms[i].contributions[c];
+    }
+    for (int k = 0; k < kNumCoupled; ++k) {
+      const Matrix6d& x = terms[i].coupled[k];
+      if (x.isZero(0.0)) continue;
+      const int p = parameter_of[Index(kCoupled[k].first)];
+      const int q = parameter_of[Index(kCoupled[k].second)];
+      if (p == q) {
+        form.bases[p] += x;
+      } else {
+        form.crosses.push_back({p, q, x});
+      }
+    }
+  }
+  return forms;
+}
+
+Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu) {
+  Eigen::VectorXd all(mu.size() + 1);
+  all << mu, 1.0;
+  return all;
+}
+
+Matrix6d PairCovariance(const PairTerms& term,
+                        const PairForm& form,
+                        const Eigen::VectorXd& all,
+                        Matrix6d* derivatives) {
+  const int num_free = static_cast<int>(all.size()) - 1;
+  Matrix6d covariance = term.interpolation;
+  for (int p = 0; p <= num_free; ++p) covariance += all(p) * form.bases[p];
+  for (int p = 0; p < num_free; ++p) derivatives[p] = form.bases[p];
+  for (const Cross& cross : form.crosses) {
+    covariance += std::sqrt(all(cross.p) * all(cross.q)) * cross.x;
+    if (cross.p < num_free) {
+      derivatives[cross.p] +=
+          0.5 * std::sqrt(all(cross.q) / all(cross.p)) * cross.x;
+    }
+    if (cross.q < num_free) {
+      derivatives[cross.q] +=
+          0.5 * std::sqrt(all(cross.p) / all(cross.q)) * cross.x;
+    }
+  }
+  covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
+  return covariance;
+}
+
+}  // namespace odomcal::internal
