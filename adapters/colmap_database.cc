@@ -1,10 +1,12 @@
-// Opens the database through a percent-encoded "file:" URI with
-// mode=ro&immutable=1 and SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, runs one
-// SELECT per table, and converts each row with range checks. Handles are
-// owned by small RAII wrappers so that every throw closes them. Nothing is
-// ever written: no PRAGMA, no transaction, no schema change.
+// Opens the database read-only (colmap_database_sqlite.cc), runs one
+// SELECT per table (valid in every schema from COLMAP 3.8 to 4.1), and converts
+// each row with range checks. Handles are owned by small RAII wrappers so that
+// every throw closes them. Nothing is ever written: no PRAGMA, no transaction,
+// no schema change.
 #include "odomcal/adapters/colmap_database.h"
 
+#include "odomcal/adapters/colmap_database_internal.h"
+#include "odomcal/adapters/colmap_model_internal.h"
 #include "odomcal/adapters/format_error.h"
 
 #include <sqlite3.h>
@@ -23,89 +25,14 @@
 namespace odomcal {
 namespace {
 
-namespace fs = std::filesystem;
-
-// Percent-encodes everything but unreserved characters and '/', so that '?',
-// '#' and '%' in a path are not taken for URI syntax.
-std::string DatabaseUri(const std::string& path) {
-  static const char kHex[] = "0123456789ABCDEF";
-  std::string uri = path.front() == '/' ? "file://" : "file:";
-  for (const char c : path) {
-    const unsigned char byte = static_cast<unsigned char>(c);
-    if ((byte >= 'a' && byte <= 'z') || (byte >= 'A' && byte <= 'Z') ||
-        (byte >= '0' && byte <= '9') || std::strchr("-._~/", c) != nullptr) {
-      uri.push_back(c);
-    } else {
-      uri.push_back('%');
-      uri.push_back(kHex[byte >> 4]);
-      uri.push_back(kHex[byte & 0xf]);
-    }
-  }
-  return uri + "?mode=ro&immutable=1";
-}
-
-struct DatabaseCloser {
-  void operator()(sqlite3* database) const { sqlite3_close(database); }
-};
-struct StatementFinalizer {
-  void operator()(sqlite3_stmt* statement) const {
-    sqlite3_finalize(statement);
-  }
-};
-using DatabaseHandle = std::unique_ptr<sqlite3, DatabaseCloser>;
-using StatementHandle = std::unique_ptr<sqlite3_stmt, StatementFinalizer>;
+using internal::DatabaseHandle;
+using internal::NextRow;
+using internal::OpenReadOnly;
+using internal::Prepare;
+using internal::StatementHandle;
 
 [[noreturn]] void Fail(const std::string& path, const std::string& what) {
-  throw FormatError(path + ": " + what);
-}
-
-DatabaseHandle OpenReadOnly(const std::string& path) {
-  std::error_code error;
-  if (path.empty() || !fs::is_regular_file(path, error)) {
-    Fail(path,
-         fs::exists(path, error)
-             ? "cannot open the COLMAP database: not a regular file"
-             : "cannot open the COLMAP database: no such file");
-  }
-  sqlite3* raw = nullptr;
-  const int status = sqlite3_open_v2(DatabaseUri(path).c_str(),
-                                     &raw,
-                                     SQLITE_OPEN_READONLY | SQLITE_OPEN_URI,
-                                     nullptr);
-  DatabaseHandle database(raw);
-  if (status != SQLITE_OK) {
-    Fail(path,
-         std::string("cannot open the COLMAP database: ") +
-             (raw != nullptr ? sqlite3_errmsg(raw) : sqlite3_errstr(status)));
-  }
-  return database;
-}
-
-StatementHandle Prepare(sqlite3* database,
-                        const std::string& path,
-                        const char* sql,
-                        const char* table) {
-  sqlite3_stmt* raw = nullptr;
-  const int status = sqlite3_prepare_v2(database, sql, -1, &raw, nullptr);
-  StatementHandle statement(raw);
-  if (status != SQLITE_OK) {
-    Fail(path,
-         std::string("not a readable COLMAP database (reading table '") +
-             table + "'): " + sqlite3_errmsg(database));
-  }
-  return statement;
-}
-
-// Steps to the next row; false when done. Throws on SQLite errors.
-bool NextRow(sqlite3* database,
-             sqlite3_stmt* statement,
-             const std::string& path) {
-  const int status = sqlite3_step(statement);
-  if (status == SQLITE_ROW) return true;
-  if (status == SQLITE_DONE) return false;
-  Fail(path,
-       std::string("cannot read the COLMAP database: ") +
-           sqlite3_errmsg(database));
+  internal::FailDatabase(path, what);
 }
 
 int64_t IntegerColumn(sqlite3_stmt* statement,
@@ -197,8 +124,7 @@ std::vector<ColmapDatabaseCamera> ReadColmapDatabaseCameras(
             : std::nullopt;
     if (!model) {
       Fail(database_path,
-           row_with_id + ": unknown camera model id " +
-               std::to_string(model_id) + " (COLMAP 3.8 models are 0 to 10)");
+           row_with_id + ": " + internal::UnknownModelIdText(model_id));
     }
     camera.model = *model;
     camera.width = static_cast<uint64_t>(IntegerColumn(

@@ -3,7 +3,9 @@
 // Only the `images` (image_id, name, camera_id) and `cameras` (camera_id,
 // model, width, height, params, prior_focal_length) columns are read; their
 // names and meaning are the same from COLMAP 3.8 (whose images table also
-// holds prior_q*/prior_t*) to 4.x, so databases of any of these versions work.
+// holds prior_q*/prior_t*) to 4.1, so databases of any of these versions work
+// (colmap_database_version.h tells the versions apart). Camera model ids are
+// those of colmap_model.h: 0 to 17, as COLMAP 4.1 knows them.
 // image_ids are assigned in import order, NOT in name order: join images
 // across the database and models by name.
 //

@@ -12,8 +12,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The images table of COLMAP 3.8 (prior columns included).
+// The cameras and images tables of COLMAP 3.8 (prior columns included).
 constexpr const char* kImages38 =
+    "CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY, model INTEGER);"
     "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
     "name TEXT NOT NULL UNIQUE, camera_id INTEGER NOT NULL, prior_qw REAL, "
     "prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty "

@@ -228,7 +228,10 @@ TEST(ColmapDatabase, RejectsBadCameraRows) {
     const char* part;
   };
   const Case cases[] = {
-      {11, ParamsBlob({1, 2, 3}), "camera_id 1: unknown camera model id 11"},
+      {18,
+       ParamsBlob({1, 2, 3}),
+       "camera_id 1: unknown camera model id 18 (COLMAP 3.8 to 4.1 models are "
+       "0 to 17)"},
       {-1, ParamsBlob({1, 2, 3}), "unknown camera model id -1"},
       {1,
        ParamsBlob({1, 2, 3}),

@@ -39,19 +39,30 @@ using internal::WriteText;
 // is garbled or was not written as cam_from_world quaternions at all.
 constexpr double kMaxQuaternionNormDeviation = 1e-2;
 
-// Index = COLMAP model id (camera_models.h of COLMAP 3.8).
+// Index = COLMAP model id (src/colmap/sensor/models.h of COLMAP 4.1; ids
+// 0-10 as in 3.8's src/base/camera_models.h, 11 from 3.11, 12-15 from 4.0).
 constexpr CameraModelInfo kCameraModels[] = {
-    {ColmapCameraModel::kSimplePinhole, "SIMPLE_PINHOLE", 3},
-    {ColmapCameraModel::kPinhole, "PINHOLE", 4},
-    {ColmapCameraModel::kSimpleRadial, "SIMPLE_RADIAL", 4},
-    {ColmapCameraModel::kRadial, "RADIAL", 5},
-    {ColmapCameraModel::kOpenCV, "OPENCV", 8},
-    {ColmapCameraModel::kOpenCVFisheye, "OPENCV_FISHEYE", 8},
-    {ColmapCameraModel::kFullOpenCV, "FULL_OPENCV", 12},
-    {ColmapCameraModel::kFov, "FOV", 5},
-    {ColmapCameraModel::kSimpleRadialFisheye, "SIMPLE_RADIAL_FISHEYE", 4},
-    {ColmapCameraModel::kRadialFisheye, "RADIAL_FISHEYE", 5},
-    {ColmapCameraModel::kThinPrismFisheye, "THIN_PRISM_FISHEYE", 12},
+    {ColmapCameraModel::kSimplePinhole, "SIMPLE_PINHOLE", 3, 1},
+    {ColmapCameraModel::kPinhole, "PINHOLE", 4, 2},
+    {ColmapCameraModel::kSimpleRadial, "SIMPLE_RADIAL", 4, 1},
+    {ColmapCameraModel::kRadial, "RADIAL", 5, 1},
+    {ColmapCameraModel::kOpenCV, "OPENCV", 8, 2},
+    {ColmapCameraModel::kOpenCVFisheye, "OPENCV_FISHEYE", 8, 2},
+    {ColmapCameraModel::kFullOpenCV, "FULL_OPENCV", 12, 2},
+    {ColmapCameraModel::kFov, "FOV", 5, 2},
+    {ColmapCameraModel::kSimpleRadialFisheye, "SIMPLE_RADIAL_FISHEYE", 4, 1},
+    {ColmapCameraModel::kRadialFisheye, "RADIAL_FISHEYE", 5, 1},
+    {ColmapCameraModel::kThinPrismFisheye, "THIN_PRISM_FISHEYE", 12, 2},
+    {ColmapCameraModel::kRadTanThinPrismFisheye,
+     "RAD_TAN_THIN_PRISM_FISHEYE",
+     16,
+     2},
+    {ColmapCameraModel::kSimpleDivision, "SIMPLE_DIVISION", 4, 1},
+    {ColmapCameraModel::kDivision, "DIVISION", 5, 2},
+    {ColmapCameraModel::kSimpleFisheye, "SIMPLE_FISHEYE", 3, 1},
+    {ColmapCameraModel::kFisheye, "FISHEYE", 4, 2},
+    {ColmapCameraModel::kEucm, "EUCM", 6, 2},
+    {ColmapCameraModel::kEquirectangular, "EQUIRECTANGULAR", 2, 0},
 };
 constexpr int kNumCameraModels =
     static_cast<int>(sizeof(kCameraModels) / sizeof(kCameraModels[0]));
@@ -71,7 +82,7 @@ const CameraModelInfo& ModelInfo(ColmapCameraModel model) {
 
 std::string UnknownModelIdText(int64_t id) {
   return "unknown camera model id " + std::to_string(id) +
-         " (COLMAP 3.8 models are 0 to " +
+         " (COLMAP 3.8 to 4.1 models are 0 to " +
          std::to_string(kNumCameraModels - 1) + ")";
 }
 
@@ -148,6 +159,36 @@ void CheckPoint3DReferences(const ColmapModel& model,
       }
     }
   }
+}
+
+// A model with rigs and frames (COLMAP >= 3.12) takes its images' poses
+// from them; one without both files keeps the poses of images.bin/.txt
+// (COLMAP builds trivial rigs and frames from those). A model of one format
+// never looks at the other format's rigs and frames.
+void ApplyRigsAndFrames(const std::string& dir,
+                        const std::string& extension,
+                        std::map<uint32_t, ColmapImage>* images) {
+  const std::string rigs_path = (fs::path(dir) / ("rigs" + extension)).string();
+  const std::string frames_path =
+      (fs::path(dir) / ("frames" + extension)).string();
+  std::error_code error;
+  const bool has_rigs = fs::exists(rigs_path, error);
+  const bool has_frames = fs::exists(frames_path, error);
+  if (!has_rigs && !has_frames) return;
+  if (has_rigs != has_frames) {
+    throw FormatError((has_rigs ? rigs_path : frames_path) + ": no " +
+                      (has_rigs ? "frames" : "rigs") + extension +
+                      " beside it: COLMAP >= 3.12 reads the two together "
+                      "(each image's pose comes from its frame); restore the "
+                      "missing file or remove both");
+  }
+  const bool binary = extension == ".bin";
+  const internal::RigMap rigs = binary ? internal::ReadRigsBinary(rigs_path)
+                                       : internal::ReadRigsText(rigs_path);
+  const internal::FrameMap frames =
+      binary ? internal::ReadFramesBinary(frames_path)
+             : internal::ReadFramesText(frames_path);
+  internal::PoseImagesFromFrames(rigs, frames, images, rigs_path, frames_path);
 }
 
 // ---------------------------------------------------------------------------
@@ -256,6 +297,18 @@ std::optional<ColmapCameraModel> ColmapCameraModelFromId(int model_id) {
   return kCameraModels[model_id].model;
 }
 
+std::optional<ColmapPinholeIndices> ColmapCameraModelPinholeIndices(
+    ColmapCameraModel model) {
+  const CameraModelInfo& info = ModelInfo(model);
+  if (info.num_focal_params == 0) return std::nullopt;
+  ColmapPinholeIndices indices;
+  indices.fx = 0;
+  indices.fy = info.num_focal_params - 1;
+  indices.cx = info.num_focal_params;
+  indices.cy = info.num_focal_params + 1;
+  return indices;
+}
+
 std::optional<ColmapCameraModel> ColmapCameraModelFromName(
     std::string_view name) {
   for (const CameraModelInfo& info : kCameraModels) {
@@ -328,6 +381,7 @@ ColmapModel ReadColmapModel(const std::string& dir,
       model.points3D = ReadPoints3DText(points_path, model.images, images_path);
     }
   }
+  ApplyRigsAndFrames(dir, extension, &model.images);
   if (options.read_points3D) {
     CheckPoint3DReferences(model, images_path, points_path);
   }
@@ -344,10 +398,29 @@ void WriteColmapModel(const ColmapModel& model,
     throw FormatError(dir +
                       ": cannot create the directory: " + error.message());
   }
+  // Rigs and frames of this format go first, so that a write that stops
+  // half-way never leaves stale frames beside new images.
+  const std::string extension =
+      format == ColmapFormat::kBinary ? ".bin" : ".txt";
+  const std::string rigs_path = (fs::path(dir) / ("rigs" + extension)).string();
+  const std::string frames_path =
+      (fs::path(dir) / ("frames" + extension)).string();
+  for (const std::string& stale : {frames_path, rigs_path}) {
+    fs::remove(stale, error);
+    if (error) {
+      throw FormatError(stale + ": cannot remove: " + error.message());
+    }
+  }
+  const internal::RigMap rigs = internal::TrivialRigs(model);
+  const internal::FrameMap frames = internal::TrivialFrames(model);
   if (format == ColmapFormat::kBinary) {
     WriteBinary(model, dir);
+    internal::WriteRigsBinary(rigs, rigs_path);
+    internal::WriteFramesBinary(frames, frames_path);
   } else {
     WriteText(model, dir);
+    internal::WriteRigsText(rigs, rigs_path);
+    internal::WriteFramesText(frames, frames_path);
   }
 }
 

@@ -1,7 +1,8 @@
-// COLMAP sparse models (cameras, images, points3D) in COLMAP's binary and
-// text formats, read and written exactly as COLMAP 3.8 does
-// (src/base/reconstruction.cc; the formats are unchanged up to 4.x for these
-// three files).
+// COLMAP sparse models (cameras, images, points3D, and from COLMAP 3.12 on
+// rigs and frames) in COLMAP's binary and text formats, read and written as
+// COLMAP 3.8 to 4.1 do (3.8's src/base/reconstruction.cc; cameras, images
+// and points3D are unchanged up to 4.1, rigs and frames come with 3.12:
+// src/colmap/scene/reconstruction_io_{binary,text}.cc).
 //
 // Poses: an image stores cam_from_world, the map from the model's world
 // frame ("sfm" in odomcal's vocabulary) into the camera frame
@@ -28,6 +29,17 @@
 // with -1 for none; the second line may be empty) and one line per point
 // ("POINT3D_ID X Y Z R G B ERROR IMAGE_ID POINT2D_IDX ...").
 //
+// Rigs and frames (rigs.bin/frames.bin, or .txt beside a text model; their
+// layout is in colmap_model_rigs_binary.cc / _text.cc): COLMAP >= 3.12 takes
+// each image's pose from the frame that lists it, rig_from_world for the
+// rig's reference camera and sensor_from_rig * rig_from_world for another
+// camera, and ignores the pose in images.bin. ReadColmapModel does the same,
+// so ColmapImage::cam_from_world is the pose COLMAP uses. A model with only
+// one of the two files, an image in no frame, or a camera without
+// sensor_from_rig is refused, as COLMAP cannot read it either. Without both
+// files the images' own poses are used (COLMAP 3.8-3.11, and 3.12+ builds
+// trivial rigs and frames from them).
+//
 // Reading is strict, and throws FormatError naming the file and, for text,
 // "path:line", for binary "path: byte N" plus the record, on: truncated
 // files, trailing bytes, unknown camera models, parameter counts that do not
@@ -53,18 +65,26 @@
 
 namespace odomcal {
 
-// COLMAP's camera models with their COLMAP 3.8 ids (the value) and parameter
-// counts (ColmapCameraModelNumParams):
-//   SIMPLE_PINHOLE 3 (f, cx, cy)        PINHOLE 4 (fx, fy, cx, cy)
-//   SIMPLE_RADIAL 4 (f, cx, cy, k)      RADIAL 5 (f, cx, cy, k1, k2)
-//   OPENCV 8 (fx, fy, cx, cy, k1, k2, p1, p2)
-//   OPENCV_FISHEYE 8 (fx, fy, cx, cy, k1, k2, k3, k4)
-//   FULL_OPENCV 12 (fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6)
-//   FOV 5 (fx, fy, cx, cy, omega)       SIMPLE_RADIAL_FISHEYE 4 (f, cx, cy, k)
-//   RADIAL_FISHEYE 5 (f, cx, cy, k1, k2)
-//   THIN_PRISM_FISHEYE 12 (fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, sx1, sy1)
-// Later COLMAP versions add RAD_TAN_THIN_PRISM_FISHEYE (11); COLMAP 3.8 does
-// not know it, so it is rejected here too.
+// COLMAP's camera models with their COLMAP ids (the value) and parameter
+// counts (ColmapCameraModelNumParams), in COLMAP's parameter order. Ids 0-10
+// exist in every COLMAP from 3.8 on; the others from the release named:
+//   0 SIMPLE_PINHOLE 3 (f, cx, cy)        1 PINHOLE 4 (fx, fy, cx, cy)
+//   2 SIMPLE_RADIAL 4 (f, cx, cy, k)      3 RADIAL 5 (f, cx, cy, k1, k2)
+//   4 OPENCV 8 (fx, fy, cx, cy, k1, k2, p1, p2)
+//   5 OPENCV_FISHEYE 8 (fx, fy, cx, cy, k1, k2, k3, k4)
+//   6 FULL_OPENCV 12 (fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6)
+//   7 FOV 5 (fx, fy, cx, cy, omega)       8 SIMPLE_RADIAL_FISHEYE 4 (f, cx, cy,
+//   k) 9 RADIAL_FISHEYE 5 (f, cx, cy, k1, k2) 10 THIN_PRISM_FISHEYE 12 (fx, fy,
+//   cx, cy, k1, k2, p1, p2, k3, k4, sx1, sy1) 11 RAD_TAN_THIN_PRISM_FISHEYE 16
+//   (fx, fy, cx, cy, k0, k1, k2, k3, k4, k5,
+//      p0, p1, s0, s1, s2, s3)                                    COLMAP 3.11
+//   12 SIMPLE_DIVISION 4 (f, cx, cy, k)   13 DIVISION 5 (fx, fy, cx, cy, k)
+//   14 SIMPLE_FISHEYE 3 (f, cx, cy)       15 FISHEYE 4 (fx, fy, cx, cy)
+//                                                                 COLMAP 4.0
+//   16 EUCM 6 (fx, fy, cx, cy, alpha, beta)
+//   17 EQUIRECTANGULAR 2 (w, h: the panorama's size; no focal length)
+//                                                                 COLMAP 4.1
+// (COLMAP's src/colmap/sensor/models.h, InitializeParamsInfo, at the tags.)
 enum class ColmapCameraModel : int {
   kSimplePinhole = 0,
   kPinhole = 1,
@@ -77,6 +97,13 @@ enum class ColmapCameraModel : int {
   kSimpleRadialFisheye = 8,
   kRadialFisheye = 9,
   kThinPrismFisheye = 10,
+  kRadTanThinPrismFisheye = 11,
+  kSimpleDivision = 12,
+  kDivision = 13,
+  kSimpleFisheye = 14,
+  kFisheye = 15,
+  kEucm = 16,
+  kEquirectangular = 17,
 };
 
 // COLMAP's name, e.g. "SIMPLE_RADIAL". Throws std::invalid_argument for a
@@ -88,6 +115,19 @@ int ColmapCameraModelNumParams(ColmapCameraModel model);
 std::optional<ColmapCameraModel> ColmapCameraModelFromId(int model_id);
 std::optional<ColmapCameraModel> ColmapCameraModelFromName(
     std::string_view name);
+
+// Where a model keeps its pinhole part: params[fx], params[fy] (the same
+// index for the one-focal models), params[cx], params[cy].
+struct ColmapPinholeIndices {
+  int fx = 0;
+  int fy = 0;
+  int cx = 0;
+  int cy = 0;
+};
+// std::nullopt for EQUIRECTANGULAR, which has no focal length (its view is
+// the full sphere). Throws std::invalid_argument like above.
+std::optional<ColmapPinholeIndices> ColmapCameraModelPinholeIndices(
+    ColmapCameraModel model);
 
 struct ColmapCamera {
   uint32_t camera_id = 0;
@@ -159,13 +199,24 @@ struct ColmapReadOptions {
 ColmapModel ReadColmapModel(const std::string& dir,
                             const ColmapReadOptions& options = {});
 
-// Writes cameras, images and points3D to `dir` (created if missing) in
-// `format`, records in increasing id order, byte for byte as COLMAP 3.8 writes
-// them: binary little endian; text with COLMAP's headers and numbers in "%.17g"
-// form (locale-independent), quaternions normalised. Existing files of that
-// format are replaced; files of the other format are left alone, so writing
-// text into a folder that holds .bin files leaves a folder that readers
-// (COLMAP and ReadColmapModel) still read as the OLD binary model.
+// Writes cameras, images, points3D, rigs and frames to `dir` (created if
+// missing) in `format`, records in increasing id order, byte for byte as
+// COLMAP writes them: binary little endian; text with COLMAP's headers and
+// numbers in "%.17g" form (locale-independent), quaternions normalised.
+// Rigs and frames are the trivial ones COLMAP >= 3.12 builds for a model
+// without them: one rig per camera (rig_id = camera_id, the camera its only
+// sensor) and one frame per image (frame_id = image_id, rig_id = camera_id,
+// rig_from_world = the image's cam_from_world, the same numbers as in
+// images.bin). They are written rather than left out because a folder may
+// hold rigs/frames of an earlier model: COLMAP >= 3.12 would take the poses
+// from those stale frames. Writing them makes every folder odomcal writes
+// consistent whatever was there, and the same model COLMAP >= 3.12 would
+// build itself (a camera that was a non-reference sensor of a rig becomes a
+// rig of its own, its images keeping their composed poses); COLMAP 3.8-3.11
+// ignore the two files. Existing files of that format are replaced (rigs and
+// frames are removed first); files of the other format are left alone, so
+// writing text into a folder that holds .bin files leaves a folder that
+// readers (COLMAP and ReadColmapModel) still read as the OLD binary model.
 // Throws std::invalid_argument when the model cannot be written faithfully
 // (map key differing from the id, parameter count not matching the model,
 // non-finite values, a zero quaternion, an unrepresentable name, a point3D_id

@@ -1,14 +1,10 @@
-// COLMAP's binary model files (cameras.bin, images.bin, points3D.bin).
-// They are read through a BinaryReader that knows the file size and its own
-// offset: every field read first checks that its bytes remain, every count
-// is compared with the remaining bytes divided by the smallest possible
-// record size before anything is reserved, and the failure message carries
-// the path, the byte offset of the field and the record being read.
-// Little-endian integers are assembled byte by byte, so the code does not
-// depend on the host's byte order. The writer mirrors COLMAP 3.8's
-// WriteXxxBinary: the same field order and widths.
+// COLMAP's binary model files (cameras.bin, images.bin, points3D.bin),
+// read through BinaryReader (colmap_model_binary_reader.h). The writer
+// mirrors COLMAP's WriteXxxBinary (unchanged from 3.8 to 4.1): the same field
+// order and widths.
 
 #include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/colmap_model_binary_reader.h"
 #include "odomcal/adapters/colmap_model_internal.h"
 #include "odomcal/adapters/format_error.h"
 
@@ -33,138 +29,11 @@ namespace fs = std::filesystem;
 constexpr uint64_t kBinaryNoPoint3D = std::numeric_limits<uint64_t>::max();
 
 // Smallest possible binary records, for bounding counts before allocating.
-constexpr uint64_t kMinCameraBytes = 4 + 4 + 8 + 8 + 3 * 8;
+constexpr uint64_t kMinCameraBytes = 4 + 4 + 8 + 8 + 2 * 8;
 constexpr uint64_t kMinImageBytes = 4 + 7 * 8 + 4 + 1 + 8;  // empty name
 constexpr uint64_t kPoint2DBytes = 3 * 8;
 constexpr uint64_t kMinPoint3DBytes = 8 + 3 * 8 + 3 + 8 + 8;
 constexpr uint64_t kTrackElementBytes = 4 + 4;
-
-class BinaryReader {
- public:
-  explicit BinaryReader(const std::string& path) : path_(path) {
-    std::error_code error;
-    if (fs::is_directory(path, error)) {
-      throw FormatError(path + ": cannot open for reading: is a directory");
-    }
-    errno = 0;
-    stream_.open(path, std::ios::binary);
-    if (!stream_.is_open()) {
-      throw FormatError(path + ": cannot open for reading" + OpenReason());
-    }
-    size_ = fs::file_size(path, error);
-    if (error) {
-      throw FormatError(path +
-                        ": cannot determine the file size: " + error.message());
-    }
-  }
-
-  const std::string& path() const { return path_; }
-  uint64_t offset() const { return offset_; }
-  uint64_t remaining() const { return size_ - offset_; }
-  void set_record(std::string record) { record_ = std::move(record); }
-
-  uint8_t ReadU8(const char* what) {
-    return static_cast<uint8_t>(ReadLittleEndian(1, what));
-  }
-  uint32_t ReadU32(const char* what) {
-    return static_cast<uint32_t>(ReadLittleEndian(4, what));
-  }
-  int32_t ReadI32(const char* what) {
-    const uint32_t bits = ReadU32(what);
-    int32_t value = 0;
-    std::memcpy(&value, &bits, sizeof(value));
-    return value;
-  }
-  uint64_t ReadU64(const char* what) { return ReadLittleEndian(8, what); }
-
-  double ReadFiniteDouble(const char* what) {
-    const uint64_t start = offset_;
-    const uint64_t bits = ReadLittleEndian(8, what);
-    double value = 0.0;
-    std::memcpy(&value, &bits, sizeof(value));
-    if (!std::isfinite(value)) {
-      FailAt(start, std::string(what) + " is not finite");
-    }
-    return value;
-  }
-
-  // A uint64 count of items that take at least `min_item_bytes` each; fails
-  // unless that many items fit in the rest of the file.
-  uint64_t ReadCount(const char* what, uint64_t min_item_bytes) {
-    const uint64_t start = offset_;
-    const uint64_t count = ReadU64(what);
-    if (count > remaining() / min_item_bytes) {
-      FailAt(start,
-             std::string(what) + " is " + std::to_string(count) + ", but the " +
-                 std::to_string(remaining()) +
-                 " remaining bytes hold at most " +
-                 std::to_string(remaining() / min_item_bytes) +
-                 " (garbled or truncated file)");
-    }
-    return count;
-  }
-
-  // Bytes up to a '\0', which is consumed.
-  std::string ReadNullTerminated(const char* what) {
-    const uint64_t start = offset_;
-    std::string text;
-    while (true) {
-      if (remaining() == 0) {
-        FailAt(start,
-               std::string("truncated: ") + what +
-                   " has no terminating '\\0' before the end of the file");
-      }
-      const char c = static_cast<char>(ReadU8(what));
-      if (c == '\0') return text;
-      text.push_back(c);
-    }
-  }
-
-  void ExpectEnd() {
-    record_.clear();
-    if (remaining() != 0) {
-      Fail(std::to_string(remaining()) +
-           " unexpected bytes after the last record (garbled count?)");
-    }
-  }
-
-  [[noreturn]] void Fail(const std::string& what) const {
-    FailAt(offset_, what);
-  }
-
-  [[noreturn]] void FailAt(uint64_t offset, const std::string& what) const {
-    throw FormatError(path_ + ": byte " + std::to_string(offset) + ": " +
-                      (record_.empty() ? "" : record_ + ": ") + what);
-  }
-
- private:
-  uint64_t ReadLittleEndian(int num_bytes, const char* what) {
-    if (remaining() < static_cast<uint64_t>(num_bytes)) {
-      Fail(std::string("truncated: ") + what + " needs " +
-           std::to_string(num_bytes) + " bytes, " +
-           std::to_string(remaining()) + " remain");
-    }
-    unsigned char bytes[8] = {};
-    stream_.read(reinterpret_cast<char*>(bytes), num_bytes);
-    if (stream_.gcount() != num_bytes)
-      Fail(std::string("read error at ") + what);
-    offset_ += num_bytes;
-    uint64_t value = 0;
-    for (int i = num_bytes - 1; i >= 0; --i) value = (value << 8) | bytes[i];
-    return value;
-  }
-
-  std::string path_;
-  std::ifstream stream_;
-  uint64_t size_ = 0;
-  uint64_t offset_ = 0;
-  std::string record_;
-};
-
-std::string RecordName(const char* kind, uint64_t index, uint64_t count) {
-  return std::string(kind) + " " + std::to_string(index + 1) + " of " +
-         std::to_string(count);
-}
 
 }  // namespace
 
@@ -173,7 +42,7 @@ std::map<uint32_t, ColmapCamera> ReadCamerasBinary(const std::string& path) {
   std::map<uint32_t, ColmapCamera> cameras;
   const uint64_t count = reader.ReadCount("number of cameras", kMinCameraBytes);
   for (uint64_t i = 0; i < count; ++i) {
-    const std::string record = RecordName("camera", i, count);
+    const std::string record = BinaryRecordName("camera", i, count);
     reader.set_record(record);
     ColmapCamera camera;
     camera.camera_id = reader.ReadU32("camera_id");
@@ -191,7 +60,7 @@ std::map<uint32_t, ColmapCamera> ReadCamerasBinary(const std::string& path) {
     camera.model = *model;
     camera.width = reader.ReadU64("width");
     camera.height = reader.ReadU64("height");
-    // Bounded by the model table (at most 12), never by file content.
+    // Bounded by the model table (at most 16), never by file content.
     camera.params.resize(ModelInfo(camera.model).num_params);
     for (double& param : camera.params)
       param = reader.ReadFiniteDouble("param");
@@ -209,7 +78,7 @@ std::map<uint32_t, ColmapImage> ReadImagesBinary(
   std::map<uint32_t, ColmapImage> images;
   const uint64_t count = reader.ReadCount("number of images", kMinImageBytes);
   for (uint64_t i = 0; i < count; ++i) {
-    const std::string record = RecordName("image", i, count);
+    const std::string record = BinaryRecordName("image", i, count);
     reader.set_record(record);
     ColmapImage image;
     image.image_id = reader.ReadU32("image_id");
@@ -266,7 +135,7 @@ std::map<int64_t, ColmapPoint3D> ReadPoints3DBinary(
   const uint64_t count =
       reader.ReadCount("number of points3D", kMinPoint3DBytes);
   for (uint64_t i = 0; i < count; ++i) {
-    const std::string record = RecordName("point3D", i, count);
+    const std::string record = BinaryRecordName("point3D", i, count);
     reader.set_record(record);
     ColmapPoint3D point;
     const uint64_t id = reader.ReadU64("point3D_id");

@@ -9,14 +9,17 @@
 #include <Eigen/Geometry>
 
 #include <cerrno>
+#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace odomcal::internal {
 
@@ -27,9 +30,11 @@ struct CameraModelInfo {
   ColmapCameraModel model;
   const char* name;
   int num_params;
+  // 1: f, cx, cy first; 2: fx, fy, cx, cy first; 0: no focal length.
+  int num_focal_params;
 };
 
-// The model's entry of the table (camera_models.h of COLMAP 3.8). Throws
+// The model's entry of the table (sensor/models.h of COLMAP 4.1). Throws
 // std::invalid_argument for a value outside the enum.
 const CameraModelInfo& ModelInfo(ColmapCameraModel model);
 
@@ -50,6 +55,80 @@ std::string TrackElementProblem(const ColmapTrackElement& element,
                                 const std::map<uint32_t, ColmapImage>& images,
                                 const std::string& images_path);
 Eigen::Quaterniond NormalizedRotation(const ColmapImage& image);
+
+// "%.17g" in the C locale, as COLMAP's ostreams with precision(17) print.
+inline std::string FormatDouble(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(
+      buffer, buffer + sizeof(buffer), value, std::chars_format::general, 17);
+  return std::string(buffer, result.ptr);
+}
+
+// ---------------------------------------------------------------------------
+// Rigs and frames (rigs.bin/.txt, frames.bin/.txt; COLMAP >= 3.12).
+
+// COLMAP's SensorType (src/colmap/util/types.h).
+inline constexpr int32_t kSensorCamera = 0;
+inline constexpr int32_t kSensorImu = 1;
+
+struct SensorId {
+  int32_t type = kSensorCamera;
+  uint32_t id = 0;  // camera_id for cameras
+};
+
+struct RigSensor {
+  SensorId sensor;
+  std::optional<Rigid3d> sensor_from_rig;  // none: not calibrated
+};
+
+struct Rig {
+  uint32_t rig_id = 0;
+  std::optional<SensorId> ref_sensor;  // none: a rig without sensors
+  std::vector<RigSensor> other_sensors;
+};
+
+struct FrameData {
+  SensorId sensor;
+  uint64_t data_id = 0;  // image_id for cameras
+};
+
+struct Frame {
+  uint32_t frame_id = 0;
+  uint32_t rig_id = 0;
+  Rigid3d rig_from_world;  // normalised
+  std::vector<FrameData> data;
+};
+
+using RigMap = std::map<uint32_t, Rig>;
+using FrameMap = std::map<uint32_t, Frame>;
+
+// One rig per camera (rig_id = camera_id, the camera its reference sensor)
+// and one frame per image (frame_id = image_id, rig_id = camera_id,
+// rig_from_world = the image's normalised cam_from_world): what COLMAP
+// >= 3.12 builds for a model without rigs and frames.
+RigMap TrivialRigs(const ColmapModel& model);
+FrameMap TrivialFrames(const ColmapModel& model);
+
+// Replaces each image's cam_from_world by its frame's pose, as COLMAP >= 3.12
+// does: rig_from_world for the rig's reference camera, sensor_from_rig *
+// rig_from_world for another camera. Throws FormatError naming the file on
+// a frame naming no rig, an image in no frame or in two, and a camera that
+// is not a posed sensor of its frame's rig.
+void PoseImagesFromFrames(const RigMap& rigs,
+                          const FrameMap& frames,
+                          std::map<uint32_t, ColmapImage>* images,
+                          const std::string& rigs_path,
+                          const std::string& frames_path);
+
+RigMap ReadRigsBinary(const std::string& path);
+FrameMap ReadFramesBinary(const std::string& path);
+void WriteRigsBinary(const RigMap& rigs, const std::string& path);
+void WriteFramesBinary(const FrameMap& frames, const std::string& path);
+
+RigMap ReadRigsText(const std::string& path);
+FrameMap ReadFramesText(const std::string& path);
+void WriteRigsText(const RigMap& rigs, const std::string& path);
+void WriteFramesText(const FrameMap& frames, const std::string& path);
 
 // Opens `path` for writing and throws FormatError naming it on failure.
 class OutputFile {

@@ -25,14 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "%.17g" in the C locale, as COLMAP's ostreams with precision(17) print.
-std::string FormatDouble(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(
-      buffer, buffer + sizeof(buffer), value, std::chars_format::general, 17);
-  return std::string(buffer, result.ptr);
-}
-
 }  // namespace
 
 std::map<uint32_t, ColmapCamera> ReadCamerasText(const std::string& path) {
