@@ -1,6 +1,5 @@
 #include "odomcal/datasets/paper/two_view_consistency.h"
 
-#include "odomcal/datasets/paper/paper_evaluation.h"
 #include "odomcal/datasets/paper/paper_sweeps.h"
 #include "odomcal/datasets/paper/two_view_pose.h"
 #include "odomcal/solver/angles.h"
@@ -10,11 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <iomanip>
 #include <iostream>
 #include <optional>
 #include <random>
-#include <sstream>
 #include <vector>
 
 namespace odomcal {
@@ -64,7 +61,8 @@ TEST(AddTwoViewErrors, WhitensWithTheFiveObservableDimensions) {
 // The two-view estimators compared on the nominal landmark protocol (1 px,
 // 12 landmarks 0.5-5 m deep, f = 400 px, 20 motions per simulation): the
 // same motions and observations for each. Numbers of larger runs:
-// docs/paper_reproduction.md, "Two-view estimates".
+// docs/paper_reproduction.md, "Two-view estimates" (benchmarks/
+// paper_studies two_view_large_set).
 struct TwoViewEstimator {
   const char* name;
   bool multi_start;
@@ -119,26 +117,6 @@ TEST(TwoViewConsistency, EveryStartAndTheScanShortenTheTail) {
   EXPECT_EQ(scanned.gross_error_rate, no_scan.gross_error_rate);
   EXPECT_LT(scanned.nees_quantile_99, 0.8 * no_scan.nees_quantile_99);
   EXPECT_LT(scanned.nees_quantile_99, 2.0 * kChiSquare5Quantile99);
-}
-
-// The figures of docs/paper_reproduction.md, "Two-view estimates", on 5 000
-// motions of the nominal protocol (seed 704), the three estimators:
-//   paper_evaluation_test --gtest_also_run_disabled_tests
-//       --gtest_filter=TwoViewConsistency.DISABLED_LargeSet
-TEST(TwoViewConsistency, DISABLED_LargeSet) {
-  std::cout
-      << "| two-view estimator | motions | NEES median | p90 | p99 | max | "
-         "gross [%] |\n| --- | --- | --- | --- | --- | --- | --- |\n";
-  for (const TwoViewEstimator& estimator :
-       {kEightPointOnly, kEveryStartNoScan, kDefaultEstimator}) {
-    const TwoViewConsistency c = NominalTwoViewConsistency(estimator, 250, 704);
-    std::cout << "| " << estimator.name << " | " << c.num_motions << " | "
-              << std::setprecision(3) << c.nees_median << " | "
-              << c.nees_quantile_90 << " | " << c.nees_quantile_99 << " | "
-              << c.nees_max << " | " << 100.0 * c.gross_error_rate << " |\n";
-  }
-  std::cout << "| chi-square(5) | | " << kChiSquare5Median << " | 9.24 | "
-            << kChiSquare5Quantile99 << " | | |\n";
 }
 
 // The winner's cost is never above the 8-point start's, and on some motions
@@ -215,77 +193,5 @@ TEST(EstimateTwoViewPose, EveryStartNeverEndsAboveTheEightPointStart) {
   EXPECT_GT(num_widened, 0);
 }
 
-}  // namespace
-}  // namespace odomcal
-
-namespace odomcal {
-namespace {
-
-// The study of docs/paper_reproduction.md, "The geometry the paper does not
-// state" (minutes; run by hand):
-//   paper_evaluation_test --gtest_also_run_disabled_tests
-//       --gtest_filter=TwoViewConsistency.DISABLED_GeometryStudy
-// Prints one markdown row per geometry: the two-view NEES median and tail
-// and the gross-error rate (1000 motions), then over 300 trials of 20 motions
-// at 1 px: ALS, and GT-B on every motion (the paper's batch) and ALSP-L-B and
-// GT-B with the batch inlier test (the default), as rotation RMSE [deg] / x-y
-// RMSE [mm] / scale RMSE [%] / divergence [%].
-TEST(TwoViewConsistency, DISABLED_GeometryStudy) {
-  struct Geometry {
-    const char* name;
-    double min_depth_m, max_depth_m, max_normalized_coordinate;
-    double translation_sigma_m;
-  };
-  const Geometry geometries[] = {
-      {"depth 0.5-5 m, +-45 deg, step SD 0.2 m", 0.5, 5.0, 1.0, 0.2},
-      {"depth 0.5-3 m", 0.5, 3.0, 1.0, 0.2},
-      {"depth 0.5-2 m", 0.5, 2.0, 1.0, 0.2},
-      {"depth 2-10 m", 2.0, 10.0, 1.0, 0.2},
-      {"field of view +-30 deg", 0.5, 5.0, 0.577, 0.2},
-      {"field of view +-60 deg", 0.5, 5.0, 1.732, 0.2},
-      {"step SD 0.5 m", 0.5, 5.0, 1.0, 0.5},
-  };
-  auto cell = [](const MethodSummary& m) {
-    std::ostringstream text;
-    text << std::setprecision(3) << m.rmse_rotation_deg << " / "
-         << 1000.0 * m.rmse_translation_m << " / " << 100.0 * m.rmse_scale_rel;
-    if (std::isfinite(m.divergence_rate)) {  // a B method
-      text << " / " << 100.0 * m.divergence_rate;
-    }
-    return text.str();
-  };
-  std::cout << "| geometry | NEES median / p99 | gross [%] | ALS | GT-B, every "
-               "motion | ALSP-L-B | GT-B |\n";
-  for (const Geometry& geometry : geometries) {
-    PaperSimulationOptions options =
-        NominalPaperSimulation(CameraNoiseMode::kLandmarks);
-    options.min_depth_m = geometry.min_depth_m;
-    options.max_depth_m = geometry.max_depth_m;
-    options.max_normalized_coordinate = geometry.max_normalized_coordinate;
-    options.translation_sigma_m = geometry.translation_sigma_m;
-    auto rng = SeededRng(702);
-    TwoViewErrors errors;
-    for (int k = 0; k < 50; ++k) {
-      AddTwoViewErrors(SimulatePaperMotions(options, &rng), &errors);
-    }
-    const TwoViewConsistency c = SummarizeTwoViewErrors(errors);
-    // As measured for paper_reproduction.md: divergence on C alone.
-    EvaluationOptions rounds;
-    rounds.variance_factor = false;
-    EvaluationOptions every_motion = rounds;
-    every_motion.batch_refinement = BatchRefinement::kPaper;
-    const SweepPointResult plain =
-        RunSweepPoint(options, every_motion, "geometry", 0, 0.0, 300, 2, 703);
-    const SweepPointResult point =
-        RunSweepPoint(options, rounds, "geometry", 0, 0.0, 300, 2, 703);
-    std::cout << "| " << geometry.name << " | " << std::setprecision(3)
-              << c.nees_median << " / " << c.nees_quantile_99 << " | "
-              << 100.0 * c.gross_error_rate << " | "
-              << cell(point[EvaluationMethod::kAls]) << " | "
-              << cell(plain[EvaluationMethod::kGtB]) << " | "
-              << cell(point[EvaluationMethod::kAlspLengthPreservingB]) << " | "
-              << cell(point[EvaluationMethod::kGtB]) << " |\n";
-  }
-}
 }  // namespace
 }  // namespace odomcal
