@@ -552,7 +552,7 @@ TEST_F(Robustness, UnknownColmapCameraModelId) {
       RunOdomcal(Colmap()),
       std::string(kColmapError) + Model("cameras.bin") +
           ": byte 12: camera 1 of 1 (camera_id 1): unknown camera model id 99 "
-          "(COLMAP 3.8 models are 0 to 10)");
+          "(COLMAP 3.8 to 4.1 models are 0 to 17)");
 }
 
 TEST_F(Robustness, ColmapTextWrongColumnCount) {
