@@ -50,8 +50,7 @@ IntervalVelocity VelocityBetween(const StampedPose& from,
 Eigen::Matrix3d OdometryInterpolationCovariance(const Trajectory& odometry,
                                                 int64_t stamp_ns) {
   const std::vector<StampedPose>& poses = odometry.poses;
-  const Eigen::Matrix3d none = Eigen::Matrix3d::Zero();
-  if (!odometry.planar || poses.size() < 2) return none;
+  if (!odometry.planar || poses.size() < 2) return Eigen::Matrix3d::Zero();
   const auto after =
       std::upper_bound(poses.begin(),
                        poses.end(),
@@ -59,7 +58,8 @@ Eigen::Matrix3d OdometryInterpolationCovariance(const Trajectory& odometry,
                        [](int64_t stamp, const StampedPose& pose) {
                          return stamp < pose.stamp_ns;
                        });
-  if (after != poses.begin() && (after - 1)->stamp_ns == stamp_ns) return none;
+  if (after != poses.begin() && (after - 1)->stamp_ns == stamp_ns)
+    return Eigen::Matrix3d::Zero();
   // Beyond an end: the end interval, continued (tau < 0 or > 1).
   const size_t b =
       after == poses.begin()
@@ -74,7 +74,7 @@ Eigen::Matrix3d OdometryInterpolationCovariance(const Trajectory& odometry,
                      static_cast<double>(poses[b].stamp_ns - poses[a].stamp_ns);
   // Not a stamp InterpolateOdometry gives a pose for (1e-9: rounding).
   const double limit = kEndToleranceFraction + 1e-9;
-  if (tau < -limit || tau > 1.0 + limit) return none;
+  if (tau < -limit || tau > 1.0 + limit) return Eigen::Matrix3d::Zero();
   const IntervalVelocity current = VelocityBetween(poses[a], poses[b]);
   const IntervalVelocity before =
       a > 0 ? VelocityBetween(poses[a - 1], poses[a]) : current;

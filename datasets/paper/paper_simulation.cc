@@ -306,6 +306,7 @@ PaperSimulation SimulatePaperMotions(const PaperSimulationOptions& options,
   std::uniform_real_distribution<double> log_scale(
       std::log(options.min_metric_scale), std::log(options.max_metric_scale));
   std::vector<double> scales;
+  scales.reserve(options.num_segments);
   for (int k = 0; k < options.num_segments; ++k) {
     scales.push_back(std::exp(log_scale(*rng)));
   }

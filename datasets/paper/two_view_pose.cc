@@ -428,7 +428,7 @@ Refinement Refine(const std::vector<Eigen::Vector2d>& u_i,
   const Eigen::Quaterniond q0 = cam_i_from_cam_j.rotation.normalized();
   for (int k = 0; k < 4; ++k) rotation[k] = q0.coeffs()[k];
   for (int k = 0; k < 3; ++k) translation[k] = cam_i_from_cam_j.translation(k);
-  std::vector<double> points(3 * num_points);
+  std::vector<double> points(3 * static_cast<size_t>(num_points));
   for (int k = 0; k < num_points; ++k) {
     for (int c = 0; c < 3; ++c)
       points[3 * k + c] = refinement.points_in_cam_i[k](c);
@@ -476,7 +476,7 @@ Refinement Refine(const std::vector<Eigen::Vector2d>& u_i,
           .normalized());
   for (int k = 0; k < num_points; ++k) {
     refinement.points_in_cam_i[k] =
-        Eigen::Map<const Eigen::Vector3d>(&points[3 * k]);
+        Eigen::Map<const Eigen::Vector3d>(&points[3 * static_cast<size_t>(k)]);
   }
   refinement.final_rms_px = ReprojectionRms(
       u_i, u_j, refinement.cam_i_from_cam_j, refinement.points_in_cam_i, focal);
@@ -504,7 +504,7 @@ std::optional<MotionCovariance> PoseCovariance(
   const Eigen::Quaterniond q = cam_i_from_cam_j.rotation.normalized();
   for (int k = 0; k < 4; ++k) rotation[k] = q.coeffs()[k];
   for (int k = 0; k < 3; ++k) translation[k] = cam_i_from_cam_j.translation(k);
-  std::vector<double> points(3 * num_points);
+  std::vector<double> points(3 * static_cast<size_t>(num_points));
   for (int k = 0; k < num_points; ++k) {
     for (int c = 0; c < 3; ++c) points[3 * k + c] = points_in_cam_i[k](c);
   }
@@ -527,7 +527,8 @@ std::optional<MotionCovariance> PoseCovariance(
   ceres::Problem::EvaluateOptions evaluate_options;
   evaluate_options.parameter_blocks = {rotation, translation};
   for (int k = 0; k < num_points; ++k) {
-    evaluate_options.parameter_blocks.push_back(&points[3 * k]);
+    evaluate_options.parameter_blocks.push_back(
+        &points[3 * static_cast<size_t>(k)]);
   }
   ceres::CRSMatrix crs;
   problem.Evaluate(evaluate_options, nullptr, nullptr, nullptr, &crs);
@@ -553,7 +554,7 @@ std::optional<MotionCovariance> PoseCovariance(
   h_pose = 0.5 * (h_pose + h_pose.transpose()).eval();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eigen(
       h_pose);
-  const Eigen::Matrix<double, 5, 1> values = eigen.eigenvalues();
+  const Eigen::Matrix<double, 5, 1>& values = eigen.eigenvalues();
   if (!(values(0) > kMinInformationRatio * values(4))) {
     *failure = "the relative pose is not determined (singular information)";
     return std::nullopt;
@@ -572,7 +573,7 @@ std::optional<MotionCovariance> PoseCovariance(
 
 // The spread of the other minima, see the file comment ("Other minima").
 void AddOtherMinima(const std::vector<Eigen::Vector2d>& u_i,
-                    const std::vector<Eigen::Vector2d>& u_j,
+                    const std::vector<Eigen::Vector2d>& /*u_j*/,
                     const Refinement& best,
                     const std::vector<Refinement>& minima,
                     const TwoViewOptions& options,

@@ -92,6 +92,7 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
 
   // Timeline in ns from the first odometry sample.
   std::vector<int64_t> captures;
+  captures.reserve(o.num_images);
   for (int k = 0; k < o.num_images; ++k) {
     captures.push_back(ToNs(o.lead_time_s + k / o.camera_rate_hz));
   }

@@ -141,7 +141,7 @@ RoomLayout MakeTwoRoomsWithCorridor(double height_m,
                                     bool textured_corridor) {
   using V = Eigen::Vector2d;
   RoomLayout layout;
-  const auto wall = [&](V a, V b, bool textured) {
+  const auto wall = [&](const V& a, const V& b, bool textured) {
     layout.walls.push_back({a, b, height_m, textured});
   };
   // Room A.

@@ -88,7 +88,7 @@ Eigen::Vector3f Texture::Sample(double u, double v, double level) const {
   if (level >= last) return SampleLevel(u, v, last);
   const int lower = static_cast<int>(level);
   const float blend = static_cast<float>(level - lower);
-  const Eigen::Vector3f a = SampleLevel(u, v, lower);
+  Eigen::Vector3f a = SampleLevel(u, v, lower);
   if (blend <= 0.0f) return a;
   return a + blend * (SampleLevel(u, v, lower + 1) - a);
 }

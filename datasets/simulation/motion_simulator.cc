@@ -125,6 +125,7 @@ SimulatedMotions SimulateMotions(const MotionSimulatorOptions& options,
   std::uniform_real_distribution<double> log_scale(
       std::log(options.min_metric_scale), std::log(options.max_metric_scale));
   std::vector<double> scales;
+  scales.reserve(std::max(options.num_segments, 0));
   for (int k = 0; k < options.num_segments; ++k) {
     scales.push_back(std::exp(log_scale(*rng)));
   }
