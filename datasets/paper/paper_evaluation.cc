@@ -445,7 +445,7 @@ std::vector<TrialResult> RunTrials(const PaperSimulationOptions& simulation,
                                    int num_trials,
                                    int num_threads,
                                    uint64_t base_seed,
-                                   const ProgressCallback& progress) {
+                                   const EvaluationProgressCallback& progress) {
   simulation.Check();
   options.Check();
   if (num_trials < 0) {
@@ -499,7 +499,7 @@ SweepPointResult RunSweepPoint(const PaperSimulationOptions& simulation,
                                int num_trials,
                                int num_threads,
                                uint64_t base_seed,
-                               const ProgressCallback& progress) {
+                               const EvaluationProgressCallback& progress) {
   const std::vector<TrialResult> trials = RunTrials(simulation,
                                                     options,
                                                     sweep_name,

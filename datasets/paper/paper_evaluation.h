@@ -212,31 +212,33 @@ uint64_t TrialSeed(uint64_t base_seed,
 
 // Called after each finished trial with (finished, total), from the worker
 // threads, one call at a time.
-using ProgressCallback = std::function<void(int, int)>;
+using EvaluationProgressCallback = std::function<void(int, int)>;
 
 // Runs num_trials trials of `simulation` on num_threads std::threads; trial
 // t simulates with std::mt19937_64(TrialSeed(...)) and evaluates with a
 // seed derived from it. Results do not depend on num_threads. Throws
 // std::invalid_argument for invalid options; rethrows the first exception a
 // worker raised.
-SweepPointResult RunSweepPoint(const PaperSimulationOptions& simulation,
-                               const EvaluationOptions& options,
-                               const std::string& sweep_name,
-                               int point_index,
-                               double value,
-                               int num_trials,
-                               int num_threads,
-                               uint64_t base_seed,
-                               const ProgressCallback& progress = nullptr);
+SweepPointResult RunSweepPoint(
+    const PaperSimulationOptions& simulation,
+    const EvaluationOptions& options,
+    const std::string& sweep_name,
+    int point_index,
+    double value,
+    int num_trials,
+    int num_threads,
+    uint64_t base_seed,
+    const EvaluationProgressCallback& progress = nullptr);
 
 // The per-trial results behind RunSweepPoint (same seeds), in trial order.
-std::vector<TrialResult> RunTrials(const PaperSimulationOptions& simulation,
-                                   const EvaluationOptions& options,
-                                   const std::string& sweep_name,
-                                   int point_index,
-                                   int num_trials,
-                                   int num_threads,
-                                   uint64_t base_seed,
-                                   const ProgressCallback& progress = nullptr);
+std::vector<TrialResult> RunTrials(
+    const PaperSimulationOptions& simulation,
+    const EvaluationOptions& options,
+    const std::string& sweep_name,
+    int point_index,
+    int num_trials,
+    int num_threads,
+    uint64_t base_seed,
+    const EvaluationProgressCallback& progress = nullptr);
 
 }  // namespace odomcal
