@@ -106,7 +106,7 @@ void TestDivergence(const PaperSimulation& truth,
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(
       0.5 * (information + information.transpose()));
-  const Eigen::VectorXd values = eigen.eigenvalues();
+  const Eigen::VectorXd& values = eigen.eigenvalues();
   if (!(values(0) > kMinInformationRatio * values(n - 1))) return;
   Eigen::MatrixXd covariance = eigen.eigenvectors() *
                                values.cwiseInverse().asDiagonal() *
