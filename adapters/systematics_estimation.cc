@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -90,6 +93,35 @@ void ApplyMarginalCovariance(const SystematicsRefinement& refined,
       "different sizes in both directions and straight stretches)";
 }
 
+// How well a refinement's final calibration fits, to choose between two
+// starts of the clock offset: more pairs used, then the smaller rotation
+// residual (a wrong offset shows first in the rotation while turning).
+struct FitOfRun {
+  bool usable = false;
+  int num_inliers = 0;
+  double rms_rotation_deg = 0.0;
+};
+
+FitOfRun FitOf(const CalibrationResult* result, bool offset_estimated) {
+  FitOfRun fit;
+  if (result == nullptr || !result->has_estimate || !offset_estimated) {
+    return fit;
+  }
+  fit.usable = true;
+  fit.num_inliers =
+      static_cast<int>(std::count(result->diagnostics.inlier_mask.begin(),
+                                  result->diagnostics.inlier_mask.end(),
+                                  1));
+  fit.rms_rotation_deg = result->diagnostics.rms_rotation_residual_deg;
+  return fit;
+}
+
+bool Better(const FitOfRun& a, const FitOfRun& b) {
+  if (a.usable != b.usable) return a.usable;
+  if (a.num_inliers != b.num_inliers) return a.num_inliers > b.num_inliers;
+  return a.rms_rotation_deg <= b.rms_rotation_deg;
+}
+
 }  // namespace
 
 SystematicsEstimate EstimateSystematics(
@@ -152,6 +184,7 @@ SystematicsEstimate EstimateSystematics(
       // 3-D odometry has too: where it finds a peak the reason names it, so a
       // wrong given offset does not pass unnoticed.
       const std::string what = "3-D odometry (a TUM log, not x, y, yaw): ";
+      estimate.time_offset_refinable = false;
       if (options.estimate_time_offset) {
         estimate.time_offset_reason =
             what + "only a planar log's clock offset is estimated";
@@ -178,107 +211,167 @@ SystematicsEstimate EstimateSystematics(
     return estimate;
   }
 
-  int64_t offset_ns = association_options.camera_time_offset_ns;
-  bool estimate_offset = options.estimate_time_offset;
-  if (estimate_offset) {
-    coarse_search();
-    if (estimate.coarse.resolved) {
-      offset_ns = estimate.coarse.peak_ns;
-    } else {
-      estimate_offset = false;
-      estimate.time_offset_reason =
-          "not resolved by the coarse search: " + estimate.coarse.reason;
-    }
-  }
-
-  SystematicsOptions limits = options.limits;
-  limits.estimate_time_offset = estimate_offset;
-  limits.estimate_intrinsics = options.estimate_odometry_intrinsics;
-  OdometryIntrinsics intrinsics;
-  intrinsics.wheel_track_m = options.wheel_track_m;
-  std::optional<SystematicsRefinement> last;
-  CalibrationResult* result = nullptr;
-  for (int round = 1; round <= options.max_rounds; ++round) {
-    estimate.num_rounds = round;
-    const auto [pairs, calibrated] = run(offset_ns, intrinsics);
-    result = calibrated;
-    last.reset();
-    if (!result->has_estimate || !result->observability.ExtrinsicDetermined()) {
-      break;
-    }
-    std::vector<int> indices;
-    const std::vector<char>& mask = result->diagnostics.inlier_mask;
-    for (size_t k = 0; k < pairs->size(); ++k) {
-      if (k < mask.size() && mask[k]) indices.push_back(static_cast<int>(k));
-    }
-    // Under the noise the calibration estimated from the data, when it did:
-    // the options' model and the pairs' own covariances scaled alike, as
-    // the hand-eye refinement weighs them.
-    CalibrationOptions refine_options = calibration_options;
-    const MotionPairs* refine_pairs = pairs;
-    MotionPairs weighted_pairs;
-    if (result->noise_estimate) {
-      refine_options.noise = result->noise_estimate->noise;
-      weighted_pairs = ScaleCovariances(*pairs, *result->noise_estimate);
-      refine_pairs = &weighted_pairs;
-    }
-    const SystematicsRefinement refined =
-        RefineSystematics(*refine_pairs,
-                          indices,
-                          result->odom_from_cam,
-                          result->metric_scales,
-                          intrinsics,
-                          refine_options,
-                          limits);
-    if (!refined.usable) break;
-    last = refined;
-    OdometryIntrinsics next = refined.intrinsics;
-    if (!refined.estimated[1]) next.yaw_scale = 1.0;
-    if (!refined.estimated[2]) next.yaw_per_metre_rad = 0.0;
-    if (!refined.estimated[3]) next.yaw_rate_bias_rad_s = 0.0;
-    const double change_s = refined.time_offset_change_s;
-    const bool converged =
-        std::abs(change_s) < options.tolerance_s &&
-        std::abs(next.yaw_scale - intrinsics.yaw_scale) < 1e-6 &&
-        std::abs(next.yaw_per_metre_rad - intrinsics.yaw_per_metre_rad) <
-            1e-6 &&
-        std::abs(next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s) <
-            1e-7;
-    if (converged) break;
-    // Re-association, RANSAC and the noise estimate change the pair set from
-    // round to round, which can leave a limit cycle of changes about as
-    // large as the parameters' standard deviations (seen: 0.17 ms against
-    // 0.13 ms, wheels 1.015 / 0.99, seed 23). Holding everything at identity
-    // then costs far more (0.23 deg of rotation) than the cycle: the last
-    // round's refined values are the estimate, calibrated once more at them.
-    const double changes[kNumSystematics] = {
-        change_s,
-        next.yaw_scale - intrinsics.yaw_scale,
-        next.yaw_per_metre_rad - intrinsics.yaw_per_metre_rad,
-        next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s};
-    bool within_noise = true;
-    for (int k = 0; k < kNumSystematics; ++k) {
-      const double limit = refined.estimated[k] ? 3.0 * refined.stddev[k] : 0.0;
-      if (!(std::abs(changes[k]) <= limit)) within_noise = false;
-    }
-    if (round == options.max_rounds && within_noise) {
-      offset_ns += static_cast<int64_t>(std::llround(change_s * 1e9));
-      result = run(offset_ns, next).second;
+  // One joint refinement in rounds from `start_ns`, the offset refined only
+  // with `refine_offset`; `estimate`, `*association` and the returned result
+  // are those of its final round.
+  struct Outcome {
+    std::optional<SystematicsRefinement> last;
+    CalibrationResult* result = nullptr;
+    std::string offset_reason;  // why the offset was not estimated
+  };
+  const auto refine = [&](int64_t start_ns, bool refine_offset) {
+    Outcome outcome;
+    SystematicsOptions limits = options.limits;
+    limits.estimate_time_offset = refine_offset;
+    limits.estimate_intrinsics = options.estimate_odometry_intrinsics;
+    OdometryIntrinsics intrinsics;
+    intrinsics.wheel_track_m = options.wheel_track_m;
+    int64_t offset_ns = start_ns;
+    std::optional<SystematicsRefinement>& last = outcome.last;
+    CalibrationResult*& result = outcome.result;
+    for (int round = 1; round <= options.max_rounds; ++round) {
+      estimate.num_rounds = round;
+      const auto [pairs, calibrated] = run(offset_ns, intrinsics);
+      result = calibrated;
+      last.reset();
       if (!result->has_estimate ||
           !result->observability.ExtrinsicDetermined()) {
-        last.reset();
+        break;
       }
-      break;
+      std::vector<int> indices;
+      const std::vector<char>& mask = result->diagnostics.inlier_mask;
+      for (size_t k = 0; k < pairs->size(); ++k) {
+        if (k < mask.size() && mask[k]) indices.push_back(static_cast<int>(k));
+      }
+      // Under the noise the calibration estimated from the data, when it did:
+      // the options' model and the pairs' own covariances scaled alike, as
+      // the hand-eye refinement weighs them.
+      CalibrationOptions refine_options = calibration_options;
+      const MotionPairs* refine_pairs = pairs;
+      MotionPairs weighted_pairs;
+      if (result->noise_estimate) {
+        refine_options.noise = result->noise_estimate->noise;
+        weighted_pairs = ScaleCovariances(*pairs, *result->noise_estimate);
+        refine_pairs = &weighted_pairs;
+      }
+      const SystematicsRefinement refined =
+          RefineSystematics(*refine_pairs,
+                            indices,
+                            result->odom_from_cam,
+                            result->metric_scales,
+                            intrinsics,
+                            refine_options,
+                            limits);
+      if (!refined.usable) break;
+      last = refined;
+      OdometryIntrinsics next = refined.intrinsics;
+      if (!refined.estimated[1]) next.yaw_scale = 1.0;
+      if (!refined.estimated[2]) next.yaw_per_metre_rad = 0.0;
+      if (!refined.estimated[3]) next.yaw_rate_bias_rad_s = 0.0;
+      const double change_s = refined.time_offset_change_s;
+      const bool converged =
+          std::abs(change_s) < options.tolerance_s &&
+          std::abs(next.yaw_scale - intrinsics.yaw_scale) < 1e-6 &&
+          std::abs(next.yaw_per_metre_rad - intrinsics.yaw_per_metre_rad) <
+              1e-6 &&
+          std::abs(next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s) <
+              1e-7;
+      if (converged) break;
+      // Re-association, RANSAC and the noise estimate change the pair set from
+      // round to round, which can leave a limit cycle of changes about as
+      // large as the parameters' standard deviations (seen: 0.17 ms against
+      // 0.13 ms, wheels 1.015 / 0.99, seed 23). Holding everything at identity
+      // then costs far more (0.23 deg of rotation) than the cycle: the last
+      // round's refined values are the estimate, calibrated once more at them.
+      const double changes[kNumSystematics] = {
+          change_s,
+          next.yaw_scale - intrinsics.yaw_scale,
+          next.yaw_per_metre_rad - intrinsics.yaw_per_metre_rad,
+          next.yaw_rate_bias_rad_s - intrinsics.yaw_rate_bias_rad_s};
+      bool within_noise = true;
+      for (int k = 0; k < kNumSystematics; ++k) {
+        const double limit =
+            refined.estimated[k] ? 3.0 * refined.stddev[k] : 0.0;
+        if (!(std::abs(changes[k]) <= limit)) within_noise = false;
+      }
+      if (round == options.max_rounds && within_noise) {
+        offset_ns += static_cast<int64_t>(std::llround(change_s * 1e9));
+        result = run(offset_ns, next).second;
+        if (!result->has_estimate ||
+            !result->observability.ExtrinsicDetermined()) {
+          last.reset();
+        }
+        break;
+      }
+      if (round == options.max_rounds) {
+        outcome.offset_reason =
+            "the estimate did not settle within " + std::to_string(round) +
+            " rounds (last change " + FormatRounded(change_s) + " s)";
+        last.reset();
+        break;
+      }
+      offset_ns += static_cast<int64_t>(std::llround(change_s * 1e9));
+      intrinsics = next;
     }
-    if (round == options.max_rounds) {
-      estimate.time_offset_reason =
-          "the estimate did not settle within " + std::to_string(round) +
-          " rounds (last change " + FormatRounded(change_s) + " s)";
-      last.reset();
-      break;
+    if (last && refine_offset && !last->estimated[0]) {
+      outcome.offset_reason = last->held_reason[0];
     }
-    offset_ns += static_cast<int64_t>(std::llround(change_s * 1e9));
-    intrinsics = next;
+    return outcome;
+  };
+  const auto offset_estimated = [](const Outcome& outcome) {
+    return outcome.last && outcome.last->estimated[0];
+  };
+
+  // The clock offset is refined with the extrinsic whenever it is to be
+  // estimated, from the coarse peak; where the peak is flat (smooth motion)
+  // it still lies near the optimum, and the given value is refined too: the
+  // better fit is kept. Whether the offset counts as estimated follows from
+  // the refined standard deviation alone, never from the coarse peak's
+  // shape; one that is not keeps the given value.
+  const int64_t given_ns = association_options.camera_time_offset_ns;
+  Outcome outcome;
+  std::string coarse_note;  // appended to a reason for holding the offset
+  if (!options.estimate_time_offset) {
+    outcome = refine(given_ns, false);
+  } else {
+    coarse_search();
+    if (!estimate.coarse.resolved) {
+      coarse_note = " (coarse search: " + estimate.coarse.reason + ")";
+    }
+    if (estimate.coarse.num_intervals == 0) {
+      outcome = refine(given_ns, false);
+      outcome.offset_reason =
+          "not resolved by the coarse search: " + estimate.coarse.reason;
+      coarse_note.clear();
+    } else {
+      outcome = refine(estimate.coarse.peak_ns, true);
+      const int64_t step_ns =
+          static_cast<int64_t>(std::llround(estimate.coarse.step_s * 1e9));
+      if (!estimate.coarse.resolved &&
+          std::abs(estimate.coarse.peak_ns - given_ns) > step_ns) {
+        const FitOfRun from_peak =
+            FitOf(outcome.result, offset_estimated(outcome));
+        Outcome from_given = refine(given_ns, true);
+        const FitOfRun given_fit =
+            FitOf(from_given.result, offset_estimated(from_given));
+        if (Better(from_peak, given_fit)) {
+          outcome = refine(estimate.coarse.peak_ns, true);
+        } else {
+          outcome = std::move(from_given);
+        }
+      }
+      if (!offset_estimated(outcome)) {
+        // Held: the calibration at the given value, not at a start.
+        const std::string why = outcome.last ? outcome.offset_reason : "";
+        outcome = refine(given_ns, false);
+        if (!why.empty()) outcome.offset_reason = why;
+      }
+    }
+  }
+  std::optional<SystematicsRefinement>& last = outcome.last;
+  CalibrationResult* result = outcome.result;
+  if (!outcome.offset_reason.empty()) {
+    estimate.time_offset_reason = outcome.offset_reason + coarse_note;
   }
 
   if (!last) {
@@ -305,9 +398,6 @@ SystematicsEstimate EstimateSystematics(
   }
   estimate.time_offset_estimated = last->estimated[0];
   estimate.camera_time_offset_stddev_s = last->stddev[0];
-  if (estimate_offset && !last->estimated[0]) {
-    estimate.time_offset_reason = last->held_reason[0];
-  }
   for (int k = 0; k < 3; ++k) {
     estimate.intrinsics_estimated[k] = last->estimated[1 + k];
     estimate.intrinsics_stddev[k] = last->stddev[1 + k];

@@ -1,7 +1,11 @@
 // Clock offset and odometry intrinsics estimated with the extrinsic: the
 // outer loop shared by `odomcal calibrate` and `odomcal colmap` / `run`.
 //
-//   1. coarse offset search (time_offset_search.h) around the given offset;
+//   1. coarse offset search (time_offset_search.h) around the given offset:
+//      the start of step 3's offset. A flat peak (smooth motion) is a start
+//      too, and the given offset another: the better fit is kept. Whether
+//      the offset is estimated follows from its refined standard deviation,
+//      never from the peak's shape; one that is not keeps the given value;
 //   2. correct the odometry with the current intrinsics, associate at the
 //      current offset, attach each pair's logged odometry
 //      (odometry_increments.h) and calibrate with the caller's pipeline;
@@ -63,6 +67,9 @@ struct SystematicsEstimate {
   bool time_offset_estimated = false;
   double camera_time_offset_stddev_s = 0.0;
   std::string time_offset_reason;  // why held at the given value
+  // False for 3-D odometry: only the coarse search ran, so a warning is
+  // due only where its peak lies away from the given offset.
+  bool time_offset_refinable = true;
   bool coarse_search_ran = false;
   double search_range_s = 0.0;
   TimeOffsetSearch coarse;

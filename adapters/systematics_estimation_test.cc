@@ -162,6 +162,52 @@ TEST(SystematicsEstimation, RecoversOffsetAndIntrinsicsNoiseFree) {
   EXPECT_GT(estimate.camera_time_offset_stddev_s, 0.0);
 }
 
+// Smooth driving (speed and yaw rate slow sinusoids) flattens the coarse
+// correlation peak; the refinement from the flat peak and from the given
+// value still finds the offset, whichever side of zero it lies.
+TEST(SystematicsEstimation, EstimatesTheOffsetOfASmoothDrive) {
+  for (const double truth_s : {-0.3, 0.05, 0.3}) {
+    DriveSimulatorOptions options = Drive(50.0, 5.0);
+    options.duration_s = 120.0;
+    options.profile = DriveProfile::kSmooth;
+    options.camera_time_offset_s = truth_s;
+    options.camera_rotation_noise_deg = 0.02;
+    options.camera_position_noise = 0.002;
+    const SimulatedDrive drive = SimulateDrive(options);
+    CalibrationOptions calibration;
+    calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
+    CalibrationResult result;
+    const SystematicsEstimate estimate = EstimateOnDrive(
+        drive, calibration, SystematicsEstimationOptions(), &result);
+    ASSERT_TRUE(result.IsSuccess()) << truth_s << ": " << result.message;
+    EXPECT_TRUE(estimate.time_offset_estimated)
+        << truth_s << ": " << estimate.time_offset_reason;
+    EXPECT_NEAR(NsToSeconds(estimate.camera_time_offset_ns), truth_s, 0.002);
+    EXPECT_LT((result.odom_from_cam.translation.head<2>() -
+               drive.odom_from_cam.translation.head<2>())
+                  .norm(),
+              0.002)
+        << truth_s;
+  }
+}
+
+// A drive without turns cannot determine the offset: the given value is
+// kept, with the reason.
+TEST(SystematicsEstimation, AStraightDriveKeepsTheGivenOffset) {
+  DriveSimulatorOptions options = Drive(50.0, 5.0);
+  options.profile = DriveProfile::kSmooth;
+  options.straight_only = true;
+  options.camera_time_offset_s = 0.3;
+  options.camera_rotation_noise_deg = 0.02;
+  const SimulatedDrive drive = SimulateDrive(options);
+  CalibrationResult result;
+  const SystematicsEstimate estimate = EstimateOnDrive(
+      drive, CalibrationOptions(), SystematicsEstimationOptions(), &result);
+  EXPECT_FALSE(estimate.time_offset_estimated);
+  EXPECT_EQ(estimate.camera_time_offset_ns, 0);
+  EXPECT_FALSE(estimate.time_offset_reason.empty());
+}
+
 // 3-D odometry (a TUM log) keeps the given offset and says why, and where
 // the rotation angles put the offset; nothing is estimated.
 TEST(SystematicsEstimation, ThreeDimensionalOdometryKeepsTheGivenOffset) {

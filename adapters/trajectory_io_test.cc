@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -496,6 +498,72 @@ TEST(ReadOdometryCsv, HeaderErrors) {
                        }),
                        "(read as csv because of its first data line; "
                        "--odometry_format csv or tum chooses)"));
+}
+
+// The paper's simulation protocol logged as one odometry sample per image:
+// turns uniform in +-90 deg between samples, the yaw kept in -pi..pi (as
+// atan2 gives it, in a few digits) and in 0..2 pi. Every such radian log
+// reads; the same turns in degrees are refused.
+TEST(ReadOdometryCsv, SparseRadianLogsTurningUpTo90DegreesRead) {
+  int refused_as_degrees = 0;
+  for (uint64_t seed = 1; seed <= 30; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> turn(-kPi / 2.0, kPi / 2.0);
+    std::normal_distribution<double> step(0.0, 0.2);
+    std::string minus_pi_pi = "t,x,y,yaw\n", zero_two_pi = minus_pi_pi,
+                degrees = "t,x,y,yaw\n";
+    double x = 0.0, y = 0.0, yaw = 0.0;
+    for (int k = 0; k <= 20; ++k) {
+      char line[128];
+      const double wrapped = WrapAngle(yaw);
+      std::snprintf(
+          line, sizeof(line), "%d,%.6f,%.6f,%.5f\n", k, x, y, wrapped);
+      minus_pi_pi += line;
+      std::snprintf(line,
+                    sizeof(line),
+                    "%d,%.6f,%.6f,%.5f\n",
+                    k,
+                    x,
+                    y,
+                    wrapped < 0.0 ? wrapped + 2.0 * kPi : wrapped);
+      zero_two_pi += line;
+      std::snprintf(line,
+                    sizeof(line),
+                    "%d,%.6f,%.6f,%.3f\n",
+                    k,
+                    x,
+                    y,
+                    wrapped * kRadToDeg);
+      degrees += line;
+      x += step(rng);
+      y += step(rng);
+      yaw += turn(rng);
+    }
+    const std::string name = "paper_" + std::to_string(seed);
+    EXPECT_EQ(ReadOdometryCsv(WriteTextFile(name + "_pi.csv", minus_pi_pi),
+                              TimeUnit::kSeconds)
+                  .poses.size(),
+              21u)
+        << seed;
+    EXPECT_EQ(ReadOdometryCsv(WriteTextFile(name + "_2pi.csv", zero_two_pi),
+                              TimeUnit::kSeconds)
+                  .poses.size(),
+              21u)
+        << seed;
+    try {
+      ReadOdometryCsv(WriteTextFile(name + "_deg.csv", degrees),
+                      TimeUnit::kSeconds);
+    } catch (const FormatError& error) {
+      EXPECT_NE(std::string(error.what()).find("the yaw looks like degrees"),
+                std::string::npos)
+          << error.what();
+      ++refused_as_degrees;
+    }
+  }
+  // Degrees are refused by the step check wherever the turns cross +-180
+  // or step by more than pi units (most logs; the rest by the camera's
+  // rotation angles, CheckRotationAngleUnits).
+  EXPECT_GE(refused_as_degrees, 25);
 }
 
 TEST(ReadOdometryCsv, DegreesAsRadiansAreNamed) {

@@ -1,6 +1,7 @@
 #!/bin/bash
 # Measures the clock-offset and odometry-intrinsics estimation on simulated
-# 2-minute drives (50 Hz odometry, 5 Hz camera): prints, per seed and case,
+# 2-minute drives (50 Hz odometry, 5 Hz camera; manoeuvres and smooth
+# driving): prints, per seed and case,
 # the demo's errors against the ground truth (docs/systematics.md).
 # Usage: scripts/systematics_sweep.sh <odomcal binary> <work folder> [seeds]
 set -euo pipefail
@@ -35,3 +36,11 @@ run wheels $wheels --sim_yaw_rate_bias_radps 0
 run wheels_off $wheels --sim_yaw_rate_bias_radps 0 $off
 run wheels_bias $wheels --sim_yaw_rate_bias_radps 0.002
 run wheels_track $wheels --sim_yaw_rate_bias_radps 0 --wheel_track_m 0.4
+# Smooth driving (--sim_profile smooth: speed and yaw rate slow sinusoids),
+# whose coarse correlation peak is flat: the same offsets, and the same
+# drive without an offset as the reference.
+smooth="$exact --sim_profile smooth"
+run smooth_base $smooth
+for offset in -0.3 0.05 0.3; do
+  run "smooth_offset$offset" $smooth --sim_camera_time_offset_s "$offset"
+done

@@ -8,6 +8,7 @@
 #include "odomcal/datasets/simulation/unicycle_path.h"
 #include "odomcal/solver/angles.h"
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -118,6 +119,35 @@ std::vector<Manoeuvre> PlanManoeuvres(const DriveSimulatorOptions& options,
   return plan;
 }
 
+// DriveProfile::kSmooth: slow sinusoids with periods and phases drawn from
+// a generator of their own (manoeuvre drives stay as they were).
+struct SmoothProfile {
+  std::array<double, 4> period_s{};
+  std::array<double, 4> phase{};
+
+  explicit SmoothProfile(const DriveSimulatorOptions& options) {
+    std::mt19937_64 rng(options.seed ^ 0x51700751700751ULL);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int k = 0; k < 4; ++k) {
+      period_s[k] = 8.0 + 22.0 * unit(rng);
+      phase[k] = 2.0 * kPi * unit(rng);
+    }
+  }
+  double Wave(int k, double t) const {
+    return std::sin(2.0 * kPi * t / period_s[k] + phase[k]);
+  }
+  Manoeuvre At(const DriveSimulatorOptions& options, double t) const {
+    Manoeuvre m;
+    m.speed_mps = 0.5 * options.max_speed_mps *
+                  (1.0 + 0.5 * Wave(0, t) + 0.3 * Wave(1, t));
+    m.yaw_rate_radps = options.straight_only
+                           ? 0.0
+                           : options.max_yaw_rate_radps *
+                                 (0.6 * Wave(2, t) + 0.4 * Wave(3, t));
+    return m;
+  }
+};
+
 }  // namespace
 
 SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
@@ -145,6 +175,7 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   };
   std::mt19937_64 rng(options.seed);
   const std::vector<Manoeuvre> plan = PlanManoeuvres(options, &rng);
+  const SmoothProfile smooth(options);
 
   SimulatedDrive drive;
   drive.odom_from_cam = options.odom_from_cam;
@@ -236,7 +267,9 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
       time_in_manoeuvre -= plan[manoeuvre].duration_s;
       ++manoeuvre;
     }
-    const Manoeuvre& m = plan[manoeuvre];
+    const Manoeuvre m = options.profile == DriveProfile::kSmooth
+                            ? smooth.At(options, static_cast<double>(k) * dt)
+                            : plan[manoeuvre];
     truth = UnicycleStep(truth, m.speed_mps, m.yaw_rate_radps, dt);
     double left = (m.speed_mps - 0.5 * true_track_m * m.yaw_rate_radps) *
                   (1.0 + options.wheel_scale_error_left);

@@ -5,9 +5,11 @@
 //
 // The path is a random sequence of manoeuvres at constant linear and angular
 // velocity: straight runs, arcs of varying radius in both directions, turns
-// in place and stops. Odometry integrates wheel speeds measured with
-// per-wheel scale errors and a yaw-rate bias; camera poses receive small
-// independent pose noise. Deterministic for a given seed.
+// in place and stops (DriveProfile::kManoeuvres); or, as real robots drive,
+// smooth: speed and yaw rate sums of slow sinusoids (DriveProfile::kSmooth).
+// Odometry integrates wheel speeds measured with per-wheel scale errors and a
+// yaw-rate bias; camera poses receive small independent pose noise.
+// Deterministic for a given seed.
 //
 // Tilted ground (ground_tilt_deg > 0): the robot drives over a rolling
 // height field, so its true motion is 3-D (roll, pitch, height change) while
@@ -28,6 +30,15 @@ namespace odomcal {
 // The nominal wheel track the simulated odometry assumes.
 inline constexpr double kSimulatedWheelTrackM = 0.4;
 
+enum class DriveProfile {
+  // Manoeuvres at constant speed and yaw rate, switched abruptly.
+  kManoeuvres,
+  // Speed 0.5 max_speed_mps (1 + 0.5 sin + 0.3 sin) and yaw rate
+  // max_yaw_rate_radps (0.6 sin + 0.4 sin) from sinusoids of periods 8-30 s
+  // with random phases: no corners, turns both ways.
+  kSmooth,
+};
+
 struct DriveSimulatorOptions {
   uint64_t seed = 0;
   double duration_s = 60.0;
@@ -45,6 +56,7 @@ struct DriveSimulatorOptions {
   double max_speed_mps = 0.5;
   double max_yaw_rate_radps = 0.8;
   bool straight_only = false;  // no turns at all (an unobservable drive)
+  DriveProfile profile = DriveProfile::kManoeuvres;
 
   // Tilted ground: height h(x, y) = a (sin(k u.p + phi_u) + sin(k v.p +
   // phi_v)) over two orthogonal random directions u, v, with a k =

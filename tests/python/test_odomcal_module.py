@@ -231,8 +231,8 @@ class CalibrateTest(unittest.TestCase):
             (dict(camera_poses=camera, odometry=with_value(odometry, 4, 3, np.nan)),
              "odometry row 4: column 'yaw' is not finite (NaN or Inf)"),
             (dict(camera_poses=camera, odometry=with_value(odometry, 7, 3, 45.0)),
-             "odometry row 7: yaw jumps from %.6g to 45 rad, more than pi and not a 2 pi "
-             "wrap (yaw must be in radians)" % odometry[6, 3]),
+             "odometry row 7: yaw jumps from %.6g to 45 rad, more than pi and not a wrap "
+             "of a yaw kept in -pi..pi or 0..2 pi (yaw must be in radians)" % odometry[6, 3]),
             (dict(camera_poses=with_value(camera, 0, 0, 1.7e18), odometry=odometry),
              "camera_poses row 0: time 1.7e+18 s is beyond the int64 nanosecond range "
              "(about 292 years); check the time unit"),
