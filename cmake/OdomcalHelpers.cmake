@@ -1,3 +1,12 @@
+# -Wall -Wextra (and -Wpedantic for libraries) on odomcal's own targets,
+# -Werror with ODOMCAL_WARNINGS_AS_ERRORS.
+function(odomcal_target_warnings name)
+  target_compile_options(${name} PRIVATE -Wall -Wextra ${ARGN})
+  if(ODOMCAL_WARNINGS_AS_ERRORS)
+    target_compile_options(${name} PRIVATE -Werror)
+  endif()
+endfunction()
+
 # odomcal_add_library(NAME [EXPORT_NAME name] SOURCES ... HEADERS ...
 #                     PUBLIC_LIBS ... PRIVATE_LIBS ...)
 # A library of a top-level folder, aliased odomcal::NAME, installed and
@@ -12,7 +21,7 @@ function(odomcal_add_library name)
     add_library(odomcal::${ARG_EXPORT_NAME} ALIAS ${name})
   endif()
   target_compile_features(${name} PUBLIC cxx_std_17)
-  target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic)
+  odomcal_target_warnings(${name} -Wpedantic)
   target_include_directories(${name} PUBLIC
     $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/include>
     $<INSTALL_INTERFACE:include>)
@@ -29,7 +38,7 @@ endfunction()
 function(odomcal_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
-  target_compile_options(${name} PRIVATE -Wall -Wextra)
+  odomcal_target_warnings(${name})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)

@@ -25,5 +25,5 @@
 // metres) are written by odomcal::reports (colmap_calibration_outputs.h).
 #pragma once
 
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/reconstruction_pipeline.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"

@@ -16,14 +16,14 @@
 // ("--max_odometry_gap_s" reads "max_odometry_gap_s").
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/colmap_runner.h"
-#include "odomcal/plugin/command_flags.h"
-#include "odomcal/plugin/command_line.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/colmap/colmap_runner.h"
+#include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/odomcal_plugin.h"
-#include "odomcal/plugin/odometry_inputs.h"
+#include "odomcal/plugin/report/calibration_report.h"
+#include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/python/array_trajectory.h"
 
 #include <pybind11/numpy.h>

@@ -11,7 +11,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev
   python3-dev python3-numpy pybind11-dev  # the Python module (docs/python.md)
   clang libclang-rt-14-dev  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
-  clang-format git  # scripts/check_format.sh
+  clang-format clang-tidy git  # scripts/check_format.sh, scripts/tidy.sh
 )
 
 missing=()

@@ -12,9 +12,9 @@ mkdir -p "$(dirname "$output_png")"
 work_dir=$(mktemp -d)
 trap 'rm -rf "$work_dir"' EXIT
 
-cmake --build "$build_dir" --target plugin_test >/dev/null
+cmake --build "$build_dir" --target report_test >/dev/null
 TEST_TMPDIR="$work_dir" ODOMCAL_KEEP_TEST_FILES=1 \
-  "$build_dir/plugin/plugin_test" --gtest_filter='ColmapReport.*' >/dev/null
+  "$build_dir/plugin/report/report_test" --gtest_filter='ColmapReport.*' >/dev/null
 report=$(echo "$work_dir"/colmap_report_test_*/out/report.html)
 cp "$report" "${output_png%.png}.html"
 chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \

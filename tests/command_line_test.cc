@@ -3,10 +3,10 @@
 // messages that name the flag and print numbers readably (docs/robustness.md,
 // "Command line"). The CLI tests run the built odomcal with fork/exec.
 
-#include "odomcal/plugin/command_line.h"
+#include "odomcal/plugin/cli/command_line.h"
 
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/command_flags.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/tests/odomcal_process.h"
 
 #include <CLI/CLI.hpp>

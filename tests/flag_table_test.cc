@@ -1,7 +1,7 @@
-// Every flag of the commands, three ways (plugin/option_table.h): listed by
-// `odomcal help <command>`, documented in docs/cli.md with the same default,
-// and echoed in the result JSON's `inputs`/`options` with the value given
-// on the command line; and vice versa, every documented flag and every
+// Every flag of the commands, three ways (plugin/options/option_table.h):
+// listed by `odomcal help <command>`, documented in docs/cli.md with the same
+// default, and echoed in the result JSON's `inputs`/`options` with the value
+// given on the command line; and vice versa, every documented flag and every
 // echoed key is a flag of the command.
 
 #include "odomcal/adapters/colmap_model.h"

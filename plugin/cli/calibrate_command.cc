@@ -1,12 +1,12 @@
-#include "odomcal/plugin/calibrate_command.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
 
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
-#include "odomcal/plugin/command_flags.h"
-#include "odomcal/plugin/odometry_inputs.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_guard.h"
-#include "odomcal/plugin/systematics_report.h"
+#include "odomcal/adapters/systematics_warnings.h"
+#include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/colmap/odometry_inputs.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/output/output_guard.h"
 #include "odomcal/solver/calibrate.h"
 
 #include <CLI/CLI.hpp>

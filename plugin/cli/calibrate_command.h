@@ -7,8 +7,8 @@
 #include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/command_line.h"
+#include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/report/calibration_report.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 

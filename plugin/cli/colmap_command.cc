@@ -1,12 +1,12 @@
-#include "odomcal/plugin/colmap_command.h"
+#include "odomcal/plugin/cli/colmap_command.h"
 
 #include "odomcal/adapters/format_error.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/colmap_calibration_outputs.h"
-#include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/command_flags.h"
-#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
+#include "odomcal/plugin/report/colmap_report.h"
 
 #include <CLI/CLI.hpp>
 

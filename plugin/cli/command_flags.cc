@@ -1,8 +1,8 @@
-#include "odomcal/plugin/command_flags.h"
+#include "odomcal/plugin/cli/command_flags.h"
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/command_line.h"
+#include "odomcal/plugin/cli/command_line.h"
 
 namespace odomcal {
 namespace {

@@ -4,15 +4,15 @@
 // has (how the input files are read) and the output-folder rules.
 #pragma once
 
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/option_table.h"
-#include "odomcal/plugin/output_folder.h"
-#include "odomcal/plugin/output_guard.h"
-#include "odomcal/plugin/project_flags.h"
-#include "odomcal/plugin/reconstruction_pipeline.h"
-#include "odomcal/plugin/run_flags.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"
+#include "odomcal/plugin/options/cli_flags.h"
+#include "odomcal/plugin/options/option_table.h"
+#include "odomcal/plugin/options/project_flags.h"
+#include "odomcal/plugin/options/run_flags.h"
+#include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/output/output_guard.h"
 
 #include <CLI/CLI.hpp>
 

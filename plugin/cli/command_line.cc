@@ -4,9 +4,9 @@
 // parse error), the first unknown flag, else the first stray argument, is
 // the error; CLI11's own messages are reworded where they name no flag
 // ("Could not convert: ...") or print C++ limits.
-#include "odomcal/plugin/command_line.h"
+#include "odomcal/plugin/cli/command_line.h"
 
-#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/colmap/colmap_runner.h"
 #include "odomcal/solver/format_number.h"
 
 #include <algorithm>

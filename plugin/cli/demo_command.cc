@@ -1,16 +1,16 @@
-#include "odomcal/plugin/demo_command.h"
+#include "odomcal/plugin/cli/demo_command.h"
 
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/datasets/rendering/dataset_presets.h"
 #include "odomcal/datasets/rendering/rendered_dataset.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_runner.h"
-#include "odomcal/plugin/command_flags.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
-#include "odomcal/plugin/run_command.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/cli/run_command.h"
+#include "odomcal/plugin/colmap/colmap_runner.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/output/output_folder.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 
@@ -51,7 +51,9 @@ nlohmann::json SimulatedGroundTruthJson(const SimulatedDrive& drive,
         {"ground_tilt_deg", options.ground_tilt_deg},
         {"ground_wavelength_m", options.ground_wavelength_m},
         {"wheel_track_error", options.wheel_track_error},
-        {"camera_time_offset_s", options.camera_time_offset_s}}},
+        {"camera_time_offset_s", options.camera_time_offset_s},
+        {"profile",
+         options.profile == DriveProfile::kSmooth ? "smooth" : "manoeuvres"}}},
   };
 }
 
@@ -366,6 +368,14 @@ int RunDemo(int argc, char** argv) {
                  simulation.camera_rate_hz,
                  "--simulated: camera rate (must divide the 50 Hz odometry)")
       ->capture_default_str();
+  std::string profile = "manoeuvres";
+  app.add_option("--sim_profile",
+                 profile,
+                 "--simulated: manoeuvres (constant speed and yaw rate, "
+                 "switched abruptly) or smooth (speed and yaw rate sums of "
+                 "slow sinusoids, as robots drive)")
+      ->check(CLI::IsMember({"manoeuvres", "smooth"}))
+      ->capture_default_str();
   bool wheel_travels = false;
   app.add_flag("--sim_wheel_travels",
                wheel_travels,
@@ -380,6 +390,8 @@ int RunDemo(int argc, char** argv) {
   return RunReportingErrors(app, [&]() -> int {
     if (simulated) {
       simulation.seed = seed;
+      simulation.profile = profile == "smooth" ? DriveProfile::kSmooth
+                                               : DriveProfile::kManoeuvres;
       if (wheel_left)
         simulation.wheel_scale_error_left = 1.0 / *wheel_left - 1.0;
       if (wheel_right) {

@@ -3,12 +3,12 @@
 // 2 bad arguments or files, 3 the data do not determine the calibration,
 // 4 COLMAP missing, failed or gave no model (`run`, `demo`).
 
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_command.h"
-#include "odomcal/plugin/demo_command.h"
-#include "odomcal/plugin/render_command.h"
-#include "odomcal/plugin/run_command.h"
-#include "odomcal/plugin/simulate_command.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/colmap_command.h"
+#include "odomcal/plugin/cli/demo_command.h"
+#include "odomcal/plugin/cli/render_command.h"
+#include "odomcal/plugin/cli/run_command.h"
+#include "odomcal/plugin/cli/simulate_command.h"
 
 #include <cstring>
 #include <exception>

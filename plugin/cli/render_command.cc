@@ -1,12 +1,12 @@
-#include "odomcal/plugin/render_command.h"
+#include "odomcal/plugin/cli/render_command.h"
 
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/datasets/rendering/dataset_presets.h"
 #include "odomcal/datasets/rendering/rendered_dataset.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/command_line.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/output/output_folder.h"
 
 #include <CLI/CLI.hpp>
 

@@ -2,14 +2,14 @@
 // (reconstruction_pipeline.h) runs with its progress printed, and the
 // outputs of `odomcal colmap` are written in the workspace.
 
-#include "odomcal/plugin/run_command.h"
+#include "odomcal/plugin/cli/run_command.h"
 
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_calibration_outputs.h"
-#include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/command_flags.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
+#include "odomcal/plugin/report/colmap_report.h"
 
 #include <unistd.h>
 

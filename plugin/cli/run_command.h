@@ -3,8 +3,8 @@
 // line: flags in, progress lines, summary and files out.
 #pragma once
 
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/reconstruction_pipeline.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"
+#include "odomcal/plugin/report/calibration_report.h"
 
 #include <string>
 #include <vector>

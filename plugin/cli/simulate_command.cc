@@ -6,16 +6,16 @@
 // trial depends only on (--seed, sweep, point, trial), so a sweep run alone
 // reproduces the same numbers as within --sweep all.
 
-#include "odomcal/plugin/simulate_command.h"
+#include "odomcal/plugin/cli/simulate_command.h"
 
 #include "odomcal/datasets/paper/paper_evaluation.h"
 #include "odomcal/datasets/paper/paper_simulation.h"
 #include "odomcal/datasets/paper/paper_sweeps.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/command_line.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
-#include "odomcal/plugin/svg_plot.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/svg_plot.h"
 #include "odomcal/solver/format_number.h"
 
 #include <unistd.h>
@@ -306,7 +306,7 @@ int RunSimulate(int argc, char** argv) {
         const double value = sweep.values[p];
         const PaperSimulationOptions simulation =
             ApplySweepValue(nominal, sweep.name, value);
-        ProgressCallback progress;
+        EvaluationProgressCallback progress;
         if (show_progress) {
           progress = [&sweep, p, value](int done, int total) {
             if (done != total && done % 10 != 0) return;

@@ -3,16 +3,16 @@
 // different scales has no single correct similarity, so each part gets its
 // own, and a folded stretch is not exported at all.
 
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
 
 #include "odomcal/adapters/colmap_database.h"
 #include "odomcal/adapters/colmap_model_subset.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/odometry_interpolation_error.h"
-#include "odomcal/plugin/odometry_inputs.h"
-#include "odomcal/plugin/scale_drift_warning.h"
-#include "odomcal/plugin/systematics_report.h"
+#include "odomcal/adapters/systematics_warnings.h"
+#include "odomcal/plugin/colmap/odometry_inputs.h"
+#include "odomcal/plugin/colmap/scale_drift_warning.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/noise_estimation.h"

@@ -17,8 +17,8 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/image_coverage.h"
-#include "odomcal/plugin/mapper_attempts.h"
+#include "odomcal/plugin/colmap/image_coverage.h"
+#include "odomcal/plugin/colmap/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
@@ -67,6 +67,9 @@ struct ColmapCalibrationRun {
   // `odomcal run` only: every mapper run and the one calibrated here.
   std::vector<MapperAttempt> mapper_attempts;
   int chosen_mapper_attempt = -1;
+  // The COLMAP that reconstructed the model ("4.1.1", from its banner), for
+  // `odomcal run`; empty for a project calibrated as given.
+  std::string colmap_version;
   // `odomcal run` only: how many of the images selected for COLMAP are in
   // the calibration, per stretch of the drive (image_coverage.h).
   std::optional<ImageCoverage> coverage;

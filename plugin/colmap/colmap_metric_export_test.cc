@@ -4,8 +4,8 @@
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/timestamp.h"
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/report_testing.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/report/report_testing.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/tests/scratch_folder_test.h"
 

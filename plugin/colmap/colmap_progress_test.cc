@@ -1,4 +1,4 @@
-#include "odomcal/plugin/colmap_progress.h"
+#include "odomcal/plugin/colmap/colmap_progress.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // and GLOG_logtostderr keeps COLMAP's glog files out of the system temp
 // folder. A stage is marked finished only after a zero exit status.
 
-#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/colmap/colmap_runner.h"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -209,6 +209,11 @@ bool ColmapVersion::AtLeast(int major_at_least, int minor_at_least) const {
          (major == major_at_least && minor >= minor_at_least);
 }
 
+std::string ColmapVersion::ToString() const {
+  return std::to_string(major) + "." + std::to_string(minor) + "." +
+         std::to_string(patch);
+}
+
 ColmapVersion ParseColmapVersion(const std::string& banner) {
   static const std::regex kPattern(R"(COLMAP\s+(\d+)\.(\d+)(?:\.(\d+))?)");
   std::smatch match;
@@ -223,12 +228,25 @@ ColmapVersion ParseColmapVersion(const std::string& banner) {
   return version;
 }
 
-std::string FeatureExtractionPrefix(const ColmapVersion& version) {
-  return version.AtLeast(3, 13) ? "FeatureExtraction" : "SiftExtraction";
-}
-
-std::string FeatureMatchingPrefix(const ColmapVersion& version) {
-  return version.AtLeast(3, 13) ? "FeatureMatching" : "SiftMatching";
+ColmapOptionNames ColmapOptionNamesFor(const ColmapVersion& version) {
+  ColmapOptionNames names;
+  names.extraction_max_num_features = "SiftExtraction.max_num_features";
+  if (version.AtLeast(3, 13)) {
+    names.extraction_use_gpu = "FeatureExtraction.use_gpu";
+    names.extraction_num_threads = "FeatureExtraction.num_threads";
+    names.matching_use_gpu = "FeatureMatching.use_gpu";
+    names.matching_num_threads = "FeatureMatching.num_threads";
+    names.mapper_image_list_path = "Mapper.image_list_path";
+    names.mapper_random_seed = {"default_random_seed", "Mapper.random_seed"};
+  } else {
+    names.extraction_use_gpu = "SiftExtraction.use_gpu";
+    names.extraction_num_threads = "SiftExtraction.num_threads";
+    names.matching_use_gpu = "SiftMatching.use_gpu";
+    names.matching_num_threads = "SiftMatching.num_threads";
+    names.mapper_image_list_path = "image_list_path";
+    names.mapper_random_seed = {"random_seed"};
+  }
+  return names;
 }
 
 std::string ShellQuote(const std::string& argument) {

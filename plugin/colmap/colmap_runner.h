@@ -34,15 +34,36 @@ struct ColmapVersion {
   int patch = 0;
   std::string banner;  // first line of `colmap help`
   bool AtLeast(int major_at_least, int minor_at_least) const;
+  std::string ToString() const;  // "4.1.1"
 };
 
 // "COLMAP 3.8 -- Structure-from-Motion ..." -> 3.8.0; throws ColmapError.
 ColmapVersion ParseColmapVersion(const std::string& banner);
 
-// Option prefixes renamed in COLMAP 3.13: SiftExtraction -> FeatureExtraction,
-// SiftMatching -> FeatureMatching.
-std::string FeatureExtractionPrefix(const ColmapVersion& version);
-std::string FeatureMatchingPrefix(const ColmapVersion& version);
+// The names, in the COLMAP `version` that runs, of the options odomcal
+// passes whose names changed between 3.8 and 4.1 (read from COLMAP's
+// option_manager.cc and exe/*.cc at every release tag; docs/cli.md, COLMAP
+// versions). Every other option odomcal passes has one name in all of them.
+// COLMAP refuses an unknown option (exit 1), so a wrong name fails the stage.
+struct ColmapOptionNames {
+  // feature_extractor: SiftExtraction.* until 3.12, FeatureExtraction.*
+  // from 3.13 (only the device and thread options moved: the SIFT options,
+  // max_num_features among them, keep SiftExtraction in every version).
+  std::string extraction_use_gpu;
+  std::string extraction_num_threads;
+  std::string extraction_max_num_features;
+  // The matchers and matches_importer: SiftMatching.* until 3.12,
+  // FeatureMatching.* from 3.13.
+  std::string matching_use_gpu;
+  std::string matching_num_threads;
+  // mapper: --image_list_path until 3.12, --Mapper.image_list_path from 3.13.
+  std::string mapper_image_list_path;
+  // The random seed: --random_seed until 3.12; from 3.13
+  // --default_random_seed and --Mapper.random_seed (which also seeds each
+  // RANSAC of the mapper), both given the seed.
+  std::vector<std::string> mapper_random_seed;
+};
+ColmapOptionNames ColmapOptionNamesFor(const ColmapVersion& version);
 
 // One argument shell-quoted for display in commands.txt and messages.
 std::string ShellQuote(const std::string& argument);

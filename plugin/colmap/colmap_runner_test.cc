@@ -1,4 +1,4 @@
-#include "odomcal/plugin/colmap_runner.h"
+#include "odomcal/plugin/colmap/colmap_runner.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -78,18 +78,58 @@ class ColmapRunnerTest : public ::testing::Test {
   std::string fake_;
 };
 
-TEST(ParseColmapVersion, ReadsBannersAndMapsRenamedOptions) {
+TEST(ParseColmapVersion, ReadsTheBannerOfEveryRelease) {
   const ColmapVersion v38 = ParseColmapVersion(
       "COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo");
   EXPECT_EQ(v38.major, 3);
   EXPECT_EQ(v38.minor, 8);
-  EXPECT_EQ(FeatureExtractionPrefix(v38), "SiftExtraction");
-  EXPECT_EQ(FeatureMatchingPrefix(v38), "SiftMatching");
+  // The 3.10 release calls itself 3.10-dev.
+  const ColmapVersion v310 = ParseColmapVersion(
+      "COLMAP 3.10-dev -- Structure-from-Motion and Multi-View Stereo");
+  EXPECT_EQ(v310.minor, 10);
   const ColmapVersion v313 = ParseColmapVersion("COLMAP 3.13.0 (Commit abc)");
   EXPECT_EQ(v313.patch, 0);
-  EXPECT_EQ(FeatureExtractionPrefix(v313), "FeatureExtraction");
-  EXPECT_EQ(FeatureMatchingPrefix(v313), "FeatureMatching");
+  // 4.1 prints one line, without "-- Structure-from-Motion ...".
+  const ColmapVersion v411 = ParseColmapVersion(
+      "COLMAP 4.1.1 (Commit 1a2b3c4 on 2026-07-17 with CUDA)");
+  EXPECT_EQ(v411.major, 4);
+  EXPECT_EQ(v411.minor, 1);
+  EXPECT_EQ(v411.patch, 1);
   EXPECT_THROW(ParseColmapVersion("usage: something else"), ColmapError);
+}
+
+// The names COLMAP's sources register at each release tag.
+TEST(ColmapOptionNames, FollowTheRenamesOf3Point13) {
+  const ColmapOptionNames v38 =
+      ColmapOptionNamesFor(ParseColmapVersion("COLMAP 3.8 -- SfM"));
+  EXPECT_EQ(v38.extraction_use_gpu, "SiftExtraction.use_gpu");
+  EXPECT_EQ(v38.extraction_num_threads, "SiftExtraction.num_threads");
+  EXPECT_EQ(v38.extraction_max_num_features, "SiftExtraction.max_num_features");
+  EXPECT_EQ(v38.matching_use_gpu, "SiftMatching.use_gpu");
+  EXPECT_EQ(v38.mapper_image_list_path, "image_list_path");
+  EXPECT_EQ(v38.mapper_random_seed, std::vector<std::string>{"random_seed"});
+  const ColmapOptionNames v312 =
+      ColmapOptionNamesFor(ParseColmapVersion("COLMAP 3.12.6 -- SfM"));
+  EXPECT_EQ(v312.extraction_use_gpu, "SiftExtraction.use_gpu");
+  EXPECT_EQ(v312.mapper_image_list_path, "image_list_path");
+  for (const char* banner : {"COLMAP 3.13.0 -- SfM",
+                             "COLMAP 4.0.4 -- SfM",
+                             "COLMAP 4.1.1 (Commit abc on 2026-07-17)"}) {
+    const ColmapOptionNames names =
+        ColmapOptionNamesFor(ParseColmapVersion(banner));
+    EXPECT_EQ(names.extraction_use_gpu, "FeatureExtraction.use_gpu") << banner;
+    EXPECT_EQ(names.extraction_num_threads, "FeatureExtraction.num_threads");
+    // The SIFT options keep their prefix: FeatureExtraction.max_num_features
+    // exists in no version.
+    EXPECT_EQ(names.extraction_max_num_features,
+              "SiftExtraction.max_num_features");
+    EXPECT_EQ(names.matching_use_gpu, "FeatureMatching.use_gpu");
+    EXPECT_EQ(names.matching_num_threads, "FeatureMatching.num_threads");
+    EXPECT_EQ(names.mapper_image_list_path, "Mapper.image_list_path");
+    EXPECT_EQ(names.mapper_random_seed,
+              (std::vector<std::string>{"default_random_seed",
+                                        "Mapper.random_seed"}));
+  }
 }
 
 TEST(ShellQuote, QuotesOnlyWhatNeedsIt) {

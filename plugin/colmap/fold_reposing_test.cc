@@ -1,4 +1,4 @@
-#include "odomcal/plugin/fold_reposing.h"
+#include "odomcal/plugin/colmap/fold_reposing.h"
 
 #include "odomcal/adapters/test_support.h"
 

@@ -1,7 +1,7 @@
-#include "odomcal/plugin/image_coverage.h"
+#include "odomcal/plugin/colmap/image_coverage.h"
 
 #include "odomcal/adapters/timestamp.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "odomcal/plugin/image_coverage.h"
+#include "odomcal/plugin/colmap/image_coverage.h"
 
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "odomcal/plugin/mapper_attempts.h"
+#include "odomcal/plugin/colmap/mapper_attempts.h"
 
 #include <algorithm>
 #include <tuple>

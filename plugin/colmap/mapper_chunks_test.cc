@@ -1,4 +1,4 @@
-#include "odomcal/plugin/mapper_chunks.h"
+#include "odomcal/plugin/colmap/mapper_chunks.h"
 
 #include <gtest/gtest.h>
 

@@ -9,7 +9,7 @@
 // MatchedAgain(); finally Best() and ContradictionWarning().
 #pragma once
 
-#include "odomcal/plugin/mapper_attempts.h"
+#include "odomcal/plugin/colmap/mapper_attempts.h"
 
 #include <optional>
 #include <string>

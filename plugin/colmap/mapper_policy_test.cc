@@ -1,4 +1,4 @@
-#include "odomcal/plugin/mapper_policy.h"
+#include "odomcal/plugin/colmap/mapper_policy.h"
 
 #include <gtest/gtest.h>
 

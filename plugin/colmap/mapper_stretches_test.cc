@@ -1,4 +1,4 @@
-#include "odomcal/plugin/mapper_stretches.h"
+#include "odomcal/plugin/colmap/mapper_stretches.h"
 
 #include "odomcal/solver/angles.h"
 

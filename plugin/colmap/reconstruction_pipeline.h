@@ -18,10 +18,10 @@
 
 #include "odomcal/adapters/excitation_precheck.h"
 #include "odomcal/adapters/frame_selection.h"
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/mapper_chunks.h"
-#include "odomcal/plugin/mapper_policy.h"
-#include "odomcal/plugin/mapper_stretches.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/mapper_chunks.h"
+#include "odomcal/plugin/colmap/mapper_policy.h"
+#include "odomcal/plugin/colmap/mapper_stretches.h"
 
 #include <functional>
 #include <string>

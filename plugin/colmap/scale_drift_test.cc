@@ -4,9 +4,9 @@
 // status, and each exported metric model must carry the scale of its own
 // stretch; drift-free drives must give no cut.
 
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/report_testing.h"
-#include "odomcal/plugin/scale_drift_warning.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/scale_drift_warning.h"
+#include "odomcal/plugin/report/report_testing.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <unistd.h>

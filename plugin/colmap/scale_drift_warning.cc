@@ -1,4 +1,4 @@
-#include "odomcal/plugin/scale_drift_warning.h"
+#include "odomcal/plugin/colmap/scale_drift_warning.h"
 
 #include "odomcal/adapters/timestamp.h"
 

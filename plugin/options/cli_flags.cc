@@ -1,4 +1,4 @@
-#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/options/cli_flags.h"
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/format_number.h"

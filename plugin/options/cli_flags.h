@@ -8,7 +8,7 @@
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/systematics_estimation.h"
-#include "odomcal/plugin/option_table.h"
+#include "odomcal/plugin/options/option_table.h"
 #include "odomcal/solver/calibration_options.h"
 
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-#include "odomcal/plugin/project_flags.h"
+#include "odomcal/plugin/options/project_flags.h"
 
 #include "odomcal/adapters/timestamp.h"
 

@@ -4,9 +4,9 @@
 // No CLI11 here: the command line registers the flags (command_flags.h).
 #pragma once
 
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/colmap_calibration.h"
-#include "odomcal/plugin/option_table.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/options/cli_flags.h"
+#include "odomcal/plugin/options/option_table.h"
 
 #include <nlohmann/json.hpp>
 

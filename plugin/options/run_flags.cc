@@ -1,6 +1,6 @@
-#include "odomcal/plugin/run_flags.h"
+#include "odomcal/plugin/options/run_flags.h"
 
-#include "odomcal/plugin/project_flags.h"
+#include "odomcal/plugin/options/project_flags.h"
 
 #include <cstdlib>
 

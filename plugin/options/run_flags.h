@@ -6,8 +6,8 @@
 // (command_flags.h).
 #pragma once
 
-#include "odomcal/plugin/option_table.h"
-#include "odomcal/plugin/reconstruction_pipeline.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"
+#include "odomcal/plugin/options/option_table.h"
 
 #include <nlohmann/json.hpp>
 

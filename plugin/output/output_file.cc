@@ -1,4 +1,4 @@
-#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output/output_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -1,6 +1,6 @@
-#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/output/output_folder.h"
 
-#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output/output_file.h"
 
 #include <filesystem>
 #include <fstream>

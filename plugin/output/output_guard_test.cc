@@ -1,6 +1,6 @@
-#include "odomcal/plugin/output_guard.h"
+#include "odomcal/plugin/output/output_guard.h"
 
-#include "odomcal/plugin/output_file.h"
+#include "odomcal/plugin/output/output_file.h"
 
 #include <gtest/gtest.h>
 

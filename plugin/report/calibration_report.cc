@@ -3,11 +3,11 @@
 // a number the data do not support is never reported as if it were an
 // estimate. A held translation z is the given value, written as such.
 
-#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/report/calibration_report.h"
 
 #include "odomcal/adapters/timestamp.h"
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/systematics_report.h"
+#include "odomcal/plugin/options/cli_flags.h"
+#include "odomcal/plugin/report/systematics_report.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/rigid3.h"
 

@@ -1,8 +1,8 @@
-#include "odomcal/plugin/calibration_report.h"
+#include "odomcal/plugin/report/calibration_report.h"
 
 #include "odomcal/datasets/simulation/motion_simulator.h"
-#include "odomcal/plugin/cli_flags.h"
-#include "odomcal/plugin/report_testing.h"
+#include "odomcal/plugin/options/cli_flags.h"
+#include "odomcal/plugin/report/report_testing.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 

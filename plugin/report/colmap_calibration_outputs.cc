@@ -1,13 +1,13 @@
 // See the header. Every file is written to a temporary name and renamed, so
 // that a reader never sees half a file.
 
-#include "odomcal/plugin/colmap_calibration_outputs.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
 
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/trajectory_io.h"
-#include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/output_file.h"
-#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/colmap_report.h"
 
 #include <algorithm>
 #include <filesystem>

@@ -3,8 +3,8 @@
 // the odometry frame and the HTML report.
 #pragma once
 
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/report/calibration_report.h"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
-#include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/report/colmap_report.h"
 
 #include "odomcal/adapters/timestamp.h"
-#include "odomcal/plugin/project_flags.h"
-#include "odomcal/plugin/svg_plot.h"
+#include "odomcal/plugin/options/project_flags.h"
+#include "odomcal/plugin/report/svg_plot.h"
 #include "odomcal/solver/angles.h"
 
 #include <cmath>
@@ -169,6 +169,9 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
       {"metric_models", metric_models},
       {"mapper_attempts", mapper_attempts},
   };
+  if (!run.colmap_version.empty()) {
+    out["colmap"]["version"] = run.colmap_version;
+  }
   if (run.coverage) {
     const ImageCoverage& coverage = *run.coverage;
     json stretches_of_drive = json::array();
@@ -495,7 +498,12 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                   "contradicts the "
                   "odometry (e.g. a folded reconstruction), left out of the "
                   "calibration.");
-  html << "<h2>COLMAP sub-models</h2>\n<ul>";
+  html << "<h2>COLMAP sub-models</h2>\n";
+  if (!run.colmap_version.empty()) {
+    html << "<p>Reconstructed by COLMAP " << EscapeMarkup(run.colmap_version)
+         << ".</p>\n";
+  }
+  html << "<ul>";
   for (const ColmapSegment& segment : run.segments) {
     html << "<li>" << EscapeMarkup(segment.model_path) << ": "
          << segment.num_registered_images << " registered images</li>";

@@ -3,8 +3,8 @@
 // report with inline SVG plots.
 #pragma once
 
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/report/calibration_report.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
-#include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/report/colmap_report.h"
 
-#include "odomcal/plugin/colmap_calibration_outputs.h"
-#include "odomcal/plugin/report_testing.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
+#include "odomcal/plugin/report/report_testing.h"
 
 #include <unistd.h>
 

@@ -1,11 +1,11 @@
-#include "odomcal/plugin/report_testing.h"
+#include "odomcal/plugin/report/report_testing.h"
 
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/test_support.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
-#include "odomcal/plugin/cli_flags.h"
+#include "odomcal/plugin/options/cli_flags.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 

@@ -6,8 +6,8 @@
 //   - SimulatedCalibrationRun: what `odomcal calibrate` computes for a drive.
 #pragma once
 
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/colmap_calibration.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
 
 #include <cstdint>
 #include <string>

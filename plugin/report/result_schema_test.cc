@@ -8,11 +8,11 @@
 // cannot fall behind the writers.
 
 #include "odomcal/adapters/frame_selection.h"
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/colmap_report.h"
-#include "odomcal/plugin/project_flags.h"
-#include "odomcal/plugin/report_testing.h"
-#include "odomcal/plugin/run_flags.h"
+#include "odomcal/plugin/options/project_flags.h"
+#include "odomcal/plugin/options/run_flags.h"
+#include "odomcal/plugin/report/calibration_report.h"
+#include "odomcal/plugin/report/colmap_report.h"
+#include "odomcal/plugin/report/report_testing.h"
 
 #include <unistd.h>
 

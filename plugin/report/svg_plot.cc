@@ -8,7 +8,7 @@
 // same units per pixel, with one tick step for both (square grid cells). Text
 // is XML-escaped.
 
-#include "odomcal/plugin/svg_plot.h"
+#include "odomcal/plugin/report/svg_plot.h"
 
 #include <algorithm>
 #include <cctype>

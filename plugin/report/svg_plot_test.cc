@@ -1,4 +1,4 @@
-#include "odomcal/plugin/svg_plot.h"
+#include "odomcal/plugin/report/svg_plot.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,8 @@
 // text model with image timestamps) and associates it, solver calibrates the
 // pairs, datasets_paper runs Chang et al.'s baseline on them,
 // datasets_rendering measures a room, plugin calibrates the COLMAP project
-// (odomcal_plugin.h), reports writes its files, and cli runs the `odomcal
+// (odomcal_plugin.h), output claims the output folder, options and reports
+// echo the options and write the files, and cli runs the `odomcal
 // calibrate` pipeline on the trajectory files. Every estimate must recover
 // the simulated extrinsic and scale.
 #include "odomcal/adapters/association.h"
@@ -14,12 +15,12 @@
 #include "odomcal/datasets/paper/chang_baseline.h"
 #include "odomcal/datasets/rendering/room_layout.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
-#include "odomcal/plugin/calibrate_command.h"
-#include "odomcal/plugin/calibration_report.h"
-#include "odomcal/plugin/colmap_calibration_outputs.h"
-#include "odomcal/plugin/colmap_report.h"
+#include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/odomcal_plugin.h"
-#include "odomcal/plugin/output_folder.h"
+#include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/calibration_report.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
+#include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/calibrate.h"
 

@@ -1,0 +1,244 @@
+// [4] mapper runs of the reconstruction pipeline (reconstruction_stages.h):
+// arguments, output folders, extra runs beside the main model, and a run
+// with one random seed checked against the odometry.
+#include "odomcal/plugin/colmap/reconstruction_stages.h"
+#include "odomcal/plugin/output/output_folder.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace odomcal::reconstruction {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// StartMapper, waited for (COLMAP's lines to the runner's listener).
+ColmapStageResult RunMapper(ColmapRunner* colmap,
+                            const ReconstructionOptions& run,
+                            const std::string& entry,
+                            const std::vector<std::string>& arguments) {
+  RunningStage stage = StartMapper(colmap, run, entry, arguments);
+  stage.WaitForEnd(colmap->options().on_output_line);
+  return stage.Finish();
+}
+
+// Whether a mapper run into `output` produced a model.
+bool HasModel(const fs::path& output) { return fs::exists(output / "0"); }
+
+// "the odometry agrees with all 34 motion pairs", "no motion pair
+// contradicts the odometry (2 of 34 not used, within RANSAC's gate)", "2 of
+// 34 motion pairs contradict the odometry", "none of 34 motion pairs could
+// be tested" (too little motion), with the calibration status when it gave
+// no answer.
+std::string OdometryVerdict(const MapperAttempt& attempt) {
+  std::string verdict;
+  if (!attempt.pairs_tested) {
+    verdict = "none of " + std::to_string(attempt.num_pairs) +
+              " motion pairs could be tested against the odometry";
+  } else if (attempt.num_contradicting_pairs == 0 &&
+             attempt.num_pairs_used == attempt.num_pairs) {
+    verdict = "the odometry agrees with all " +
+              std::to_string(attempt.num_pairs) + " motion pairs";
+  } else if (attempt.num_contradicting_pairs == 0) {
+    verdict = "no motion pair contradicts the odometry (" +
+              std::to_string(attempt.num_pairs - attempt.num_pairs_used) +
+              " of " + std::to_string(attempt.num_pairs) +
+              " not used, within RANSAC's gate)";
+  } else {
+    verdict = std::to_string(attempt.num_contradicting_pairs) + " of " +
+              std::to_string(attempt.num_pairs) +
+              " motion pairs contradict the odometry";
+  }
+  if (attempt.status != CalibrationStatus::kSuccess) {
+    verdict += " (calibration: " + ToString(attempt.status) + ")";
+  }
+  return verdict;
+}
+
+}  // namespace
+
+// Where `colmap mapper` run as stage "mapper_<entry>" writes its
+// sub-models: mapper_attempts/<entry> in the workspace.
+fs::path MapperOutput(const ReconstructionOptions& run,
+                      const std::string& entry) {
+  return fs::path(run.workspace_path) / "mapper_attempts" / entry;
+}
+
+// `colmap mapper` on `database`'s matches of the images in `image_list`,
+// with the intrinsics kept fixed when given (--camera_params), and the
+// random seed when `random_seed` holds one, in the option names of
+// `version`.
+std::vector<std::string> MapperArguments(const ReconstructionOptions& run,
+                                         const ColmapVersion& version,
+                                         const std::string& database,
+                                         const fs::path& output,
+                                         const fs::path& image_list,
+                                         std::optional<int> random_seed,
+                                         int num_threads) {
+  const bool fixed_intrinsics = !run.camera_params.empty();
+  const ColmapOptionNames names = ColmapOptionNamesFor(version);
+  std::vector<std::string> arguments = {"mapper",
+                                        "--database_path",
+                                        database,
+                                        "--image_path",
+                                        run.image_path,
+                                        "--output_path",
+                                        output.string(),
+                                        "--" + names.mapper_image_list_path,
+                                        image_list.string()};
+  if (random_seed) {
+    for (const std::string& name : names.mapper_random_seed) {
+      arguments.insert(arguments.end(),
+                       {"--" + name, std::to_string(*random_seed)});
+    }
+  }
+  arguments.insert(arguments.end(),
+                   {"--Mapper.num_threads",
+                    std::to_string(num_threads),
+                    "--Mapper.ba_refine_focal_length",
+                    fixed_intrinsics ? "0" : "1",
+                    "--Mapper.ba_refine_principal_point",
+                    "0",
+                    "--Mapper.ba_refine_extra_params",
+                    fixed_intrinsics ? "0" : "1"});
+  return arguments;
+}
+
+// Starts `arguments` (MapperArguments into MapperOutput(run, entry)) as
+// stage "mapper_<entry>". Unless the stage is reused, its output folder is
+// emptied first: a rerun must not mix new sub-models with stale ones.
+RunningStage StartMapper(ColmapRunner* colmap,
+                         const ReconstructionOptions& run,
+                         const std::string& entry,
+                         const std::vector<std::string>& arguments) {
+  const std::string stage = "mapper_" + entry;
+  const fs::path output = MapperOutput(run, entry);
+  const std::vector<std::string> outputs = {(output / "0").string()};
+  if (!colmap->WillReuse(stage, arguments, outputs)) {
+    RemoveOwnedOutput(run.workspace_path, "mapper_attempts/" + entry);
+  }
+  std::error_code error;
+  fs::create_directories(output, error);
+  return colmap->StartStage(stage, arguments, outputs);
+}
+
+// The end of a mapper run for a model beside the main one (a stretch, a
+// chunk): it is extra, so COLMAP failing on it (e.g. a CHECK on images
+// without features) or giving no model ends `clock`'s stage with "no
+// model..." and returns nothing, and the run goes on without it.
+std::optional<ColmapStageResult> FinishExtraMapper(
+    RunningStage* stage,
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    StageClock* clock) {
+  ColmapStageResult result;
+  try {
+    result = stage->Finish();
+  } catch (const ColmapError& failure) {
+    clock->Done(std::string("no model: ") + failure.what(), stage->seconds());
+    return std::nullopt;
+  }
+  if (!HasModel(MapperOutput(run, entry))) {
+    clock->Done("no model, log " + result.log_path, stage->seconds());
+    return std::nullopt;
+  }
+  return result;
+}
+
+// An extra mapper run (FinishExtraMapper), started and waited for.
+std::optional<ColmapStageResult> RunExtraMapper(
+    ColmapRunner* colmap,
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    const std::vector<std::string>& arguments,
+    StageClock* clock) {
+  RunningStage stage = StartMapper(colmap, run, entry, arguments);
+  stage.WaitForEnd(colmap->options().on_output_line);
+  return FinishExtraMapper(&stage, run, entry, clock);
+}
+
+// [4]: `colmap mapper` with `seed` on the round's matches, its model
+// calibrated and recorded in `policy`.
+void MapWithSeed(ColmapRunner* colmap,
+                 const ReconstructionOptions& run,
+                 const MatchingRound& round,
+                 int seed,
+                 Progress* progress,
+                 MapperPolicy* policy) {
+  const fs::path workspace(run.workspace_path);
+  const std::string prefix = round.index == 0 ? "" : "rematch_";
+  MapperAttempt attempt;
+  attempt.matching_round = round.index;
+  attempt.random_seed = seed;
+  StageClock clock(progress,
+                   4,
+                   std::string("COLMAP mapping") +
+                       (round.index == 0 ? "" : " the new matches") +
+                       ", --random_seed " + std::to_string(seed));
+  const std::string entry = prefix + "seed_" + std::to_string(seed);
+  const fs::path output = MapperOutput(run, entry);
+  const ColmapStageResult stage =
+      RunMapper(colmap,
+                run,
+                entry,
+                MapperArguments(run,
+                                colmap->Version(),
+                                round.database,
+                                output,
+                                workspace / "image_list.txt",
+                                seed,
+                                run.num_threads));
+  attempt.model_path = output.string();
+  if (!HasModel(output)) {
+    policy->Record(attempt);
+    clock.Done("no model, log " + stage.log_path);
+    return;
+  }
+  ColmapCalibrationInputs inputs = run.project;
+  inputs.model_path = output.string();
+  inputs.database_path = round.database;
+  const ColmapCalibrationRun calibration = CalibrateColmapProject(inputs);
+  attempt = SummarizeMapperAttempt(
+      seed, output.string(), calibration.segments, calibration.check);
+  attempt.matching_round = round.index;
+  policy->Record(attempt);
+  std::string note = Note(stage) + "; " + OdometryVerdict(attempt);
+  if (policy->repeated()) {
+    note += ", the same as with " + MapperAttemptName(*policy->repeated());
+  } else if (policy->Next().kind == MapperStep::Kind::kMap) {
+    note += ": mapping again";
+  }
+  clock.Done(note);
+}
+
+// `workspace`/`entry` becomes a copy of folder `source`; a failure leaves no
+// half copy under that name.
+void ReplaceWithCopy(const fs::path& source,
+                     const std::string& workspace,
+                     const std::string& entry) {
+  const fs::path temporary = fs::path(workspace) / (entry + ".tmp");
+  RemoveOwnedOutput(workspace, entry + ".tmp");
+  fs::copy(source, temporary, fs::copy_options::recursive);
+  RemoveOwnedOutput(workspace, entry);
+  fs::rename(temporary, fs::path(workspace) / entry);
+}
+
+// The number a sub-model folder is named by ("0", "1", ...); -1 for any
+// other name.
+int SubModelNumber(const std::string& name) {
+  const bool numbered =
+      !name.empty() && name.size() < 9 &&
+      std::all_of(name.begin(), name.end(), [](unsigned char c) {
+        return std::isdigit(c);
+      });
+  return numbered ? std::stoi(name) : -1;
+}
+
+// "images 86-300".
+std::string ImageRange(int first, int last) {
+  return "images " + std::to_string(first + 1) + "-" + std::to_string(last + 1);
+}
+
+}  // namespace odomcal::reconstruction

@@ -1,0 +1,188 @@
+// The stages of ReconstructAndCalibrate (reconstruction_pipeline.h), shared
+// by the files that implement them: progress and stage clocks
+// (reconstruction_progress.h), matching (reconstruction_matching.cc), mapper
+// runs (reconstruction_mapper.cc), stretches the chosen model left out
+// (reconstruction_stretches.cc), chunked mapping (reconstruction_chunks.cc)
+// and chunk folds posed from the odometry (reconstruction_chunk_folds.cc).
+// Internal: not installed.
+#pragma once
+
+#include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/trajectory.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/colmap_runner.h"
+#include "odomcal/plugin/colmap/mapper_attempts.h"
+#include "odomcal/plugin/colmap/mapper_chunks.h"
+#include "odomcal/plugin/colmap/mapper_policy.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"
+#include "odomcal/plugin/colmap/reconstruction_progress.h"
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace odomcal::reconstruction {
+
+// One matching of the images and the mapper runs on it.
+struct MatchingRound {
+  int index = 0;  // MapperAttempt::matching_round
+  std::string database;
+};
+
+// --matcher odometry: the pairs chosen from the odometry
+// (OdometryCandidatePairs), one "name1 name2" per line.
+inline constexpr const char* kOdometryPairsFile = "odometry_pairs.txt";
+
+// [2]: `colmap feature_extractor` on the selected images (the list in the
+// workspace's image_list.txt), intrinsics given or estimated.
+void ExtractFeatures(ColmapRunner* colmap,
+                     const ReconstructionOptions& run,
+                     size_t num_images,
+                     const std::string& database,
+                     Progress* progress);
+
+// The run's options with the odometry pairs' viewing-angle limit set from
+// the camera COLMAP extracted the features with.
+ReconstructionOptions TuneCandidatePairs(const ReconstructionOptions& run,
+                                         const std::string& database);
+
+// [3]: the first matching of `round` (its database holds the features),
+// guided by the odometry positions; returns the matcher that ran.
+std::string MatchImages(ColmapRunner* colmap,
+                        const ReconstructionOptions& run,
+                        const ReconstructionOptions& tuned,
+                        const std::vector<TimedImage>& images,
+                        const Trajectory& odometry,
+                        const MatchingRound& round,
+                        Progress* progress);
+
+// `colmap <matcher>` arguments of `round` for the COLMAP `version`.
+std::vector<std::string> MatcherArguments(const std::string& matcher,
+                                          const MatchingRound& round,
+                                          const ReconstructionOptions& run,
+                                          const ColmapVersion& version);
+
+// [3] again: the features of `first_database` in round.database, matched
+// anew with the same settings (COLMAP's two-view verification is random, so
+// the matches differ).
+void MatchAgain(ColmapRunner* colmap,
+                const std::string& matcher,
+                const MatchingRound& round,
+                const std::string& first_database,
+                const ReconstructionOptions& run,
+                Progress* progress);
+
+// Where `colmap mapper` run as stage "mapper_<entry>" writes its
+// sub-models: mapper_attempts/<entry> in the workspace.
+std::filesystem::path MapperOutput(const ReconstructionOptions& run,
+                                   const std::string& entry);
+
+// `colmap mapper` on `database`'s matches of the images in `image_list`,
+// with the intrinsics kept fixed when given (--camera_params), and the
+// random seed when `random_seed` holds one, in the option names of
+// `version` (ColmapOptionNamesFor).
+std::vector<std::string> MapperArguments(
+    const ReconstructionOptions& run,
+    const ColmapVersion& version,
+    const std::string& database,
+    const std::filesystem::path& output,
+    const std::filesystem::path& image_list,
+    std::optional<int> random_seed,
+    int num_threads);
+
+// Starts `arguments` as stage "mapper_<entry>" into MapperOutput(run,
+// entry), its output folder emptied first unless the stage is reused.
+RunningStage StartMapper(ColmapRunner* colmap,
+                         const ReconstructionOptions& run,
+                         const std::string& entry,
+                         const std::vector<std::string>& arguments);
+
+// The end of a mapper run for a model beside the main one (a stretch, a
+// chunk): nothing when COLMAP failed or gave no model (`clock`'s stage then
+// ends saying so), and the run goes on without it.
+std::optional<ColmapStageResult> FinishExtraMapper(
+    RunningStage* stage,
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    StageClock* clock);
+
+// An extra mapper run (FinishExtraMapper), started and waited for.
+std::optional<ColmapStageResult> RunExtraMapper(
+    ColmapRunner* colmap,
+    const ReconstructionOptions& run,
+    const std::string& entry,
+    const std::vector<std::string>& arguments,
+    StageClock* clock);
+
+// [4]: `colmap mapper` with `seed` on the round's matches, its model
+// calibrated and recorded in `policy`.
+void MapWithSeed(ColmapRunner* colmap,
+                 const ReconstructionOptions& run,
+                 const MatchingRound& round,
+                 int seed,
+                 Progress* progress,
+                 MapperPolicy* policy);
+
+// `workspace`/`entry` becomes a copy of folder `source`; a failure leaves no
+// half copy under that name.
+void ReplaceWithCopy(const std::filesystem::path& source,
+                     const std::string& workspace,
+                     const std::string& entry);
+
+// The number a sub-model folder is named by ("0", "1", ...); -1 for any
+// other name.
+int SubModelNumber(const std::string& name);
+
+// "images 86-300".
+std::string ImageRange(int first, int last);
+
+// [4] for the stretches of at least kMinStretchModelImages images the
+// chosen model left unregistered, each matched along the odometry and
+// mapped on its own; the mapper output folders with a model.
+std::vector<std::filesystem::path> MapUnregisteredStretches(
+    ColmapRunner* colmap,
+    const ReconstructionOptions& run,
+    const std::vector<TimedImage>& images,
+    const Trajectory& odometry,
+    const MapperAttempt& best,
+    const std::string& database,
+    Progress* progress);
+
+// A combination of chunk models: mapper_attempts/<entry>, its numbered
+// sub-models, and the chunk each came from.
+struct ChunkCombination {
+  std::string entry;
+  std::vector<int> chunk_of_sub_model;
+};
+
+// Chunk k's sub-models in `chosen` with a stretch left out as folded posed
+// again from the odometry, triangulated and adjusted by COLMAP, written as
+// chunk k's model mapper_attempts/<entry>; the number posed again (0: none
+// could be, `why` says why).
+int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
+                               const ReconstructionOptions& run,
+                               const MatchingRound& round,
+                               const ColmapCalibrationRun& calibration,
+                               const ChunkCombination& chosen,
+                               size_t k,
+                               const std::string& entry,
+                               std::string* why);
+
+struct ChunkedMapping {
+  std::vector<MapperAttempt> attempts;  // all chunks, then each chunk again
+  int chosen = -1;                      // -1: no chunk gave a model
+};
+
+// [4] for a drive longer than one chunk (mapper_chunks.h), each chunk mapped
+// and, where folded, posed from the odometry or mapped again with other
+// seeds (reconstruction_chunks.cc).
+ChunkedMapping MapInChunks(ColmapRunner* colmap,
+                           const ReconstructionOptions& run,
+                           const MatchingRound& round,
+                           const std::vector<TimedImage>& images,
+                           const std::vector<MapperChunk>& chunks,
+                           Progress* progress);
+
+}  // namespace odomcal::reconstruction
