@@ -31,7 +31,7 @@ constexpr uint64_t kBinaryNoPoint3D = std::numeric_limits<uint64_t>::max();
 // Smallest possible binary records, for bounding counts before allocating.
 constexpr uint64_t kMinCameraBytes = 4 + 4 + 8 + 8 + 2 * 8;
 constexpr uint64_t kMinImageBytes = 4 + 7 * 8 + 4 + 1 + 8;  // empty name
-constexpr uint64_t kPoint2DBytes = 3 * 8;
+constexpr uint64_t kPoint2DBytes = uint64_t{3} * 8;
 constexpr uint64_t kMinPoint3DBytes = 8 + 3 * 8 + 3 + 8 + 8;
 constexpr uint64_t kTrackElementBytes = 4 + 4;
 

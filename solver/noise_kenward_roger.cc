@@ -23,7 +23,8 @@ Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
   std::vector<Eigen::MatrixXd> first(num_free, normal);
-  std::vector<Eigen::MatrixXd> second(num_free * num_free, normal);
+  std::vector<Eigen::MatrixXd> second(
+      static_cast<size_t>(num_free) * static_cast<size_t>(num_free), normal);
   std::vector<Matrix6d> derivatives(num_free);
   std::vector<Matrix6X> pdpj(num_free);
   for (size_t i = 0; i < terms.size(); ++i) {

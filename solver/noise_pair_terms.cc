@@ -103,8 +103,8 @@ Matrix6d Contribution(const MotionPair& pair,
     if (blocks.size() == 2) {
       covariance = full;
     } else {
-      covariance.block<3, 3>(3 * blocks[0], 3 * blocks[0]) =
-          full.block<3, 3>(3 * blocks[0], 3 * blocks[0]);
+      const Eigen::Index first = 3 * static_cast<Eigen::Index>(blocks[0]);
+      covariance.block<3, 3>(first, first) = full.block<3, 3>(first, first);
     }
     (odometry ? masked.odom_covariance : masked.cam_covariance) = covariance;
   } else {
