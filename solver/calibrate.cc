@@ -564,11 +564,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                                result.metric_scales,
                                planarity_noise);
   if (d.planarity.checked && !d.planarity.consistent) {
-    // Seconds since the drive's start: the earliest pair of any segment.
-    int64_t first_stamp_ns = pairs.front().stamp_i_ns;
-    for (const MotionPair& pair : pairs)
-      first_stamp_ns = std::min(first_stamp_ns, pair.stamp_i_ns);
-    result.warnings.push_back(PlanarityWarning(d.planarity, first_stamp_ns));
+    if (d.planarity.named) {
+      // Seconds since the drive's start: the earliest pair of any segment.
+      int64_t first_stamp_ns = pairs.front().stamp_i_ns;
+      for (const MotionPair& pair : pairs)
+        first_stamp_ns = std::min(first_stamp_ns, pair.stamp_i_ns);
+      result.warnings.push_back(PlanarityWarning(d.planarity, first_stamp_ns));
+    }
     information /= d.planarity.covariance_inflation;
   }
   AnalyseInformation(

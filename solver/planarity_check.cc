@@ -123,6 +123,9 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
   check.reduced_chi_square = check.chi_square / check.degrees_of_freedom;
   check.consistent = check.chi_square <= check.chi_square_threshold;
   check.correlation_length = CorrelationLength(whitened);
+  check.named = !check.consistent &&
+                (check.correlation_length >= kMinSlopeCorrelation ||
+                 check.reduced_chi_square >= kMinNamedReducedChiSquare);
   check.covariance_inflation =
       check.consistent
           ? 1.0

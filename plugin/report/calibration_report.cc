@@ -71,6 +71,7 @@ json PlanarityToJson(const PlanarityCheck& p) {
   return {
       {"checked", true},
       {"consistent", p.consistent},
+      {"named", p.named},
       {"tilt_deg", p.tilt_deg},
       {"out_of_plane_m", p.out_of_plane_m},
       {"tilt_rms_deg", p.tilt_rms_deg},
