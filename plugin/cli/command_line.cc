@@ -88,7 +88,7 @@ std::string LeftOverError(const CLI::App& app) {
 // it takes.
 std::string ConversionMessage(const CLI::App& app,
                               const CLI::ConversionError& error) {
-  const std::string what = error.what();
+  std::string what = error.what();  // returned by move where unchanged
   const std::string prefix = "Could not convert: ";
   const size_t equals = what.find(" = ");
   if (!StartsWith(what, prefix) || equals == std::string::npos) return what;
@@ -109,7 +109,7 @@ std::string ConversionMessage(const CLI::App& app,
 // CLI11's "--gap: 1 required FLOAT missing" when a flag ends the command
 // line.
 std::string MismatchMessage(const CLI::ArgumentMismatch& error) {
-  const std::string what = error.what();
+  std::string what = error.what();  // returned by move where unchanged
   const size_t colon = what.find(": ");
   if (StartsWith(what, "--") && colon != std::string::npos &&
       what.find(" required ") != std::string::npos && what.size() >= 8 &&

@@ -139,10 +139,12 @@ pid_t Spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
   }
   environment.emplace_back("GLOG_logtostderr=1");
   std::vector<char*> env_pointers;
+  env_pointers.reserve(environment.size() + 1);
   for (std::string& entry : environment) env_pointers.push_back(entry.data());
   env_pointers.push_back(nullptr);
   std::vector<std::string> argv_copy = argv;
   std::vector<char*> argv_pointers;
+  argv_pointers.reserve(argv_copy.size() + 1);
   for (std::string& argument : argv_copy)
     argv_pointers.push_back(argument.data());
   argv_pointers.push_back(nullptr);

@@ -78,7 +78,6 @@ class MapperPolicy {
   std::vector<MapperAttempt> attempts_;
   int round_ = 0;           // the current matching
   size_t round_begin_ = 0;  // its first attempt in attempts_
-  bool awaiting_matching_ = false;
   bool round_over_ = false;
   std::optional<MapperAttempt> repeated_;  // in the current matching
 };

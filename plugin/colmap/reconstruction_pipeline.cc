@@ -156,6 +156,7 @@ FrameSelection SelectImages(const ReconstructionOptions& run,
                       ".bmp, .tif)");
   }
   std::vector<TimedImage> all;
+  all.reserve(names.size());
   for (const std::string& name : names) {
     std::string why;
     const auto stamp = timestamps.Lookup(name, &why);
@@ -164,6 +165,7 @@ FrameSelection SelectImages(const ReconstructionOptions& run,
   }
   if (inputs.image_timestamps_path.empty()) {
     std::vector<int64_t> stamps_ns;
+    stamps_ns.reserve(all.size());
     for (const TimedImage& image : all) stamps_ns.push_back(image.stamp_ns);
     CheckImageTimesAreNotFrameNumbers(
         stamps_ns, run.image_path, timestamps.how_read());
@@ -172,7 +174,7 @@ FrameSelection SelectImages(const ReconstructionOptions& run,
   frames.field_of_view_deg = RunFieldOfViewDeg(run);
   frames.max_odometry_gap_s = inputs.association.max_odometry_gap_s;
   frames.camera_time_offset_ns = inputs.association.camera_time_offset_ns;
-  const FrameSelection selection = SelectFrames(all, odometry, frames);
+  FrameSelection selection = SelectFrames(all, odometry, frames);
   if (selection.kept.size() < 3) {
     throw FormatError(run.image_path + ": only " +
                       std::to_string(selection.kept.size()) + " of " +
@@ -381,6 +383,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   // Before COLMAP: whether the odometry between the image times can
   // determine the calibration at all (excitation_precheck.h).
   std::vector<int64_t> image_stamps;
+  image_stamps.reserve(images.size());
   for (const TimedImage& image : images) image_stamps.push_back(image.stamp_ns);
   const ExcitationPrecheck precheck = PrecheckExcitation(
       image_stamps, odometry, inputs.association, inputs.calibration);

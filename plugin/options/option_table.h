@@ -151,18 +151,18 @@ inline void MergeFlagEcho(const nlohmann::json& more, nlohmann::json* echo) {
 // const or not, e.g.
 //   [](auto& o) -> auto& { return o.noise.odom_yaw_sigma_deg; }
 template <typename Options, typename Field>
-OptionRow<Options> NumberRow(std::string name,
-                             std::string help,
+OptionRow<Options> NumberRow(const std::string& name,
+                             const std::string& help,
                              Field field,
-                             FlagCheck check = {}) {
+                             const FlagCheck& check = {}) {
   using T = std::remove_reference_t<decltype(field(std::declval<Options&>()))>;
   OptionRow<Options> row;
   row.name = name;
-  row.help = std::move(help);
-  row.echo_key = std::move(name);
+  row.help = help;
+  row.echo_key = name;
   row.value = OptionField<Options, T>(
       [field](Options& options) -> T& { return field(options); });
-  row.check = std::move(check);
+  row.check = check;
   row.echo = [field](const Options& options) {
     return nlohmann::json(field(options));
   };
@@ -174,15 +174,15 @@ OptionRow<Options> NumberRow(std::string name,
 // name that passed the check.
 template <typename Options>
 OptionRow<Options> ChoiceRow(
-    std::string name,
-    std::string help,
+    const std::string& name,
+    const std::string& help,
     std::vector<std::string> choices,
     std::function<std::string(const Options&)> get,
     std::function<void(Options*, const std::string&)> set) {
   OptionRow<Options> row;
   row.name = name;
-  row.help = std::move(help);
-  row.echo_key = std::move(name);
+  row.help = help;
+  row.echo_key = name;
   row.value = OptionText<Options>{std::move(choices), get, std::move(set), ""};
   row.echo = [get](const Options& options) {
     return nlohmann::json(get(options));
@@ -193,15 +193,15 @@ OptionRow<Options> ChoiceRow(
 // A flag without a value that sets a bool field to `value_when_given`; the
 // echo is the field under `echo_key` (e.g. --no_refine echoes "refine").
 template <typename Options, typename Field>
-OptionRow<Options> SwitchRow(std::string name,
-                             std::string help,
-                             std::string echo_key,
+OptionRow<Options> SwitchRow(const std::string& name,
+                             const std::string& help,
+                             const std::string& echo_key,
                              Field field,
                              bool value_when_given) {
   OptionRow<Options> row;
-  row.name = std::move(name);
-  row.help = std::move(help);
-  row.echo_key = std::move(echo_key);
+  row.name = name;
+  row.help = help;
+  row.echo_key = echo_key;
   row.value = OptionSwitch<Options>{
       [field, value_when_given](Options* o) { field(*o) = value_when_given; }};
   row.echo = [field](const Options& options) {
@@ -242,15 +242,15 @@ inline std::string AutoOrNumberError(const std::string& text,
 // valid number takes). --help's default and the echo say "auto" for it,
 // else the number (a report may echo the value used instead).
 template <typename Options, typename Field>
-OptionRow<Options> AutoOrNumberRow(std::string name,
-                                   std::string help,
+OptionRow<Options> AutoOrNumberRow(const std::string& name,
+                                   const std::string& help,
                                    Field field,
                                    double automatic,
                                    AutoOrNumberLimit limit) {
   OptionRow<Options> row;
   row.name = name;
-  row.help = std::move(help);
-  row.echo_key = std::move(name);
+  row.help = help;
+  row.echo_key = name;
   row.value = OptionText<Options>{
       {},
       [field, automatic](const Options& options) {
@@ -274,8 +274,8 @@ OptionRow<Options> AutoOrNumberRow(std::string name,
 
 // `row`, echoed in the member `object` of the echo object.
 template <typename Options>
-OptionRow<Options> EchoedIn(std::string object, OptionRow<Options> row) {
-  row.echo_object = std::move(object);
+OptionRow<Options> EchoedIn(const std::string& object, OptionRow<Options> row) {
+  row.echo_object = object;
   return row;
 }
 

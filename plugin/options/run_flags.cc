@@ -172,7 +172,7 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           const long value = std::strtol(text.c_str(), &end, 10);
           // Not an integer ("1e3"): the integer flag's own error says so.
           if (end == text.c_str() || *end != '\0') return std::string();
-          return value == 0 || value >= 2 * ChunkOptions().overlap
+          return value == 0 || value >= 2L * ChunkOptions().overlap
                      ? std::string()
                      : "must be 0 or >= " +
                            std::to_string(2 * ChunkOptions().overlap) +

@@ -372,9 +372,8 @@ double TextWidthUpperBoundPx(const std::string& text, double font_size_px) {
   for (const char c : text) {
     const auto byte = static_cast<unsigned char>(c);
     if ((byte & 0xC0) == 0x80) continue;  // UTF-8 continuation byte
-    if (byte >= 0x80) {
-      ems += 1.0;  // any other script or symbol: up to an em
-    } else if (std::strchr("mwMW@%", c) != nullptr) {
+    // Any other script or symbol, and the widest Latin glyphs: up to an em.
+    if (byte >= 0x80 || std::strchr("mwMW@%", c) != nullptr) {
       ems += 1.0;
     } else if (std::isupper(byte)) {
       ems += 0.8;
@@ -461,11 +460,12 @@ std::string RenderSvg(const PlotFigure& figure) {
         << "font-weight=\"bold\">" << EscapeMarkup(figure.title) << "</text>\n";
   }
   for (int p = 0; p < num_panels; ++p) {
+    const int row = p / columns;  // panels fill the rows left to right
     RenderPanel(figure.panels[p],
                 colors,
                 color_index[p],
                 (p % columns) * figure.panel_width_px,
-                title_height + (p / columns) * figure.panel_height_px,
+                title_height + row * figure.panel_height_px,
                 figure.panel_width_px,
                 figure.panel_height_px,
                 &svg);
