@@ -156,7 +156,7 @@ fs::path StartCombination(const ReconstructionOptions& run,
                           ChunkCombination* combination) {
   RemoveOwnedOutput(run.workspace_path, combination->entry);
   combination->chunk_of_sub_model.clear();
-  const fs::path folder = fs::path(run.workspace_path) / combination->entry;
+  fs::path folder = fs::path(run.workspace_path) / combination->entry;
   std::error_code error;
   fs::create_directories(folder, error);
   return folder;
