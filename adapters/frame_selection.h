@@ -24,7 +24,7 @@
 //                       deg) while a sideways step still keeps 15/16 of the
 //                       view.
 // The odometry measures the robot's translation and rotation between images.
-// The default since session 14: on the rendered long drives (320x240, 63 x 50
+// The default: on the rendered long drives (320x240, 63 x 50
 // deg) it keeps about half the images the fixed 5 cm / 3 deg kept and runs
 // several times faster at an extrinsic within the stated uncertainty
 // (docs/benchmarks.md). Fixed thresholds remain for drives that need every

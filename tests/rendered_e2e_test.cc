@@ -230,7 +230,7 @@ class RenderedEndToEnd : public ::testing::Test {
 // The corridor defeats the spatial matcher's 8 neighbours at 2048 features
 // (one room only); sequential matching with 4096 features reconstructs both,
 // with an overlap of 5 (not 10) to halve the matching. With the frames 5 cm /
-// 3 deg apart (the default until session 14) its slip contradicted the same
+// 3 deg apart (fixed spacing) its slip contradicted the same
 // few pairs on every model, so odomcal matched twice; spaced for
 // triangulation (the default now: 102 selected images) the first model is
 // accepted (seed 1; 94 s instead of 154 s). The second matching is tested

@@ -29,7 +29,7 @@
 namespace odomcal {
 
 struct ChunkOptions {
-  // 0: no chunks (one model of all images). 50, not 100 (session 15): a
+  // 0: no chunks (one model of all images). 50, not 100: a
   // chunk's bundle adjustments cost more than linearly in its images.
   int max_images = 50;
   int overlap = 12;    // images shared by consecutive chunks

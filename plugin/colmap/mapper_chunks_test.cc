@@ -9,8 +9,7 @@ namespace odomcal {
 namespace {
 
 // The split's arithmetic with chunks of at most 200 images sharing 25 (the
-// default until session 13; the default is 50 sharing 12 since session 15,
-// benchmarks.md).
+// default is 50 sharing 12, benchmarks.md).
 ChunkOptions TwoHundredImageChunks() {
   ChunkOptions options;
   options.max_images = 200;
@@ -78,7 +77,7 @@ TEST(SplitIntoChunks, ThreeHundredImagesAreTwoEqualChunks) {
 }
 
 // The default on the rendered 1000-image drive's 617 selected images
-// (benchmarks.md, session 15): 16 chunks of 50, each owning about 38.
+// (benchmarks.md): 16 chunks of 50, each owning about 38.
 TEST(SplitIntoChunks, DefaultChunksOfTheThousandImageDrive) {
   const std::vector<MapperChunk> chunks = SplitIntoChunks(617, ChunkOptions());
   ASSERT_EQ(chunks.size(), 16u);
