@@ -59,14 +59,9 @@ Eigen::Vector2d Se2LogTranslation(const Eigen::Vector2d& p, double theta) {
 }
 
 // Yaw in [-pi, pi] of a rotation about +z.
-double YawOf(const Eigen::Quaterniond& rotation) {
-  const Eigen::Quaterniond q = WithPositiveScalar(rotation.normalized());
-  return 2.0 * std::atan2(q.z(), q.w());
-}
-
 Rigid3d InterpolatePlanar(const Rigid3d& a, const Rigid3d& b, double tau) {
   const Rigid3d a_from_b = Inverse(a) * b;
-  const double theta = YawOf(a_from_b.rotation);
+  const double theta = YawAboutZ(a_from_b.rotation);
   const Eigen::Vector2d v =
       Se2LogTranslation(a_from_b.translation.head<2>(), theta);
   const double tau_theta = tau * theta;

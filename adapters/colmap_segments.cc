@@ -40,7 +40,7 @@ bool NumericLess(const std::string& a, const std::string& b) {
   return order != 0 ? order < 0 : a < b;
 }
 
-struct TimedImage {
+struct StampedColmapImage {
   int64_t stamp_ns = 0;
   const ColmapImage* image = nullptr;
 };
@@ -59,7 +59,7 @@ ColmapSegment MakeSegment(const std::string& model_path,
   segment.trajectory.source = model_path;
   segment.num_registered_images = static_cast<int>(model.images.size());
 
-  std::vector<TimedImage> timed;
+  std::vector<StampedColmapImage> timed;
   timed.reserve(model.images.size());
   for (const auto& [id, image] : model.images) {
     std::string why;

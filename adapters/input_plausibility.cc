@@ -4,6 +4,7 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,12 +24,6 @@ constexpr int kMinRotatingPairs = 3;
 constexpr double kMinAngleMismatchRad = 1.0 * kPi / 180.0;
 constexpr double kUnitMismatchRatio = 0.2;
 
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
-
 double Median(std::vector<double> values) {
   const size_t middle = values.size() / 2;
   std::nth_element(values.begin(), values.begin() + middle, values.end());
@@ -39,8 +34,8 @@ double Median(std::vector<double> values) {
 double FoldedAngle(double angle_rad) { return std::abs(WrapAngle(angle_rad)); }
 
 std::string SpanText(int64_t first_ns, int64_t last_ns) {
-  return Format("%.3f", NsToSeconds(first_ns)) + "-" +
-         Format("%.3f", NsToSeconds(last_ns)) + " s";
+  return FormatPrintf("%.3f", NsToSeconds(first_ns)) + "-" +
+         FormatPrintf("%.3f", NsToSeconds(last_ns)) + " s";
 }
 
 }  // namespace
@@ -60,8 +55,8 @@ std::optional<std::string> YawStepProblem(double previous_yaw_rad,
     return std::nullopt;
   }
   const std::string what =
-      "yaw jumps from " + Format("%.6g", previous_yaw_rad) + " to " +
-      Format("%.6g", yaw_rad) +
+      "yaw jumps from " + FormatPrintf("%.6g", previous_yaw_rad) + " to " +
+      FormatPrintf("%.6g", yaw_rad) +
       " rad, more than pi and not a wrap of a yaw kept in -pi..pi or "
       "0..2 pi";
   if (yaw_unit_named) return what;
@@ -87,9 +82,10 @@ void CheckOdometrySpeed(const Trajectory& odometry) {
   const double speed = speeds[k];
   if (!(speed > kMaxOdometrySpeedMps)) return;
   throw FormatError(
-      odometry.source + ": the odometry moves at " + Format("%.1f", speed) +
+      odometry.source + ": the odometry moves at " +
+      FormatPrintf("%.1f", speed) +
       " m/s between samples (90th percentile), faster than " +
-      Format("%.0f", kMaxOdometrySpeedMps) +
+      FormatPrintf("%.0f", kMaxOdometrySpeedMps) +
       " m/s: the positions look like centimetres or millimetres; " +
       (odometry.planar
            ? "name the columns x_cm,y_cm or x_mm,y_mm in the header or convert "
@@ -113,7 +109,7 @@ void CheckRotationAngleUnits(const MotionPairs& pairs,
   const double radians = Median(as_radians);
   if (!(radians > kMinAngleMismatchRad)) return;
   const std::string over = " (median mismatch " +
-                           Format("%.2f", radians * kRadToDeg) +
+                           FormatPrintf("%.2f", radians * kRadToDeg) +
                            " deg as given, ";
   const std::string pairs_text = " deg after the factor, over " +
                                  std::to_string(as_radians.size()) +
@@ -124,7 +120,7 @@ void CheckRotationAngleUnits(const MotionPairs& pairs,
         odometry_source +
         ": the odometry turns 57.3 times as far as the camera in every motion "
         "pair" +
-        over + Format("%.2f", degrees * kRadToDeg) + pairs_text +
+        over + FormatPrintf("%.2f", degrees * kRadToDeg) + pairs_text +
         ": the odometry yaw looks like degrees; name the column yaw_deg in the "
         "header or convert it to radians");
   }
@@ -134,7 +130,7 @@ void CheckRotationAngleUnits(const MotionPairs& pairs,
         odometry_source +
         ": the odometry turns 57.3 times less than the camera in every motion "
         "pair" +
-        over + Format("%.2f", inverse * kRadToDeg) + pairs_text +
+        over + FormatPrintf("%.2f", inverse * kRadToDeg) + pairs_text +
         ": the odometry yaw looks like radians read as degrees; name the "
         "column "
         "yaw or yaw_rad in the header");
@@ -157,7 +153,7 @@ void CheckImageTimesAreNotFrameNumbers(std::vector<int64_t> stamps_ns,
   if (!(interval_ns < static_cast<double>(kMinImageIntervalNs))) return;
   throw FormatError(
       source + ": the image times were " + how_read + " and are " +
-      Format("%.6g", interval_ns * 1e-9) +
+      FormatPrintf("%.6g", interval_ns * 1e-9) +
       " s apart (median): the names look like frame numbers, not times; "
       "pass --image_timestamps with a CSV image_name,timestamp (or "
       "--file_name_time_unit if the names are times)");
@@ -183,7 +179,7 @@ std::string TimeSpansText(const std::vector<Trajectory>& cameras,
   if (camera_time_offset_ns != 0 || offset_estimated) {
     notes += std::string(notes.empty() ? "" : "; ") + "then shifted by " +
              (offset_estimated ? "the estimated offset " : "") +
-             Format("%.3f", NsToSeconds(camera_time_offset_ns)) + " s";
+             FormatPrintf("%.3f", NsToSeconds(camera_time_offset_ns)) + " s";
   }
   if (!notes.empty()) text += " (" + notes + ")";
   text += ", odometry ";
@@ -197,9 +193,9 @@ std::optional<std::string> ExtrinsicDistanceWarning(
     const Rigid3d& odom_from_cam) {
   const double distance = odom_from_cam.translation.norm();
   if (!(distance > kMaxExtrinsicDistanceM)) return std::nullopt;
-  return "the camera is " + Format("%.2f", distance) +
+  return "the camera is " + FormatPrintf("%.2f", distance) +
          " m from the odometry origin, more than " +
-         Format("%.0f", kMaxExtrinsicDistanceM) +
+         FormatPrintf("%.0f", kMaxExtrinsicDistanceM) +
          " m: check that the odometry positions are in metres (name the "
          "columns x_cm,y_cm "
          "or x_mm,y_mm otherwise)";

@@ -10,11 +10,6 @@
 namespace odomcal {
 namespace {
 
-double YawOf(const Eigen::Quaterniond& rotation) {
-  const Eigen::Quaterniond q = WithPositiveScalar(rotation.normalized());
-  return 2.0 * std::atan2(q.z(), q.w());
-}
-
 PlanarIncrement Scaled(const PlanarIncrement& increment, double factor) {
   return {factor * increment.forward_m,
           factor * increment.lateral_m,
@@ -45,7 +40,7 @@ std::vector<PlanarIncrement> OdometryIncrements(const Trajectory& odometry) {
   for (size_t k = 0; k + 1 < odometry.poses.size(); ++k) {
     const Rigid3d a_from_b = Inverse(odometry.poses[k].world_from_sensor) *
                              odometry.poses[k + 1].world_from_sensor;
-    const double theta = YawOf(a_from_b.rotation);
+    const double theta = YawAboutZ(a_from_b.rotation);
     // V(theta)^-1 p with V = [[a, -b], [b, a]] (see PlanarExp).
     double a = 1.0 - theta * theta / 6.0, b = 0.5 * theta;
     if (std::abs(theta) >= 1e-4) {
@@ -70,7 +65,7 @@ Trajectory CorrectOdometry(const Trajectory& odometry,
   const std::vector<PlanarIncrement> increments = OdometryIncrements(odometry);
   const Rigid3d& first = odometry.poses.front().world_from_sensor;
   PlanarMotion<double> pose{
-      first.translation.x(), first.translation.y(), YawOf(first.rotation)};
+      first.translation.x(), first.translation.y(), YawAboutZ(first.rotation)};
   for (size_t k = 0; k < increments.size(); ++k) {
     const PlanarIncrement& increment = increments[k];
     pose = Compose(pose,

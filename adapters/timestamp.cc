@@ -9,6 +9,7 @@
 #include "odomcal/adapters/timestamp.h"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -20,9 +21,9 @@ namespace {
 constexpr uint64_t kInt64Max =
     static_cast<uint64_t>(std::numeric_limits<int64_t>::max());
 
-bool IsDigit(char c) { return c >= '0' && c <= '9'; }
+bool IsAsciiDigit(char c) { return c >= '0' && c <= '9'; }
 
-std::string_view TrimBlanks(std::string_view text) {
+std::string_view TrimSpacesAndTabs(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) {
     text.remove_prefix(1);
   }
@@ -85,7 +86,7 @@ const char* TimeUnitName(TimeUnit unit) {
 std::optional<int64_t> ParseTimestampNs(std::string_view text,
                                         TimeUnit unit,
                                         std::string* error) {
-  text = TrimBlanks(text);
+  text = TrimSpacesAndTabs(text);
   const std::string quoted = "'" + std::string(text) + "'";
   if (text.empty()) {
     Fail(error, "empty timestamp");
@@ -99,13 +100,13 @@ std::optional<int64_t> ParseTimestampNs(std::string_view text,
     ++pos;
   }
   const size_t integer_begin = pos;
-  while (pos < text.size() && IsDigit(text[pos])) ++pos;
+  while (pos < text.size() && IsAsciiDigit(text[pos])) ++pos;
   const std::string_view integer_digits =
       text.substr(integer_begin, pos - integer_begin);
   std::string_view fraction_digits;
   if (pos < text.size() && text[pos] == '.') {
     const size_t fraction_begin = ++pos;
-    while (pos < text.size() && IsDigit(text[pos])) ++pos;
+    while (pos < text.size() && IsAsciiDigit(text[pos])) ++pos;
     fraction_digits = text.substr(fraction_begin, pos - fraction_begin);
   }
   // Nanosecond logs are integers; a fraction means another unit (usually
@@ -208,6 +209,10 @@ std::string FormatTimestampSeconds(int64_t stamp_ns) {
 
 double NsToSeconds(int64_t stamp_ns) {
   return static_cast<double>(stamp_ns) / 1e9;
+}
+
+int64_t SecondsToNs(double seconds) {
+  return static_cast<int64_t>(std::llround(seconds * 1e9));
 }
 
 double ElapsedSeconds(int64_t from_ns, int64_t to_ns) {

@@ -59,6 +59,10 @@ std::string FormatTimestampSeconds(int64_t stamp_ns);
 // Unix times; prefer ElapsedSeconds for durations.
 double NsToSeconds(int64_t stamp_ns);
 
+// A duration in seconds to the nearest nanosecond (half away from zero).
+// Precondition: |seconds| < 9.2e9, so the result fits in int64.
+int64_t SecondsToNs(double seconds);
+
 // (to_ns - from_ns) in seconds. The subtraction is done in integers, so the
 // result is exact to double precision even for nearby Unix times in ns.
 // Precondition: the difference fits in int64 (stamps within ~292 years).

@@ -35,7 +35,7 @@
 namespace odomcal {
 namespace {
 
-constexpr double kMaxQuaternionNormDeviation = 1e-2;
+constexpr double kMaxPoseQuaternionNormDeviation = 1e-2;
 
 constexpr const char* kTumColumns[] = {
     "timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
@@ -334,9 +334,10 @@ Trajectory ReadTum(const std::string& path,
     const Eigen::Quaterniond rotation(
         values[7], values[4], values[5], values[6]);
     const double norm = rotation.norm();
-    if (std::abs(norm - 1.0) > kMaxQuaternionNormDeviation) {
+    if (std::abs(norm - 1.0) > kMaxPoseQuaternionNormDeviation) {
       reader.Fail("quaternion (qx qy qz qw) has norm " + FormatValue(norm) +
-                  ", more than " + FormatValue(kMaxQuaternionNormDeviation) +
+                  ", more than " +
+                  FormatValue(kMaxPoseQuaternionNormDeviation) +
                   " away from 1");
     }
     pose.world_from_sensor.rotation = rotation.normalized();

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# CI job: clang build with AddressSanitizer + UndefinedBehaviorSanitizer and
-# the libFuzzer targets, in ${ODOMCAL_SANITIZE_BUILD_DIR:-build-sanitize}.
+# Clang build with AddressSanitizer + UndefinedBehaviorSanitizer and the
+# libFuzzer targets, in ${ODOMCAL_SANITIZE_BUILD_DIR:-build-sanitize}.
+#   scripts/sanitize.sh [--scope all|parsers] [--configure-only]
+# --scope all (the default; before a release and after changes to solver/):
 #   1. `ctest -L unit`: every unit test (but the Monte Carlo statistics) and
 #      every fuzz corpus replay under ASan/UBSan, then the CLI tests
 #      (cli_test, colmap_cli_test); any report fails the job (UBSan does not
@@ -8,8 +10,12 @@
 #   2. Each fuzzer for ${ODOMCAL_FUZZ_SECONDS:-15} seconds on a COPY of its
 #      checked-in corpus (tests/fuzz/corpus is never written here); a crash
 #      fails the job and its input is kept under <build dir>/fuzz/<target>/.
-# Benchmarks, the rendered e2e tests and paper_evaluation_test are not built
-# (see not_sanitized below).
+#   Benchmarks, the rendered e2e tests and paper_evaluation_test are not
+#   built (see not_sanitized below).
+# --scope parsers (CI, .ci/run): the fuzz targets of the file parsers only,
+#   their corpus replays and the fuzzing of step 2, with solver/ compiled
+#   uninstrumented (ODOMCAL_SANITIZE_SOLVER=OFF): a few minutes instead of
+#   the whole instrumented build.
 # Long fuzzing runs: scripts/fuzz.sh (see docs/fuzzing.md), which calls
 # `sanitize.sh --configure-only` to get the same build directory.
 set -euo pipefail
@@ -17,6 +23,21 @@ cd "$(dirname "$0")/.."
 build_dir="${ODOMCAL_SANITIZE_BUILD_DIR:-build-sanitize}"
 jobs="${ODOMCAL_JOBS:-$(nproc)}"
 fuzz_seconds="${ODOMCAL_FUZZ_SECONDS:-15}"
+scope=all
+configure_only=false
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --scope) scope="${2:-}"; shift 2 || { echo "sanitize: --scope needs all or parsers" >&2; exit 2; } ;;
+    --scope=*) scope="${1#--scope=}"; shift ;;
+    --configure-only) configure_only=true; shift ;;
+    *) echo "sanitize: unknown argument '$1' (--scope all|parsers, --configure-only)" >&2; exit 2 ;;
+  esac
+done
+case "$scope" in
+  all) sanitize_solver=ON ;;
+  parsers) sanitize_solver=OFF ;;
+  *) echo "sanitize: --scope must be all or parsers, got '$scope'" >&2; exit 2 ;;
+esac
 start=$(date +%s)
 ./scripts/install_deps.sh
 
@@ -34,10 +55,11 @@ cmake -S . -B "$build_dir" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" \
   -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=all" \
   -DODOMCAL_ENABLE_SANITIZERS=ON \
+  -DODOMCAL_SANITIZE_SOLVER="$sanitize_solver" \
   -DODOMCAL_BUILD_FUZZERS=ON \
   -DODOMCAL_BUILD_TESTS=ON \
   -DODOMCAL_BUILD_BENCHMARKS=OFF >/dev/null
-if [ "${1:-}" = "--configure-only" ]; then exit 0; fi
+if [ "$configure_only" = true ]; then exit 0; fi
 
 # Fuzz targets: one per tests/fuzz/<name>_fuzzer.cc.
 fuzz_targets=()
@@ -67,7 +89,8 @@ for target in $(cmake --build "$build_dir" --target help | sed -n 's/^\.\.\. \([
        exit 1 ;;
   esac
 done
-build_targets=("${unit_tests[@]}" "${cli_tests[@]}")
+build_targets=()
+if [ "$scope" = all ]; then build_targets=("${unit_tests[@]}" "${cli_tests[@]}"); fi
 for target in "${fuzz_targets[@]}"; do
   build_targets+=("${target}_replay" "${target}_fuzzer")
 done
@@ -86,9 +109,13 @@ done
 # NoiseRefinement.RemovesOutliersAndKeepsGoodPairs) run here, and these run
 # in scripts/test.sh.
 statistical_tests='^(CalibrateOdomCam\.NoisyMonteCarloIsAccurateAndConsistent|CalibrateSe3Odometry\.NoisyDrivesAreWithinThreeSigma|NoiseRefinement\.RejectsFewGoodPairsUnderTheEstimatedNoise)$'
-(cd "$build_dir" &&
-  ctest -L unit -E "$statistical_tests" --output-on-failure -j "$jobs" &&
-  ctest -R "$cli_test_regex" --output-on-failure -j "$jobs")
+if [ "$scope" = all ]; then
+  (cd "$build_dir" &&
+    ctest -L unit -E "$statistical_tests" --output-on-failure -j "$jobs" &&
+    ctest -R "$cli_test_regex" --output-on-failure -j "$jobs")
+else
+  (cd "$build_dir" && ctest -R '^Fuzz\.' --output-on-failure -j "$jobs")
+fi
 test_end=$(date +%s)
 
 fuzz_root="$build_dir/fuzz"
@@ -109,5 +136,5 @@ for target in "${fuzz_targets[@]}"; do
   grep -E "^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)" "$work/log.txt" | sed "s/^/  /"
 done
 end=$(date +%s)
-echo "sanitize: build $((build_end - start))s, unit tests $((test_end - build_end))s," \
+echo "sanitize ($scope): build $((build_end - start))s, tests $((test_end - build_end))s," \
      "fuzzing $((end - test_end))s, total $((end - start))s"

@@ -21,4 +21,10 @@ std::string FormatRounded(double value, int significant_digits) {
   return FormatNumber(std::strtod(text, nullptr));
 }
 
+std::string FormatPrintf(const char* printf_format, double value) {
+  char text[128];
+  std::snprintf(text, sizeof(text), printf_format, value);
+  return text;
+}
+
 }  // namespace odomcal

@@ -19,4 +19,8 @@ std::string FormatNumber(double value);
 // 0.030000000000000002 -> "0.03", 2.5e-7 -> "2.5e-07", "nan", "inf".
 std::string FormatRounded(double value, int significant_digits = 3);
 
+// `value` written by std::snprintf with `printf_format`, which takes exactly
+// one double ("%.3f", "%10.4f deg"); texts past 127 characters are cut.
+std::string FormatPrintf(const char* printf_format, double value);
+
 }  // namespace odomcal

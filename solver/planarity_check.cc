@@ -2,6 +2,7 @@
 
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/chi_square.h"
+#include "odomcal/solver/format_number.h"
 #include "odomcal/solver/hand_eye_residual.h"
 
 #include <Eigen/Dense>
@@ -15,20 +16,14 @@
 namespace odomcal {
 namespace {
 
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
-
 // Two or three significant digits without an exponent: 0.41, 6.3, 21, 140.
 std::string Short(double value) {
   const double magnitude = std::abs(value);
-  return Format(magnitude >= 100.0  ? "%.0f"
-                : magnitude >= 10.0 ? "%.1f"
-                : magnitude >= 1.0  ? "%.2f"
-                                    : "%.2g",
-                value);
+  return FormatPrintf(magnitude >= 100.0  ? "%.0f"
+                      : magnitude >= 10.0 ? "%.1f"
+                      : magnitude >= 1.0  ? "%.2f"
+                                          : "%.2g",
+                      value);
 }
 
 // Integrated autocorrelation time of the whitened residuals, in pairs: 1 for
@@ -183,9 +178,9 @@ std::string PlanarityWarning(const PlanarityCheck& check,
          " mm) out of the odometry plane, " + Short(check.reduced_chi_square) +
          "x the noise model's variance, correlated over " +
          Short(check.correlation_length) + " pairs; worst at " +
-         Format("%.1f", seconds(check.worst_first_stamp_ns)) + "-" +
-         Format("%.1f", seconds(check.worst_last_stamp_ns)) + " s (tilt " +
-         Short(check.worst_tilt_rms_deg) +
+         FormatPrintf("%.1f", seconds(check.worst_first_stamp_ns)) + "-" +
+         FormatPrintf("%.1f", seconds(check.worst_last_stamp_ns)) +
+         " s (tilt " + Short(check.worst_tilt_rms_deg) +
          " deg RMS). Planar odometry cannot see slopes or ramps (or the "
          "camera is noisier than the noise model): standard deviations "
          "inflated " +

@@ -57,9 +57,20 @@ Eigen::Quaterniond WithPositiveScalar(const Eigen::Quaterniond& q) {
   return q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q;
 }
 
+double YawAboutZ(const Eigen::Quaterniond& q) {
+  const Eigen::Quaterniond unit = WithPositiveScalar(q.normalized());
+  return 2.0 * std::atan2(unit.z(), unit.w());
+}
+
 Eigen::Vector3d RollPitchYaw(const Eigen::Quaterniond& q) {
   const Eigen::Matrix3d r = q.normalized().toRotationMatrix();
-  const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  // atan2 rather than asin(-r(2, 0)): full precision near pitch +-pi/2.
+  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
+  const double pitch = std::atan2(-r(2, 0), cos_pitch);
+  if (cos_pitch < 1e-10) {
+    // Gimbal lock: only roll -+ yaw is determined; yaw = 0 takes it all.
+    return Eigen::Vector3d(std::atan2(-r(1, 2), r(1, 1)), pitch, 0.0);
+  }
   const double roll = std::atan2(r(2, 1), r(2, 2));
   const double yaw = std::atan2(r(1, 0), r(0, 0));
   return Eigen::Vector3d(roll, pitch, yaw);

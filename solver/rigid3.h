@@ -46,6 +46,11 @@ Eigen::Quaterniond ExpRotation(const Eigen::Vector3d& phi);
 // Rotation about +z by yaw radians.
 Eigen::Quaterniond YawRotation(double yaw_rad);
 
+// Angle of a rotation about +z, radians in (-pi, pi]; for a rotation with
+// other components it is the z part of the twist-swing split, not the
+// RollPitchYaw yaw.
+double YawAboutZ(const Eigen::Quaterniond& q);
+
 // The same rotation with a non-negative scalar part.
 Eigen::Quaterniond WithPositiveScalar(const Eigen::Quaterniond& q);
 

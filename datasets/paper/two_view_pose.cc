@@ -37,7 +37,7 @@ constexpr int kMinNumPoints = 8;
 // recoverPose's cheirality test; ours are never, so it is set out of reach.
 constexpr double kRecoverPoseDistance = 1e9;
 // H_pose is treated as singular below this ratio of its eigenvalues.
-constexpr double kMinInformationRatio = 1e-14;
+constexpr double kMinPoseInformationRatio = 1e-14;
 // Two starts closer than this (rotation, and angle between translation
 // lines) are one start.
 constexpr double kSameStartRad = 1e-3;
@@ -555,7 +555,7 @@ std::optional<MotionCovariance> PoseCovariance(
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eigen(
       h_pose);
   const Eigen::Matrix<double, 5, 1>& values = eigen.eigenvalues();
-  if (!(values(0) > kMinInformationRatio * values(4))) {
+  if (!(values(0) > kMinPoseInformationRatio * values(4))) {
     *failure = "the relative pose is not determined (singular information)";
     return std::nullopt;
   }

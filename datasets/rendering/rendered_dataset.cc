@@ -24,10 +24,6 @@
 namespace odomcal {
 namespace {
 
-int64_t ToNs(double seconds) {
-  return static_cast<int64_t>(std::llround(seconds * 1e9));
-}
-
 nlohmann::json TransformJson(const Rigid3d& transform) {
   const Eigen::Quaterniond q = WithPositiveScalar(transform.rotation);
   const Eigen::Vector3d& t = transform.translation;
@@ -94,9 +90,9 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
   std::vector<int64_t> captures;
   captures.reserve(o.num_images);
   for (int k = 0; k < o.num_images; ++k) {
-    captures.push_back(ToNs(o.lead_time_s + k / o.camera_rate_hz));
+    captures.push_back(SecondsToNs(o.lead_time_s + k / o.camera_rate_hz));
   }
-  const int64_t odometry_end = captures.back() + ToNs(o.lead_time_s);
+  const int64_t odometry_end = captures.back() + SecondsToNs(o.lead_time_s);
   o.path.duration_s = 1e-9 * odometry_end;
 
   dataset.path = PlanRoomPath(o.layout, o.path);
@@ -104,7 +100,7 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
   std::vector<int64_t> samples;
   const double period_s = 1.0 / o.odometry_rate_hz;
   for (int64_t k = 0;; ++k) {
-    samples.push_back(ToNs(k * period_s));
+    samples.push_back(SecondsToNs(k * period_s));
     if (samples.back() >= odometry_end) break;
   }
   dataset.odometry = SimulateWheelOdometry(
@@ -124,7 +120,8 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
     frame.capture_ns = o.start_stamp_ns + captures[k];
     const double noise_s =
         o.camera_time_jitter_s > 0.0 ? jitter(jitter_rng) : 0.0;
-    frame.stamp_ns = frame.capture_ns + ToNs(o.camera_time_offset_s + noise_s);
+    frame.stamp_ns =
+        frame.capture_ns + SecondsToNs(o.camera_time_offset_s + noise_s);
     frame.room_from_cam =
         dataset.path.PoseAt(captures[k]).ToRigid3d() * o.odom_from_cam;
     frame.origin_from_cam = origin_from_room * frame.room_from_cam;

@@ -6,6 +6,7 @@
 
 #include "odomcal/datasets/rendering/room_path.h"
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/solver/angles.h"
 
 #include <algorithm>
@@ -21,10 +22,6 @@ constexpr int64_t kCheckStepNs = 50000000;  // 50 ms between clearance checks
 constexpr int kMaxAttemptsPerManoeuvre = 40;
 constexpr int kMaxAttemptsPerLeg = 20;
 
-int64_t ToNs(double seconds) {
-  return static_cast<int64_t>(std::llround(seconds * 1e9));
-}
-
 class Planner {
  public:
   Planner(const RoomLayout& layout, const RoomPathOptions& options)
@@ -37,7 +34,7 @@ class Planner {
           "RoomPathOptions.start violates the clearances or lies outside the "
           "first leg's region");
     }
-    Append(0.0, 0.0, ToNs(options_.initial_stop_s));
+    Append(0.0, 0.0, SecondsToNs(options_.initial_stop_s));
     for (const PathLeg& leg : options_.legs) {
       const size_t saved_size = out_.size();
       const PlanarPose saved_pose = pose_;
@@ -47,7 +44,7 @@ class Planner {
         out_.resize(saved_size);
         pose_ = saved_pose;
         t_ns_ = saved_t;
-        Wander(leg, t_ns_ + ToNs(leg.wander_duration_s));
+        Wander(leg, t_ns_ + SecondsToNs(leg.wander_duration_s));
         done = true;
         for (const Eigen::Vector2d& waypoint : leg.waypoints) {
           if (!DriveTo(waypoint)) {
@@ -62,7 +59,7 @@ class Planner {
             "the clearances");
       }
     }
-    Wander(options_.legs.back(), ToNs(options_.duration_s));
+    Wander(options_.legs.back(), SecondsToNs(options_.duration_s));
     return UnicyclePath(std::move(out_));
   }
 
@@ -158,7 +155,7 @@ class Planner {
             duration = Uniform(0.5, 1.0);
             break;  // stop
         }
-        const int64_t duration_ns = ToNs(duration);
+        const int64_t duration_ns = SecondsToNs(duration);
         if (ManoeuvreValid(v, w, duration_ns, &leg, false)) {
           Append(v, w, duration_ns);
           accepted = true;
@@ -189,7 +186,7 @@ class Planner {
       for (const double turn : turns) {
         const double w = std::copysign(options_.max_yaw_rate_radps, turn);
         const int64_t duration_ns =
-            ToNs(std::abs(turn) / options_.max_yaw_rate_radps);
+            SecondsToNs(std::abs(turn) / options_.max_yaw_rate_radps);
         if (!options_.straight_only &&
             ManoeuvreValid(0.0, w, duration_ns, &leg, false)) {
           Append(0.0, w, duration_ns);
@@ -202,14 +199,14 @@ class Planner {
       // stood for 50 s beside a box without it.
       for (int k = 0; k < 6 && !turned && options_.more_turns_when_stuck; ++k) {
         const double w = (k % 3 - 1) * 0.3;  // -0.3, 0, 0.3 rad/s
-        const int64_t duration_ns = ToNs(k < 3 ? 1.0 : 2.0);
+        const int64_t duration_ns = SecondsToNs(k < 3 ? 1.0 : 2.0);
         if (ManoeuvreValid(
                 -options_.min_speed_mps, w, duration_ns, &leg, false)) {
           Append(-options_.min_speed_mps, w, duration_ns);
           turned = true;
         }
       }
-      if (!turned) Append(0.0, 0.0, ToNs(1.0));  // stop; always valid
+      if (!turned) Append(0.0, 0.0, SecondsToNs(1.0));  // stop; always valid
     }
   }
 
@@ -219,12 +216,12 @@ class Planner {
         WrapAngle(std::atan2(delta.y(), delta.x()) - pose_.yaw_rad);
     // Transit at full speed: these stretches only connect places.
     const double rate = options_.max_yaw_rate_radps;
-    const int64_t turn_ns = ToNs(std::abs(angle) / rate);
+    const int64_t turn_ns = SecondsToNs(std::abs(angle) / rate);
     const double w = std::copysign(rate, angle);
     if (!ManoeuvreValid(0.0, w, turn_ns, nullptr, true)) return false;
     Append(0.0, w, turn_ns);
     const double speed = options_.max_speed_mps;
-    const int64_t drive_ns = ToNs(delta.norm() / speed);
+    const int64_t drive_ns = SecondsToNs(delta.norm() / speed);
     if (!ManoeuvreValid(speed, 0.0, drive_ns, nullptr, true)) return false;
     Append(speed, 0.0, drive_ns);
     return true;

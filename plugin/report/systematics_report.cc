@@ -1,6 +1,7 @@
 #include "odomcal/plugin/report/systematics_report.h"
 
 #include "odomcal/adapters/timestamp.h"
+#include "odomcal/solver/format_number.h"
 
 #include <cmath>
 #include <cstdio>
@@ -17,12 +18,6 @@ double Value(const OdometryIntrinsics& intrinsics, int k) {
   return k == 0 ? intrinsics.yaw_scale
                 : (k == 1 ? intrinsics.yaw_per_metre_rad
                           : intrinsics.yaw_rate_bias_rad_s);
-}
-
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
 }
 
 }  // namespace
@@ -79,13 +74,13 @@ void AddSystematicsJson(const SystematicsEstimate& estimate, json* out) {
 std::string SystematicsSummary(const SystematicsEstimate& estimate) {
   std::string out =
       "  clock offset: odometry_time = camera_time + " +
-      Format("%.4f s", NsToSeconds(estimate.camera_time_offset_ns));
+      FormatPrintf("%.4f s", NsToSeconds(estimate.camera_time_offset_ns));
   if (estimate.time_offset_estimated) {
-    out += Format("  +- %.2f ms (3 sigma), estimated",
-                  3e3 * estimate.camera_time_offset_stddev_s);
+    out += FormatPrintf("  +- %.2f ms (3 sigma), estimated",
+                        3e3 * estimate.camera_time_offset_stddev_s);
     if (estimate.coarse_search_ran) {
-      out +=
-          Format(" (coarse peak %.3f s)", NsToSeconds(estimate.coarse.peak_ns));
+      out += FormatPrintf(" (coarse peak %.3f s)",
+                          NsToSeconds(estimate.coarse.peak_ns));
     }
   } else {
     out += ", given (" + estimate.time_offset_reason + ")";
@@ -97,18 +92,19 @@ std::string SystematicsSummary(const SystematicsEstimate& estimate) {
   const char* sigma_formats[3] = {
       " +- %.5f", " +- %.5f rad/m", " +- %.6f rad/s"};
   for (int k = 0; k < 3; ++k) {
-    out += Format(formats[k], Value(estimate.intrinsics, k));
+    out += FormatPrintf(formats[k], Value(estimate.intrinsics, k));
     out += estimate.intrinsics_estimated[k]
-               ? Format(sigma_formats[k], 3.0 * estimate.intrinsics_stddev[k])
+               ? FormatPrintf(sigma_formats[k],
+                              3.0 * estimate.intrinsics_stddev[k])
                : std::string(" (held)");
     out += k < 2 ? "," : "";
   }
   out += " (3 sigma; distance scale 1: not separable from the metric scale)\n";
   if (estimate.right_over_left) {
-    out +=
-        Format("  wheels: right / left radius %.5f",
-               *estimate.right_over_left) +
-        Format(" +- %.5f (3 sigma)\n", 3.0 * estimate.right_over_left_stddev);
+    out += FormatPrintf("  wheels: right / left radius %.5f",
+                        *estimate.right_over_left) +
+           FormatPrintf(" +- %.5f (3 sigma)\n",
+                        3.0 * estimate.right_over_left_stddev);
   }
   return out;
 }
