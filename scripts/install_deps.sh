@@ -12,6 +12,7 @@ PACKAGES=(
   python3-dev python3-numpy pybind11-dev  # the Python module (docs/python.md)
   clang libclang-rt-14-dev  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
   clang-format clang-tidy git  # scripts/check_format.sh, scripts/tidy.sh
+  liburdfdom-tools  # check_urdf: the URDF fragment test (robot_description_test)
 )
 
 missing=()

@@ -419,6 +419,9 @@ class FlagEcho : public ScratchFolderTest {
         {"--time_offset_search_s", {"0.5", 0.5}},
         {"--estimate_odometry_intrinsics", {"off", false}},
         {"--wheel_track_m", {"0.4", 0.4}},
+        {"--base_frame", {"base_footprint", "base_footprint"}},
+        {"--camera_frame", {"front_camera_optical", "front_camera_optical"}},
+        {"--camera_body_frame", {"front_camera", "front_camera"}},
     };
   }
 

@@ -220,7 +220,16 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
     drive.odometry.poses.push_back({stamp_ns, measured.ToRigid3d()});
     drive.wheel_travels.samples.push_back({stamp_ns, left_m, right_m});
     if (k % odometry_per_camera == 0) {
-      const Rigid3d origin_from_cam = true_pose(truth) * options.odom_from_cam;
+      const bool knocked =
+          options.mount_knock_deg != 0.0 &&
+          static_cast<double>(k) * dt >= options.mount_knock_time_s;
+      const Rigid3d odom_from_cam =
+          knocked ? Rigid3d(ExpRotation(options.mount_knock_axis.normalized() *
+                                        options.mount_knock_deg * deg) *
+                                options.odom_from_cam.rotation,
+                            options.odom_from_cam.translation)
+                  : options.odom_from_cam;
+      const Rigid3d origin_from_cam = true_pose(truth) * odom_from_cam;
       Rigid3d world_from_cam(
           sfm_rotation * origin_from_cam.rotation,
           (sfm_rotation * origin_from_cam.translation + sfm_translation) /

@@ -93,6 +93,13 @@ struct DriveSimulatorOptions {
   // Clock offset: camera stamps are true time - this, so that
   // odometry_time = camera_time + camera_time_offset_s (odomcal's convention).
   double camera_time_offset_s = 0.0;
+  // A knock of the camera mount: from mount_knock_time_s after the start on,
+  // the camera is turned in place by mount_knock_deg about mount_knock_axis
+  // (in the odometry frame; normalised): odom_from_cam's rotation becomes
+  // Rot * rotation, its translation stays. 0: no knock.
+  double mount_knock_deg = 0.0;
+  double mount_knock_time_s = 0.0;
+  Eigen::Vector3d mount_knock_axis = Eigen::Vector3d::UnitZ();
 };
 
 struct SimulatedDrive {

@@ -7,12 +7,16 @@
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_guard.h"
+#include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/repeatability.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -22,6 +26,7 @@ CalibrationRun RunCalibrationPipeline(const CalibrateInputs& inputs,
                                       const std::string& command) {
   inputs.association.Check();
   inputs.calibration.Check();
+  inputs.robot_frames.Check();
   std::vector<Trajectory> cameras;
   for (const std::string& path : inputs.camera_paths) {
     cameras.push_back(ReadTumTrajectory(path, inputs.camera_time_unit));
@@ -36,6 +41,7 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
                                      const std::string& command) {
   inputs.association.Check();
   inputs.calibration.Check();
+  inputs.robot_frames.Check();
   CheckOdometrySpeed(odometry);
 
   CalibrationRun run;
@@ -53,8 +59,11 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
   context.association_options = inputs.association;
   context.calibration_options = inputs.calibration;
   context.systematics_options = inputs.systematics;
-  context.flag_echo = CalibrationFlagsEcho(
-      inputs.association, inputs.calibration, inputs.systematics);
+  context.robot_frames = inputs.robot_frames;
+  context.flag_echo = CalibrationFlagsEcho(inputs.association,
+                                           inputs.calibration,
+                                           inputs.systematics,
+                                           inputs.robot_frames);
   // The association and calibration, once or in the systematics loop.
   const auto calibrate = [&](const AssociationResult& association) {
     if (association.num_usable_camera_poses == 0) {
@@ -83,6 +92,14 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
                                             calibrate,
                                             &context.association);
   AddSystematicsWarnings(*context.systematics, &run.result);
+  context.repeatability = CheckRepeatability(context.association.pairs,
+                                             run.result,
+                                             inputs.calibration,
+                                             RepeatabilityOptions());
+  if (const std::string warning = RepeatabilityWarning(*context.repeatability);
+      !warning.empty()) {
+    run.result.warnings.push_back(warning);
+  }
   if (run.result.status == CalibrationStatus::kSuccess) {
     if (const auto warning =
             ExtrinsicDistanceWarning(run.result.odom_from_cam)) {
@@ -114,9 +131,14 @@ void CheckCalibrationOutputs(const CalibrateInputs& inputs,
   paths.inputs.push_back({inputs.odometry_path, "--odometry"});
   paths.output_files = {{json_path, "--output"},
                         {yaml_path, "the YAML beside --output"}};
+  for (const std::string& suffix : RobotOutputSuffixes()) {
+    paths.output_files.push_back({RobotOutputPath(json_path, suffix),
+                                  "the robot outputs beside --output"});
+  }
   CheckOutputsApartFromInputs(paths);
-  CheckOutputPath(json_path, overwrite);
-  CheckOutputPath(yaml_path, overwrite);
+  for (const auto& output : paths.output_files) {
+    CheckOutputPath(output.path, overwrite);
+  }
 }
 
 void WriteCalibrationOutputs(const CalibrationRun& run,
@@ -128,6 +150,23 @@ void WriteCalibrationOutputs(const CalibrationRun& run,
   WriteFileAtomically(
       json_path, CalibrationToJson(run.result, run.context).dump(2) + "\n");
   WriteFileAtomically(yaml_path, CalibrationToYaml(run.result));
+  // The robot outputs of this result, and none of an earlier one (which
+  // only --overwrite lets exist here).
+  std::set<std::string> written;
+  if (const auto robot = RobotDescriptionOf(run.result, run.context)) {
+    for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
+      const std::string path = RobotOutputPath(json_path, file.suffix);
+      CheckOutputPath(path, overwrite);
+      WriteFileAtomically(path, file.text);
+      written.insert(file.suffix);
+    }
+  }
+  for (const std::string& suffix : RobotOutputSuffixes()) {
+    if (written.count(suffix) == 0) {
+      std::error_code ignored;
+      std::filesystem::remove(RobotOutputPath(json_path, suffix), ignored);
+    }
+  }
 }
 
 int ExitCodeFor(const CalibrationResult& result) {
@@ -159,7 +198,8 @@ int RunCalibrate(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--output",
                  output_path,
-                 "result JSON; a YAML file is written beside it")
+                 "result JSON; a YAML file and the robot outputs (URDF, tf, "
+                 "Autoware) are written beside it")
       ->required();
   app.add_flag("--overwrite", overwrite, "replace existing output files");
   app.add_flag("--quiet", quiet, "print only errors");
@@ -176,7 +216,14 @@ int RunCalibrate(int argc, char** argv) {
     if (!quiet) {
       std::cout << CalibrationSummary(run.result, run.context);
       std::cout << "  wrote " << output_path << " and "
-                << ReplaceExtension(output_path, ".yaml") << "\n";
+                << ReplaceExtension(output_path, ".yaml");
+      if (const auto robot = RobotDescriptionOf(run.result, run.context)) {
+        std::cout << "; for the robot";
+        for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
+          std::cout << " " << RobotOutputPath(output_path, file.suffix);
+        }
+      }
+      std::cout << "\n";
     }
     return ExitCodeFor(run.result);
   });

@@ -28,6 +28,8 @@ struct CalibrateInputs {
   CalibrationOptions calibration;
   // Clock offset and odometry intrinsics estimated with the extrinsic.
   SystematicsEstimationOptions systematics;
+  // The frames the robot outputs name (robot_description.h).
+  RobotFrameNames robot_frames;
 };
 
 struct CalibrationRun {

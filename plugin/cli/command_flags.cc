@@ -78,6 +78,7 @@ void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs) {
   AddFlags(AssociationFlags(), app, &inputs->association);
   AddFlags(CalibrationOptionFlags(), app, &inputs->calibration);
   AddFlags(SystematicsFlags(), app, &inputs->systematics);
+  AddFlags(RobotFrameFlags(), app, &inputs->robot_frames);
 }
 
 void AddProjectFlags(CLI::App* app,
@@ -98,6 +99,7 @@ void FinishProjectFlags(const ProjectFlags& flags,
   inputs->association = calibrate.association;
   inputs->calibration = calibrate.calibration;
   inputs->systematics = calibrate.systematics;
+  inputs->robot_frames = calibrate.robot_frames;
 }
 
 void AddRunFlags(CLI::App* app, ReconstructionOptions* settings) {

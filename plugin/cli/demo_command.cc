@@ -11,6 +11,7 @@
 #include "odomcal/plugin/colmap/colmap_runner.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 
@@ -66,14 +67,16 @@ int RunSimulatedDemo(const std::string& workspace,
                      bool wheel_travels,
                      CalibrateInputs inputs) {
   // Every run replaces the demo's own files (and only those).
-  ClaimOutputFolder(workspace,
-                    {"camera.tum",
-                     "odometry.csv",
-                     "wheels.csv",
-                     "ground_truth.json",
-                     "calibration.json",
-                     "calibration.yaml"},
-                    ExistingOutputs::kReplaceOwn);
+  std::vector<std::string> entries = {"camera.tum",
+                                      "odometry.csv",
+                                      "wheels.csv",
+                                      "ground_truth.json",
+                                      "calibration.json",
+                                      "calibration.yaml"};
+  for (const std::string& suffix : RobotOutputSuffixes()) {
+    entries.push_back("calibration" + suffix);
+  }
+  ClaimOutputFolder(workspace, entries, ExistingOutputs::kReplaceOwn);
   const std::filesystem::path root(workspace);
   std::cout << "[1/3] simulating a " << simulation.duration_s
             << " s drive (seed " << simulation.seed << ")\n";

@@ -227,6 +227,7 @@ ColmapCalibrationRun CalibrateColmapProject(
     const ColmapCalibrationInputs& inputs) {
   inputs.association.Check();
   inputs.calibration.Check();
+  inputs.robot_frames.Check();
   const ImageTimestamps timestamps =
       inputs.image_timestamps_path.empty()
           ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
@@ -295,6 +296,12 @@ ColmapCalibrationRun CalibrateColmapProject(
   const int64_t camera_time_offset_ns = run.systematics.camera_time_offset_ns;
   AddSystematicsWarnings(run.systematics, &run.check.result);
   CalibrationResult& result = run.check.result;
+  run.repeatability = CheckRepeatability(
+      run.check.pairs, result, inputs.calibration, RepeatabilityOptions());
+  if (const std::string warning = RepeatabilityWarning(run.repeatability);
+      !warning.empty()) {
+    result.warnings.push_back(warning);
+  }
   if (result.status == CalibrationStatus::kSuccess) {
     if (const auto warning = ExtrinsicDistanceWarning(result.odom_from_cam)) {
       result.warnings.push_back(*warning);

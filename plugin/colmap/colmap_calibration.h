@@ -13,6 +13,7 @@
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/adapters/colmap_segments.h"
 #include "odomcal/adapters/image_timestamps.h"
+#include "odomcal/adapters/robot_description.h"
 #include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory.h"
@@ -20,6 +21,7 @@
 #include "odomcal/plugin/colmap/image_coverage.h"
 #include "odomcal/plugin/colmap/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/repeatability.h"
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
 
@@ -44,6 +46,8 @@ struct ColmapCalibrationInputs {
   StretchOptions stretch;
   // Clock offset and odometry intrinsics estimated with the extrinsic.
   SystematicsEstimationOptions systematics;
+  // The frames the robot outputs name (robot_description.h).
+  RobotFrameNames robot_frames;
 };
 
 // One sub-model in metres in the odometry's origin frame.
@@ -76,6 +80,9 @@ struct ColmapCalibrationRun {
   // The clock offset and odometry intrinsics used; `odometry` above is the
   // odometry corrected with them (what the metric models are aligned to).
   SystematicsEstimate systematics;
+  // The calibration repeated on time blocks of the drive (ran = false when
+  // it did not succeed).
+  Repeatability repeatability;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).

@@ -309,15 +309,38 @@ const OptionTable<SystematicsEstimationOptions>& SystematicsFlags() {
   return table;
 }
 
+const OptionTable<RobotFrameNames>& RobotFrameFlags() {
+  static const OptionTable<RobotFrameNames> table = {
+      NumberRow<RobotFrameNames>(
+          "base_frame",
+          "the robot's base frame, the camera's parent in the URDF, tf and "
+          "Autoware outputs",
+          [](auto& o) -> auto& { return o.base_frame; }),
+      NumberRow<RobotFrameNames>(
+          "camera_frame",
+          "the camera's optical frame (x right, y down, z forward) in those "
+          "outputs",
+          [](auto& o) -> auto& { return o.camera_frame; }),
+      NumberRow<RobotFrameNames>(
+          "camera_body_frame",
+          "the camera's REP 103 body frame (x forward, y left, z up) between "
+          "the two, e.g. camera_link (empty: none)",
+          [](auto& o) -> auto& { return o.camera_body_frame; }),
+  };
+  return table;
+}
+
 nlohmann::json CalibrationFlagsEcho(
     const AssociationOptions& association,
     const CalibrationOptions& calibration,
-    const SystematicsEstimationOptions& systematics) {
+    const SystematicsEstimationOptions& systematics,
+    const RobotFrameNames& robot_frames) {
   nlohmann::json echo = {{"inputs", nlohmann::json::object()},
                          {"options", nlohmann::json::object()}};
   EchoOptions(AssociationFlags(), association, &echo["inputs"]);
   EchoOptions(CalibrationOptionFlags(), calibration, &echo["options"]);
   EchoOptions(SystematicsFlags(), systematics, &echo["options"]);
+  EchoOptions(RobotFrameFlags(), robot_frames, &echo["options"]);
   return echo;
 }
 

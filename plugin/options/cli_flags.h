@@ -7,6 +7,7 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/robot_description.h"
 #include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/plugin/options/option_table.h"
 #include "odomcal/solver/calibration_options.h"
@@ -26,12 +27,17 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags();
 // --estimate_odometry_intrinsics, --wheel_track_m (echoed in `options`).
 const OptionTable<SystematicsEstimationOptions>& SystematicsFlags();
 
-// The echo of the association, calibration and systematics flags, for
-// ReportContext::flag_echo (the default of CalibrationToJson):
+// --base_frame, --camera_frame, --camera_body_frame: the frames of the robot
+// outputs (echoed in `options`).
+const OptionTable<RobotFrameNames>& RobotFrameFlags();
+
+// The echo of the association, calibration, systematics and robot frame
+// flags, for ReportContext::flag_echo (the default of CalibrationToJson):
 // {"inputs": {...}, "options": {...}}.
 nlohmann::json CalibrationFlagsEcho(
     const AssociationOptions& association,
     const CalibrationOptions& calibration,
-    const SystematicsEstimationOptions& systematics = {});
+    const SystematicsEstimationOptions& systematics = {},
+    const RobotFrameNames& robot_frames = {});
 
 }  // namespace odomcal

@@ -97,8 +97,10 @@ const OptionTable<StretchOptions>& StretchFlags() {
 }
 
 nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
-  nlohmann::json echo = CalibrationFlagsEcho(
-      inputs.association, inputs.calibration, inputs.systematics);
+  nlohmann::json echo = CalibrationFlagsEcho(inputs.association,
+                                             inputs.calibration,
+                                             inputs.systematics,
+                                             inputs.robot_frames);
   EchoOptions(ColmapModelFlags(), inputs, &echo["inputs"]);
   EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
   EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);

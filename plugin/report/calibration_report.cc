@@ -7,8 +7,11 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/options/cli_flags.h"
+#include "odomcal/plugin/report/repeatability_report.h"
+#include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/plugin/report/systematics_report.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <opencv2/core.hpp>
@@ -195,12 +198,6 @@ json NoiseToJson(const NoiseEstimate& estimate) {
   };
 }
 
-std::string Format(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
-}
-
 }  // namespace
 
 json CalibrationToJson(const CalibrationResult& result,
@@ -345,6 +342,8 @@ json CalibrationToJson(const CalibrationResult& result,
   }
   out["diagnostics"] = diagnostics;
   if (context.systematics) AddSystematicsJson(*context.systematics, &out);
+  out["robot"] = RobotToJson(RobotDescriptionOf(result, context));
+  out["repeatability"] = RepeatabilityToJson(context.repeatability);
   // The paths and units as read, then the flags' values from the option
   // tables (ReportContext::flag_echo; by default those of the options the
   // context holds).
@@ -361,7 +360,8 @@ json CalibrationToJson(const CalibrationResult& result,
   const json flag_echo = context.flag_echo.is_null()
                              ? CalibrationFlagsEcho(context.association_options,
                                                     context.calibration_options,
-                                                    context.systematics_options)
+                                                    context.systematics_options,
+                                                    context.robot_frames)
                              : context.flag_echo;
   inputs.update(flag_echo.value("inputs", json::object()));
   if (context.association.max_odometry_gap_s > 0.0) {
@@ -511,18 +511,18 @@ std::string CalibrationSummary(const CalibrationResult& result,
           RollPitchYaw(result.odom_from_cam.rotation) * kRadToDeg;
       const char* names[3] = {"roll ", "pitch", "yaw  "};
       for (int k = 0; k < 3; ++k) {
-        out << "    " << names[k] << " " << Format("%10.4f deg", rpy(k));
+        out << "    " << names[k] << " " << FormatPrintf("%10.4f deg", rpy(k));
         if (sigma) {
-          out << Format("  +- %.4f deg (3 sigma)",
-                        3.0 * result.stddev_roll_pitch_yaw_deg(k));
+          out << FormatPrintf("  +- %.4f deg (3 sigma)",
+                              3.0 * result.stddev_roll_pitch_yaw_deg(k));
         }
         out << "\n";
       }
       const Eigen::Quaterniond q =
           WithPositiveScalar(result.odom_from_cam.rotation);
-      out << "    quaternion wxyz [" << Format("%.6f", q.w()) << ", "
-          << Format("%.6f", q.x()) << ", " << Format("%.6f", q.y()) << ", "
-          << Format("%.6f", q.z()) << "]\n";
+      out << "    quaternion wxyz [" << FormatPrintf("%.6f", q.w()) << ", "
+          << FormatPrintf("%.6f", q.x()) << ", " << FormatPrintf("%.6f", q.y())
+          << ", " << FormatPrintf("%.6f", q.z()) << "]\n";
     } else {
       out << "    rotation   undetermined\n";
     }
@@ -533,19 +533,21 @@ std::string CalibrationSummary(const CalibrationResult& result,
         out << "undetermined\n";
         continue;
       }
-      out << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation(k));
+      out << FormatPrintf("%10.2f cm",
+                          100.0 * result.odom_from_cam.translation(k));
       if (sigma) {
-        out << Format("   +- %.2f cm (3 sigma)",
-                      300.0 * result.stddev_translation_xy_m(k));
+        out << FormatPrintf("   +- %.2f cm (3 sigma)",
+                            300.0 * result.stddev_translation_xy_m(k));
       }
       out << "\n";
     }
     out << "    z     "
-        << Format("%10.2f cm", 100.0 * result.odom_from_cam.translation.z());
+        << FormatPrintf("%10.2f cm",
+                        100.0 * result.odom_from_cam.translation.z());
     if (Estimated(o.translation_z)) {
       if (sigma) {
-        out << Format("   +- %.2f cm (3 sigma)",
-                      300.0 * result.stddev_translation_z_m);
+        out << FormatPrintf("   +- %.2f cm (3 sigma)",
+                            300.0 * result.stddev_translation_z_m);
       }
       out << "   estimated (SE(3) odometry, rotation axes not all "
              "parallel)\n";
@@ -560,24 +562,31 @@ std::string CalibrationSummary(const CalibrationResult& result,
         out << " undetermined\n";
         continue;
       }
-      out << Format(" %.6f m/unit", result.metric_scales[k]);
+      out << FormatPrintf(" %.6f m/unit", result.metric_scales[k]);
       if (sigma && k < result.stddev_metric_scales_rel.size()) {
-        out << Format("  +- %.3f %% (3 sigma)",
-                      300.0 * result.stddev_metric_scales_rel[k]);
+        out << FormatPrintf("  +- %.3f %% (3 sigma)",
+                            300.0 * result.stddev_metric_scales_rel[k]);
       }
       out << "\n";
     }
     const CalibrationDiagnostics& d = result.diagnostics;
     out << "  pairs used " << d.num_pairs_used << " of " << d.num_pairs_in
-        << "; residuals rms " << Format("%.3f deg", d.rms_rotation_residual_deg)
-        << ", " << Format("%.1f mm", 1000.0 * d.rms_translation_residual_m)
-        << "; yaw increments " << Format("%.1f", d.yaw_increment_min_deg)
-        << " .. " << Format("%.1f deg", d.yaw_increment_max_deg) << "\n";
+        << "; residuals rms "
+        << FormatPrintf("%.3f deg", d.rms_rotation_residual_deg) << ", "
+        << FormatPrintf("%.1f mm", 1000.0 * d.rms_translation_residual_m)
+        << "; yaw increments " << FormatPrintf("%.1f", d.yaw_increment_min_deg)
+        << " .. " << FormatPrintf("%.1f deg", d.yaw_increment_max_deg) << "\n";
     if (result.noise_estimate) {
       out << "  " << NoiseSummary(*result.noise_estimate) << "\n";
     }
   }
   if (context.systematics) out << SystematicsSummary(*context.systematics);
+  if (context.repeatability) {
+    out << RepeatabilitySummary(*context.repeatability);
+  }
+  if (const auto robot = RobotDescriptionOf(result, context)) {
+    out << RobotSummary(*robot);
+  }
   for (const std::string& warning : result.warnings) {
     out << "  warning: " << warning << "\n";
   }

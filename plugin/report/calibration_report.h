@@ -4,10 +4,12 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/robot_description.h"
 #include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
+#include "odomcal/solver/repeatability.h"
 
 #include <nlohmann/json.hpp>
 
@@ -41,6 +43,10 @@ struct ReportContext {  // NOLINT(bugprone-exception-escape)
   // Clock offset and odometry intrinsics, when the command estimated them
   // (JSON camera_time_offset_s, odometry_intrinsics, diagnostics.time_offset).
   std::optional<SystematicsEstimate> systematics;
+  // The frames the robot outputs name (JSON `robot`, RobotOutputFiles).
+  RobotFrameNames robot_frames;
+  // The calibration repeated on time blocks (JSON `repeatability`).
+  std::optional<Repeatability> repeatability;
 };
 
 constexpr int kResultSchemaVersion = 1;

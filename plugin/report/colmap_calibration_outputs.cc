@@ -8,6 +8,7 @@
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
 #include "odomcal/plugin/report/colmap_report.h"
+#include "odomcal/plugin/report/robot_outputs.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -19,12 +20,16 @@ namespace odomcal {
 namespace fs = std::filesystem;
 
 std::vector<std::string> ColmapCalibrationOutputEntries() {
-  return {"calibration.json",
-          "calibration.yaml",
-          "sparse_metric",
-          "camera_in_odom.tum",
-          "camera_in_odom.tum.tmp",
-          "report.html"};
+  std::vector<std::string> entries = {"calibration.json",
+                                      "calibration.yaml",
+                                      "sparse_metric",
+                                      "camera_in_odom.tum",
+                                      "camera_in_odom.tum.tmp",
+                                      "report.html"};
+  for (const std::string& suffix : RobotOutputSuffixes()) {
+    entries.push_back("calibration" + suffix);
+  }
+  return entries;
 }
 
 std::vector<std::string> WriteColmapCalibrationOutputs(
@@ -37,6 +42,21 @@ std::vector<std::string> WriteColmapCalibrationOutputs(
   WriteFileAtomically((root / "calibration.yaml").string(),
                       CalibrationToYaml(run.check.result));
   std::vector<std::string> entries = {"calibration.json", "calibration.yaml"};
+
+  // The robot outputs of this result; an earlier run's others go.
+  std::set<std::string> robot_files;
+  if (const auto robot = RobotDescriptionOf(run.check.result, context)) {
+    for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
+      const std::string name = "calibration" + file.suffix;
+      WriteFileAtomically((root / name).string(), file.text);
+      entries.push_back(name);
+      robot_files.insert(name);
+    }
+  }
+  for (const std::string& suffix : RobotOutputSuffixes()) {
+    const std::string name = "calibration" + suffix;
+    if (robot_files.count(name) == 0) RemoveOwnedOutput(output_dir, name);
+  }
 
   // sparse_metric/<name>: written to a temporary folder, then renamed. An
   // earlier run's sub-models go first: they are not this calibration's.

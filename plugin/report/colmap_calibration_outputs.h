@@ -16,15 +16,17 @@ namespace odomcal {
 std::vector<std::string> ColmapCalibrationOutputEntries();
 
 // Writes into `output_dir` (which must exist and be claimed for the entries
-// above): calibration.json/.yaml, sparse_metric/<sub-model>/ (COLMAP binary),
-// camera_in_odom.tum and report.html. Every file is written atomically.
+// above): calibration.json/.yaml, the robot outputs (calibration.urdf,
+// calibration_tf_ros2.sh, ..., robot_outputs.h) when the extrinsic is
+// calibrated, sparse_metric/<sub-model>/ (COLMAP binary), camera_in_odom.tum
+// and report.html. Every file is written atomically.
 // sparse_metric/ and camera_in_odom.tum are written only when they hold a
 // model or a pose (without an extrinsic there is nothing to put in metres:
 // an empty folder or a header-only file would read as a result); an earlier
 // run's are removed. `context` (ProjectReportContext, colmap_report.h) is
 // echoed in the JSON and the report. Returns what it wrote:
-// "calibration.json", "calibration.yaml", ["sparse_metric/",
-// "camera_in_odom.tum",] "report.html".
+// "calibration.json", "calibration.yaml", ["calibration.urdf", ...,
+// "sparse_metric/", "camera_in_odom.tum",] "report.html".
 std::vector<std::string> WriteColmapCalibrationOutputs(
     const ColmapCalibrationRun& run,
     const ReportContext& context,

@@ -2,6 +2,8 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/options/project_flags.h"
+#include "odomcal/plugin/report/repeatability_report.h"
+#include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/plugin/report/svg_plot.h"
 #include "odomcal/solver/angles.h"
 
@@ -48,6 +50,8 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
   context.association = run.association;
   context.calibration_options = inputs.calibration;
   context.systematics_options = inputs.systematics;
+  context.robot_frames = inputs.robot_frames;
+  context.repeatability = run.repeatability;
   context.flag_echo = std::move(flag_echo);
   context.systematics = run.systematics;
   return context;
@@ -444,7 +448,9 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
   for (const std::string& warning : result.warnings) {
     html << "<li class=\"warning\">" << EscapeMarkup(warning) << "</li>";
   }
-  html << "</ul>\n<h2>Trajectories</h2>\n"
+  html << "</ul>\n" << RobotUseItHtml(RobotDescriptionOf(result, context));
+  if (context.repeatability) html << RepeatabilityHtml(*context.repeatability);
+  html << "<h2>Trajectories</h2>\n"
        << figure_html(top,
                       "Seen from above, x and y in metres at the same scale. "
                       "Blue line: the "

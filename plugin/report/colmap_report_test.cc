@@ -166,12 +166,15 @@ TEST_F(ColmapReport, TagsAreBalanced) {
 
 TEST_F(ColmapReport, EveryTableColumnIsHeadedAndEveryRowHasAllColumns) {
   const std::vector<std::string> tables = Elements(*html_, "table");
-  ASSERT_EQ(tables.size(), 1u);  // the mapper runs
+  ASSERT_EQ(tables.size(), 2u);  // the repeatability blocks, the mapper runs
+  // Halves and quarters, each block a row.
+  EXPECT_EQ(Elements(tables[0], "tr").size(), 1u + 2u + 4u);
+  EXPECT_EQ(Elements(tables.back(), "tr").size(),
+            1u + run_->mapper_attempts.size());
+  EXPECT_EQ(Elements(Elements(tables.back(), "tr")[0], "th").size(), 9u);
   for (const std::string& table : tables) {
     const std::vector<std::string> rows = Elements(table, "tr");
-    ASSERT_EQ(rows.size(), 1u + run_->mapper_attempts.size());
     const std::vector<std::string> headers = Elements(rows[0], "th");
-    ASSERT_EQ(headers.size(), 9u);
     for (const std::string& header : headers)
       EXPECT_FALSE(TextOf(header).empty()) << header;
     for (size_t r = 1; r < rows.size(); ++r) {
