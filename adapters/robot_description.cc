@@ -147,8 +147,9 @@ std::string RobotNumber(double value) {
 
 std::string UrdfFragment(const RobotDescription& robot) {
   std::ostringstream out;
-  out << "<!-- odomcal: the camera on " << robot.frames.base_frame
-      << ". Paste into the robot's URDF; " << robot.frames.base_frame
+  out << "<!-- " << kRobotOutputMarker << ": the camera on "
+      << robot.frames.base_frame << ". Paste into the robot's URDF; "
+      << robot.frames.base_frame
       << " must exist there, drop a <link> below if the robot already has "
          "it. -->\n";
   if (robot.height_held) out << "<!-- " << HeldHeightNote(robot) << " -->\n";
@@ -170,6 +171,7 @@ std::string UrdfFragment(const RobotDescription& robot) {
 
 std::string Ros2StaticTransformCommands(const RobotDescription& robot) {
   std::ostringstream out;
+  out << "# " << kRobotOutputMarker << ": tf2_ros (ROS 2) static transforms\n";
   if (robot.height_held) out << "# " << HeldHeightNote(robot) << "\n";
   for (const FrameTransform& transform : robot.transforms) {
     const TransformNumbers n = NumbersOf(transform.parent_from_child);
@@ -186,6 +188,7 @@ std::string Ros2StaticTransformCommands(const RobotDescription& robot) {
 
 std::string Ros1StaticTransformCommands(const RobotDescription& robot) {
   std::ostringstream out;
+  out << "# " << kRobotOutputMarker << ": tf (ROS 1) static transforms\n";
   if (robot.height_held) out << "# " << HeldHeightNote(robot) << "\n";
   for (const FrameTransform& transform : robot.transforms) {
     const TransformNumbers n = NumbersOf(transform.parent_from_child);
@@ -199,6 +202,8 @@ std::string Ros1StaticTransformCommands(const RobotDescription& robot) {
 
 std::string AutowareSensorsCalibrationYaml(const RobotDescription& robot) {
   std::ostringstream out;
+  out << "# " << kRobotOutputMarker
+      << ": Autoware sensors_calibration.yaml entry\n";
   if (robot.height_held) out << "# " << HeldHeightNote(robot) << "\n";
   std::string parent;
   for (const FrameTransform& transform : robot.transforms) {
@@ -222,8 +227,9 @@ std::string DiffDriveControllerYaml(const RobotDescription& robot) {
   if (!robot.diff_drive) return "";
   const DiffDriveCorrections& c = *robot.diff_drive;
   std::ostringstream out;
-  out << "# odomcal: multipliers of the configured wheel_separation and "
-         "wheel radii.\n"
+  out << "# " << kRobotOutputMarker
+      << ": ros2_control diff_drive_controller parameters\n"
+      << "# Multipliers of the configured wheel_separation and wheel radii.\n"
       << "# Their common distance scale is held at 1: a monocular camera "
          "measures\n"
       << "# distances in the odometry's own metres.\n";

@@ -18,6 +18,7 @@
 //   order), w >= 0.
 #pragma once
 
+#include "odomcal/adapters/robot_output_marker.h"
 #include "odomcal/solver/odometry_intrinsics.h"
 #include "odomcal/solver/rigid3.h"
 

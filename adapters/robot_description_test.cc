@@ -141,6 +141,18 @@ TEST(RobotDescription, TheHeldHeightIsNamed) {
               std::string::npos)
         << text;
   }
+  // Each file's first line names it as odomcal's (IsOdomcalResultFile).
+  DiffDriveCorrections corrections;
+  const RobotDescription with_wheels =
+      MakeRobotDescription(mount, RobotFrameNames(), true, corrections);
+  EXPECT_EQ(UrdfFragment(with_wheels).rfind("<!-- odomcal robot output: ", 0),
+            0u);
+  for (const std::string& text : {Ros2StaticTransformCommands(with_wheels),
+                                  Ros1StaticTransformCommands(with_wheels),
+                                  AutowareSensorsCalibrationYaml(with_wheels),
+                                  DiffDriveControllerYaml(with_wheels)}) {
+    EXPECT_EQ(text.rfind("# odomcal robot output: ", 0), 0u) << text;
+  }
   const RobotDescription estimated =
       MakeRobotDescription(mount, RobotFrameNames(), false, std::nullopt);
   EXPECT_EQ(UrdfFragment(estimated).find("height"), std::string::npos);

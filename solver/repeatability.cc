@@ -251,6 +251,10 @@ Repeatability CheckRepeatability(const MotionPairs& pairs,
   }
   out.first_stamp_ns = used.pairs.front().stamp_i_ns;
   out.last_stamp_ns = used.pairs.back().stamp_j_ns;
+  out.odom_from_cam = result.odom_from_cam;
+  if (used.with_scale && !result.metric_scales.empty()) {
+    out.metric_scale = result.metric_scales[0];
+  }
   const Rigid3d& reference = result.odom_from_cam;
   const double alarm = 0.5 * repeatability.alarm_probability;
   out.tests.push_back(RunTest(

@@ -90,6 +90,10 @@ struct Repeatability {
   // The drive's span (the used pairs'), for the change's relative place.
   int64_t first_stamp_ns = 0;
   int64_t last_stamp_ns = 0;
+  // The whole drive's estimate the blocks are compared with (metric_scale:
+  // single segment only, else 0).
+  Rigid3d odom_from_cam;
+  double metric_scale = 0.0;
 };
 
 // `pairs` and `result` are the final calibration's (CalibrateOdomCam);

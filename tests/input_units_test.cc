@@ -308,8 +308,12 @@ TEST_F(InputUnits, CsvNamedTxtIsReadAsCsv) {
     return s.time + "," + Number(s.x) + "," + Number(s.y) + "," + Number(s.yaw);
   });
   ExpectCalibrated(RunOdomcal(Calibrate("odometry.txt")));
-  fs::remove(Path("result.json"));
-  fs::remove(Path("result.yaml"));
+  // The result and its YAML and robot files beside it (result.urdf, ...).
+  for (const auto& entry : fs::directory_iterator(Path("."))) {
+    if (entry.path().filename().string().rfind("result", 0) == 0) {
+      fs::remove(entry.path());
+    }
+  }
   ExpectBadInput(
       RunOdomcal(Calibrate("odometry.txt", {"--odometry_format", "tum"})),
       kCalibrateError + Path("odometry.txt") +

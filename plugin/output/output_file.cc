@@ -1,5 +1,7 @@
 #include "odomcal/plugin/output/output_file.h"
 
+#include "odomcal/adapters/robot_output_marker.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -56,6 +58,10 @@ bool IsOdomcalResultFile(const std::string& path) {
   std::stringstream buffer;
   buffer << file.rdbuf();
   const std::string text = buffer.str();
+  if (text.rfind(std::string("<!-- ") + kRobotOutputMarker, 0) == 0 ||
+      text.rfind(std::string("# ") + kRobotOutputMarker, 0) == 0) {
+    return true;  // a robot file (robot_description.h)
+  }
   if (text.rfind("%YAML:1.0\n---\nstatus: ", 0) == 0) {
     return text.find("\nunobservable:") != std::string::npos;
   }

@@ -18,9 +18,10 @@ class OutputError : public std::runtime_error {
 // when its folder does not exist. Call for every output before doing any work.
 void CheckOutputPath(const std::string& path, bool overwrite);
 
-// A result file odomcal wrote: JSON whose "schema" starts with "odomcal.", or
+// A result file odomcal wrote: JSON whose "schema" starts with "odomcal.",
 // the OpenCV YAML of a calibration (%YAML:1.0, then status, message, ...,
-// unobservable).
+// unobservable), or a robot file (its first line a comment naming
+// kRobotOutputMarker, robot_description.h).
 bool IsOdomcalResultFile(const std::string& path);
 
 // Throws OutputError naming the path when any step fails; the target is then

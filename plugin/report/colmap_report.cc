@@ -449,7 +449,6 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
     html << "<li class=\"warning\">" << EscapeMarkup(warning) << "</li>";
   }
   html << "</ul>\n" << RobotUseItHtml(RobotDescriptionOf(result, context));
-  if (context.repeatability) html << RepeatabilityHtml(*context.repeatability);
   html << "<h2>Trajectories</h2>\n"
        << figure_html(top,
                       "Seen from above, x and y in metres at the same scale. "
@@ -504,6 +503,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                   "contradicts the "
                   "odometry (e.g. a folded reconstruction), left out of the "
                   "calibration.");
+  if (context.repeatability) html << RepeatabilityHtml(*context.repeatability);
   html << "<h2>COLMAP sub-models</h2>\n";
   if (!run.colmap_version.empty()) {
     html << "<p>Reconstructed by COLMAP " << EscapeMarkup(run.colmap_version)

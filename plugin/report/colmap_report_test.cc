@@ -190,7 +190,7 @@ TEST_F(ColmapReport, EveryTableColumnIsHeadedAndEveryRowHasAllColumns) {
 
 TEST_F(ColmapReport, EveryFigureHasACaptionDefiningItsQuantities) {
   const std::vector<std::string> figures = Elements(*html_, "figure");
-  ASSERT_EQ(figures.size(), 3u);
+  ASSERT_EQ(figures.size(), 4u);
   for (const std::string& figure : figures) {
     EXPECT_EQ(Elements(figure, "svg").size(), 1u);
     const std::vector<std::string> captions = Elements(figure, "figcaption");
@@ -214,6 +214,12 @@ TEST_F(ColmapReport, EveryFigureHasACaptionDefiningItsQuantities) {
                                "Step length ratio"}) {
     EXPECT_TRUE(Contains(figures[2], quantity)) << quantity;
   }
+  for (const char* quantity : {"Each block's estimate",
+                               "one standard deviation",
+                               "the whole drive's estimate",
+                               "Roll, pitch, yaw in degrees"}) {
+    EXPECT_TRUE(Contains(figures[3], quantity)) << quantity;
+  }
   EXPECT_FALSE(Contains(*html_, "angle A"));
 }
 
@@ -221,7 +227,7 @@ TEST_F(ColmapReport, EveryFigureHasACaptionDefiningItsQuantities) {
 // two legends with titles, four colours.
 TEST_F(ColmapReport, OneLegendPerMeaning) {
   const std::vector<std::string> svgs = Elements(*html_, "svg");
-  ASSERT_EQ(svgs.size(), 3u);
+  ASSERT_EQ(svgs.size(), 4u);  // the last: the repeatability blocks
   auto labels = [](const std::string& svg) {
     std::vector<std::string> out;
     const std::regex label("class=\"legend-label\"[^>]*>([^<]*)<");

@@ -2,6 +2,7 @@
 // summary and the HTML report.
 #pragma once
 
+#include "odomcal/plugin/report/svg_plot.h"
 #include "odomcal/solver/repeatability.h"
 
 #include <nlohmann/json.hpp>
@@ -20,8 +21,11 @@ nlohmann::json RepeatabilityToJson(
 // dof, p 0.66); quarters agree (...)", or why it did not run.
 std::string RepeatabilitySummary(const Repeatability& repeatability);
 
-// The report's section: a table of the blocks of each test and, when the
-// blocks disagree, the time of the change.
+// The blocks' estimates over time, a panel per parameter.
+PlotFigure RepeatabilityPlot(const Repeatability& repeatability);
+
+// The report's section: the summary line, a table of the blocks of each test
+// and their plot.
 std::string RepeatabilityHtml(const Repeatability& repeatability);
 
 }  // namespace odomcal

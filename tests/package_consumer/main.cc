@@ -182,11 +182,13 @@ int main(int argc, char** argv) {
                 calibrated.metric_models[0].model.images.size() ==
                     drive.camera.poses.size(),
             "plugin: one metric sub-model with every image") &&
-      Check(written.size() == 5 &&
+      Check(written.size() == 9 &&
                 std::filesystem::exists(std::filesystem::path(output) /
-                                        "report.html"),
-            "reports: calibration.json, .yaml, sparse_metric/, "
-            "camera_in_odom.tum, report.html") &&
+                                        "report.html") &&
+                std::filesystem::exists(std::filesystem::path(output) /
+                                        "calibration.urdf"),
+            "reports: calibration.json, .yaml, the four robot files, "
+            "sparse_metric/, camera_in_odom.tum, report.html") &&
       Check(project_json.at("options").contains("min_inconsistent_run_pairs") &&
                 project_json.at("options").contains("noise"),
             "reports: the options echo of the project") &&
