@@ -50,8 +50,9 @@ double SecondsAfter(int64_t stamp_ns, int64_t start_ns) {
   return ElapsedSeconds(start_ns, stamp_ns);
 }
 
-// One panel: each test's blocks at their middle time, with +-1 sigma marks,
-// and the whole drive's value as a dashed line.
+// One panel: each test's blocks at their middle time, as differences from
+// the whole drive's value (0, a dashed line), with +-1 sigma marks: the
+// blocks' own spread is then readable whatever the value.
 PlotPanel ParameterPanel(
     const Repeatability& r,
     const std::string& title,
@@ -77,12 +78,13 @@ PlotPanel ParameterPanel(
       const double t =
           0.5 * (SecondsAfter(block.first_stamp_ns, r.first_stamp_ns) +
                  SecondsAfter(block.last_stamp_ns, r.first_stamp_ns));
+      const double difference = value(block) - whole;
       values.x.push_back(t);
-      values.y.push_back(value(block));
+      values.y.push_back(difference);
       upper.x.push_back(t);
-      upper.y.push_back(value(block) + sigma(block));
+      upper.y.push_back(difference + sigma(block));
       lower.x.push_back(t);
-      lower.y.push_back(value(block) - sigma(block));
+      lower.y.push_back(difference - sigma(block));
     }
     if (values.x.empty()) continue;
     for (PlotSeries* bound : {&upper, &lower}) {
@@ -98,7 +100,7 @@ PlotPanel ParameterPanel(
   PlotSeries line;
   line.label = "whole drive";
   line.x = {0.0, end_s};
-  line.y = {whole, whole};
+  line.y = {0.0, 0.0};
   line.color = "#444444";
   line.dashed = true;
   line.markers = false;
@@ -120,7 +122,7 @@ PlotFigure RepeatabilityPlot(const Repeatability& r) {
     figure.panels.push_back(ParameterPanel(
         r,
         names[i],
-        std::string(names[i]) + " [deg]",
+        std::string(names[i]) + " - whole drive [deg]",
         rpy(i),
         [i](const RepeatabilityBlock& b) { return b.roll_pitch_yaw_deg(i); },
         [i](const RepeatabilityBlock& b) {
@@ -131,24 +133,27 @@ PlotFigure RepeatabilityPlot(const Repeatability& r) {
     figure.panels.push_back(ParameterPanel(
         r,
         i == 0 ? "x" : "y",
-        i == 0 ? "x [cm]" : "y [cm]",
-        100.0 * r.odom_from_cam.translation(i),
+        i == 0 ? "x - whole drive [mm]" : "y - whole drive [mm]",
+        1000.0 * r.odom_from_cam.translation(i),
         [i](const RepeatabilityBlock& b) {
-          return 100.0 * b.odom_from_cam.translation(i);
+          return 1000.0 * b.odom_from_cam.translation(i);
         },
         [i](const RepeatabilityBlock& b) {
-          return 100.0 * b.stddev_translation_xy_m(i);
+          return 1000.0 * b.stddev_translation_xy_m(i);
         }));
   }
   if (r.metric_scale > 0.0) {
     figure.panels.push_back(ParameterPanel(
         r,
         "metric scale",
-        "scale [m/unit]",
-        r.metric_scale,
-        [](const RepeatabilityBlock& b) { return b.metric_scale; },
-        [](const RepeatabilityBlock& b) {
-          return b.metric_scale * b.stddev_metric_scale_rel;
+        "scale / whole drive - 1 [%]",
+        0.0,
+        [&r](const RepeatabilityBlock& b) {
+          return 100.0 * (b.metric_scale / r.metric_scale - 1.0);
+        },
+        [&r](const RepeatabilityBlock& b) {
+          return 100.0 * b.metric_scale * b.stddev_metric_scale_rel /
+                 r.metric_scale;
         }));
   }
   figure.legend_title = "Blocks of the drive:";
@@ -269,15 +274,15 @@ std::string RepeatabilityHtml(const Repeatability& repeatability) {
   }
   html << "</table>\n<figure>\n"
        << RenderSvg(RepeatabilityPlot(repeatability))
-       << "<figcaption>Each block's estimate at the middle of its time span "
-          "(seconds after the first pair), from the halves (blue) and the "
-          "quarters (orange) of the drive; the triangles mark one standard "
-          "deviation above and below it, the dashed line the whole drive's "
-          "estimate. Roll, pitch, yaw in degrees (URDF fixed axes of "
-          "odom_from_cam), x and y in cm, the metric scale in metres per "
-          "reconstruction unit (one segment only). A mount that moved shows "
-          "as blocks before and after a time that differ by more than their "
-          "deviations.</figcaption>\n</figure>\n";
+       << "<figcaption>Each block's estimate minus the whole drive's "
+          "estimate (the dashed line at 0), at the middle of the block's time "
+          "span (seconds after the first pair), from the halves (blue) and "
+          "the quarters (orange) of the drive; the triangles mark one "
+          "standard deviation above and below it. Roll, pitch, yaw in degrees "
+          "(URDF fixed axes of odom_from_cam), x and y in mm, the metric "
+          "scale in % of the whole drive's (one segment only). A mount that "
+          "moved shows as blocks before and after a time that differ by more "
+          "than their deviations.</figcaption>\n</figure>\n";
   return html.str();
 }
 
