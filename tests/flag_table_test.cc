@@ -501,6 +501,8 @@ TEST_F(FlagEcho, RunEchoesEveryFlag) {
   values["--rematch"] = {"off", false};
   values["--chunk_images"] = {"150", 150};
   values["--colmap_path"] = {colmap.string(), colmap.string()};
+  values["--mapper"] = {"global", "global"};
+  values["--glomap_path"] = {Path("glomap"), Path("glomap")};
   std::vector<std::string> arguments = Arguments("run", values);
   arguments.insert(arguments.end(), {"--workspace_path", Path("ws")});
   const CommandResult run = RunOdomcal(arguments);

@@ -287,9 +287,27 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
 }
 
 // Camera pitched 10 deg down and rolled 90 deg: roll and pitch of the
-// extrinsic far from the forward mount, same tolerances.
-TEST_F(RenderedEndToEnd, TiltedRolledCamera) {
-  ExpectAccurate(RunPreset("tilted", TestSeed(1)), 0.1, 0.005, 0.003);
+// extrinsic far from the forward mount, same tolerances. Run through the
+// command line of COLMAP 4.1.1 with --mapper global: tests/fake_colmap/
+// fake_colmap.py accepts only 4.1.1's option names (global_mapper's
+// GlobalMapper.*, FeatureExtraction.*, ...) and runs the installed COLMAP
+// 3.8 with them translated, so the whole pipeline meets a 4.x command
+// line (the mapping itself stays 3.8's incremental mapper).
+TEST_F(RenderedEndToEnd, TiltedRolledCameraThroughColmap4GlobalMapper) {
+  const fs::path colmap = dir_ / "colmap_4.1.1";
+  {
+    std::ofstream wrapper(colmap);
+    wrapper << "#!/bin/sh\nexec /usr/bin/python3 " << ODOMCAL_FAKE_COLMAP
+            << " --emulate 4.1.1 --real colmap \"$@\"\n";
+  }
+  fs::permissions(colmap, fs::perms::owner_all, fs::perm_options::add);
+  const PresetRun run = RunPreset(
+      "tilted",
+      TestSeed(1),
+      "--mapper global --colmap_path " + colmap.string());
+  ExpectAccurate(run, 0.1, 0.005, 0.003);
+  EXPECT_EQ(run.result["colmap"]["version"], "4.1.1") << run.log;
+  EXPECT_EQ(run.result["colmap"]["mapper"], "global_mapper") << run.log;
 }
 
 TEST_F(RenderedEndToEnd, StraightDrivingIsUnobservable) {

@@ -159,6 +159,76 @@ TEST_F(ColmapCommandLine, RunsAgainstTheCommandLineOfColmap4Point1) {
   ExpectRunAgainstColmap("4.1");
 }
 
+// --mapper global with COLMAP 4.1: `colmap global_mapper` with its
+// GlobalMapper.* options (and no Mapper.*), the seeds passed as
+// --GlobalMapper.random_seed, the mapper named in the JSON.
+TEST_F(ColmapCommandLine, GlobalMapperOfColmap4Point1) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_1", {7, 19});
+  WriteMapperModel(drive, kImages, "seed_2");
+  const std::string bin = WriteStrictFakeColmap("4.1");
+  const CommandResult run =
+      RunOdomcal(RunCommand({"--matcher", "sequential", "--mapper", "global"}),
+                 {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
+  EXPECT_EQ(result["colmap"]["mapper"], "global_mapper");
+  EXPECT_EQ(result["options"]["run"]["mapper"], "global");
+  EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 3u);
+  const std::string commands = ReadFile(Path("ws/commands.txt"));
+  EXPECT_NE(commands.find(" global_mapper --database_path "), std::string::npos)
+      << commands;
+  EXPECT_NE(commands.find("--GlobalMapper.random_seed 2"), std::string::npos);
+  EXPECT_NE(run.out.find("reconstructed by: COLMAP 4.1.1 (global_mapper)"),
+            std::string::npos)
+      << run.out;
+}
+
+// --mapper global with COLMAP 3.8, which has no global_mapper: the
+// standalone glomap maps the database (one attempt: it has no seed).
+TEST_F(ColmapCommandLine, GlomapBesideColmap3Point8) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0");
+  const std::string bin = WriteStrictFakeColmap("3.8");
+  WriteStrictFakeGlomap();
+  const CommandResult run =
+      RunOdomcal(RunCommand({"--matcher", "sequential", "--mapper", "global"}),
+                 {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(result["status"], "success");
+  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
+  EXPECT_EQ(result["colmap"]["mapper"], "glomap mapper");
+  EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 1u);
+  EXPECT_NE(run.out.find("one mapper attempt (glomap has no random seed)"),
+            std::string::npos)
+      << run.out;
+  const std::string commands = ReadFile(Path("ws/commands.txt"));
+  EXPECT_NE(commands.find("glomap mapper --database_path "), std::string::npos)
+      << commands;
+}
+
+// Without glomap, --mapper global with COLMAP 3.8 is one clear error.
+TEST_F(ColmapCommandLine, GlobalMapperWithoutGlomapIsOneClearError) {
+  constexpr int kImages = 30;
+  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
+  WriteMapperModel(drive, kImages, "seed_0");
+  const std::string bin = WriteStrictFakeColmap("3.8");
+  const CommandResult run = RunOdomcal(RunCommand({"--matcher",
+                                                   "sequential",
+                                                   "--mapper",
+                                                   "global",
+                                                   "--glomap_path",
+                                                   Path("no_such_glomap")}),
+                                       {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("GLOMAP not found"), std::string::npos) << run.err;
+}
+
 // A drive of more selected images than --chunk_images is mapped in chunks
 // (mapper_chunks.h): 60 images, chunks of at most 50 sharing 12: images
 // 1-37 and 24-60, each mapped once (--random_seed 0; the fake mapper gives

@@ -309,6 +309,12 @@ class Robustness : public ::testing::Test {
   // without, they write nothing.
   std::string WriteFakeColmapWithMapperModels(bool chunks_side_by_side = false,
                                               bool adjusts = false) const {
+    return WriteFakeColmap(FakeMapperModelsBody(chunks_side_by_side, adjusts));
+  }
+
+  // The stages of WriteFakeColmapWithMapperModels, without the banner.
+  std::string FakeMapperModelsBody(bool chunks_side_by_side = false,
+                                   bool adjusts = false) const {
     const std::string mark = Path("chunk_1_started");
     const std::string wait_for_chunk_1 =
         chunks_side_by_side
@@ -319,38 +325,39 @@ class Robustness : public ::testing::Test {
                   " ]; do i=$((i+1)); [ $i -gt 200 ] && exit 3; sleep 0.1; "
                   "done;; esac\n"
             : std::string();
-    return WriteFakeColmap(
-        "if [ \"$1\" = feature_extractor ]; then cp " +
-        WritePreparedDatabase() +
-        " \"$3\"; fi\n"
-        "if [ \"$1\" = mapper ]; then\n"
-        "  while [ $# -gt 0 ]; do\n"
-        "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) "
-        "seed=\"$2\";;\n"
-        "      --database_path) case \"$2\" in *rematched.db) round=rematch_;; "
-        "esac;; esac\n"
-        "    shift\n"
-        "  done\n" +
-        wait_for_chunk_1 + "  model=" + Path("models") +
-        "/${round}seed_$seed\n"
-        "  if [ -d \"$model/0\" ]; then cp -r \"$model\"/* \"$out/\";\n"
-        "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp \"$model\"/* "
-        "\"$out/0/\"; fi\n"
-        "fi\n" +
-        (adjusts ? "case \"$1\" in point_triangulator|bundle_adjuster)\n"
-                   "  [ \"$1\" = point_triangulator ] && [ -d " +
-                       Path("models/triangulated") +
-                       " ] && triangulated=" + Path("models/triangulated") +
-                       "\n"
-                       "  while [ $# -gt 0 ]; do\n"
-                       "    case \"$1\" in --input_path) in=\"$2\";; "
-                       "--output_path) out=\"$2\";; esac\n"
-                       "    shift\n"
-                       "  done\n"
-                       "  cp \"${triangulated:-$in}\"/* \"$out\"/;;\n"
-                       "esac\n"
-                 : std::string()) +
-        "exit 0\n");
+    return "if [ \"$1\" = feature_extractor ]; then cp " +
+           WritePreparedDatabase() +
+           " \"$3\"; fi\n"
+           "if [ \"$1\" = mapper ]; then\n"
+           "  while [ $# -gt 0 ]; do\n"
+           "    case \"$1\" in --output_path) out=\"$2\";; --random_seed) "
+           "seed=\"$2\";;\n"
+           "      --database_path) case \"$2\" in *rematched.db) "
+           "round=rematch_;; "
+           "esac;; esac\n"
+           "    shift\n"
+           "  done\n" +
+           wait_for_chunk_1 + "  model=" + Path("models") +
+           "/${round}seed_$seed\n"
+           "  if [ -d \"$model/0\" ]; then cp -r \"$model\"/* \"$out/\";\n"
+           "  elif [ -d \"$model\" ]; then mkdir -p \"$out/0\" && cp "
+           "\"$model\"/* "
+           "\"$out/0/\"; fi\n"
+           "fi\n" +
+           (adjusts ? "case \"$1\" in point_triangulator|bundle_adjuster)\n"
+                      "  [ \"$1\" = point_triangulator ] && [ -d " +
+                          Path("models/triangulated") +
+                          " ] && triangulated=" + Path("models/triangulated") +
+                          "\n"
+                          "  while [ $# -gt 0 ]; do\n"
+                          "    case \"$1\" in --input_path) in=\"$2\";; "
+                          "--output_path) out=\"$2\";; esac\n"
+                          "    shift\n"
+                          "  done\n"
+                          "  cp \"${triangulated:-$in}\"/* \"$out\"/;;\n"
+                          "esac\n"
+                    : std::string()) +
+           "exit 0\n";
   }
 
   // bin/colmap of COLMAP `version` ("3.8" or "4.1"): its banner, and every
@@ -369,7 +376,7 @@ class Robustness : public ::testing::Test {
     const std::string banner =
         v4 ? "COLMAP 4.1.1 (Commit 0a1b2c3 on 2026-07-17 without CUDA)"
            : "COLMAP 3.8 -- Structure-from-Motion and Multi-View Stereo";
-    const std::map<std::string, std::string> allowed = {
+    std::map<std::string, std::string> allowed = {
         {"feature_extractor",
          "database_path image_path image_list_path ImageReader.single_camera "
          "ImageReader.camera_model ImageReader.camera_params " +
@@ -396,6 +403,63 @@ class Robustness : public ::testing::Test {
          "input_path output_path BundleAdjustment.refine_focal_length "
          "BundleAdjustment.refine_principal_point "
          "BundleAdjustment.refine_extra_params"}};
+    if (v4) {
+      // COLMAP 4.0-4.1 RunGlobalMapper: no Mapper.* and no input_path.
+      allowed["global_mapper"] =
+          "database_path image_path output_path GlobalMapper.image_list_path "
+          "GlobalMapper.num_threads GlobalMapper.random_seed "
+          "GlobalMapper.ba_refine_focal_length "
+          "GlobalMapper.ba_refine_principal_point "
+          "GlobalMapper.ba_refine_extra_params default_random_seed";
+    }
+    return WriteFakeColmapBanner(
+        banner,
+        StrictOptionCheck(allowed) +
+            FakeMapperBody(
+                v4 ? "--default_random_seed|--GlobalMapper.random_seed"
+                   : "--random_seed"));
+  }
+
+  // bin/glomap: GLOMAP 1.x's banner, `glomap mapper` with the options it
+  // registers (glomap/exe/global_mapper.cc and option_manager.cc), mapping
+  // as WriteFakeColmapWithMapperModels' mapper with seed 0 (GLOMAP has no
+  // seed option).
+  void WriteStrictFakeGlomap() const {
+    const std::map<std::string, std::string> allowed = {
+        {"mapper",
+         "database_path image_path output_path constraint_type output_format "
+         "BundleAdjustment.optimize_intrinsics "
+         "BundleAdjustment.optimize_principal_point"}};
+    fs::create_directories(dir_ / "bin");
+    const fs::path script = dir_ / "bin" / "glomap";
+    WriteFile(script,
+              "#!/bin/sh\n"
+              "if [ \"$1\" = help ]; then\n"
+              "  echo 'GLOMAP -- Global Structure-from-Motion'\n"
+              "  exit 0\n"
+              "fi\n"
+              "seed=0\n" +
+                  StrictOptionCheck(allowed) + FakeMapperBody("--random_seed"));
+    ::chmod(script.c_str(), 0755);
+  }
+
+  // WriteFakeColmapWithMapperModels' stages, `global_mapper` mapping as
+  // `mapper` does, the seed read from `seed_options` (a shell pattern).
+  std::string FakeMapperBody(const std::string& seed_options) const {
+    std::string body = FakeMapperModelsBody();
+    const std::string command = "if [ \"$1\" = mapper ]; then";
+    body.replace(body.find(command),
+                 command.size(),
+                 "if [ \"$1\" = mapper ] || [ \"$1\" = global_mapper ]; then");
+    const std::string from = "--random_seed) ";
+    body.replace(body.find(from), from.size(), seed_options + ") ");
+    return body;
+  }
+
+  // A shell fragment that exits 1 as COLMAP does on a command or an option
+  // name `allowed` does not list for the command.
+  static std::string StrictOptionCheck(
+      const std::map<std::string, std::string>& allowed) {
     std::string check = "case \"$1\" in\n";
     for (const auto& [command, names] : allowed) {
       check += "  " + command + ") allowed=' " + names + " ';;\n";
@@ -411,16 +475,7 @@ class Robustness : public ::testing::Test {
         "    esac;;\n"
         "  esac\n"
         "done\n";
-    const std::string seed_option =
-        v4 ? "--default_random_seed" : "--random_seed";
-    const std::string mapper = WriteFakeColmapWithMapperModels();
-    // The mapper body of WriteFakeColmapWithMapperModels reads the seed
-    // from --random_seed: here from the version's option.
-    std::string body = ReadFile(fs::path(mapper) / "colmap");
-    body = body.substr(body.find("fi\n") + 3);  // its 3.8 banner
-    const std::string from = "--random_seed) ";
-    body.replace(body.find(from), from.size(), seed_option + ") ");
-    return WriteFakeColmapBanner(banner, check + body);
+    return check;
   }
 
   // `odomcal run` with `bin`'s COLMAP on WriteImageFolder's drive, every
@@ -506,6 +561,7 @@ class Robustness : public ::testing::Test {
   // feature_extractor would leave it.
   std::string WritePreparedDatabase() const {
     const std::string path = Path("prepared.db");
+    if (fs::exists(path)) return path;  // written by an earlier fake
     sqlite3* db = nullptr;
     EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
     std::string sql =

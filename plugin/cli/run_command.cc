@@ -196,6 +196,17 @@ int RunRun(int argc, char** argv) {
     const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run");
     std::cout << CalibrationSummary(outcome.calibration.check.result,
                                     outcome.context);
+    if (!outcome.calibration.colmap_version.empty()) {
+      const ColmapCalibrationRun& run = outcome.calibration;
+      std::cout << "  reconstructed by: "
+                << (run.colmap_mapper == "glomap mapper"
+                        ? "GLOMAP (glomap mapper) on the features and matches "
+                          "of COLMAP " +
+                              run.colmap_version
+                        : "COLMAP " + run.colmap_version + " (" +
+                              run.colmap_mapper + ")")
+                << "\n";
+    }
     const auto& written = outcome.written_outputs;
     if (std::find(written.begin(), written.end(), "report.html") !=
         written.end()) {

@@ -74,6 +74,9 @@ struct ColmapCalibrationRun {
   // The COLMAP that reconstructed the model ("4.1.1", from its banner), for
   // `odomcal run`; empty for a project calibrated as given.
   std::string colmap_version;
+  // The program that mapped it: "mapper" (incremental), "global_mapper"
+  // (COLMAP's, from 4.0) or "glomap mapper" (the standalone GLOMAP).
+  std::string colmap_mapper;
   // `odomcal run` only: how many of the images selected for COLMAP are in
   // the calibration, per stretch of the drive (image_coverage.h).
   std::optional<ImageCoverage> coverage;

@@ -182,7 +182,14 @@ int RunToEnd(const std::vector<std::string>& argv, const fs::path& log_path) {
   return ExitCode(status);
 }
 
-std::string NotFoundMessage(const std::string& executable) {
+std::string NotFoundMessage(const std::string& executable,
+                            ColmapProgram program) {
+  if (program == ColmapProgram::kGlomap) {
+    return "GLOMAP not found: '" + executable +
+           "' is not an executable on PATH (--mapper global runs COLMAP's "
+           "global_mapper from COLMAP 4.0, and the standalone glomap before: "
+           "install either, or pass --glomap_path)";
+  }
   return "COLMAP not found: '" + executable +
          "' is not an executable on PATH (install Debian's colmap package or "
          "pass --colmap_path)";
@@ -287,7 +294,8 @@ const ColmapVersion& ColmapRunner::Version() {
   fs::remove(log, error);
   const int code = RunToEnd({options_.executable, "help"}, log);
   if (code == kExitNotFound) {
-    throw ColmapError(NotFoundMessage(options_.executable));
+    throw ColmapError(
+        NotFoundMessage(options_.executable, ColmapProgram::kColmap));
   }
   std::istringstream text(ReadWholeFile(log));
   std::string first_line;
@@ -297,9 +305,14 @@ const ColmapVersion& ColmapRunner::Version() {
   return version_;
 }
 
-std::string ColmapRunner::CommandLine(
-    const std::vector<std::string>& arguments) const {
-  std::vector<std::string> argv = {options_.executable};
+const std::string& ColmapRunner::Executable(ColmapProgram program) const {
+  return program == ColmapProgram::kGlomap ? options_.glomap_executable
+                                           : options_.executable;
+}
+
+std::string ColmapRunner::CommandLine(const std::vector<std::string>& arguments,
+                                      ColmapProgram program) const {
+  std::vector<std::string> argv = {Executable(program)};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   return JoinQuoted(argv);
 }
@@ -309,9 +322,9 @@ std::string ColmapRunner::CommandLine(
 // whose list changed is not the same stage, even when the argv is, and
 // this holds across runs (a run stopped between writing a list and running
 // its stage leaves the old record behind).
-std::string ColmapRunner::StageRecord(
-    const std::vector<std::string>& arguments) const {
-  std::string record = CommandLine(arguments) + "\n";
+std::string ColmapRunner::StageRecord(const std::vector<std::string>& arguments,
+                                      ColmapProgram program) const {
+  std::string record = CommandLine(arguments, program) + "\n";
   for (size_t k = 0; k + 1 < arguments.size(); ++k) {
     const std::string& option = arguments[k];
     const std::string suffix = "_list_path";
@@ -327,11 +340,13 @@ std::string ColmapRunner::StageRecord(
 
 bool ColmapRunner::WillReuse(const std::string& stage,
                              const std::vector<std::string>& arguments,
-                             const std::vector<std::string>& outputs) const {
+                             const std::vector<std::string>& outputs,
+                             ColmapProgram program) const {
   const fs::path marker =
       fs::path(options_.workspace) / "stages" / (stage + ".done");
   if (!options_.reuse_finished_stages || !reuse_allowed_ ||
-      !fs::exists(marker) || ReadWholeFile(marker) != StageRecord(arguments)) {
+      !fs::exists(marker) ||
+      ReadWholeFile(marker) != StageRecord(arguments, program)) {
     return false;
   }
   return std::all_of(
@@ -343,6 +358,7 @@ bool ColmapRunner::WillReuse(const std::string& stage,
 struct RunningStage::State {
   std::string stage;
   std::string program;  // the COLMAP command, e.g. "mapper"
+  ColmapProgram program_kind = ColmapProgram::kColmap;
   std::string executable;
   fs::path marker;
   std::string record;  // what the marker gets once the stage succeeded
@@ -439,13 +455,15 @@ ColmapStageResult RunningStage::Finish() {
   *state.runner_reuse_allowed = false;
   if (!state.start_error.empty()) throw ColmapError(state.start_error);
   if (state.exit_code == kExitNotFound) {
-    throw ColmapError(NotFoundMessage(state.executable));
+    throw ColmapError(NotFoundMessage(state.executable, state.program_kind));
   }
   if (state.exit_code != 0) {
     const std::string last = LastNonEmptyLine(state.result.log_path);
     const std::string why =
         state.exit_code == 134 ? " (COLMAP aborted on a failed CHECK)" : "";
-    throw ColmapError("COLMAP " + state.program + " failed with exit code " +
+    const char* name =
+        state.program_kind == ColmapProgram::kGlomap ? "GLOMAP " : "COLMAP ";
+    throw ColmapError(name + state.program + " failed with exit code " +
                       std::to_string(state.exit_code) + why + "; see " +
                       state.result.log_path +
                       (last.empty() ? "" : " (last line: " + last + ")"));
@@ -456,16 +474,18 @@ ColmapStageResult RunningStage::Finish() {
 
 RunningStage ColmapRunner::StartStage(const std::string& stage,
                                       const std::vector<std::string>& arguments,
-                                      const std::vector<std::string>& outputs) {
+                                      const std::vector<std::string>& outputs,
+                                      ColmapProgram program) {
   auto state = std::make_unique<RunningStage::State>();
   const fs::path workspace(options_.workspace);
   state->stage = stage;
   state->program = arguments.empty() ? stage : arguments[0];
-  state->executable = options_.executable;
+  state->program_kind = program;
+  state->executable = Executable(program);
   state->marker = workspace / "stages" / (stage + ".done");
   state->result.log_path = (workspace / "logs" / (stage + ".log")).string();
   state->ended = true;
-  if (WillReuse(stage, arguments, outputs)) {
+  if (WillReuse(stage, arguments, outputs, program)) {
     state->result.reused = true;
     return RunningStage(std::move(state));
   }
@@ -473,12 +493,12 @@ RunningStage ColmapRunner::StartStage(const std::string& stage,
   std::error_code error;
   fs::remove(state->marker, error);
   fs::remove(state->result.log_path, error);
-  state->record = StageRecord(arguments);
+  state->record = StageRecord(arguments, program);
   {
     std::ofstream commands(workspace / "commands.txt", std::ios::app);
-    commands << CommandLine(arguments) << "\n";
+    commands << CommandLine(arguments, program) << "\n";
   }
-  std::vector<std::string> argv = {options_.executable};
+  std::vector<std::string> argv = {Executable(program)};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   state->start = std::chrono::steady_clock::now();
   try {
@@ -499,8 +519,9 @@ RunningStage ColmapRunner::StartStage(const std::string& stage,
 ColmapStageResult ColmapRunner::RunStage(
     const std::string& stage,
     const std::vector<std::string>& arguments,
-    const std::vector<std::string>& outputs) {
-  RunningStage running = StartStage(stage, arguments, outputs);
+    const std::vector<std::string>& outputs,
+    ColmapProgram program) {
+  RunningStage running = StartStage(stage, arguments, outputs, program);
   running.WaitForEnd(options_.on_output_line);
   return running.Finish();
 }

@@ -79,6 +79,11 @@ using OutputLineCallback = std::function<void(const std::string& line)>;
 
 class ColmapRunner;
 
+// The program a stage runs: COLMAP itself, or the standalone GLOMAP (global
+// structure from motion on a COLMAP database, for COLMAP versions before 4.0,
+// which have no `global_mapper`).
+enum class ColmapProgram { kColmap, kGlomap };
+
 // A stage ColmapRunner::StartStage started: COLMAP running in the
 // background (or the stage reused). Poll it while other work goes on, e.g.
 // other stages, or Wait for it; destroying it while COLMAP runs stops COLMAP
@@ -122,8 +127,9 @@ class RunningStage {
 class ColmapRunner {
  public:
   struct Options {
-    std::string executable = "colmap";  // looked up on PATH if no '/'
-    std::string workspace;              // must exist
+    std::string executable = "colmap";         // looked up on PATH if no '/'
+    std::string glomap_executable = "glomap";  // ColmapProgram::kGlomap
+    std::string workspace;                     // must exist
     bool reuse_finished_stages = true;
     // Called from RunStage's thread, within a quarter second of COLMAP
     // writing the line to the stage's log; empty: the log is not followed.
@@ -143,7 +149,8 @@ class ColmapRunner {
   // code (134: COLMAP's CHECK failure / abort) and the log's last line.
   ColmapStageResult RunStage(const std::string& stage,
                              const std::vector<std::string>& arguments,
-                             const std::vector<std::string>& outputs);
+                             const std::vector<std::string>& outputs,
+                             ColmapProgram program = ColmapProgram::kColmap);
 
   // RunStage without waiting: COLMAP runs in the background while the
   // caller polls the returned stage (several stages may run side by side,
@@ -151,12 +158,14 @@ class ColmapRunner {
   // missing COLMAP, are thrown by the stage's Finish().
   RunningStage StartStage(const std::string& stage,
                           const std::vector<std::string>& arguments,
-                          const std::vector<std::string>& outputs);
+                          const std::vector<std::string>& outputs,
+                          ColmapProgram program = ColmapProgram::kColmap);
 
   // Whether RunStage with these arguments would reuse a finished stage.
   bool WillReuse(const std::string& stage,
                  const std::vector<std::string>& arguments,
-                 const std::vector<std::string>& outputs) const;
+                 const std::vector<std::string>& outputs,
+                 ColmapProgram program = ColmapProgram::kColmap) const;
 
   const Options& options() const { return options_; }
 
@@ -165,9 +174,12 @@ class ColmapRunner {
   void RunLaterStagesAnew() { reuse_allowed_ = false; }
 
  private:
-  std::string CommandLine(const std::vector<std::string>& arguments) const;
+  const std::string& Executable(ColmapProgram program) const;
+  std::string CommandLine(const std::vector<std::string>& arguments,
+                          ColmapProgram program) const;
   // What stages/<stage>.done records: the argv and the lists it names.
-  std::string StageRecord(const std::vector<std::string>& arguments) const;
+  std::string StageRecord(const std::vector<std::string>& arguments,
+                          ColmapProgram program) const;
 
   Options options_;
   bool reuse_allowed_ = true;  // false once a stage ran anew

@@ -18,8 +18,9 @@ namespace {
 ColmapStageResult RunMapper(ColmapRunner* colmap,
                             const ReconstructionOptions& run,
                             const std::string& entry,
-                            const std::vector<std::string>& arguments) {
-  RunningStage stage = StartMapper(colmap, run, entry, arguments);
+                            const MapperCommand& command) {
+  RunningStage stage =
+      StartMapper(colmap, run, entry, command.arguments, command.program);
   stage.WaitForEnd(colmap->options().on_output_line);
   return stage.Finish();
 }
@@ -106,22 +107,80 @@ std::vector<std::string> MapperArguments(const ReconstructionOptions& run,
   return arguments;
 }
 
+bool GlobalMapperIsGlomap(const ColmapVersion& version) {
+  return !version.AtLeast(4, 0);
+}
+
+MapperCommand GlobalMapperCommand(const ReconstructionOptions& run,
+                                  const ColmapVersion& version,
+                                  const std::string& database,
+                                  const fs::path& output,
+                                  const fs::path& image_list,
+                                  std::optional<int> random_seed,
+                                  int num_threads) {
+  const bool fixed_intrinsics = !run.camera_params.empty();
+  MapperCommand command;
+  if (GlobalMapperIsGlomap(version)) {
+    // GLOMAP 1.x (glomap/exe/global_mapper.cc, controllers/option_manager.cc):
+    // no image list, seed or thread options.
+    command.program = ColmapProgram::kGlomap;
+    command.arguments = {"mapper",
+                         "--database_path",
+                         database,
+                         "--image_path",
+                         run.image_path,
+                         "--output_path",
+                         output.string(),
+                         "--BundleAdjustment.optimize_intrinsics",
+                         fixed_intrinsics ? "0" : "1",
+                         "--BundleAdjustment.optimize_principal_point",
+                         "0"};
+    return command;
+  }
+  // COLMAP 4.0-4.1 RunGlobalMapper (exe/sfm.cc) and AddGlobalMapperOptions.
+  command.arguments = {"global_mapper",
+                       "--database_path",
+                       database,
+                       "--image_path",
+                       run.image_path,
+                       "--output_path",
+                       output.string(),
+                       "--GlobalMapper.image_list_path",
+                       image_list.string(),
+                       "--GlobalMapper.num_threads",
+                       std::to_string(num_threads)};
+  if (random_seed) {
+    command.arguments.insert(
+        command.arguments.end(),
+        {"--GlobalMapper.random_seed", std::to_string(*random_seed)});
+  }
+  command.arguments.insert(command.arguments.end(),
+                           {"--GlobalMapper.ba_refine_focal_length",
+                            fixed_intrinsics ? "0" : "1",
+                            "--GlobalMapper.ba_refine_principal_point",
+                            "0",
+                            "--GlobalMapper.ba_refine_extra_params",
+                            fixed_intrinsics ? "0" : "1"});
+  return command;
+}
+
 // Starts `arguments` (MapperArguments into MapperOutput(run, entry)) as
 // stage "mapper_<entry>". Unless the stage is reused, its output folder is
 // emptied first: a rerun must not mix new sub-models with stale ones.
 RunningStage StartMapper(ColmapRunner* colmap,
                          const ReconstructionOptions& run,
                          const std::string& entry,
-                         const std::vector<std::string>& arguments) {
+                         const std::vector<std::string>& arguments,
+                         ColmapProgram program) {
   const std::string stage = "mapper_" + entry;
   const fs::path output = MapperOutput(run, entry);
   const std::vector<std::string> outputs = {(output / "0").string()};
-  if (!colmap->WillReuse(stage, arguments, outputs)) {
+  if (!colmap->WillReuse(stage, arguments, outputs, program)) {
     RemoveOwnedOutput(run.workspace_path, "mapper_attempts/" + entry);
   }
   std::error_code error;
   fs::create_directories(output, error);
-  return colmap->StartStage(stage, arguments, outputs);
+  return colmap->StartStage(stage, arguments, outputs, program);
 }
 
 // The end of a mapper run for a model beside the main one (a stretch, a
@@ -172,24 +231,38 @@ void MapWithSeed(ColmapRunner* colmap,
   MapperAttempt attempt;
   attempt.matching_round = round.index;
   attempt.random_seed = seed;
-  StageClock clock(progress,
-                   4,
-                   std::string("COLMAP mapping") +
-                       (round.index == 0 ? "" : " the new matches") +
-                       ", --random_seed " + std::to_string(seed));
+  const bool global = run.mapper_kind == MapperKind::kGlobal;
+  const bool glomap = global && GlobalMapperIsGlomap(colmap->Version());
   const std::string entry = prefix + "seed_" + std::to_string(seed);
   const fs::path output = MapperOutput(run, entry);
-  const ColmapStageResult stage =
-      RunMapper(colmap,
-                run,
-                entry,
-                MapperArguments(run,
-                                colmap->Version(),
-                                round.database,
-                                output,
-                                workspace / "image_list.txt",
-                                seed,
-                                run.num_threads));
+  const fs::path image_list = workspace / "image_list.txt";
+  MapperCommand command;
+  if (global) {
+    command = GlobalMapperCommand(run,
+                                  colmap->Version(),
+                                  round.database,
+                                  output,
+                                  image_list,
+                                  seed,
+                                  run.num_threads);
+  } else {
+    command.arguments = MapperArguments(run,
+                                        colmap->Version(),
+                                        round.database,
+                                        output,
+                                        image_list,
+                                        seed,
+                                        run.num_threads);
+  }
+  const std::string what = glomap   ? "GLOMAP global mapping"
+                           : global ? "COLMAP global mapping"
+                                    : "COLMAP mapping";
+  StageClock clock(
+      progress,
+      4,
+      what + (round.index == 0 ? "" : " the new matches") +
+          (glomap ? "" : ", --random_seed " + std::to_string(seed)));
+  const ColmapStageResult stage = RunMapper(colmap, run, entry, command);
   attempt.model_path = output.string();
   if (!HasModel(output)) {
     policy->Record(attempt);

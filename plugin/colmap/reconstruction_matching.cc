@@ -80,10 +80,13 @@ std::vector<std::string> MatcherArguments(const std::string& matcher,
          "--match_type",
          "pairs"});
   } else if (matcher == "spatial") {
+    // 3.10 replaced is_gps by each prior's coordinate system (the priors
+    // odomcal writes say CARTESIAN; colmap_database_priors.h).
+    if (!version.AtLeast(3, 10)) {
+      arguments.insert(arguments.end(), {"--SpatialMatching.is_gps", "0"});
+    }
     arguments.insert(arguments.end(),
-                     {"--SpatialMatching.is_gps",
-                      "0",
-                      "--SpatialMatching.ignore_z",
+                     {"--SpatialMatching.ignore_z",
                       "1",
                       "--SpatialMatching.max_num_neighbors",
                       std::to_string(run.spatial_neighbors),
@@ -131,14 +134,12 @@ void MatchAgain(ColmapRunner* colmap,
              ", database " + round.database);
 }
 
-void ExtractFeatures(ColmapRunner* colmap,
-                     const ReconstructionOptions& run,
-                     size_t num_images,
-                     const std::string& database,
-                     Progress* progress) {
+std::vector<std::string> FeatureExtractorArguments(
+    const ReconstructionOptions& run,
+    const ColmapVersion& version,
+    const std::string& database) {
   const fs::path workspace(run.workspace_path);
-  const ColmapOptionNames names = ColmapOptionNamesFor(colmap->Version());
-  StageClock clock(progress, 2, "COLMAP feature extraction");
+  const ColmapOptionNames names = ColmapOptionNamesFor(version);
   std::vector<std::string> arguments = {
       "feature_extractor",
       "--database_path",
@@ -161,6 +162,18 @@ void ExtractFeatures(ColmapRunner* colmap,
     arguments.insert(arguments.end(),
                      {"--ImageReader.camera_params", run.camera_params});
   }
+  return arguments;
+}
+
+void ExtractFeatures(ColmapRunner* colmap,
+                     const ReconstructionOptions& run,
+                     size_t num_images,
+                     const std::string& database,
+                     Progress* progress) {
+  const fs::path workspace(run.workspace_path);
+  StageClock clock(progress, 2, "COLMAP feature extraction");
+  const std::vector<std::string> arguments =
+      FeatureExtractorArguments(run, colmap->Version(), database);
   const ColmapStageResult stage =
       colmap->RunStage("feature_extractor", arguments, {database});
   CheckImagesWereRead(database,
@@ -201,12 +214,7 @@ std::string MatchImages(ColmapRunner* colmap,
   const fs::path workspace(run.workspace_path);
   const ColmapVersion& version = colmap->Version();
   const std::string& database = round.database;
-  std::string matcher = run.matcher;
-  if (matcher == "spatial" && version.AtLeast(3, 10)) {
-    progress->Note(
-        2, "(COLMAP >= 3.10 keeps priors elsewhere: sequential matching)");
-    matcher = "sequential";
-  }
+  const std::string& matcher = run.matcher;
   if (matcher == "spatial") {
     std::map<std::string, Eigen::Vector3d> positions;
     InterpolationFailure why;

@@ -288,7 +288,7 @@ Mapping MapImages(ColmapRunner* colmap,
 // next numbered sub-models, and calibrated there, so that every path in the
 // outputs names sparse/, the model a later `odomcal colmap` would read.
 void CalibrateChosenModel(const ReconstructionOptions& run,
-                          const std::string& colmap_version,
+                          const ColmapVersion& colmap_version,
                           const Mapping& mapping,
                           const std::vector<fs::path>& stretch_models,
                           const std::vector<TimedImage>& images,
@@ -329,7 +329,11 @@ void CalibrateChosenModel(const ReconstructionOptions& run,
   result->calibration = CalibrateColmapProject(final_inputs);
   result->calibration.mapper_attempts = mapping.attempts;
   result->calibration.chosen_mapper_attempt = mapping.chosen;
-  result->calibration.colmap_version = colmap_version;
+  result->calibration.colmap_version = colmap_version.ToString();
+  result->calibration.colmap_mapper =
+      run.mapper_kind == MapperKind::kIncremental            ? "mapper"
+      : reconstruction::GlobalMapperIsGlomap(colmap_version) ? "glomap mapper"
+                                                             : "global_mapper";
   if (mapping.contradiction_warning) {
     result->calibration.check.result.warnings.push_back(
         *mapping.contradiction_warning);
@@ -341,7 +345,39 @@ void CalibrateChosenModel(const ReconstructionOptions& run,
   clock.Done("calibrated");
 }
 
+// `run` as the mapper it asks for can take it with this COLMAP: global
+// mapping maps the drive as one model (no chunks), and the standalone
+// glomap has no random seed to vary.
+ReconstructionOptions WithMapperOf(const ReconstructionOptions& run,
+                                   const ColmapVersion& version,
+                                   size_t num_images,
+                                   Progress* progress) {
+  ReconstructionOptions mapped = run;
+  if (run.mapper_kind != MapperKind::kGlobal) return mapped;
+  const bool glomap = reconstruction::GlobalMapperIsGlomap(version);
+  std::string note =
+      glomap ? "GLOMAP (" + run.glomap_path + ") maps the images: COLMAP " +
+                   version.ToString() + " has no global_mapper (from 4.0)"
+             : "COLMAP's global_mapper maps the images";
+  if (run.chunks.max_images > 0 &&
+      num_images > static_cast<size_t>(run.chunks.max_images)) {
+    note += "; all " + std::to_string(num_images) +
+            " in one model (global mapping has no chunks)";
+  }
+  mapped.chunks.max_images = 0;
+  if (glomap && run.mapper.max_seeds > 1) {
+    note += "; one mapper attempt (glomap has no random seed)";
+    mapped.mapper.max_seeds = 1;
+  }
+  progress->Note(1, note);
+  return mapped;
+}
+
 }  // namespace
+
+const char* ToString(MapperKind kind) {
+  return kind == MapperKind::kGlobal ? "global" : "incremental";
+}
 
 std::vector<std::string> ReconstructionWorkspaceEntries() {
   return {"image_list.txt",
@@ -361,7 +397,7 @@ std::vector<std::string> ReconstructionWorkspaceEntries() {
 ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                                              const ProgressCallback& callback) {
   const ColmapCalibrationInputs& inputs = run.project;
-  MapperPolicy policy(run.mapper);  // checks its options first
+  run.mapper.Check();  // before any file is touched
   Progress progress(callback);
   const fs::path workspace(run.workspace_path);
   // Reruns reuse the workspace: odomcal's own entries in it are replaced.
@@ -409,25 +445,29 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   runner_options.on_output_line = [&progress](const std::string& line) {
     progress.ColmapLine(line);
   };
+  runner_options.glomap_executable = run.glomap_path;
   ColmapRunner colmap(runner_options);
   progress.Note(1,
                 "COLMAP " + colmap.Version().ToString() + " (" +
                     run.colmap_path + "): its option names are passed");
+  const ReconstructionOptions mapped =
+      WithMapperOf(run, colmap.Version(), images.size(), &progress);
+  MapperPolicy policy(mapped.mapper);
 
   reconstruction::MatchingRound first_round;
   first_round.database = (workspace / "database.db").string();
   reconstruction::ExtractFeatures(
-      &colmap, run, images.size(), first_round.database, &progress);
+      &colmap, mapped, images.size(), first_round.database, &progress);
   const ReconstructionOptions tuned =
-      reconstruction::TuneCandidatePairs(run, first_round.database);
+      reconstruction::TuneCandidatePairs(mapped, first_round.database);
   const std::string matcher = reconstruction::MatchImages(
-      &colmap, run, tuned, images, odometry, first_round, &progress);
-  const Mapping mapping =
-      MapImages(&colmap, run, matcher, first_round, images, &policy, &progress);
+      &colmap, mapped, tuned, images, odometry, first_round, &progress);
+  const Mapping mapping = MapImages(
+      &colmap, mapped, matcher, first_round, images, &policy, &progress);
   result.num_chunks = mapping.num_chunks;
 
   std::vector<fs::path> stretch_models;
-  if (run.map_unregistered_stretches) {
+  if (mapped.map_unregistered_stretches) {
     const MapperAttempt& best = mapping.attempts[mapping.chosen];
     stretch_models = reconstruction::MapUnregisteredStretches(
         &colmap,
@@ -440,8 +480,8 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   }
   // [5] Calibration of the model the odometry contradicts least, with the
   // models of the stretches it left out.
-  CalibrateChosenModel(run,
-                       colmap.Version().ToString(),
+  CalibrateChosenModel(mapped,
+                       colmap.Version(),
                        mapping,
                        stretch_models,
                        images,

@@ -29,6 +29,18 @@
 
 namespace odomcal {
 
+// Which structure-from-motion maps the images.
+enum class MapperKind {
+  kIncremental,  // `colmap mapper`
+  // COLMAP's `global_mapper` (GLOMAP inside COLMAP, from 4.0), or before 4.0
+  // the standalone `glomap mapper`. The drive is mapped as one model (global
+  // SfM has no incremental bundle adjustment to bound by chunks); stretches
+  // left unregistered are mapped by `colmap mapper` from the odometry's
+  // initial pair, as with the incremental mapper.
+  kGlobal,
+};
+const char* ToString(MapperKind kind);  // "incremental", "global"
+
 struct ReconstructionOptions {
   std::string image_path;      // folder of images (sub-folders too)
   std::string workspace_path;  // created; reused on reruns
@@ -38,6 +50,9 @@ struct ReconstructionOptions {
   // mapper_stretches.h), "spatial" or "sequential"
   std::string matcher = "odometry";
   std::string colmap_path = "colmap";
+  MapperKind mapper_kind = MapperKind::kIncremental;
+  // The standalone GLOMAP, for kGlobal with a COLMAP before 4.0.
+  std::string glomap_path = "glomap";
   int max_num_features = 2048;
   int num_threads = 2;
   int spatial_neighbors = 8;

@@ -35,6 +35,12 @@ struct MatchingRound {
 // (OdometryCandidatePairs), one "name1 name2" per line.
 inline constexpr const char* kOdometryPairsFile = "odometry_pairs.txt";
 
+// `colmap feature_extractor` arguments for the COLMAP `version`.
+std::vector<std::string> FeatureExtractorArguments(
+    const ReconstructionOptions& run,
+    const ColmapVersion& version,
+    const std::string& database);
+
 // [2]: `colmap feature_extractor` on the selected images (the list in the
 // workspace's image_list.txt), intrinsics given or estimated.
 void ExtractFeatures(ColmapRunner* colmap,
@@ -92,12 +98,32 @@ std::vector<std::string> MapperArguments(
     std::optional<int> random_seed,
     int num_threads);
 
+// The main mapping of run.mapper_kind == kGlobal: `colmap global_mapper`
+// from COLMAP 4.0 (its GlobalMapper.* options), else `glomap mapper`, which
+// maps every image of `database` (odomcal's database holds just the selected
+// images) and has no random seed. Intrinsics kept fixed when given.
+struct MapperCommand {
+  ColmapProgram program = ColmapProgram::kColmap;
+  std::vector<std::string> arguments;
+};
+MapperCommand GlobalMapperCommand(const ReconstructionOptions& run,
+                                  const ColmapVersion& version,
+                                  const std::string& database,
+                                  const std::filesystem::path& output,
+                                  const std::filesystem::path& image_list,
+                                  std::optional<int> random_seed,
+                                  int num_threads);
+
+// Whether kGlobal runs the standalone glomap with this COLMAP.
+bool GlobalMapperIsGlomap(const ColmapVersion& version);
+
 // Starts `arguments` as stage "mapper_<entry>" into MapperOutput(run,
 // entry), its output folder emptied first unless the stage is reused.
 RunningStage StartMapper(ColmapRunner* colmap,
                          const ReconstructionOptions& run,
                          const std::string& entry,
-                         const std::vector<std::string>& arguments);
+                         const std::vector<std::string>& arguments,
+                         ColmapProgram program = ColmapProgram::kColmap);
 
 // The end of a mapper run for a model beside the main one (a stretch, a
 // chunk): nothing when COLMAP failed or gave no model (`clock`'s stage then

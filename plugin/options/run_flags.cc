@@ -81,7 +81,8 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           "odometry: pairs along the odometry path at geometric "
           "baselines up to 1 m, views at most half the field of view (and "
           "30 deg) apart, and loops; spatial: pairs "
-          "by odometry position (COLMAP 3.8 priors); sequential: by image "
+          "by odometry position (position priors in the database); sequential: "
+          "by image "
           "name order",
           {"odometry", "spatial", "sequential"},
           [](const Run& run) { return run.matcher; },
@@ -149,6 +150,21 @@ const OptionTable<ReconstructionOptions>& RunFlags() {
           "colmap_path", "the colmap executable", [](auto& r) -> auto& {
             return r.colmap_path;
           }),
+      ChoiceRow<Run>(
+          "mapper",
+          "incremental: COLMAP's mapper; global: COLMAP's global_mapper "
+          "(COLMAP 4.0 and later) or, with an older COLMAP, the standalone "
+          "glomap, the drive mapped as one model",
+          {"incremental", "global"},
+          [](const Run& run) { return std::string(ToString(run.mapper_kind)); },
+          [](Run* run, const std::string& name) {
+            run->mapper_kind = name == "global" ? MapperKind::kGlobal
+                                                : MapperKind::kIncremental;
+          }),
+      NumberRow<Run>(
+          "glomap_path",
+          "the glomap executable (--mapper global with a COLMAP before 4.0)",
+          [](auto& r) -> auto& { return r.glomap_path; }),
       SwitchRow<Run>(
           "force",
           "run COLMAP even when the odometry at the image times "

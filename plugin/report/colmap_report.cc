@@ -176,6 +176,9 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
   if (!run.colmap_version.empty()) {
     out["colmap"]["version"] = run.colmap_version;
   }
+  if (!run.colmap_mapper.empty()) {
+    out["colmap"]["mapper"] = run.colmap_mapper;
+  }
   if (run.coverage) {
     const ImageCoverage& coverage = *run.coverage;
     json stretches_of_drive = json::array();
@@ -506,8 +509,11 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
   if (context.repeatability) html << RepeatabilityHtml(*context.repeatability);
   html << "<h2>COLMAP sub-models</h2>\n";
   if (!run.colmap_version.empty()) {
-    html << "<p>Reconstructed by COLMAP " << EscapeMarkup(run.colmap_version)
-         << ".</p>\n";
+    html << "<p>Reconstructed by COLMAP " << EscapeMarkup(run.colmap_version);
+    if (!run.colmap_mapper.empty()) {
+      html << " (" << EscapeMarkup(run.colmap_mapper) << ")";
+    }
+    html << ".</p>\n";
   }
   html << "<ul>";
   for (const ColmapSegment& segment : run.segments) {
