@@ -122,8 +122,8 @@ WheelTravelCollector::WheelTravelCollector(const WheelJointOptions& options,
   travels_.source = context_;
 }
 
-bool WheelTravelCollector::Add(int64_t stamp_ns,
-                               const JointStateMessage& joints) {
+std::optional<WheelTravelSample> WheelTravelCollector::Sample(
+    int64_t stamp_ns, const JointStateMessage& joints) {
   for (const std::string& name : joints.name) {
     if (std::find(names_seen_.begin(), names_seen_.end(), name) ==
         names_seen_.end()) {
@@ -176,7 +176,7 @@ bool WheelTravelCollector::Add(int64_t stamp_ns,
   const int positions = static_cast<int>(joints.position.size());
   if (left < 0 || right < 0 || left >= positions || right >= positions) {
     ++skipped_;
-    return false;
+    return std::nullopt;
   }
   const double left_rad = joints.position[left];
   const double right_rad = joints.position[right];
@@ -184,18 +184,29 @@ bool WheelTravelCollector::Add(int64_t stamp_ns,
     throw FormatError(context_ + ": wheel joint position at " +
                       std::to_string(stamp_ns) + " ns is not finite");
   }
-  if (!travels_.samples.empty() &&
-      stamp_ns <= travels_.samples.back().stamp_ns) {
-    throw FormatError(context_ + ": joint state stamp " +
-                      std::to_string(stamp_ns) +
-                      " ns is not after the previous one, " +
-                      std::to_string(travels_.samples.back().stamp_ns) + " ns");
-  }
   WheelTravelSample sample;
   sample.stamp_ns = stamp_ns;
   sample.left_m = left_rad * options_.wheel_radius_m;
   sample.right_m = right_rad * options_.wheel_radius_m;
+  return sample;
+}
+
+void WheelTravelCollector::Append(const WheelTravelSample& sample) {
+  if (!travels_.samples.empty() &&
+      sample.stamp_ns <= travels_.samples.back().stamp_ns) {
+    throw FormatError(context_ + ": joint state stamp " +
+                      std::to_string(sample.stamp_ns) +
+                      " ns is not after the previous one, " +
+                      std::to_string(travels_.samples.back().stamp_ns) + " ns");
+  }
   travels_.samples.push_back(sample);
+}
+
+bool WheelTravelCollector::Add(int64_t stamp_ns,
+                               const JointStateMessage& joints) {
+  const std::optional<WheelTravelSample> sample = Sample(stamp_ns, joints);
+  if (!sample) return false;
+  Append(*sample);
   return true;
 }
 

@@ -63,11 +63,15 @@ class WheelTravelCollector {
   // finite, or one joint name given without the other.
   WheelTravelCollector(const WheelJointOptions& options, std::string context);
 
-  // Adds the sample of `joints` at stamp_ns; false when the message was
-  // skipped. Throws FormatError when the names are ambiguous (several
-  // joints match "left" or "right", or another pair than before), when a
-  // wheel position is not finite, or when stamp_ns is not after the
-  // previous sample's.
+  // The sample of `joints` at stamp_ns, or std::nullopt (counted as
+  // skipped) when the message lacks a wheel joint or its position. Throws
+  // FormatError when the names are ambiguous (several joints match "left"
+  // or "right", or another pair than before) or a position is not finite.
+  std::optional<WheelTravelSample> Sample(int64_t stamp_ns,
+                                          const JointStateMessage& joints);
+  // Appends a sample; FormatError when its stamp is not after the last one.
+  void Append(const WheelTravelSample& sample);
+  // Sample() and, unless skipped, Append(); false when skipped.
   bool Add(int64_t stamp_ns, const JointStateMessage& joints);
 
   // The joints found (empty before the first sample).
