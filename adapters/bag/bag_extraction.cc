@@ -321,13 +321,13 @@ BagExtractionSummary ExtractBag(BagReader& reader,
       CameraInfoMessage info = DecodeIn(
           context, [&] { return DecodeCameraInfo(encoding, message.data); });
       // Only the first CameraInfo is used; its stamps are not checked.
+      info_stamps.Stamp(
+          info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
       if (!first_info) {
         first_info = std::move(info);
       } else if (!SameCalibration(*first_info, info)) {
         ++changed_infos;
       }
-      info_stamps.Stamp(
-          info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
     }
     ++done;
     if (progress) progress(done, total);

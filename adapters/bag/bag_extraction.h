@@ -130,13 +130,14 @@ struct BagExtractionSummary {
 // bag's index gives for the chosen topics.
 using ExtractionProgress = std::function<void(int64_t done, int64_t total)>;
 
-// Extracts the chosen topics of `reader` (which may be opened with only
-// those topics selected) into options.output_folder; see the top of this
-// file. Errors beyond the ones named above: a stamp before the previous one
-// on the same topic (FormatError naming the topic and both stamps), a header
-// stamp of 0 with BagTime::kHeader (pass --bag_time receive), images of
-// different sizes, a CameraInfo whose size differs from the images', a
-// chosen topic that yields no messages.
+// Extracts the chosen topics of `reader` into options.output_folder; see the
+// top of this file. Opening the reader with only the chosen topics selected
+// (ChooseTopics first) saves reading the others. Errors beyond the ones
+// named above: a stamp before the previous one on the same topic
+// (FormatError naming the topic and both stamps), a header stamp of 0 with
+// BagTime::kHeader (pass --bag_time receive), images of different sizes, a
+// CameraInfo whose size differs from the images', a chosen topic that
+// yields no messages. An error can leave the folder partly written.
 BagExtractionSummary ExtractBag(BagReader& reader,
                                 const BagExtractionOptions& options,
                                 const ExtractionProgress& progress = {});

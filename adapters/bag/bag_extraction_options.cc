@@ -39,6 +39,7 @@ std::vector<const BagTopic*> TopicsOfTypes(
 
 std::vector<const BagTopic*> AllTopics(const std::vector<BagTopic>& topics) {
   std::vector<const BagTopic*> all;
+  all.reserve(topics.size());
   for (const BagTopic& topic : topics) all.push_back(&topic);
   return all;
 }

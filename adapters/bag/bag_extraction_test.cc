@@ -235,9 +235,14 @@ TEST_F(BagExtractionTest, WheelJointStatesAndBayerImages) {
   EXPECT_EQ(summary.right_wheel_joint, "base_Right_wheel");
   EXPECT_EQ(summary.odometry.used, 40);
   EXPECT_FALSE(summary.camera.has_value());
-  ASSERT_EQ(summary.warnings.size(), 1u);
+  EXPECT_EQ(summary.images.messages, 5);
+  EXPECT_EQ(summary.images.used, 4);
+  EXPECT_EQ(summary.images.duplicate_stamps, 1);
+  ASSERT_EQ(summary.warnings.size(), 2u);
   EXPECT_TRUE(Contains(summary.warnings[0], "40 joint states"))
       << summary.warnings[0];
+  EXPECT_TRUE(Contains(summary.warnings[1], "/cam/image_raw: 1 messages"))
+      << summary.warnings[1];
 
   // Integrated by odomcal's wheel-travel reader: the heading turned by
   // (right - left) * radius / track.
