@@ -310,5 +310,12 @@ TEST_F(BagExtractionTest, UnstampedImagesNeedReceiveTimes) {
   }
 }
 
+TEST_F(BagExtractionTest, RegionOfInterestIsRefused) {
+  const std::string error = FormatErrorOf([&] { Extract("roi.bag", {}); });
+  EXPECT_TRUE(Contains(error, BagPath("roi.bag") + ": /cam/camera_info: roi: "))
+      << error;
+  EXPECT_TRUE(Contains(error, "x_offset 1, y_offset 2, 4 x 3")) << error;
+}
+
 }  // namespace
 }  // namespace odomcal::bag

@@ -50,8 +50,8 @@ void CheckDistortionLength(const CameraInfoMessage& info,
 }  // namespace
 
 ColmapCamera ColmapCameraFromCameraInfo(const CameraInfoMessage& info,
-                                        const std::string& context,
-                                        const CameraInfoRoi& roi) {
+                                        const std::string& context) {
+  const RegionOfInterest& roi = info.roi;
   if (info.width == 0 || info.height == 0) {
     ThrowCameraInfoError(context,
                          "width/height",

@@ -28,8 +28,8 @@
 // names the bag and topic: an unknown distortion_model, a D whose length does
 // not fit the model, a zero, negative or non-finite focal length in K, K with
 // skew, binning other than 0 or 1, a width or height of 0, a region of
-// interest that is not the full image, and (CheckCameraInfoImageSize) a
-// CameraInfo whose size differs from the images'.
+// interest (roi) that is not all zero or the full image, and
+// (CheckCameraInfoImageSize) a CameraInfo whose size differs from the images'.
 #pragma once
 
 #include "odomcal/adapters/bag/ros_messages.h"
@@ -40,18 +40,9 @@
 
 namespace odomcal::bag {
 
-// sensor_msgs/RegionOfInterest: all zero (or the full image) means none.
-struct CameraInfoRoi {
-  uint32_t x_offset = 0;
-  uint32_t y_offset = 0;
-  uint32_t height = 0;
-  uint32_t width = 0;
-};
-
 // The camera (camera_id 1) for `info`; see the top of this file.
 ColmapCamera ColmapCameraFromCameraInfo(const CameraInfoMessage& info,
-                                        const std::string& context,
-                                        const CameraInfoRoi& roi = {});
+                                        const std::string& context);
 
 // Throws FormatError when the images are not info.width x info.height.
 void CheckCameraInfoImageSize(const CameraInfoMessage& info,

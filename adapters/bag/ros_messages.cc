@@ -46,10 +46,11 @@ CameraInfoMessage DecodeCameraInfo(MessageEncoding encoding,
   m.p = in.Float64Array<12>();
   m.binning_x = in.UInt32();
   m.binning_y = in.UInt32();
-  // roi (sensor_msgs/RegionOfInterest): x_offset, y_offset, height, width,
-  // do_rectify; not used.
-  for (int i = 0; i < 4; ++i) in.UInt32();
-  in.Bool();
+  m.roi.x_offset = in.UInt32();
+  m.roi.y_offset = in.UInt32();
+  m.roi.height = in.UInt32();
+  m.roi.width = in.UInt32();
+  in.Bool();  // roi.do_rectify
   in.ExpectEnd();
   return m;
 }
