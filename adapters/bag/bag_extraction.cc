@@ -17,6 +17,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -160,206 +162,246 @@ struct ImageSize {
   int height = 0;
 };
 
-}  // namespace
+enum class TopicRole { kNone, kImage, kOdometry, kCameraInfo };
 
-BagExtractionSummary ExtractBag(BagReader& reader,
-                                const BagExtractionOptions& options,
-                                const ExtractionProgress& progress) {
-  options.Check();
-  const std::vector<BagTopic>& topics = reader.Topics();
-  BagExtractionSummary summary;
-  summary.topics = ChooseTopics(topics, options);
-  summary.time = options.time;
-  summary.wheel_track_m = options.wheel_track_m;
-  const ChosenTopics& chosen = summary.topics;
-
-  // Topic index -> role.
-  enum class Role { kNone, kImage, kOdometry, kCameraInfo };
-  std::vector<Role> roles(topics.size(), Role::kNone);
-  int64_t total = 0;
-  const auto context_of = [&](const std::string& topic) {
-    return reader.Path() + ": " + topic;
-  };
-  std::string image_type, odometry_type, info_type;
-  for (size_t i = 0; i < topics.size(); ++i) {
-    const std::string& name = topics[i].topic;
-    if (name == chosen.image) {
-      roles[i] = Role::kImage;
-      image_type = topics[i].type;
-    } else if (name == chosen.odometry) {
-      roles[i] = Role::kOdometry;
-      odometry_type = topics[i].type;
-    } else if (!chosen.camera_info.empty() && name == chosen.camera_info) {
-      roles[i] = Role::kCameraInfo;
-      info_type = topics[i].type;
-    }
-    if (roles[i] != Role::kNone) total += topics[i].message_count;
-  }
-  TopicStamps image_stamps(context_of(chosen.image), chosen.image, image_type);
-  TopicStamps odometry_stamps(
-      context_of(chosen.odometry), chosen.odometry, odometry_type);
-  TopicStamps info_stamps(
-      context_of(chosen.camera_info), chosen.camera_info, info_type);
-
-  const fs::path output(options.output_folder);
-  PrepareOutputFolder(options.output_folder);
-  const fs::path image_folder = output / "images";
-
-  std::string image_csv = "image_name,timestamp\n";
-  std::optional<ImageSize> image_size;
-  std::vector<StampedPose> poses;
-  std::optional<WheelTravelCollector> wheels;
-  if (chosen.odometry_joint_state) {
-    WheelJointOptions joint_options;
-    joint_options.left_joint = options.left_wheel_joint;
-    joint_options.right_joint = options.right_wheel_joint;
-    joint_options.wheel_radius_m = options.wheel_radius_m;
-    if (!(options.wheel_radius_m > 0.0)) {
+// One extraction: the chosen topics, the output folder, and what is kept
+// between messages (stamps, poses or wheel travels, the first CameraInfo).
+class Extraction {
+ public:
+  Extraction(BagReader& reader, const BagExtractionOptions& options)
+      : reader_(reader), options_(options) {
+    options.Check();
+    summary_.topics = ChooseTopics(reader.Topics(), options);
+    summary_.time = options.time;
+    summary_.wheel_track_m = options.wheel_track_m;
+    const ChosenTopics& chosen = summary_.topics;
+    if (chosen.odometry_joint_state && !(options.wheel_radius_m > 0.0)) {
       throw std::invalid_argument(
           chosen.odometry +
-          " holds joint states (wheel angles in rad): pass "
-          "--wheel_radius_m to turn them into travels");
+          " holds joint states (wheel angles in rad): pass --wheel_radius_m "
+          "to turn them into travels");
     }
-    wheels.emplace(joint_options, odometry_stamps.context());
-  }
-  std::optional<CameraInfoMessage> first_info;
-  int64_t changed_infos = 0;
-
-  BagMessage message;
-  int64_t done = 0;
-  while (reader.Next(&message)) {
-    if (message.topic_index >= roles.size()) continue;
-    const Role role = roles[message.topic_index];
-    if (role == Role::kNone) continue;
-    const MessageEncoding encoding = topics[message.topic_index].encoding;
-    if (role == Role::kImage) {
-      const std::string& context = image_stamps.context();
-      if (chosen.image_compressed) {
-        const CompressedImageMessage image = DecodeIn(context, [&] {
-          return DecodeCompressedImage(encoding, message.data);
-        });
-        const int64_t stamp = image_stamps.Stamp(
-            image.header.stamp_ns, message.log_time_ns, options.time);
-        if (image_stamps.Use(stamp, options.time)) {
-          const std::string name =
-              std::to_string(image_stamps.last_stamp_ns()) +
-              CompressedImageExtension(image, context);
-          if (!image_size) {
-            // Only the first is decoded, for its size.
-            const cv::Mat pixels =
-                cv::imdecode(image.data, cv::IMREAD_UNCHANGED);
-            if (pixels.empty()) {
-              throw FormatError(context + ": the first image (" + name +
-                                ") does not decode");
-            }
-            image_size = ImageSize{pixels.cols, pixels.rows};
-          }
-          WriteBytes((image_folder / name).string(), image.data);
-          image_csv += name + "," +
-                       FormatTimestampSeconds(image_stamps.last_stamp_ns()) +
-                       "\n";
-        }
-      } else {
-        const ImageMessage image = DecodeIn(
-            context, [&] { return DecodeImage(encoding, message.data); });
-        const int64_t stamp = image_stamps.Stamp(
-            image.header.stamp_ns, message.log_time_ns, options.time);
-        if (image_stamps.Use(stamp, options.time)) {
-          const cv::Mat pixels = ImageMessageToMat(image, context);
-          if (!image_size) {
-            image_size = ImageSize{pixels.cols, pixels.rows};
-          } else if (pixels.cols != image_size->width ||
-                     pixels.rows != image_size->height) {
-            throw FormatError(context + ": image at " +
-                              std::to_string(image_stamps.last_stamp_ns()) +
-                              " ns is " + std::to_string(pixels.cols) + " x " +
-                              std::to_string(pixels.rows) + ", the first was " +
-                              std::to_string(image_size->width) + " x " +
-                              std::to_string(image_size->height));
-          }
-          const std::string name =
-              std::to_string(image_stamps.last_stamp_ns()) + ".png";
-          const std::string path = (image_folder / name).string();
-          bool written = false;
-          try {
-            written = cv::imwrite(path, pixels);
-          } catch (const cv::Exception& error) {
-            throw FormatError(path + ": write failed: " + error.what());
-          }
-          if (!written) throw FormatError(path + ": write failed");
-          image_csv += name + "," +
-                       FormatTimestampSeconds(image_stamps.last_stamp_ns()) +
-                       "\n";
-        }
+    const std::vector<BagTopic>& topics = reader.Topics();
+    roles_.assign(topics.size(), TopicRole::kNone);
+    std::string image_type, odometry_type, info_type;
+    for (size_t i = 0; i < topics.size(); ++i) {
+      const std::string& name = topics[i].topic;
+      if (name == chosen.image) {
+        roles_[i] = TopicRole::kImage;
+        image_type = topics[i].type;
+      } else if (name == chosen.odometry) {
+        roles_[i] = TopicRole::kOdometry;
+        odometry_type = topics[i].type;
+      } else if (!chosen.camera_info.empty() && name == chosen.camera_info) {
+        roles_[i] = TopicRole::kCameraInfo;
+        info_type = topics[i].type;
       }
-    } else if (role == Role::kOdometry) {
-      const std::string& context = odometry_stamps.context();
-      if (wheels) {
-        const JointStateMessage joints = DecodeIn(
-            context, [&] { return DecodeJointState(encoding, message.data); });
-        const int64_t stamp = odometry_stamps.Stamp(
-            joints.header.stamp_ns, message.log_time_ns, options.time);
-        // Messages without the wheels (other joints) do not take part in
-        // the stamp checks.
-        const std::optional<WheelTravelSample> sample =
-            wheels->Sample(stamp, joints);
-        if (sample && odometry_stamps.Use(stamp, options.time)) {
-          wheels->Append(*sample);
-        }
-      } else {
-        const OdometryMessage odometry = DecodeIn(
-            context, [&] { return DecodeOdometry(encoding, message.data); });
-        const int64_t stamp = odometry_stamps.Stamp(
-            odometry.header.stamp_ns, message.log_time_ns, options.time);
-        if (odometry_stamps.Use(stamp, options.time)) {
-          poses.push_back({odometry_stamps.last_stamp_ns(),
-                           PoseFromOdometry(odometry, context)});
-        }
-      }
-    } else {
-      const std::string& context = info_stamps.context();
-      CameraInfoMessage info = DecodeIn(
-          context, [&] { return DecodeCameraInfo(encoding, message.data); });
-      // Only the first CameraInfo is used; its stamps are not checked.
-      info_stamps.Stamp(
-          info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
-      if (!first_info) {
-        first_info = std::move(info);
-      } else if (!SameCalibration(*first_info, info)) {
-        ++changed_infos;
-      }
+      if (roles_[i] != TopicRole::kNone) total_ += topics[i].message_count;
     }
-    ++done;
-    if (progress) progress(done, total);
+    images_.emplace(ContextOf(chosen.image), chosen.image, image_type);
+    odometry_.emplace(
+        ContextOf(chosen.odometry), chosen.odometry, odometry_type);
+    infos_.emplace(
+        ContextOf(chosen.camera_info), chosen.camera_info, info_type);
+    if (chosen.odometry_joint_state) {
+      WheelJointOptions joints;
+      joints.left_joint = options.left_wheel_joint;
+      joints.right_joint = options.right_wheel_joint;
+      joints.wheel_radius_m = options.wheel_radius_m;
+      wheels_.emplace(joints, odometry_->context());
+    }
+    // Last: nothing is created for options or topics that are refused.
+    PrepareOutputFolder(options.output_folder);
   }
 
-  summary.images = image_stamps.Finish();
-  summary.odometry = odometry_stamps.Finish();
-  if (summary.images.used == 0) {
-    throw FormatError(image_stamps.context() + ": no image messages");
-  }
-  if (summary.odometry.messages == 0) {
-    throw FormatError(odometry_stamps.context() + ": no odometry messages");
-  }
-  WriteText((output / "image_timestamps.csv").string(), image_csv);
-
-  if (wheels) {
-    const WheelTravels travels = wheels->Finish();
-    summary.odometry_file = "wheels.csv";
-    WriteWheelTravelCsv(travels, (output / summary.odometry_file).string());
-    summary.left_wheel_joint = wheels->left_joint();
-    summary.right_wheel_joint = wheels->right_joint();
-    if (wheels->skipped() > 0) {
-      summary.warnings.push_back(
-          chosen.odometry + ": " + std::to_string(wheels->skipped()) +
-          " joint states without both wheel joints were skipped");
+  void Run(const ExtractionProgress& progress) {
+    BagMessage message;
+    int64_t done = 0;
+    while (reader_.Next(&message)) {
+      if (message.topic_index >= roles_.size()) continue;
+      const MessageEncoding encoding =
+          reader_.Topics()[message.topic_index].encoding;
+      switch (roles_[message.topic_index]) {
+        case TopicRole::kNone:
+          continue;
+        case TopicRole::kImage:
+          if (summary_.topics.image_compressed) {
+            OnCompressedImage(message, encoding);
+          } else {
+            OnRawImage(message, encoding);
+          }
+          break;
+        case TopicRole::kOdometry:
+          if (wheels_) {
+            OnJointState(message, encoding);
+          } else {
+            OnOdometry(message, encoding);
+          }
+          break;
+        case TopicRole::kCameraInfo:
+          OnCameraInfo(message, encoding);
+          break;
+      }
+      ++done;
+      if (progress) progress(done, total_);
     }
-  } else {
+  }
+
+  BagExtractionSummary Finish() {
+    summary_.images = images_->Finish();
+    summary_.odometry = odometry_->Finish();
+    if (summary_.images.used == 0) {
+      throw FormatError(images_->context() + ": no image messages");
+    }
+    if (summary_.odometry.messages == 0) {
+      throw FormatError(odometry_->context() + ": no odometry messages");
+    }
+    WriteText((Output() / "image_timestamps.csv").string(), image_csv_);
+    WriteOdometry();
+    if (first_info_) WriteCamera();
+    AddStampWarnings();
+    return std::move(summary_);
+  }
+
+ private:
+  std::string ContextOf(const std::string& topic) const {
+    return reader_.Path() + ": " + topic;
+  }
+  fs::path Output() const { return fs::path(options_.output_folder); }
+
+  void OnCompressedImage(const BagMessage& message, MessageEncoding encoding) {
+    const std::string& context = images_->context();
+    const CompressedImageMessage image = DecodeIn(
+        context, [&] { return DecodeCompressedImage(encoding, message.data); });
+    const int64_t stamp = images_->Stamp(
+        image.header.stamp_ns, message.log_time_ns, options_.time);
+    if (!images_->Use(stamp, options_.time)) return;
+    const std::string name =
+        std::to_string(stamp) + CompressedImageExtension(image, context);
+    if (!image_size_) {
+      // Only the first is decoded, for the size CameraInfo must match.
+      const cv::Mat pixels = cv::imdecode(image.data, cv::IMREAD_UNCHANGED);
+      if (pixels.empty()) {
+        throw FormatError(context + ": the first image (" + name +
+                          ") does not decode");
+      }
+      SetImageSize(pixels.cols, pixels.rows);
+    }
+    WriteBytes((Output() / "images" / name).string(), image.data);
+    AddImageLine(name, stamp);
+  }
+
+  void OnRawImage(const BagMessage& message, MessageEncoding encoding) {
+    const std::string& context = images_->context();
+    const ImageMessage image =
+        DecodeIn(context, [&] { return DecodeImage(encoding, message.data); });
+    const int64_t stamp = images_->Stamp(
+        image.header.stamp_ns, message.log_time_ns, options_.time);
+    if (!images_->Use(stamp, options_.time)) return;
+    const cv::Mat pixels = ImageMessageToMat(image, context);
+    if (!image_size_) {
+      SetImageSize(pixels.cols, pixels.rows);
+    } else if (pixels.cols != image_size_->width ||
+               pixels.rows != image_size_->height) {
+      throw FormatError(context + ": image at " + std::to_string(stamp) +
+                        " ns is " + std::to_string(pixels.cols) + " x " +
+                        std::to_string(pixels.rows) + ", the first is " +
+                        std::to_string(image_size_->width) + " x " +
+                        std::to_string(image_size_->height));
+    }
+    const std::string name = std::to_string(stamp) + ".png";
+    const std::string path = (Output() / "images" / name).string();
+    bool written = false;
+    try {
+      written = cv::imwrite(path, pixels);
+    } catch (const cv::Exception& error) {
+      throw FormatError(path + ": write failed: " + error.what());
+    }
+    if (!written) throw FormatError(path + ": write failed");
+    AddImageLine(name, stamp);
+  }
+
+  void AddImageLine(const std::string& name, int64_t stamp_ns) {
+    image_csv_ += name + "," + FormatTimestampSeconds(stamp_ns) + "\n";
+  }
+
+  void SetImageSize(int width, int height) {
+    image_size_ = ImageSize{width, height};
+    CheckCameraSize();
+  }
+
+  // As soon as both are known, so that a wrong CameraInfo stops early.
+  void CheckCameraSize() const {
+    if (!image_size_ || !first_info_) return;
+    CheckCameraInfoImageSize(*first_info_,
+                             static_cast<uint32_t>(image_size_->width),
+                             static_cast<uint32_t>(image_size_->height),
+                             infos_->context());
+  }
+
+  void OnJointState(const BagMessage& message, MessageEncoding encoding) {
+    const JointStateMessage joints = DecodeIn(odometry_->context(), [&] {
+      return DecodeJointState(encoding, message.data);
+    });
+    const int64_t stamp = odometry_->Stamp(
+        joints.header.stamp_ns, message.log_time_ns, options_.time);
+    // Messages without the wheels (other joints) take no part in the stamp
+    // checks.
+    const std::optional<WheelTravelSample> sample =
+        wheels_->Sample(stamp, joints);
+    if (sample && odometry_->Use(stamp, options_.time)) {
+      wheels_->Append(*sample);
+    }
+  }
+
+  void OnOdometry(const BagMessage& message, MessageEncoding encoding) {
+    const std::string& context = odometry_->context();
+    const OdometryMessage odometry = DecodeIn(
+        context, [&] { return DecodeOdometry(encoding, message.data); });
+    const int64_t stamp = odometry_->Stamp(
+        odometry.header.stamp_ns, message.log_time_ns, options_.time);
+    if (odometry_->Use(stamp, options_.time)) {
+      poses_.push_back({stamp, PoseFromOdometry(odometry, context)});
+    }
+  }
+
+  void OnCameraInfo(const BagMessage& message, MessageEncoding encoding) {
+    CameraInfoMessage info = DecodeIn(infos_->context(), [&] {
+      return DecodeCameraInfo(encoding, message.data);
+    });
+    // Only the first CameraInfo is used; its stamps are not checked.
+    infos_->Stamp(info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
+    if (!first_info_) {
+      // Converted now, so that an unusable calibration stops early.
+      camera_ = ColmapCameraFromCameraInfo(info, infos_->context());
+      first_info_ = std::move(info);
+      CheckCameraSize();
+    } else if (!SameCalibration(*first_info_, info)) {
+      ++changed_infos_;
+    }
+  }
+
+  void WriteOdometry() {
+    const std::string& topic = summary_.topics.odometry;
+    if (wheels_) {
+      const WheelTravels travels = wheels_->Finish();
+      summary_.odometry_file = "wheels.csv";
+      WriteWheelTravelCsv(travels, (Output() / "wheels.csv").string());
+      summary_.left_wheel_joint = wheels_->left_joint();
+      summary_.right_wheel_joint = wheels_->right_joint();
+      if (wheels_->skipped() > 0) {
+        summary_.warnings.push_back(
+            topic + ": " + std::to_string(wheels_->skipped()) +
+            " joint states without both wheel joints were skipped");
+      }
+      return;
+    }
     const Trajectory trajectory = OdometryTrajectory(
-        std::move(poses), odometry_stamps.context(), options.planarity);
-    summary.planar = trajectory.planar;
-    summary.odometry_file = trajectory.planar ? "odometry.csv" : "odometry.tum";
-    const std::string path = (output / summary.odometry_file).string();
+        std::move(poses_), odometry_->context(), options_.planarity);
+    summary_.planar = trajectory.planar;
+    summary_.odometry_file =
+        trajectory.planar ? "odometry.csv" : "odometry.tum";
+    const std::string path = (Output() / summary_.odometry_file).string();
     if (trajectory.planar) {
       WriteOdometryCsv(trajectory, path);
     } else {
@@ -367,57 +409,79 @@ BagExtractionSummary ExtractBag(BagReader& reader,
     }
   }
 
-  if (first_info) {
-    summary.camera_info = info_stamps.Finish();
-    const std::string& context = info_stamps.context();
-    ColmapCamera camera = ColmapCameraFromCameraInfo(*first_info, context);
-    CheckCameraInfoImageSize(*first_info,
-                             static_cast<uint32_t>(image_size->width),
-                             static_cast<uint32_t>(image_size->height),
-                             context);
-    WriteText((output / "camera.txt").string(),
-              "# COLMAP camera from " + chosen.camera_info +
+  void WriteCamera() {
+    const std::string& topic = summary_.topics.camera_info;
+    summary_.camera_info = infos_->Finish();
+    WriteText((Output() / "camera.txt").string(),
+              "# COLMAP camera from " + topic +
                   " (K and D of the unrectified images); principal point in "
                   "COLMAP's convention, top-left pixel centre at (0.5, 0.5): "
                   "cx = K[2] + 0.5, cy = K[5] + 0.5\n" +
-                  ColmapCameraLine(camera) + "\n");
-    summary.camera = std::move(camera);
-    if (changed_infos > 0) {
-      summary.warnings.push_back(
-          chosen.camera_info + ": " + std::to_string(changed_infos) +
-          " messages differ from the first CameraInfo, which was used");
+                  ColmapCameraLine(*camera_) + "\n");
+    summary_.camera = camera_;
+    if (changed_infos_ > 0) {
+      summary_.warnings.push_back(
+          topic + ": " + std::to_string(changed_infos_) +
+          " messages differ from the first CameraInfo; the first is used");
     }
   }
 
-  for (const TopicExtractionSummary* topic :
-       {&summary.images, &summary.odometry}) {
-    if (topic->duplicate_stamps > 0) {
-      summary.warnings.push_back(
-          topic->topic + ": " + std::to_string(topic->duplicate_stamps) +
-          " messages repeat the previous " + BagTimeName(options.time) +
-          " stamp and were skipped");
+  void AddStampWarnings() {
+    const std::vector<const TopicExtractionSummary*> topics = {
+        &summary_.images, &summary_.odometry};
+    for (const TopicExtractionSummary* topic : topics) {
+      if (topic->duplicate_stamps > 0) {
+        summary_.warnings.push_back(
+            topic->topic + ": " + std::to_string(topic->duplicate_stamps) +
+            " messages repeat the previous " + BagTimeName(options_.time) +
+            " stamp and are skipped");
+      }
     }
-  }
-  // Header stamps far from the receive times, compared with the odometry's
-  // sampling interval: then the choice of stamp matters to the calibration.
-  if (summary.odometry.rate_hz > 0.0) {
-    const double interval_s = 1.0 / summary.odometry.rate_hz;
-    for (const TopicExtractionSummary* topic :
-         {&summary.images, &summary.odometry}) {
+    // Header stamps far from the receive times, compared with the
+    // odometry's sampling interval: then the choice of stamp matters to the
+    // calibration.
+    if (summary_.odometry.rate_hz <= 0.0) return;
+    const double interval_s = 1.0 / summary_.odometry.rate_hz;
+    for (const TopicExtractionSummary* topic : topics) {
       if (topic->mean_abs_header_minus_receive_s > interval_s) {
-        summary.warnings.push_back(
+        summary_.warnings.push_back(
             topic->topic + ": header stamps differ from the receive times by " +
             Milliseconds(topic->mean_abs_header_minus_receive_s) +
             " on average, more than the odometry interval (" +
             Milliseconds(interval_s) + "); " +
-            (options.time == BagTime::kHeader
+            (options_.time == BagTime::kHeader
                  ? "header stamps are used (--bag_time header)"
                  : "receive times are used (--bag_time receive)") +
             ": check that this is the clock to trust");
       }
     }
   }
-  return summary;
+
+  BagReader& reader_;
+  const BagExtractionOptions& options_;
+  BagExtractionSummary summary_;
+  std::vector<TopicRole> roles_;
+  int64_t total_ = 0;
+  std::optional<TopicStamps> images_;
+  std::optional<TopicStamps> odometry_;
+  std::optional<TopicStamps> infos_;
+  std::string image_csv_ = "image_name,timestamp\n";
+  std::optional<ImageSize> image_size_;
+  std::vector<StampedPose> poses_;
+  std::optional<WheelTravelCollector> wheels_;
+  std::optional<CameraInfoMessage> first_info_;
+  std::optional<ColmapCamera> camera_;
+  int64_t changed_infos_ = 0;
+};
+
+}  // namespace
+
+BagExtractionSummary ExtractBag(BagReader& reader,
+                                const BagExtractionOptions& options,
+                                const ExtractionProgress& progress) {
+  Extraction extraction(reader, options);
+  extraction.Run(progress);
+  return extraction.Finish();
 }
 
 }  // namespace odomcal::bag

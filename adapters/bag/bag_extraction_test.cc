@@ -225,6 +225,7 @@ TEST_F(BagExtractionTest, Se3OdometryAndCompressedImages) {
 TEST_F(BagExtractionTest, WheelJointStatesAndBayerImages) {
   const nlohmann::json& expected = Expected()["wheels.bag"];
   EXPECT_THROW(Extract("wheels.bag", {}, "no_radius"), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir_ / "no_radius"));  // nothing created
 
   BagExtractionOptions options;
   options.wheel_radius_m = 0.1;
