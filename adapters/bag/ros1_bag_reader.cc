@@ -448,13 +448,13 @@ class Ros1BagReader : public BagReader {
                           ", which no connection record declares");
       }
     }
-    for (auto& [name, topic] : by_name) topics_.push_back(std::move(topic));
+    std::map<std::string, size_t> index_of_topic;
+    for (auto& [name, topic] : by_name) {
+      index_of_topic[name] = topics_.size();
+      topics_.push_back(std::move(topic));
+    }
     for (const auto& [id, connection] : connections_) {
-      const auto it =
-          std::find_if(topics_.begin(), topics_.end(), [&](const BagTopic& t) {
-            return t.topic == connection.topic;
-          });
-      topic_of_connection_[id] = static_cast<size_t>(it - topics_.begin());
+      topic_of_connection_[id] = index_of_topic.at(connection.topic);
     }
   }
 
