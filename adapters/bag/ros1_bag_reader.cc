@@ -13,10 +13,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
-#include <set>
+#include <system_error>
 
 namespace odomcal::bag {
 namespace {
@@ -37,7 +38,11 @@ struct Ros1FileRecord {
 // Random access to the bag file with every read checked against its size.
 class Ros1File {
  public:
-  explicit Ros1File(const std::string& path) : path_(path) {
+  explicit Ros1File(const std::string& path) {
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) {
+      throw FormatError(path + ": is a folder, not a ROS 1 bag file");
+    }
     stream_.open(path, std::ios::binary);
     if (!stream_) {
       throw FormatError(path +
@@ -106,7 +111,6 @@ class Ros1File {
   }
 
  private:
-  std::string path_;
   std::ifstream stream_;
   uint64_t size_ = 0;
 };

@@ -296,6 +296,8 @@ TEST(Ros1Bag, MissingFileAndOtherFormatsAreFormatErrors) {
   const ScratchFiles scratch;
   const std::string missing = FixturePath("no_such.bag").string();
   ExpectBagError(ReadError(missing), missing, "cannot open");
+  const std::string folder = FixturePath("").string();
+  ExpectBagError(ReadError(folder), folder, "is a folder");
   const std::string empty = scratch.Write("empty.bag", {});
   ExpectBagError(ReadError(empty), empty, "not a ROS bag");
   const std::string text = "#ROSBAG V1.2\nmore text here";
