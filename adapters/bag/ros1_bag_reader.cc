@@ -2,7 +2,7 @@
 // header's index_pos points at the connection records and one chunk info per
 // chunk (its position and message count per connection); the index data
 // records right after each chunk give each connection's message times. A bag
-// whose recorder was killed has index_pos 0; it is read by scanning its
+// whose recorder died has index_pos 0; it is read by scanning its
 // chunks, up to the chunk the recorder left open or cut off.
 #include "odomcal/adapters/bag/ros1_bag_reader.h"
 
