@@ -2,7 +2,7 @@
 // header's index_pos points at the connection records and one chunk info per
 // chunk (its position and message count per connection); the index data
 // records right after each chunk give each connection's message times. A bag
-// whose recorder was killed has index_pos 0; it is read by scanning its
+// whose recorder died has index_pos 0; it is read by scanning its
 // chunks, up to the chunk the recorder left open or cut off.
 #include "odomcal/adapters/bag/ros1_bag_reader.h"
 
@@ -13,10 +13,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
-#include <set>
+#include <system_error>
 
 namespace odomcal::bag {
 namespace {
@@ -37,7 +38,11 @@ struct Ros1FileRecord {
 // Random access to the bag file with every read checked against its size.
 class Ros1File {
  public:
-  explicit Ros1File(const std::string& path) : path_(path) {
+  explicit Ros1File(const std::string& path) {
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) {
+      throw FormatError(path + ": is a folder, not a ROS 1 bag file");
+    }
     stream_.open(path, std::ios::binary);
     if (!stream_) {
       throw FormatError(path +
@@ -106,7 +111,6 @@ class Ros1File {
   }
 
  private:
-  std::string path_;
   std::ifstream stream_;
   uint64_t size_ = 0;
 };
@@ -448,13 +452,13 @@ class Ros1BagReader : public BagReader {
                           ", which no connection record declares");
       }
     }
-    for (auto& [name, topic] : by_name) topics_.push_back(std::move(topic));
+    std::map<std::string, size_t> index_of_topic;
+    for (auto& [name, topic] : by_name) {
+      index_of_topic[name] = topics_.size();
+      topics_.push_back(std::move(topic));
+    }
     for (const auto& [id, connection] : connections_) {
-      const auto it =
-          std::find_if(topics_.begin(), topics_.end(), [&](const BagTopic& t) {
-            return t.topic == connection.topic;
-          });
-      topic_of_connection_[id] = static_cast<size_t>(it - topics_.begin());
+      topic_of_connection_[id] = index_of_topic.at(connection.topic);
     }
   }
 

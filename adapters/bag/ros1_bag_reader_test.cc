@@ -43,11 +43,18 @@ std::vector<uint8_t> ReadBytes(const fs::path& path) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 
-// A folder of its own for the corrupted copies of one test process.
+// A folder of its own for the corrupted copies of one test process; in
+// memory where /dev/shm exists (thousands of copies are written).
+fs::path ScratchRoot() {
+  std::error_code ignored;
+  return fs::is_directory("/dev/shm", ignored) ? fs::path("/dev/shm")
+                                               : fs::temp_directory_path();
+}
+
 class ScratchFiles {
  public:
   ScratchFiles()
-      : dir_(fs::temp_directory_path() /
+      : dir_(ScratchRoot() /
              ("odomcal_bag_ros1_" + std::to_string(::getpid()))) {
     fs::create_directories(dir_);
   }
@@ -289,6 +296,8 @@ TEST(Ros1Bag, MissingFileAndOtherFormatsAreFormatErrors) {
   const ScratchFiles scratch;
   const std::string missing = FixturePath("no_such.bag").string();
   ExpectBagError(ReadError(missing), missing, "cannot open");
+  const std::string folder = FixturePath("").string();
+  ExpectBagError(ReadError(folder), folder, "is a folder");
   const std::string empty = scratch.Write("empty.bag", {});
   ExpectBagError(ReadError(empty), empty, "not a ROS bag");
   const std::string text = "#ROSBAG V1.2\nmore text here";
@@ -307,8 +316,14 @@ TEST(Ros1Bag, TruncationAnywhereIsAFormatErrorOrAShorterUnindexedBag) {
     const size_t all = Expected()[name]["messages"].size();
     ASSERT_GT(bytes.size(), 5000u);
     std::vector<size_t> cuts;
-    for (size_t cut = 0; cut < 4200; cut += 7) cuts.push_back(cut);
-    for (size_t cut = 4200; cut < bytes.size(); cut += 331) cuts.push_back(cut);
+    // Every byte of the magic and the bag header's lengths, a sample of its
+    // padding, densely over the first chunk (at byte 4117), then sparser.
+    for (size_t cut = 0; cut < 64; ++cut) cuts.push_back(cut);
+    for (size_t cut = 64; cut < 4100; cut += 97) cuts.push_back(cut);
+    for (size_t cut = 4100; cut < 4600; cut += 3) cuts.push_back(cut);
+    for (size_t cut = 4600; cut < bytes.size(); cut += 331) {
+      cuts.push_back(cut);
+    }
     cuts.push_back(bytes.size() - 1);
     for (const size_t cut : cuts) {
       SCOPED_TRACE(name + " cut at " + std::to_string(cut));

@@ -2,7 +2,7 @@
 // LZ4 frame format, which roslz4 writes; liblz4's LZ4F API).
 //
 // Internal to odomcal_bag. The output grows only as the decompressor produces
-// bytes, so a chunk header that claims a huge size costs nothing until the
+// bytes, so a chunk header that claims a huge size costs nothing before the
 // data backs it up.
 #pragma once
 

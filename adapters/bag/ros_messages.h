@@ -86,11 +86,15 @@ struct JointStateMessage {
   std::vector<double> effort;
 };
 
-ImageMessage DecodeImage(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
+ImageMessage DecodeImage(MessageEncoding encoding,
+                         const std::vector<uint8_t>& bytes);
 CompressedImageMessage DecodeCompressedImage(MessageEncoding encoding,
                                              const std::vector<uint8_t>& bytes);
-CameraInfoMessage DecodeCameraInfo(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
-OdometryMessage DecodeOdometry(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
-JointStateMessage DecodeJointState(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
+CameraInfoMessage DecodeCameraInfo(MessageEncoding encoding,
+                                   const std::vector<uint8_t>& bytes);
+OdometryMessage DecodeOdometry(MessageEncoding encoding,
+                               const std::vector<uint8_t>& bytes);
+JointStateMessage DecodeJointState(MessageEncoding encoding,
+                                   const std::vector<uint8_t>& bytes);
 
 }  // namespace odomcal::bag

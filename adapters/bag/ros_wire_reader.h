@@ -46,7 +46,7 @@ class RosWireReader {
   }
   // std_msgs/Header: ROS 1 has a uint32 seq first (dropped).
   RosHeader Header();
-  // Throws when bytes are left over: the message is not what was expected.
+  // Throws when bytes are left over: they hold some other message.
   void ExpectEnd() const;
 
  private:
