@@ -4,8 +4,10 @@
 //                                        its stamp in integer ns (the header
 //                                        stamp by default), e.g.
 //                                        1690000000123456789.png
-//   <output>/image_timestamps.csv        image_name,timestamp (exact decimal
-//                                        seconds; image_timestamps.h)
+//   <output>/image_timestamps.csv        image_name,timestamp (names relative
+//                                        to images/, as COLMAP names them;
+//                                        exact decimal seconds;
+//                                        image_timestamps.h)
 //   <output>/odometry.csv                timestamp,x,y,yaw  for a planar
 //                                        nav_msgs/Odometry log, or
 //   <output>/odometry.tum                TUM (timestamp tx ty tz qx qy qz qw,
