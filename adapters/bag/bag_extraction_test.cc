@@ -318,5 +318,14 @@ TEST_F(BagExtractionTest, RegionOfInterestIsRefused) {
   EXPECT_TRUE(Contains(error, "x_offset 1, y_offset 2, 4 x 3")) << error;
 }
 
+TEST_F(BagExtractionTest, CameraInfoMustFitTheImages) {
+  const std::string error = FormatErrorOf([&] { Extract("size.bag", {}); });
+  EXPECT_TRUE(Contains(
+      error, BagPath("size.bag") + ": /cam/camera_info: width/height: "))
+      << error;
+  EXPECT_TRUE(Contains(error, "10 x 6")) << error;
+  EXPECT_TRUE(Contains(error, "8 x 6")) << error;
+}
+
 }  // namespace
 }  // namespace odomcal::bag
