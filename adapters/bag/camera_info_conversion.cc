@@ -116,9 +116,13 @@ ColmapCamera ColmapCameraFromCameraInfo(const CameraInfoMessage& info,
   camera.height = info.height;
   camera.params = {fx, fy, cx, cy};
   const std::string& model = info.distortion_model;
-  if (info.d.empty() || AllZero(info.d)) {
+  if (model == "equidistant" && (info.d.empty() || AllZero(info.d))) {
+    // Still a fisheye: without coefficients r = f * theta, not f * tan(theta).
+    camera.model = ColmapCameraModel::kOpenCVFisheye;
+    camera.params.insert(camera.params.end(), {0.0, 0.0, 0.0, 0.0});
+  } else if (info.d.empty() || AllZero(info.d)) {
     if (model != "plumb_bob" && model != "rational_polynomial" &&
-        model != "equidistant" && !model.empty()) {
+        !model.empty()) {
       ThrowCameraInfoError(context,
                            "distortion_model",
                            "unknown model '" + model +

@@ -12,7 +12,8 @@
 // the normalised coordinates (src/colmap/sensor/models.h).
 //
 // Distortion models (CameraInfo's D -> COLMAP's model and parameter order):
-//   D empty or all zero                -> PINHOLE (fx, fy, cx, cy)
+//   D empty or all zero (plumb_bob, rational_polynomial or no model)
+//                                      -> PINHOLE (fx, fy, cx, cy)
 //   plumb_bob (k1 k2 p1 p2 k3), k3 = 0 -> OPENCV (fx, fy, cx, cy, k1, k2, p1,
 //                                         p2)
 //   plumb_bob with k3 != 0, or
@@ -20,7 +21,9 @@
 //                                      -> FULL_OPENCV (fx, fy, cx, cy, k1, k2,
 //                                         p1, p2, k3, k4, k5, k6)
 //   equidistant (k1 k2 k3 k4)          -> OPENCV_FISHEYE (fx, fy, cx, cy, k1,
-//                                         k2, k3, k4)
+//                                         k2, k3, k4), also with D all zero
+//                                         or empty: the ideal fisheye
+//                                         r = f * theta is no pinhole
 // The intrinsics are K's (the raw, distorted image's camera), not P's: the
 // images are extracted unrectified.
 //

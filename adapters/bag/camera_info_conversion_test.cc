@@ -151,6 +151,16 @@ TEST(CameraInfoConversionTest, EquidistantIsOpenCVFisheye) {
   ExpectSameProjection(info, camera, true);
 }
 
+TEST(CameraInfoConversionTest, EquidistantWithoutCoefficientsStaysFisheye) {
+  for (const auto& d : {std::vector<double>{}, std::vector<double>(4, 0.0)}) {
+    CameraInfoMessage info = MakeInfo("equidistant", d);
+    const ColmapCamera camera = ColmapCameraFromCameraInfo(info, "b: /cam");
+    EXPECT_EQ(camera.model, ColmapCameraModel::kOpenCVFisheye);
+    info.d.assign(4, 0.0);  // cv::fisheye needs all four
+    ExpectSameProjection(info, camera, true);
+  }
+}
+
 TEST(CameraInfoConversionTest, ZeroOrEmptyDistortionIsPinhole) {
   for (const auto& d : {std::vector<double>{}, std::vector<double>(5, 0.0)}) {
     const CameraInfoMessage info = MakeInfo("plumb_bob", d);

@@ -70,7 +70,10 @@ cv::Mat ImageMessageToMat(const ImageMessage& image,
                       "' is not supported (supported: " + SupportedEncodings() +
                       ")");
   }
-  if (image.width == 0 || image.height == 0) {
+  // OpenCV's sizes are int; no camera comes near this bound.
+  constexpr uint32_t kMaxSide = 1u << 20;
+  if (image.width == 0 || image.height == 0 || image.width > kMaxSide ||
+      image.height > kMaxSide) {
     throw FormatError(context + ": the image is " +
                       std::to_string(image.width) + " x " +
                       std::to_string(image.height) + " pixels");
@@ -98,7 +101,13 @@ cv::Mat ImageMessageToMat(const ImageMessage& image,
                      image.step);
   cv::Mat result;
   if (encoding->cvt_code >= 0) {
-    cv::cvtColor(view, result, encoding->cvt_code);
+    try {
+      cv::cvtColor(view, result, encoding->cvt_code);
+    } catch (const cv::Exception& error) {
+      throw FormatError(context + ": cannot convert the " + encoding->name +
+                        " image (" + std::to_string(image.width) + " x " +
+                        std::to_string(image.height) + "): " + error.err);
+    }
   } else {
     result = view.clone();
   }
