@@ -416,7 +416,8 @@ class Extraction {
               "# COLMAP camera from " + topic +
                   " (K and D of the unrectified images); principal point in "
                   "COLMAP's convention, top-left pixel centre at (0.5, 0.5): "
-                  "cx = K[2] + 0.5, cy = K[5] + 0.5\n" +
+                  "cx = K[2] + 0.5, cy = K[5] + 0.5\n# odomcal run: " +
+                  OdomcalCameraFlags(*camera_) + "\n" +
                   ColmapCameraLine(*camera_) + "\n");
     summary_.camera = camera_;
     if (changed_infos_ > 0) {

@@ -18,7 +18,10 @@
 //   <output>/camera.txt                  one COLMAP cameras.txt line from
 //                                        sensor_msgs/CameraInfo, when the bag
 //                                        has one (camera_info_conversion.h:
-//                                        COLMAP's pixel centre, cx + 0.5)
+//                                        COLMAP's pixel centre, cx + 0.5),
+//                                        after '#' lines: the convention and
+//                                        odomcal run's --camera_model and
+//                                        --camera_params
 //
 // Raw images are stored as lossless PNG (image_conversion.h), compressed
 // ones with their original bytes. Time is integer nanoseconds throughout;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,16 @@ void CheckDistortionLength(const CameraInfoMessage& info,
             std::to_string(expected) + " coefficients (" + names + "), got " +
             std::to_string(info.d.size()) + " " + DistortionText(info.d));
   }
+}
+
+// The shortest of %.15g, %.16g, %.17g that reads back to `value`.
+std::string ExactDecimal(double value) {
+  char text[40];
+  for (const int digits : {15, 16, 17}) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
 }
 
 }  // namespace
@@ -178,12 +189,17 @@ std::string ColmapCameraLine(const ColmapCamera& camera) {
                      ColmapCameraModelName(camera.model) + " " +
                      std::to_string(camera.width) + " " +
                      std::to_string(camera.height);
-  for (const double value : camera.params) {
-    char number[40];
-    std::snprintf(number, sizeof(number), " %.17g", value);
-    line += number;
-  }
+  for (const double value : camera.params) line += " " + ExactDecimal(value);
   return line;
+}
+
+std::string OdomcalCameraFlags(const ColmapCamera& camera) {
+  std::string flags = std::string("--camera_model ") +
+                      ColmapCameraModelName(camera.model) + " --camera_params ";
+  for (size_t i = 0; i < camera.params.size(); ++i) {
+    flags += (i == 0 ? "" : ",") + ExactDecimal(camera.params[i]);
+  }
+  return flags;
 }
 
 }  // namespace odomcal::bag

@@ -54,7 +54,12 @@ void CheckCameraInfoImageSize(const CameraInfoMessage& info,
                               const std::string& context);
 
 // One cameras.txt line: "CAMERA_ID MODEL WIDTH HEIGHT PARAMS..." with the
-// parameters to 17 significant digits, no line break.
+// parameters in the fewest digits (15 to 17) that read back exactly, no line
+// break.
 std::string ColmapCameraLine(const ColmapCamera& camera);
+
+// The same camera as odomcal run's flags, e.g.
+// "--camera_model OPENCV --camera_params 458.654,457.296,367.715,...".
+std::string OdomcalCameraFlags(const ColmapCamera& camera);
 
 }  // namespace odomcal::bag

@@ -11,8 +11,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -246,6 +248,18 @@ TEST(CameraInfoConversionTest, LineReadsBackAsColmapCamera) {
                                         0.07395907,
                                         0.00019359,
                                         1.76187114e-05};
+  // The flags hold the same numbers exactly.
+  const std::string flags = OdomcalCameraFlags(camera);
+  const std::string prefix = "--camera_model OPENCV --camera_params ";
+  ASSERT_EQ(flags.substr(0, prefix.size()), prefix);
+  std::stringstream numbers(flags.substr(prefix.size()));
+  std::string number;
+  for (const double value : camera.params) {
+    ASSERT_TRUE(std::getline(numbers, number, ',')) << flags;
+    EXPECT_EQ(std::strtod(number.c_str(), nullptr), value) << number;
+  }
+  EXPECT_FALSE(std::getline(numbers, number, ',')) << flags;
+  EXPECT_TRUE(Contains(flags, ",-0.28340811,")) << flags;  // shortest form
   ASSERT_EQ(read.params.size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {
     EXPECT_DOUBLE_EQ(read.params[i], expected[i]) << "parameter " << i;
