@@ -33,18 +33,23 @@ function(odomcal_add_library name)
   install(FILES ${ARG_HEADERS} DESTINATION include/odomcal/${folder})
 endfunction()
 
-# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...])
+# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [FIXTURES_REQUIRED ...])
 # One gtest binary per module; tests are discovered individually by ctest.
+# FIXTURES_REQUIRED: ctest fixtures (FIXTURES_SETUP tests) every test needs.
 function(odomcal_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;FIXTURES_REQUIRED" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   odomcal_target_warnings(${name})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
+  set(properties LABELS "${ARG_LABELS}")
+  if(ARG_FIXTURES_REQUIRED)
+    list(APPEND properties FIXTURES_REQUIRED "${ARG_FIXTURES_REQUIRED}")
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    PROPERTIES LABELS "${ARG_LABELS}"
+    PROPERTIES ${properties}
     DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -13,6 +13,7 @@ PACKAGES=(
   clang libclang-rt-14-dev  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
   clang-format clang-tidy git  # scripts/check_format.sh, scripts/tidy.sh
   liburdfdom-tools  # check_urdf: the URDF fragment test (robot_description_test)
+  libbz2-dev liblz4-dev libzstd-dev python3-rosbag python3-sensor-msgs python3-nav-msgs  # bags: codecs; ROS 1 fixture writer
 )
 
 missing=()

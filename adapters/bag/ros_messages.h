@@ -45,6 +45,14 @@ struct CompressedImageMessage {
   std::vector<uint8_t> data;
 };
 
+// sensor_msgs/RegionOfInterest (do_rectify dropped)
+struct RegionOfInterest {
+  uint32_t x_offset = 0;
+  uint32_t y_offset = 0;
+  uint32_t height = 0;
+  uint32_t width = 0;
+};
+
 // sensor_msgs/CameraInfo (ROS 1 names D, K, R, P; ROS 2 d, k, r, p)
 struct CameraInfoMessage {
   RosHeader header;
@@ -57,6 +65,7 @@ struct CameraInfoMessage {
   std::array<double, 12> p{};  // row-major 3x4
   uint32_t binning_x = 0;
   uint32_t binning_y = 0;
+  RegionOfInterest roi;  // all zero: the full image
 };
 
 // nav_msgs/Odometry (pose part; the twist is parsed and dropped)
@@ -77,11 +86,15 @@ struct JointStateMessage {
   std::vector<double> effort;
 };
 
-ImageMessage DecodeImage(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
+ImageMessage DecodeImage(MessageEncoding encoding,
+                         const std::vector<uint8_t>& bytes);
 CompressedImageMessage DecodeCompressedImage(MessageEncoding encoding,
                                              const std::vector<uint8_t>& bytes);
-CameraInfoMessage DecodeCameraInfo(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
-OdometryMessage DecodeOdometry(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
-JointStateMessage DecodeJointState(MessageEncoding encoding, const std::vector<uint8_t>& bytes);
+CameraInfoMessage DecodeCameraInfo(MessageEncoding encoding,
+                                   const std::vector<uint8_t>& bytes);
+OdometryMessage DecodeOdometry(MessageEncoding encoding,
+                               const std::vector<uint8_t>& bytes);
+JointStateMessage DecodeJointState(MessageEncoding encoding,
+                                   const std::vector<uint8_t>& bytes);
 
 }  // namespace odomcal::bag

@@ -1,0 +1,488 @@
+// ExtractBag (bag_extraction.h): one pass over the bag, writing each image as
+// it arrives and keeping only stamps and poses.
+#include "odomcal/adapters/bag/bag_extraction.h"
+
+#include "odomcal/adapters/bag/camera_info_conversion.h"
+#include "odomcal/adapters/bag/image_conversion.h"
+#include "odomcal/adapters/bag/ros_messages.h"
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+namespace odomcal::bag {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Per chosen topic: stamp order, duplicates, rates and header/receive
+// offsets.
+class TopicStamps {
+ public:
+  TopicStamps(std::string context, std::string topic, std::string type)
+      : context_(std::move(context)) {
+    summary_.topic = std::move(topic);
+    summary_.type = std::move(type);
+  }
+
+  // Counts a message and returns its stamp in the chosen time. Throws for
+  // an unset header stamp when header stamps are chosen.
+  int64_t Stamp(int64_t header_ns, int64_t receive_ns, BagTime time) {
+    ++summary_.messages;
+    offset_sum_s_ += std::abs(ElapsedSeconds(receive_ns, header_ns));
+    if (time == BagTime::kHeader && header_ns == 0) {
+      throw FormatError(context_ + ": message " +
+                        std::to_string(summary_.messages) +
+                        " has no header stamp (0); pass --bag_time receive "
+                        "to use the receive times");
+    }
+    return time == BagTime::kHeader ? header_ns : receive_ns;
+  }
+
+  // True when a message at `stamp` is to be used; false for a repeat of the
+  // previous stamp. Throws for a stamp before the previous one.
+  bool Use(int64_t stamp, BagTime time) {
+    if (summary_.used > 0) {
+      if (stamp < summary_.last_stamp_ns) {
+        throw FormatError(context_ + ": " + BagTimeName(time) + " stamp " +
+                          std::to_string(stamp) + " ns comes after " +
+                          std::to_string(summary_.last_stamp_ns) +
+                          " ns (stamps go backwards)");
+      }
+      if (stamp == summary_.last_stamp_ns) {
+        ++summary_.duplicate_stamps;
+        return false;
+      }
+    } else {
+      summary_.first_stamp_ns = stamp;
+    }
+    summary_.last_stamp_ns = stamp;
+    ++summary_.used;
+    return true;
+  }
+
+  const std::string& context() const { return context_; }
+  int64_t last_stamp_ns() const { return summary_.last_stamp_ns; }
+
+  TopicExtractionSummary Finish() const {
+    TopicExtractionSummary summary = summary_;
+    if (summary.messages > 0) {
+      summary.mean_abs_header_minus_receive_s =
+          offset_sum_s_ / static_cast<double>(summary.messages);
+    }
+    if (summary.used > 1) {
+      summary.rate_hz =
+          static_cast<double>(summary.used - 1) /
+          ElapsedSeconds(summary.first_stamp_ns, summary.last_stamp_ns);
+    }
+    return summary;
+  }
+
+ private:
+  std::string context_;
+  TopicExtractionSummary summary_;
+  double offset_sum_s_ = 0.0;
+};
+
+std::string ErrnoText() { return std::strerror(errno); }
+
+void WriteBytes(const std::string& path, const std::vector<uint8_t>& data) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  if (!file) {
+    throw FormatError(path + ": cannot open for writing: " + ErrnoText());
+  }
+  file.write(reinterpret_cast<const char*>(data.data()),
+             static_cast<std::streamsize>(data.size()));
+  file.close();
+  if (!file) throw FormatError(path + ": write failed");
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  WriteBytes(path, std::vector<uint8_t>(text.begin(), text.end()));
+}
+
+// The output folder, created, and empty so that no earlier extraction's
+// files mix with this one's.
+void PrepareOutputFolder(const std::string& folder) {
+  std::error_code error;
+  if (fs::exists(folder, error)) {
+    if (!fs::is_directory(folder, error)) {
+      throw FormatError(folder + ": exists and is not a folder");
+    }
+    if (!fs::is_empty(folder, error)) {
+      throw FormatError(folder +
+                        ": the output folder is not empty; choose a "
+                        "new or empty folder");
+    }
+  }
+  fs::create_directories(fs::path(folder) / "images", error);
+  if (error) {
+    throw FormatError(folder +
+                      ": cannot create the folder: " + error.message());
+  }
+}
+
+// Decode* throws "<type>: <problem>"; the bag path and topic go in front.
+template <typename Decode>
+auto DecodeIn(const std::string& context, Decode decode) {
+  try {
+    return decode();
+  } catch (const FormatError& error) {
+    throw FormatError(context + ": " + error.what());
+  }
+}
+
+bool SameCalibration(const CameraInfoMessage& a, const CameraInfoMessage& b) {
+  return a.width == b.width && a.height == b.height &&
+         a.distortion_model == b.distortion_model && a.d == b.d && a.k == b.k;
+}
+
+std::string Milliseconds(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f ms", seconds * 1e3);
+  return text;
+}
+
+struct ImageSize {
+  int width = 0;
+  int height = 0;
+};
+
+enum class TopicRole { kNone, kImage, kOdometry, kCameraInfo };
+
+// One extraction: the chosen topics, the output folder, and what is kept
+// between messages (stamps, poses or wheel travels, the first CameraInfo).
+class Extraction {
+ public:
+  Extraction(BagReader& reader, const BagExtractionOptions& options)
+      : reader_(reader), options_(options) {
+    options.Check();
+    summary_.topics = ChooseTopics(reader.Topics(), options);
+    summary_.time = options.time;
+    summary_.wheel_track_m = options.wheel_track_m;
+    const ChosenTopics& chosen = summary_.topics;
+    if (chosen.odometry_joint_state && !(options.wheel_radius_m > 0.0)) {
+      throw std::invalid_argument(
+          chosen.odometry +
+          " holds joint states (wheel angles in rad): pass --wheel_radius_m "
+          "to turn them into travels");
+    }
+    const std::vector<BagTopic>& topics = reader.Topics();
+    roles_.assign(topics.size(), TopicRole::kNone);
+    std::string image_type, odometry_type, info_type;
+    for (size_t i = 0; i < topics.size(); ++i) {
+      const std::string& name = topics[i].topic;
+      if (name == chosen.image) {
+        roles_[i] = TopicRole::kImage;
+        image_type = topics[i].type;
+      } else if (name == chosen.odometry) {
+        roles_[i] = TopicRole::kOdometry;
+        odometry_type = topics[i].type;
+      } else if (!chosen.camera_info.empty() && name == chosen.camera_info) {
+        roles_[i] = TopicRole::kCameraInfo;
+        info_type = topics[i].type;
+      }
+      if (roles_[i] != TopicRole::kNone) total_ += topics[i].message_count;
+    }
+    images_.emplace(ContextOf(chosen.image), chosen.image, image_type);
+    odometry_.emplace(
+        ContextOf(chosen.odometry), chosen.odometry, odometry_type);
+    infos_.emplace(
+        ContextOf(chosen.camera_info), chosen.camera_info, info_type);
+    if (chosen.odometry_joint_state) {
+      WheelJointOptions joints;
+      joints.left_joint = options.left_wheel_joint;
+      joints.right_joint = options.right_wheel_joint;
+      joints.wheel_radius_m = options.wheel_radius_m;
+      wheels_.emplace(joints, odometry_->context());
+    }
+    // Last: nothing is created for options or topics that are refused.
+    PrepareOutputFolder(options.output_folder);
+  }
+
+  void Run(const ExtractionProgress& progress) {
+    BagMessage message;
+    int64_t done = 0;
+    while (reader_.Next(&message)) {
+      if (message.topic_index >= roles_.size()) continue;
+      const MessageEncoding encoding =
+          reader_.Topics()[message.topic_index].encoding;
+      switch (roles_[message.topic_index]) {
+        case TopicRole::kNone:
+          continue;
+        case TopicRole::kImage:
+          if (summary_.topics.image_compressed) {
+            OnCompressedImage(message, encoding);
+          } else {
+            OnRawImage(message, encoding);
+          }
+          break;
+        case TopicRole::kOdometry:
+          if (wheels_) {
+            OnJointState(message, encoding);
+          } else {
+            OnOdometry(message, encoding);
+          }
+          break;
+        case TopicRole::kCameraInfo:
+          OnCameraInfo(message, encoding);
+          break;
+      }
+      ++done;
+      if (progress) progress(done, total_);
+    }
+  }
+
+  BagExtractionSummary Finish() {
+    summary_.images = images_->Finish();
+    summary_.odometry = odometry_->Finish();
+    if (summary_.images.used == 0) {
+      throw FormatError(images_->context() + ": no image messages");
+    }
+    if (summary_.odometry.messages == 0) {
+      throw FormatError(odometry_->context() + ": no odometry messages");
+    }
+    WriteText((Output() / "image_timestamps.csv").string(), image_csv_);
+    WriteOdometry();
+    if (first_info_) WriteCamera();
+    AddStampWarnings();
+    return std::move(summary_);
+  }
+
+ private:
+  std::string ContextOf(const std::string& topic) const {
+    return reader_.Path() + ": " + topic;
+  }
+  fs::path Output() const { return fs::path(options_.output_folder); }
+
+  void OnCompressedImage(const BagMessage& message, MessageEncoding encoding) {
+    const std::string& context = images_->context();
+    const CompressedImageMessage image = DecodeIn(
+        context, [&] { return DecodeCompressedImage(encoding, message.data); });
+    const int64_t stamp = images_->Stamp(
+        image.header.stamp_ns, message.log_time_ns, options_.time);
+    if (!images_->Use(stamp, options_.time)) return;
+    const std::string name =
+        std::to_string(stamp) + CompressedImageExtension(image, context);
+    if (!image_size_) {
+      // Only the first is decoded, for the size CameraInfo must match.
+      const cv::Mat pixels = cv::imdecode(image.data, cv::IMREAD_UNCHANGED);
+      if (pixels.empty()) {
+        throw FormatError(context + ": the first image (" + name +
+                          ") does not decode");
+      }
+      SetImageSize(pixels.cols, pixels.rows);
+    }
+    WriteBytes((Output() / "images" / name).string(), image.data);
+    AddImageLine(name, stamp);
+  }
+
+  void OnRawImage(const BagMessage& message, MessageEncoding encoding) {
+    const std::string& context = images_->context();
+    const ImageMessage image =
+        DecodeIn(context, [&] { return DecodeImage(encoding, message.data); });
+    const int64_t stamp = images_->Stamp(
+        image.header.stamp_ns, message.log_time_ns, options_.time);
+    if (!images_->Use(stamp, options_.time)) return;
+    const cv::Mat pixels = ImageMessageToMat(image, context);
+    if (!image_size_) {
+      SetImageSize(pixels.cols, pixels.rows);
+    } else if (pixels.cols != image_size_->width ||
+               pixels.rows != image_size_->height) {
+      throw FormatError(context + ": image at " + std::to_string(stamp) +
+                        " ns is " + std::to_string(pixels.cols) + " x " +
+                        std::to_string(pixels.rows) + ", the first is " +
+                        std::to_string(image_size_->width) + " x " +
+                        std::to_string(image_size_->height));
+    }
+    const std::string name = std::to_string(stamp) + ".png";
+    const std::string path = (Output() / "images" / name).string();
+    bool written = false;
+    try {
+      written = cv::imwrite(path, pixels);
+    } catch (const cv::Exception& error) {
+      throw FormatError(path + ": write failed: " + error.what());
+    }
+    if (!written) throw FormatError(path + ": write failed");
+    AddImageLine(name, stamp);
+  }
+
+  void AddImageLine(const std::string& name, int64_t stamp_ns) {
+    image_csv_ += name + "," + FormatTimestampSeconds(stamp_ns) + "\n";
+  }
+
+  void SetImageSize(int width, int height) {
+    image_size_ = ImageSize{width, height};
+    CheckCameraSize();
+  }
+
+  // As soon as both are known, so that a wrong CameraInfo stops early.
+  void CheckCameraSize() const {
+    if (!image_size_ || !first_info_) return;
+    CheckCameraInfoImageSize(*first_info_,
+                             static_cast<uint32_t>(image_size_->width),
+                             static_cast<uint32_t>(image_size_->height),
+                             infos_->context());
+  }
+
+  void OnJointState(const BagMessage& message, MessageEncoding encoding) {
+    const JointStateMessage joints = DecodeIn(odometry_->context(), [&] {
+      return DecodeJointState(encoding, message.data);
+    });
+    const int64_t stamp = odometry_->Stamp(
+        joints.header.stamp_ns, message.log_time_ns, options_.time);
+    // Messages without the wheels (other joints) take no part in the stamp
+    // checks.
+    const std::optional<WheelTravelSample> sample =
+        wheels_->Sample(stamp, joints);
+    if (sample && odometry_->Use(stamp, options_.time)) {
+      wheels_->Append(*sample);
+    }
+  }
+
+  void OnOdometry(const BagMessage& message, MessageEncoding encoding) {
+    const std::string& context = odometry_->context();
+    const OdometryMessage odometry = DecodeIn(
+        context, [&] { return DecodeOdometry(encoding, message.data); });
+    const int64_t stamp = odometry_->Stamp(
+        odometry.header.stamp_ns, message.log_time_ns, options_.time);
+    if (odometry_->Use(stamp, options_.time)) {
+      poses_.push_back({stamp, PoseFromOdometry(odometry, context)});
+    }
+  }
+
+  void OnCameraInfo(const BagMessage& message, MessageEncoding encoding) {
+    CameraInfoMessage info = DecodeIn(infos_->context(), [&] {
+      return DecodeCameraInfo(encoding, message.data);
+    });
+    // Only the first CameraInfo is used; its stamps are not checked.
+    infos_->Stamp(info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
+    if (!first_info_) {
+      // Converted now, so that an unusable calibration stops early.
+      camera_ = ColmapCameraFromCameraInfo(info, infos_->context());
+      first_info_ = std::move(info);
+      CheckCameraSize();
+    } else if (!SameCalibration(*first_info_, info)) {
+      ++changed_infos_;
+    }
+  }
+
+  void WriteOdometry() {
+    const std::string& topic = summary_.topics.odometry;
+    if (wheels_) {
+      const WheelTravels travels = wheels_->Finish();
+      summary_.odometry_file = "wheels.csv";
+      WriteWheelTravelCsv(travels, (Output() / "wheels.csv").string());
+      summary_.left_wheel_joint = wheels_->left_joint();
+      summary_.right_wheel_joint = wheels_->right_joint();
+      if (wheels_->skipped() > 0) {
+        summary_.warnings.push_back(
+            topic + ": " + std::to_string(wheels_->skipped()) +
+            " joint states without both wheel joints were skipped");
+      }
+      return;
+    }
+    const Trajectory trajectory = OdometryTrajectory(
+        std::move(poses_), odometry_->context(), options_.planarity);
+    summary_.planar = trajectory.planar;
+    summary_.odometry_file =
+        trajectory.planar ? "odometry.csv" : "odometry.tum";
+    const std::string path = (Output() / summary_.odometry_file).string();
+    if (trajectory.planar) {
+      WriteOdometryCsv(trajectory, path);
+    } else {
+      WriteTumTrajectory(trajectory, path);
+    }
+  }
+
+  void WriteCamera() {
+    const std::string& topic = summary_.topics.camera_info;
+    summary_.camera_info = infos_->Finish();
+    WriteText((Output() / "camera.txt").string(),
+              "# COLMAP camera from " + topic +
+                  " (K and D of the unrectified images); principal point in "
+                  "COLMAP's convention, top-left pixel centre at (0.5, 0.5): "
+                  "cx = K[2] + 0.5, cy = K[5] + 0.5\n# odomcal run: " +
+                  OdomcalCameraFlags(*camera_) + "\n" +
+                  ColmapCameraLine(*camera_) + "\n");
+    summary_.camera = camera_;
+    if (changed_infos_ > 0) {
+      summary_.warnings.push_back(
+          topic + ": " + std::to_string(changed_infos_) +
+          " messages differ from the first CameraInfo; the first is used");
+    }
+  }
+
+  void AddStampWarnings() {
+    const std::vector<const TopicExtractionSummary*> topics = {
+        &summary_.images, &summary_.odometry};
+    for (const TopicExtractionSummary* topic : topics) {
+      if (topic->duplicate_stamps > 0) {
+        summary_.warnings.push_back(
+            topic->topic + ": " + std::to_string(topic->duplicate_stamps) +
+            " messages repeat the previous " + BagTimeName(options_.time) +
+            " stamp and are skipped");
+      }
+    }
+    // Header stamps far from the receive times, compared with the
+    // odometry's sampling interval: then the choice of stamp matters to the
+    // calibration.
+    if (summary_.odometry.rate_hz <= 0.0) return;
+    const double interval_s = 1.0 / summary_.odometry.rate_hz;
+    for (const TopicExtractionSummary* topic : topics) {
+      if (topic->mean_abs_header_minus_receive_s > interval_s) {
+        summary_.warnings.push_back(
+            topic->topic + ": header stamps differ from the receive times by " +
+            Milliseconds(topic->mean_abs_header_minus_receive_s) +
+            " on average, more than the odometry interval (" +
+            Milliseconds(interval_s) + "); " +
+            (options_.time == BagTime::kHeader
+                 ? "header stamps are used (--bag_time header)"
+                 : "receive times are used (--bag_time receive)") +
+            ": check that this is the clock to trust");
+      }
+    }
+  }
+
+  BagReader& reader_;
+  const BagExtractionOptions& options_;
+  BagExtractionSummary summary_;
+  std::vector<TopicRole> roles_;
+  int64_t total_ = 0;
+  std::optional<TopicStamps> images_;
+  std::optional<TopicStamps> odometry_;
+  std::optional<TopicStamps> infos_;
+  std::string image_csv_ = "image_name,timestamp\n";
+  std::optional<ImageSize> image_size_;
+  std::vector<StampedPose> poses_;
+  std::optional<WheelTravelCollector> wheels_;
+  std::optional<CameraInfoMessage> first_info_;
+  std::optional<ColmapCamera> camera_;
+  int64_t changed_infos_ = 0;
+};
+
+}  // namespace
+
+BagExtractionSummary ExtractBag(BagReader& reader,
+                                const BagExtractionOptions& options,
+                                const ExtractionProgress& progress) {
+  Extraction extraction(reader, options);
+  extraction.Run(progress);
+  return extraction.Finish();
+}
+
+}  // namespace odomcal::bag
