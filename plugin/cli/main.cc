@@ -3,6 +3,7 @@
 // 2 bad arguments or files, 3 the data do not determine the calibration,
 // 4 COLMAP missing, failed or gave no model (`run`, `demo`).
 
+#include "odomcal/plugin/cli/bag_commands.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/colmap_command.h"
 #include "odomcal/plugin/cli/demo_command.h"
@@ -33,6 +34,12 @@ const Command kCommands[] = {
     {"run",
      "image folder + odometry -> COLMAP -> calibration and metric model",
      &odomcal::RunRun},
+    {"inspect",
+     "list a robot bag's topics and what run --bag would take from it",
+     &odomcal::RunInspect},
+    {"extract",
+     "write a robot bag's images, odometry and camera as input files",
+     &odomcal::RunExtract},
     {"demo",
      "rendered scene -> COLMAP -> calibration, compared with ground truth",
      &odomcal::RunDemo},

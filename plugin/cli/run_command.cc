@@ -4,9 +4,11 @@
 
 #include "odomcal/plugin/cli/run_command.h"
 
+#include "odomcal/plugin/cli/bag_commands.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/plugin/output/output_file.h"
+#include "odomcal/plugin/options/bag_flags.h"
 #include "odomcal/plugin/output/output_folder.h"
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/colmap_report.h"
@@ -114,6 +116,36 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point start_, last_line_;
 };
 
+// `odomcal run --bag`: the workspace claimed, the bag extracted into
+// WS/bag_inputs (replacing an earlier extraction), and `run` pointed at the
+// files: images, image times, odometry, and the camera from CameraInfo
+// unless --camera_params was given.
+void PrepareBagInputs(const std::string& bag_path,
+                      bool camera_params_given,
+                      bag::BagExtractionOptions* bag_options,
+                      ReconstructionOptions* run) {
+  const fs::path inputs = fs::path(run->workspace_path) / "bag_inputs";
+  PrepareOutputFolder({run->workspace_path, "--workspace_path"},
+                      {{bag_path, "--bag"}},
+                      {"bag_inputs"},
+                      ExistingOutputs::kReplaceOwn);
+  RemoveOwnedOutput(run->workspace_path, "bag_inputs");
+  bag_options->output_folder = inputs.string();
+  bag_options->wheel_track_m = run->project.systematics.wheel_track_m;
+  const bag::BagExtractionSummary summary =
+      ExtractBagPrinting(bag_path, *bag_options, std::cout);
+  run->extracted_inputs_path = inputs.string();
+  run->image_path = (inputs / "images").string();
+  run->project.image_timestamps_path =
+      (inputs / "image_timestamps.csv").string();
+  run->project.odometry_path = ExtractedOdometryPath(*bag_options, summary);
+  const auto [model, params] = ExtractedCamera(summary);
+  if (!model.empty() && !camera_params_given) {
+    run->camera_model = model;
+    run->camera_params = params;
+  }
+}
+
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string joined;
   for (const std::string& name : names)
@@ -124,18 +156,16 @@ std::string JoinNames(const std::vector<std::string>& names) {
 }  // namespace
 
 RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
-                              const std::string& command) {
+                              const std::string& command,
+                              const nlohmann::json& bag_echo) {
   // Reruns reuse the workspace: odomcal's own entries in it are replaced.
   std::vector<std::string> entries = ColmapCalibrationOutputEntries();
   const std::vector<std::string> pipeline = ReconstructionWorkspaceEntries();
   entries.insert(entries.end(), pipeline.begin(), pipeline.end());
-  PrepareOutputFolder(
-      {options.workspace_path, "--workspace_path"},
-      {{options.image_path, "--image_path"},
-       {options.project.odometry_path, "--odometry"},
-       {options.project.image_timestamps_path, "--image_timestamps"}},
-      entries,
-      ExistingOutputs::kReplaceOwn);
+  PrepareOutputFolder({options.workspace_path, "--workspace_path"},
+                      UserInputs(options),
+                      entries,
+                      ExistingOutputs::kReplaceOwn);
   ProgressPrinter printer;
   const ReconstructionResult result = ReconstructAndCalibrate(
       options, [&printer](const PipelineProgress& progress) {
@@ -148,10 +178,13 @@ RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
   ColmapCalibrationInputs calibrated = options.project;
   calibrated.model_path = result.model_path;
   calibrated.database_path = result.database_path;
-  outcome.context = ProjectReportContext(calibrated,
-                                         outcome.calibration,
-                                         command,
-                                         RunResultFlagsEcho(options, result));
+  nlohmann::json echo = RunResultFlagsEcho(options, result);
+  if (!bag_echo.is_null()) {
+    echo["inputs"]["bag"] = bag_echo["inputs"]["bag"];
+    echo["options"]["bag"] = bag_echo["options"]["bag"];
+  }
+  outcome.context =
+      ProjectReportContext(calibrated, outcome.calibration, command, echo);
   const fs::path workspace(options.workspace_path);
   if (result.refused_before_colmap) {
     // calibration.json with the status only, and no other output of an
@@ -187,13 +220,52 @@ int RunRun(int argc, char** argv) {
   ProjectFlags flags;
   AddRunFlags(&app, &run);
   AddProjectFlags(&app, &run.project, &flags);
+  // --bag instead of --image_path, --odometry and --image_timestamps.
+  std::string bag_path;
+  bag::BagExtractionOptions bag_options;
+  app.add_option("--bag",
+                 bag_path,
+                 "a robot bag (ROS 1, or ROS 2: folder with metadata.yaml, "
+                 ".db3 or .mcap) instead of --image_path, --odometry and "
+                 "--image_timestamps: extracted into WS/bag_inputs, its "
+                 "CameraInfo as --camera_params")
+      ->check(CLI::ExistingPath);
+  AddFlags(BagTopicFlags(), &app, &bag_options);
+  for (const char* flag : {"--image_path", "--odometry"}) {
+    app.get_option(flag)->required(false);
+  }
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
+  }
+  const bool from_bag = !bag_path.empty();
+  for (const char* flag : {"--image_path", "--odometry", "--image_timestamps"}) {
+    const bool given = app.count(flag) > 0;
+    if (from_bag && given) {
+      std::cerr << "odomcal run: error: --bag gives the images, their times "
+                   "and the odometry: drop "
+                << flag << "\n";
+      return kExitBadInput;
+    }
+    if (!from_bag && !given && std::string(flag) != "--image_timestamps") {
+      std::cerr << "odomcal run: error: " << flag
+                << " is required (or --bag)\n";
+      return kExitBadInput;
+    }
   }
 
   return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &run.project);
-    const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run");
+    nlohmann::json bag_echo = {{"inputs", {{"bag", nullptr}}},
+                               {"options", {{"bag", nlohmann::json::object()}}}};
+    EchoOptions(BagTopicFlags(), bag_options, &bag_echo["options"]["bag"]);
+    if (from_bag) {
+      bag_echo["inputs"]["bag"] = bag_path;
+      std::cout << "odomcal run: extracting " << bag_path << "\n";
+      PrepareBagInputs(bag_path, app.count("--camera_params") > 0,
+                       &bag_options, &run);
+    }
+    const RunOutcome outcome =
+        RunAndWriteOutputs(run, "odomcal run", bag_echo);
     std::cout << CalibrationSummary(outcome.calibration.check.result,
                                     outcome.context);
     if (!outcome.calibration.colmap_version.empty()) {

@@ -6,6 +6,8 @@
 #include "odomcal/plugin/colmap/reconstruction_pipeline.h"
 #include "odomcal/plugin/report/calibration_report.h"
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -22,10 +24,12 @@ struct RunOutcome {
 // Claims the workspace, runs ReconstructAndCalibrate with its five stages'
 // progress on stdout and writes the outputs of `odomcal colmap` in the
 // workspace (only calibration.json when the drive is refused before COLMAP).
-// Throws FormatError, OutputError, ColmapError or std::invalid_argument with
-// a one-line message.
+// `bag_echo` (`odomcal run --bag`): {"inputs": {"bag": ...}, "options":
+// {"bag": {...}}}, added to the result's echo. Throws FormatError,
+// OutputError, ColmapError or std::invalid_argument with a one-line message.
 RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
-                              const std::string& command);
+                              const std::string& command,
+                              const nlohmann::json& bag_echo = nullptr);
 
 int RunRun(int argc, char** argv);
 

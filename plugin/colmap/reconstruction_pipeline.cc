@@ -375,12 +375,34 @@ ReconstructionOptions WithMapperOf(const ReconstructionOptions& run,
 
 }  // namespace
 
+std::vector<FlaggedPath> UserInputs(const ReconstructionOptions& run) {
+  std::vector<FlaggedPath> inputs = {
+      {run.image_path, "--image_path"},
+      {run.project.odometry_path, "--odometry"},
+      {run.project.image_timestamps_path, "--image_timestamps"}};
+  if (run.extracted_inputs_path.empty()) return inputs;
+  const fs::path extracted = fs::path(run.extracted_inputs_path).lexically_normal();
+  inputs.erase(std::remove_if(inputs.begin(),
+                              inputs.end(),
+                              [&extracted](const FlaggedPath& input) {
+                                const fs::path relative =
+                                    fs::path(input.path)
+                                        .lexically_normal()
+                                        .lexically_relative(extracted);
+                                return !relative.empty() &&
+                                       *relative.begin() != "..";
+                              }),
+               inputs.end());
+  return inputs;
+}
+
 const char* ToString(MapperKind kind) {
   return kind == MapperKind::kGlobal ? "global" : "incremental";
 }
 
 std::vector<std::string> ReconstructionWorkspaceEntries() {
-  return {"image_list.txt",
+  return {"bag_inputs",
+          "image_list.txt",
           reconstruction::kOdometryPairsFile,
           "database.db",
           "database_rematched.db",
@@ -402,9 +424,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   const fs::path workspace(run.workspace_path);
   // Reruns reuse the workspace: odomcal's own entries in it are replaced.
   GuardedPaths guarded;
-  guarded.inputs = {{run.image_path, "--image_path"},
-                    {inputs.odometry_path, "--odometry"},
-                    {inputs.image_timestamps_path, "--image_timestamps"}};
+  guarded.inputs = UserInputs(run);
   guarded.output_folders = {{run.workspace_path, "--workspace_path"}};
   CheckOutputsApartFromInputs(guarded);
   ClaimOutputFolder(run.workspace_path,

@@ -22,6 +22,7 @@
 #include "odomcal/plugin/colmap/mapper_chunks.h"
 #include "odomcal/plugin/colmap/mapper_policy.h"
 #include "odomcal/plugin/colmap/mapper_stretches.h"
+#include "odomcal/plugin/output/output_guard.h"
 
 #include <functional>
 #include <string>
@@ -50,6 +51,10 @@ struct ReconstructionOptions {
   // mapper_stretches.h), "spatial" or "sequential"
   std::string matcher = "odometry";
   std::string colmap_path = "colmap";
+  // Inputs odomcal itself wrote into the workspace (`odomcal run --bag`
+  // extracts the bag into <workspace>/bag_inputs): inputs under it are
+  // odomcal's own entry, not guarded as the user's files.
+  std::string extracted_inputs_path;
   MapperKind mapper_kind = MapperKind::kIncremental;
   // The standalone GLOMAP, for kGlobal with a COLMAP before 4.0.
   std::string glomap_path = "glomap";
@@ -125,6 +130,11 @@ inline constexpr int kReconstructionStages = 5;
 // Everything the pipeline writes in its workspace (for ClaimOutputFolder,
 // output_folder.h).
 std::vector<std::string> ReconstructionWorkspaceEntries();
+
+// The run's inputs that are the user's files, with their flags (for
+// CheckOutputsApartFromInputs, output_guard.h): all but those under
+// extracted_inputs_path.
+std::vector<FlaggedPath> UserInputs(const ReconstructionOptions& run);
 
 // Throws FormatError (inputs), OutputError (workspace), ColmapError (COLMAP
 // failed or produced no model) or std::invalid_argument (options), each
