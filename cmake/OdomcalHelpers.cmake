@@ -33,18 +33,23 @@ function(odomcal_add_library name)
   install(FILES ${ARG_HEADERS} DESTINATION include/odomcal/${folder})
 endfunction()
 
-# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...])
+# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [FIXTURES ...])
 # One gtest binary per module; tests are discovered individually by ctest.
+# FIXTURES: ctest fixtures (FIXTURES_SETUP tests) every test requires.
 function(odomcal_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;FIXTURES" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   odomcal_target_warnings(${name})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
+  set(fixtures)
+  if(ARG_FIXTURES)
+    set(fixtures FIXTURES_REQUIRED "${ARG_FIXTURES}")
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    PROPERTIES LABELS "${ARG_LABELS}"
+    PROPERTIES LABELS "${ARG_LABELS}" ${fixtures}
     DISCOVERY_TIMEOUT 60)
 endfunction()
