@@ -71,7 +71,7 @@ done
 # must be listed in one of the two arrays, so that a new unit test binary is
 # not left unbuilt (ctest would skip it without a word).
 unit_tests=(solver_test adapters_test datasets_test output_test colmap_test
-            report_test robustness_test command_line_test)
+            report_test robustness_test command_line_test bag_ros2_test)
 # e2e-labelled CLI runs of the sanitized odomcal executable (seconds each;
 # their ctest label is e2e, so they are selected by test name below).
 cli_tests=(cli_test colmap_cli_test)

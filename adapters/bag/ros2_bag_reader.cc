@@ -225,7 +225,7 @@ class Ros2BagReader final : public BagReader {
       if (it == topics_.end()) {
         std::string known;
         for (const BagTopic& topic : topics_) {
-          known += (known.empty() ? "" : ", ") + topic.topic;
+          known += (known.empty() ? "" : ", ") + Ros2Quoted(topic.topic);
         }
         throw FormatError(path_ + ": no topic " + Ros2Quoted(name) +
                           " in the bag (its topics: " +

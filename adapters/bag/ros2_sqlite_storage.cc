@@ -194,7 +194,8 @@ class SqliteRos2Storage final : public Ros2Storage {
       const std::string format =
           SqliteText(statement.get(), 3, path_, "serialization_format");
       if (format != "cdr") {
-        topic.refusal = "serialization format '" + format + "', not 'cdr'";
+        topic.refusal =
+            "serialization format " + Ros2Quoted(format) + ", not 'cdr'";
       }
       if (!index_of_id_.emplace(id, topics_.size()).second) {
         SqliteFail(path_, "topics: id " + std::to_string(id) + " twice");
