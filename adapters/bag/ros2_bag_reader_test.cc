@@ -7,11 +7,14 @@
 
 #include "odomcal/adapters/format_error.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -173,6 +176,14 @@ std::string ReadError(const std::string& path) {
 
 class Ros2BagTest : public testing::TestWithParam<std::string> {};
 
+std::string ParamName(const testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  for (char& c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  }
+  return name;
+}
+
 TEST_P(Ros2BagTest, TopicsMatchTheWriter) {
   const std::string path = kFixtures + "/" + GetParam();
   ASSERT_TRUE(LooksLikeRos2Bag(path));
@@ -258,14 +269,7 @@ INSTANTIATE_TEST_SUITE_P(Fixtures,
                                          "db3_bag",
                                          "db3_bag/db3_bag_0.db3",
                                          "split_bag"),
-                         [](const testing::TestParamInfo<std::string>& info) {
-                           std::string name = info.param;
-                           for (char& c : name) {
-                             if (!std::isalnum(static_cast<unsigned char>(c)))
-                               c = '_';
-                           }
-                           return name;
-                         });
+                         ParamName);
 
 // The fixtures exercise what the tests above rely on.
 TEST(Ros2BagFixtures, StorageOrderDiffersFromTimeOrder) {
@@ -568,6 +572,65 @@ TEST_F(Ros2FolderTest, StorageOfTheWrongKind) {
       folder, "storage_identifier: mcap", "storage_identifier: sqlite3");
   EXPECT_NE(ReadError(folder).find("mcap_bag_0.mcap"), std::string::npos);
 }
+
+// Bags recorded by rosbag2 itself, against their metadata.yaml.
+class RecordedByRosbag2Test : public testing::TestWithParam<std::string> {};
+
+TEST_P(RecordedByRosbag2Test, TopicsAndMessagesMatchTheMetadata) {
+  const std::string path =
+      std::string(ODOMCAL_ROSBAG2_RECORDED) + "/" + GetParam();
+  const YAML::Node info =
+      YAML::LoadFile(path + "/metadata.yaml")["rosbag2_bagfile_information"];
+  std::map<std::string, std::pair<std::string, int64_t>> expected;
+  for (const YAML::Node& topic : info["topics_with_message_count"]) {
+    std::string type = topic["topic_metadata"]["type"].as<std::string>();
+    type.replace(type.find("/msg/"), 5, "/");
+    expected[topic["topic_metadata"]["name"].as<std::string>()] = {
+        type, topic["message_count"].as<int64_t>()};
+  }
+  const int64_t start =
+      info["starting_time"]["nanoseconds_since_epoch"].as<int64_t>();
+  const int64_t end = start + info["duration"]["nanoseconds"].as<int64_t>();
+
+  const auto reader = OpenRos2Bag(path, {});
+  ASSERT_EQ(reader->Topics().size(), expected.size());
+  int64_t first = 0;
+  int64_t last = 0;
+  for (const BagTopic& topic : reader->Topics()) {
+    ASSERT_EQ(expected.count(topic.topic), 1u) << topic.topic;
+    EXPECT_EQ(topic.type, expected[topic.topic].first);
+    EXPECT_EQ(topic.message_count, expected[topic.topic].second);
+    if (topic.message_count == 0) continue;
+    first = first == 0 ? topic.first_log_time_ns
+                       : std::min(first, topic.first_log_time_ns);
+    last = std::max(last, topic.last_log_time_ns);
+  }
+  EXPECT_EQ(first, start);
+  EXPECT_EQ(last, end);
+
+  // /topic: std_msgs/String "Hello, world! N" in CDR (little-endian
+  // encapsulation 00 01 00 00, uint32 length with the '\0', the bytes).
+  const auto talker = OpenRos2Bag(path, {"/topic"});
+  const std::vector<BagMessage> messages = ReadAll(talker.get());
+  ASSERT_EQ(messages.size(), 10u);
+  for (size_t i = 0; i < messages.size(); ++i) {
+    const std::vector<uint8_t>& data = messages[i].data;
+    const std::string text = "Hello, world! " + std::to_string(i);
+    std::vector<uint8_t> want = {
+        0, 1, 0, 0, static_cast<uint8_t>(text.size() + 1), 0, 0, 0};
+    want.insert(want.end(), text.begin(), text.end());
+    want.push_back(0);
+    EXPECT_EQ(data, want) << "message " << i;
+    if (i > 0) {
+      EXPECT_GT(messages[i].log_time_ns, messages[i - 1].log_time_ns);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Talker,
+                         RecordedByRosbag2Test,
+                         testing::Values("talker_sqlite3", "talker_mcap"),
+                         ParamName);
 
 TEST(Ros2Bag, NotABag) {
   const ScratchFolder scratch;
