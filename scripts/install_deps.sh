@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages odomcal needs. Idempotent: packages that are
-# already installed are skipped, and `apt-get update` runs at most once.
+# Installs the Debian 12 packages odomcal needs, then the npm packages that
+# write the ROS 2 bag test fixtures. Idempotent: packages that are already
+# installed are skipped, `apt-get update` runs at most once, and `npm ci`
+# runs only when tests/fixtures/bags/package-lock.json changed.
 set -euo pipefail
 
 PACKAGES=(
