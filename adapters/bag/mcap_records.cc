@@ -301,6 +301,25 @@ void DecompressMcapChunk(const McapChunkView& chunk,
   }
 }
 
+void InflateZstdFrame(const uint8_t* data,
+                      size_t size,
+                      const std::string& context,
+                      std::vector<uint8_t>* out) {
+  const unsigned long long declared = ZSTD_getFrameContentSize(data, size);
+  if (declared == ZSTD_CONTENTSIZE_ERROR) {
+    throw FormatError(context + ": not a zstd frame");
+  }
+  if (declared == ZSTD_CONTENTSIZE_UNKNOWN) {
+    throw FormatError(context + ": zstd frame without its content size");
+  }
+  McapChunkView frame;
+  frame.uncompressed_size = declared;
+  frame.compression = "zstd";
+  frame.records = data;
+  frame.records_size = size;
+  DecompressMcapChunk(frame, context, out);
+}
+
 uint32_t McapCrc32(uint32_t crc, const uint8_t* data, size_t size) {
   return static_cast<uint32_t>(crc32_z(crc, data, size));
 }

@@ -135,6 +135,14 @@ void DecompressMcapChunk(const McapChunkView& chunk,
                          const std::string& context,
                          std::vector<uint8_t>* out);
 
+// One zstd frame that declares its content size (ZSTD_compress writes it;
+// rosbag2's compression_mode MESSAGE stores each message so), inflated into
+// *out with the bounds of DecompressMcapChunk.
+void InflateZstdFrame(const uint8_t* data,
+                      size_t size,
+                      const std::string& context,
+                      std::vector<uint8_t>* out);
+
 // CRC-32 (IEEE, zlib's), continued from `crc` (0 to start).
 uint32_t McapCrc32(uint32_t crc, const uint8_t* data, size_t size);
 

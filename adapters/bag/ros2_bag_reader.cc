@@ -3,6 +3,7 @@
 // file, recognised by its content.
 #include "odomcal/adapters/bag/ros2_bag_reader.h"
 
+#include "odomcal/adapters/bag/mcap_records.h"
 #include "odomcal/adapters/bag/mcap_storage.h"
 #include "odomcal/adapters/bag/ros2_sqlite_storage.h"
 #include "odomcal/adapters/bag/ros2_storage.h"
@@ -67,6 +68,12 @@ struct Ros2File {
   Ros2StorageKind kind = Ros2StorageKind::kSqlite;
 };
 
+struct Ros2Files {
+  std::vector<Ros2File> files;
+  // compression_mode MESSAGE, zstd: each message's data is one zstd frame.
+  bool zstd_messages = false;
+};
+
 std::unique_ptr<Ros2Storage> OpenRos2Storage(const Ros2File& file) {
   return file.kind == Ros2StorageKind::kMcap
              ? internal::OpenMcapStorage(file.path)
@@ -82,7 +89,7 @@ std::string Ros2Upper(std::string text) {
 
 // The keys of metadata.yaml (rosbag2_storage's BagMetadata) that say which
 // files hold the messages and how.
-std::vector<Ros2File> ReadRos2Metadata(const std::string& folder) {
+Ros2Files ReadRos2Metadata(const std::string& folder) {
   const std::string path = (fs::path(folder) / "metadata.yaml").string();
   const auto fail = [&](const std::string& what) -> void {
     throw FormatError(path + ": " + what);
@@ -117,8 +124,13 @@ std::vector<Ros2File> ReadRos2Metadata(const std::string& folder) {
     fail("unknown storage_identifier " + Ros2Quoted(storage) +
          " (readable: sqlite3, mcap)");
   }
+  // FILE compresses whole storage files (.db3.zstd), which SQLite cannot
+  // open in place; MESSAGE compresses each message on its own.
+  Ros2Files result;
   const std::string mode = Ros2Upper(compression_mode);
-  if (!mode.empty() && mode != "NONE") {
+  if (mode == "MESSAGE" && compression_format == "zstd") {
+    result.zstd_messages = true;
+  } else if (!mode.empty() && mode != "NONE") {
     fail("compression_mode " + Ros2Quoted(compression_mode) + " (" +
          Ros2Quoted(compression_format) +
          ") is not supported: decompress the bag first (ros2 bag convert)");
@@ -127,7 +139,6 @@ std::vector<Ros2File> ReadRos2Metadata(const std::string& folder) {
   // Up to version 3, rosbag2 wrote the paths with the bag folder's name.
   const fs::path base =
       version < 4 ? fs::path(folder).parent_path() : fs::path(folder);
-  std::vector<Ros2File> files;
   for (const std::string& relative : relative_paths) {
     const fs::path file =
         fs::path(relative).is_absolute() ? fs::path(relative) : base / relative;
@@ -136,17 +147,19 @@ std::vector<Ros2File> ReadRos2Metadata(const std::string& folder) {
       fail("lists " + Ros2Quoted(relative) + ", which is not a file in " +
            folder);
     }
-    files.push_back({file.string(), kind});
+    result.files.push_back({file.string(), kind});
   }
-  return files;
+  return result;
 }
 
 class Ros2BagReader final : public BagReader {
  public:
   Ros2BagReader(std::string path,
-                std::vector<Ros2File> files,
+                Ros2Files files,
                 const std::vector<std::string>& topics)
-      : path_(std::move(path)), files_(std::move(files)) {
+      : path_(std::move(path)),
+        files_(std::move(files.files)),
+        zstd_messages_(files.zstd_messages) {
     for (size_t i = 0; i < files_.size(); ++i) {
       std::unique_ptr<Ros2Storage> storage = OpenRos2Storage(files_[i]);
       std::vector<size_t> merged;
@@ -175,6 +188,15 @@ class Ros2BagReader final : public BagReader {
       }
       if (storage_->Next(message)) {
         message->topic_index = file_topics_[file_][message->topic_index];
+        if (zstd_messages_) {
+          internal::InflateZstdFrame(
+              message->data.data(),
+              message->data.size(),
+              files_[file_].path + ": message logged at " +
+                  std::to_string(message->log_time_ns) + " ns",
+              &inflated_);
+          message->data.swap(inflated_);
+        }
         return true;
       }
       storage_.reset();
@@ -245,6 +267,8 @@ class Ros2BagReader final : public BagReader {
 
   std::string path_;
   std::vector<Ros2File> files_;
+  bool zstd_messages_ = false;
+  std::vector<uint8_t> inflated_;
   std::vector<BagTopic> topics_;
   std::vector<std::string> refusals_;
   // Per file: its topics' indexes in topics_.
@@ -270,7 +294,7 @@ bool LooksLikeRos2Bag(const std::string& path) {
 std::unique_ptr<BagReader> OpenRos2Bag(const std::string& path,
                                        const std::vector<std::string>& topics) {
   std::error_code error;
-  std::vector<Ros2File> files;
+  Ros2Files files;
   if (fs::is_directory(path, error)) {
     if (!fs::is_regular_file(fs::path(path) / "metadata.yaml", error)) {
       throw FormatError(path +
@@ -280,9 +304,9 @@ std::unique_ptr<BagReader> OpenRos2Bag(const std::string& path,
   } else if (!fs::exists(path, error)) {
     throw FormatError(path + ": no such file or folder");
   } else if (internal::LooksLikeMcapFile(path)) {
-    files.push_back({path, Ros2StorageKind::kMcap});
+    files.files.push_back({path, Ros2StorageKind::kMcap});
   } else if (internal::LooksLikeSqliteFile(path)) {
-    files.push_back({path, Ros2StorageKind::kSqlite});
+    files.files.push_back({path, Ros2StorageKind::kSqlite});
   } else {
     throw FormatError(
         path +

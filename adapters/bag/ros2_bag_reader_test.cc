@@ -268,7 +268,8 @@ INSTANTIATE_TEST_SUITE_P(Fixtures,
                                          "mcap_bag",
                                          "db3_bag",
                                          "db3_bag/db3_bag_0.db3",
-                                         "split_bag"),
+                                         "split_bag",
+                                         "message_zstd_bag"),
                          ParamName);
 
 // The fixtures exercise what the tests above rely on.
@@ -550,6 +551,16 @@ TEST_F(Ros2FolderTest, FileCompressionIsRefused) {
   EditMetadata(folder, "compression_mode: \"\"", "compression_mode: FILE");
   const std::string error = ReadError(folder);
   EXPECT_NE(error.find("compression_mode 'FILE'"), std::string::npos) << error;
+}
+
+TEST_F(Ros2FolderTest, MessageCompressionOfUncompressedMessages) {
+  const std::string folder = Copy("db3_bag");
+  EditMetadata(folder, "compression_format: \"\"", "compression_format: zstd");
+  EditMetadata(folder, "compression_mode: \"\"", "compression_mode: MESSAGE");
+  const std::string error = ReadError(folder);
+  EXPECT_NE(error.find("db3_bag_0.db3: message logged at "), std::string::npos)
+      << error;
+  EXPECT_NE(error.find("not a zstd frame"), std::string::npos) << error;
 }
 
 TEST_F(Ros2FolderTest, MalformedMetadataIsRefused) {
