@@ -70,8 +70,8 @@ done
 # The unit test binaries, minus the ones below; every other *_test target
 # must be listed in one of the two arrays, so that a new unit test binary is
 # not left unbuilt (ctest would skip it without a word).
-unit_tests=(solver_test adapters_test bag_ros1_test bag_extract_test datasets_test output_test colmap_test
-            report_test robustness_test command_line_test)
+unit_tests=(solver_test adapters_test bag_ros1_test bag_ros2_test bag_extract_test datasets_test
+            output_test colmap_test report_test robustness_test command_line_test)
 # e2e-labelled CLI runs of the sanitized odomcal executable (seconds each;
 # their ctest label is e2e, so they are selected by test name below).
 cli_tests=(cli_test colmap_cli_test)
