@@ -13,6 +13,8 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdarg>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -24,6 +26,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// printf into a string, for the aligned columns of `inspect`.
+std::string BagText(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string BagText(const char* format, ...) {
+  char buffer[512];
+  va_list arguments;
+  va_start(arguments, format);
+  std::vsnprintf(buffer, sizeof(buffer), format, arguments);
+  va_end(arguments);
+  return buffer;
+}
+
 // Messages per second between the first and the last message.
 double RateHz(int64_t count, int64_t first_ns, int64_t last_ns) {
   return count > 1 && last_ns > first_ns
@@ -33,7 +46,7 @@ double RateHz(int64_t count, int64_t first_ns, int64_t last_ns) {
 
 std::string TopicLine(const bag::TopicExtractionSummary& topic,
                       const std::string& what) {
-  return FormatPrintf("%s: %s (%s), %lld of %lld messages, %.1f s at %.1f Hz",
+  return BagText("%s: %s (%s), %lld of %lld messages, %.1f s at %.1f Hz",
                       what.c_str(),
                       topic.topic.c_str(),
                       topic.type.c_str(),
@@ -162,7 +175,7 @@ int RunInspect(int argc, char** argv) {
       width = std::max(width, topic.topic.size());
       type_width = std::max(type_width, topic.type.size());
     }
-    std::cout << "  " << FormatPrintf("%-*s  %-*s  %9s  %9s  %9s",
+    std::cout << "  " << BagText("%-*s  %-*s  %9s  %9s  %9s",
                                       static_cast<int>(width),
                                       "topic",
                                       static_cast<int>(type_width),
@@ -176,7 +189,7 @@ int RunInspect(int argc, char** argv) {
                                  topic.first_log_time_ns,
                                  topic.last_log_time_ns);
       std::cout << "  "
-                << FormatPrintf(
+                << BagText(
                        "%-*s  %-*s  %9lld  %6.1f Hz  %7.1f s",
                        static_cast<int>(width),
                        topic.topic.c_str(),
