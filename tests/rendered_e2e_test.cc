@@ -287,13 +287,33 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
 }
 
 // Camera pitched 10 deg down and rolled 90 deg: roll and pitch of the
-// extrinsic far from the forward mount, same tolerances. Run through the
+// extrinsic far from the forward mount, same tolerances. The rendered drive
+// reaches odomcal as a robot records it: a ROS 1 bag written by Debian's
+// python3-rosbag (tests/fixtures/bags/rendered_to_ros1_bag.py: PNG
+// CompressedImage, CameraInfo in ROS's pixel convention, nav_msgs/Odometry,
+// header stamps the capture times, received 1-4 ms later), read with
+// `run --bag` (intrinsics from CameraInfo). COLMAP is driven through the
 // command line of COLMAP 4.1.1 with --mapper global: tests/fake_colmap/
 // fake_colmap.py accepts only 4.1.1's option names (global_mapper's
 // GlobalMapper.*, FeatureExtraction.*, ...) and runs the installed COLMAP
-// 3.8 with them translated, so the whole pipeline meets a 4.x command
-// line (the mapping itself stays 3.8's incremental mapper).
-TEST_F(RenderedEndToEnd, TiltedRolledCameraThroughColmap4GlobalMapper) {
+// 3.8 with them translated (the mapping itself stays 3.8's incremental
+// mapper).
+TEST_F(RenderedEndToEnd, TiltedCameraFromARos1BagThroughColmap4GlobalMapper) {
+  PresetRun run;
+  const fs::path data = dir_ / "data";
+  const fs::path bag = dir_ / "bag" / "drive.bag";
+  fs::create_directories(bag.parent_path());
+  run.workspace = dir_ / "ws";
+  ASSERT_EQ(Run("render --preset tilted --seed " + std::to_string(TestSeed(1)) +
+                    " --output_path " + data.string(),
+                &run.log),
+            0)
+      << run.log;
+  run.truth = json::parse(ReadFile(data / "ground_truth.json"));
+  ASSERT_EQ(std::system(("/usr/bin/python3 " ODOMCAL_BAG_FROM_RENDERING " " +
+                         data.string() + " " + bag.string())
+                            .c_str()),
+            0);
   const fs::path colmap = dir_ / "colmap_4.1.1";
   {
     std::ofstream wrapper(colmap);
@@ -301,13 +321,45 @@ TEST_F(RenderedEndToEnd, TiltedRolledCameraThroughColmap4GlobalMapper) {
             << " --emulate 4.1.1 --real colmap \"$@\"\n";
   }
   fs::permissions(colmap, fs::perms::owner_all, fs::perm_options::add);
-  const PresetRun run = RunPreset(
-      "tilted",
-      TestSeed(1),
-      "--mapper global --colmap_path " + colmap.string());
+  std::ostringstream z;
+  z.precision(17);
+  z << run.truth["odom_from_cam"]["translation_m"][2].get<double>();
+  const auto bag_before = Snapshot(bag.parent_path());
+  run.exit_code =
+      Run("run --bag " + bag.string() + " --workspace_path " +
+              run.workspace.string() + " --fixed_translation_z_m " + z.str() +
+              " --mapper global --colmap_path " + colmap.string(),
+          &run.log);
+  run.inputs_unchanged = Snapshot(bag.parent_path()) == bag_before;
+  ASSERT_TRUE(fs::exists(run.workspace / "calibration.json")) << run.log;
+  run.result = json::parse(ReadFile(run.workspace / "calibration.json"));
+  // The extraction names each image by its stamp in ns: the truth's names
+  // follow (the rendered times are exact decimals of 0.1 s).
+  std::map<std::string, std::string> bag_names;
+  std::istringstream times(ReadFile(data / "image_timestamps.csv"));
+  std::string line;
+  std::getline(times, line);  // header
+  while (std::getline(times, line)) {
+    const size_t comma = line.find(',');
+    const std::string seconds = line.substr(comma + 1);
+    const size_t point = seconds.find('.');
+    const std::string nanoseconds =
+        seconds.substr(0, point) +
+        (seconds.substr(point + 1) + "000000000").substr(0, 9);
+    bag_names[line.substr(0, comma)] = nanoseconds + ".png";
+  }
+  for (auto& image : run.truth["images"]) {
+    image["name"] = bag_names.at(image["name"].get<std::string>());
+  }
   ExpectAccurate(run, 0.1, 0.005, 0.003);
   EXPECT_EQ(run.result["colmap"]["version"], "4.1.1") << run.log;
   EXPECT_EQ(run.result["colmap"]["mapper"], "global_mapper") << run.log;
+  EXPECT_EQ(run.result["inputs"]["bag"], bag.string());
+  EXPECT_EQ(run.result["options"]["bag"]["bag_time"], "header");
+  // The intrinsics came from CameraInfo, moved to COLMAP's pixel centre.
+  const std::string camera =
+      ReadFile(run.workspace / "bag_inputs" / "camera.txt");
+  EXPECT_NE(camera.find("\n1 PINHOLE "), std::string::npos) << camera;
 }
 
 TEST_F(RenderedEndToEnd, StraightDrivingIsUnobservable) {

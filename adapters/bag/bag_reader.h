@@ -3,8 +3,8 @@
 //
 // Readers stream: memory stays bounded by one chunk and one message, whatever
 // the bag's size. Messages come in storage order (for ROS 1 the chunks' order,
-// for MCAP the chunks' order, for SQLite the rowid order), which is close to
-// but not always log-time order; consumers that need order sort by stamp.
+// for MCAP the chunks' order, for SQLite the time stamp order), which is close
+// to but not always log-time order; consumers that need order sort by stamp.
 // Times are integer nanoseconds since the Unix epoch.
 //
 // Every problem with the file (truncated, unindexed and unscannable, unknown

@@ -27,7 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // printf into a string, for the aligned columns of `inspect`.
-std::string BagText(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string BagText(const char* format, ...)
+    __attribute__((format(printf, 1, 2)));
 std::string BagText(const char* format, ...) {
   char buffer[512];
   va_list arguments;
@@ -47,25 +48,24 @@ double RateHz(int64_t count, int64_t first_ns, int64_t last_ns) {
 std::string TopicLine(const bag::TopicExtractionSummary& topic,
                       const std::string& what) {
   return BagText("%s: %s (%s), %lld of %lld messages, %.1f s at %.1f Hz",
-                      what.c_str(),
-                      topic.topic.c_str(),
-                      topic.type.c_str(),
-                      static_cast<long long>(topic.used),
-                      static_cast<long long>(topic.messages),
-                      1e-9 * (topic.last_stamp_ns - topic.first_stamp_ns),
-                      topic.rate_hz);
+                 what.c_str(),
+                 topic.topic.c_str(),
+                 topic.type.c_str(),
+                 static_cast<long long>(topic.used),
+                 static_cast<long long>(topic.messages),
+                 1e-9 * (topic.last_stamp_ns - topic.first_stamp_ns),
+                 topic.rate_hz);
 }
 
 // The chosen topics in one line: "images /cam/image_raw, odometry /odom,
 // camera info /cam/camera_info".
 std::string ChoiceLine(const bag::ChosenTopics& topics) {
-  std::string line = "images " + topics.image + ", " +
-                     (topics.odometry_joint_state ? "wheel joint states "
-                                                  : "odometry ") +
-                     topics.odometry;
-  line += topics.camera_info.empty()
-              ? ", no camera info (give --camera_params)"
-              : ", camera info " + topics.camera_info;
+  std::string line =
+      "images " + topics.image + ", " +
+      (topics.odometry_joint_state ? "wheel joint states " : "odometry ") +
+      topics.odometry;
+  line += topics.camera_info.empty() ? ", no camera info (give --camera_params)"
+                                     : ", camera info " + topics.camera_info;
   return line;
 }
 
@@ -97,8 +97,8 @@ bag::BagExtractionSummary ExtractBagPrinting(
   const std::unique_ptr<bag::BagReader> reader =
       bag::OpenBag(bag_path, SelectedTopics(chosen));
   int last_tenth = -1;
-  const bag::BagExtractionSummary summary = bag::ExtractBag(
-      *reader, options, [&](int64_t done, int64_t total) {
+  const bag::BagExtractionSummary summary =
+      bag::ExtractBag(*reader, options, [&](int64_t done, int64_t total) {
         const int tenth = total > 0 ? static_cast<int>(10 * done / total) : 0;
         if (tenth > last_tenth) {
           last_tenth = tenth;
@@ -109,8 +109,7 @@ bag::BagExtractionSummary ExtractBagPrinting(
   out << "  " << TopicLine(summary.images, "images") << "\n";
   out << "  "
       << TopicLine(summary.odometry,
-                   summary.topics.odometry_joint_state ? "wheels"
-                                                       : "odometry")
+                   summary.topics.odometry_joint_state ? "wheels" : "odometry")
       << " -> " << summary.odometry_file
       << (summary.topics.odometry_joint_state
               ? " (joints " + summary.left_wheel_joint + ", " +
@@ -175,35 +174,35 @@ int RunInspect(int argc, char** argv) {
       width = std::max(width, topic.topic.size());
       type_width = std::max(type_width, topic.type.size());
     }
-    std::cout << "  " << BagText("%-*s  %-*s  %9s  %9s  %9s",
-                                      static_cast<int>(width),
-                                      "topic",
-                                      static_cast<int>(type_width),
-                                      "type",
-                                      "messages",
-                                      "rate",
-                                      "span")
+    std::cout << "  "
+              << BagText("%-*s  %-*s  %9s  %9s  %9s",
+                         static_cast<int>(width),
+                         "topic",
+                         static_cast<int>(type_width),
+                         "type",
+                         "messages",
+                         "rate",
+                         "span")
               << "\n";
     for (const bag::BagTopic& topic : topics) {
-      const double rate = RateHz(topic.message_count,
-                                 topic.first_log_time_ns,
-                                 topic.last_log_time_ns);
+      const double rate = RateHz(
+          topic.message_count, topic.first_log_time_ns, topic.last_log_time_ns);
       std::cout << "  "
-                << BagText(
-                       "%-*s  %-*s  %9lld  %6.1f Hz  %7.1f s",
-                       static_cast<int>(width),
-                       topic.topic.c_str(),
-                       static_cast<int>(type_width),
-                       topic.type.c_str(),
-                       static_cast<long long>(topic.message_count),
-                       rate,
-                       1e-9 * (topic.last_log_time_ns - topic.first_log_time_ns))
+                << BagText("%-*s  %-*s  %9lld  %6.1f Hz  %7.1f s",
+                           static_cast<int>(width),
+                           topic.topic.c_str(),
+                           static_cast<int>(type_width),
+                           topic.type.c_str(),
+                           static_cast<long long>(topic.message_count),
+                           rate,
+                           1e-9 * (topic.last_log_time_ns -
+                                   topic.first_log_time_ns))
                 << "\n";
     }
     std::cout << "  (rates and spans from the recorder's receive times)\n";
     try {
-      std::cout << "run --bag would use: "
-                << ChoiceLine(bag::ChooseTopics(topics, options)) << "\n";
+      const std::string choice = ChoiceLine(bag::ChooseTopics(topics, options));
+      std::cout << "run --bag would use: " << choice << "\n";
     } catch (const std::invalid_argument& why) {
       std::cout << "run --bag cannot choose by itself: " << why.what() << "\n";
     }
@@ -248,11 +247,10 @@ int RunExtract(int argc, char** argv) {
     const bag::BagExtractionSummary summary =
         ExtractBagPrinting(bag_path, options, std::cout);
     const fs::path out(options.output_folder);
-    std::string next = "odomcal run --image_path " +
-                       (out / "images").string() + " --image_timestamps " +
+    std::string next = "odomcal run --image_path " + (out / "images").string() +
+                       " --image_timestamps " +
                        (out / "image_timestamps.csv").string() +
-                       " --odometry " +
-                       ExtractedOdometryPath(options, summary);
+                       " --odometry " + ExtractedOdometryPath(options, summary);
     if (summary.topics.odometry_joint_state) {
       next += " --wheel_track_m " +
               (options.wheel_track_m > 0.0

@@ -7,8 +7,8 @@
 #include "odomcal/plugin/cli/bag_commands.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_flags.h"
-#include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/options/bag_flags.h"
+#include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/colmap_report.h"
@@ -238,7 +238,8 @@ int RunRun(int argc, char** argv) {
     return *exit_code;
   }
   const bool from_bag = !bag_path.empty();
-  for (const char* flag : {"--image_path", "--odometry", "--image_timestamps"}) {
+  for (const char* flag :
+       {"--image_path", "--odometry", "--image_timestamps"}) {
     const bool given = app.count(flag) > 0;
     if (from_bag && given) {
       std::cerr << "odomcal run: error: --bag gives the images, their times "
@@ -255,17 +256,17 @@ int RunRun(int argc, char** argv) {
 
   return RunReportingErrors(app, [&]() -> int {
     FinishProjectFlags(flags, &run.project);
-    nlohmann::json bag_echo = {{"inputs", {{"bag", nullptr}}},
-                               {"options", {{"bag", nlohmann::json::object()}}}};
+    nlohmann::json bag_echo = {
+        {"inputs", {{"bag", nullptr}}},
+        {"options", {{"bag", nlohmann::json::object()}}}};
     EchoOptions(BagTopicFlags(), bag_options, &bag_echo["options"]["bag"]);
     if (from_bag) {
       bag_echo["inputs"]["bag"] = bag_path;
       std::cout << "odomcal run: extracting " << bag_path << "\n";
-      PrepareBagInputs(bag_path, app.count("--camera_params") > 0,
-                       &bag_options, &run);
+      PrepareBagInputs(
+          bag_path, app.count("--camera_params") > 0, &bag_options, &run);
     }
-    const RunOutcome outcome =
-        RunAndWriteOutputs(run, "odomcal run", bag_echo);
+    const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run", bag_echo);
     std::cout << CalibrationSummary(outcome.calibration.check.result,
                                     outcome.context);
     if (!outcome.calibration.colmap_version.empty()) {

@@ -381,7 +381,8 @@ std::vector<FlaggedPath> UserInputs(const ReconstructionOptions& run) {
       {run.project.odometry_path, "--odometry"},
       {run.project.image_timestamps_path, "--image_timestamps"}};
   if (run.extracted_inputs_path.empty()) return inputs;
-  const fs::path extracted = fs::path(run.extracted_inputs_path).lexically_normal();
+  const fs::path extracted =
+      fs::path(run.extracted_inputs_path).lexically_normal();
   inputs.erase(std::remove_if(inputs.begin(),
                               inputs.end(),
                               [&extracted](const FlaggedPath& input) {

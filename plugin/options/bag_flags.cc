@@ -31,7 +31,9 @@ const OptionTable<BagOptions>& BagTopicFlags() {
           "header: each message's header.stamp (the capture time); "
           "receive: when the recorder received it",
           {"header", "receive"},
-          [](const BagOptions& o) { return std::string(bag::BagTimeName(o.time)); },
+          [](const BagOptions& o) {
+            return std::string(bag::BagTimeName(o.time));
+          },
           [](BagOptions* o, const std::string& name) {
             o->time = bag::ParseBagTime(name);
           }),
