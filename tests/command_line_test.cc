@@ -210,10 +210,11 @@ TEST_F(CommandLine, HelpOfACommandIsItsHelpFlag) {
 }
 
 TEST_F(CommandLine, HelpOfAnUnknownCommandNamesTheCommands) {
-  ExpectBadInput(RunOdomcal({"help", "calibration"}),
-                 "odomcal help: error: unknown command 'calibration' "
-                 "(commands: calibrate, "
-                 "colmap, run, demo, render, simulate, version)");
+  ExpectBadInput(
+      RunOdomcal({"help", "calibration"}),
+      "odomcal help: error: unknown command 'calibration' "
+      "(commands: calibrate, "
+      "colmap, run, inspect, extract, demo, render, simulate, version)");
   ExpectBadInput(
       RunOdomcal({"help", "calibrate", "colmap"}),
       "odomcal help: error: unexpected argument 'colmap' (usage: odomcal help "

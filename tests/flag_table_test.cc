@@ -119,6 +119,7 @@ std::map<std::string, std::map<std::string, std::string>> DocumentedFlags() {
 constexpr char kCalibrationSection[] =
     "Calibration flags (every command that calibrates)";
 constexpr char kProjectSection[] = "Project flags (`colmap` and `run`)";
+constexpr char kBagSection[] = "Bag flags (`inspect`, `extract` and `run`)";
 
 // The docs/cli.md sections that together list a command's flags.
 std::vector<std::string> SectionsOf(const std::string& command) {
@@ -126,9 +127,11 @@ std::vector<std::string> SectionsOf(const std::string& command) {
   if (command == "calibrate" || command == "demo") {
     return {kCalibrationSection, own};
   }
-  if (command == "colmap" || command == "run") {
-    return {kCalibrationSection, kProjectSection, own};
+  if (command == "colmap") return {kCalibrationSection, kProjectSection, own};
+  if (command == "run") {
+    return {kCalibrationSection, kProjectSection, kBagSection, own};
   }
+  if (command == "inspect" || command == "extract") return {kBagSection};
   return {own};
 }
 
@@ -137,7 +140,7 @@ TEST(FlagTable,
   const auto documented = DocumentedFlags();
   const std::vector<std::string> commands = {
       "calibrate", "colmap", "run", "demo", "render", "simulate"};
-  std::set<std::string> sections_of_commands;
+  std::set<std::string> sections_of_commands = {kBagSection};
   for (const std::string& command : commands) {
     for (const std::string& section : SectionsOf(command)) {
       sections_of_commands.insert(section);
@@ -510,8 +513,24 @@ TEST_F(FlagEcho, RunEchoesEveryFlag) {
   const fs::path path = dir_ / "ws" / "calibration.json";
   ASSERT_TRUE(fs::exists(path)) << run.out << run.err;
   const json result = json::parse(ReadFile(path));
-  ExpectEchoOfEveryFlag(
-      "run", values, {"--force", "--wheel_ticks_per_m"}, result);
+  // A bag replaces --image_path, --odometry and --image_timestamps: its
+  // flags are echoed with their defaults (run --bag: RenderedEndToEnd).
+  ExpectEchoOfEveryFlag("run",
+                        values,
+                        {"--force",
+                         "--wheel_ticks_per_m",
+                         "--bag",
+                         "--image_topic",
+                         "--odometry_topic",
+                         "--joint_states_topic",
+                         "--camera_info_topic",
+                         "--bag_time",
+                         "--wheel_radius_m",
+                         "--left_wheel_joint",
+                         "--right_wheel_joint"},
+                        result);
+  EXPECT_TRUE(result["inputs"]["bag"].is_null());
+  EXPECT_EQ(result["options"]["bag"]["bag_time"], "header");
   EXPECT_EQ(result["options"]["run"]["force"], false);
 }
 
