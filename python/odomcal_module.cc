@@ -5,7 +5,9 @@
 //   calibrate_project(model_path, odometry, **options): `odomcal colmap`
 //     (odomcal::plugin's CalibrateColmapProject), writing nothing;
 //   reconstruct_and_calibrate(image_path, odometry, workspace_path,
-//     progress, **options): `odomcal run` (ReconstructAndCalibrate).
+//     progress, **options): `odomcal run` (ReconstructAndCalibrate); with
+//     bag=PATH instead of image_path and odometry, `odomcal run --bag`;
+//   extract(bag, output_path, **options): `odomcal extract`.
 //
 // The keywords are the command's flags: the module builds the same CLI11
 // app (command_flags.h) and parses "--name=value" made from the keywords, so
@@ -16,12 +18,14 @@
 // ("--max_odometry_gap_s" reads "max_odometry_gap_s").
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/plugin/cli/bag_commands.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/plugin/cli/command_line.h"
 #include "odomcal/plugin/colmap/colmap_runner.h"
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/odomcal_plugin.h"
+#include "odomcal/plugin/options/bag_flags.h"
 #include "odomcal/plugin/report/calibration_report.h"
 #include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/python/array_trajectory.h"
@@ -31,13 +35,16 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace py = pybind11;
+namespace fs = std::filesystem;
 
 namespace odomcal {
 namespace {
@@ -307,11 +314,35 @@ struct RunFlagSet {
   CLI::App app{"", "odomcal.reconstruct_and_calibrate"};
   ReconstructionOptions options;
   ProjectFlags flags;
+  // bag= instead of image_path, odometry and image_timestamps.
+  std::string bag_path;
+  bag::BagExtractionOptions bag_options;
   RunFlagSet() {
     AddRunFlags(&app, &options);
     AddProjectFlags(&app, &options.project, &flags);
+    app.add_option("--bag", bag_path, "a robot bag (ROS 1 or ROS 2)");
+    AddFlags(BagTopicFlags(), &app, &bag_options);
+    for (const char* flag : {"--image_path", "--odometry"}) {
+      app.get_option(flag)->required(false);
+    }
   }
   FlagParser Parser() { return {"odomcal.reconstruct_and_calibrate", &app}; }
+};
+
+struct ExtractFlagSet {
+  CLI::App app{"", "odomcal.extract"};
+  std::string bag_path;
+  bag::BagExtractionOptions options;
+  ExtractFlagSet() {
+    app.add_option("--bag", bag_path, "a robot bag (ROS 1 or ROS 2)")
+        ->required();
+    app.add_option("--output_path", options.output_folder, "the folder")
+        ->required();
+    AddFlags(BagTopicFlags(), &app, &options);
+    app.add_option(
+        "--wheel_track_m", options.wheel_track_m, "the nominal wheel track");
+  }
+  FlagParser Parser() { return {"odomcal.extract", &app}; }
 };
 
 py::object Calibrate(const py::object& camera_poses,
@@ -378,19 +409,45 @@ py::object ReconstructAndCalibrateFolder(const py::object& image_path,
                                          const py::object& progress,
                                          const py::kwargs& keywords) {
   RunFlagSet flag_set;
-  ParseKeywords(flag_set.Parser(),
-                WithArguments(keywords,
-                              {{"image_path", image_path},
-                               {"odometry", odometry},
-                               {"workspace_path", workspace_path}}));
+  std::vector<std::pair<const char*, py::object>> named = {
+      {"workspace_path", workspace_path}};
+  if (!image_path.is_none()) named.emplace_back("image_path", image_path);
+  if (!odometry.is_none()) named.emplace_back("odometry", odometry);
+  ParseKeywords(flag_set.Parser(), WithArguments(keywords, named));
+  const bool from_bag = !flag_set.bag_path.empty();
+  const bool timestamps_given = keywords.contains("image_timestamps");
+  if (from_bag &&
+      (!image_path.is_none() || !odometry.is_none() || timestamps_given)) {
+    throw py::value_error(
+        "bag: gives the images, their times and the odometry: drop "
+        "image_path, odometry and image_timestamps");
+  }
+  if (!from_bag && (image_path.is_none() || odometry.is_none())) {
+    throw py::type_error(
+        "reconstruct_and_calibrate: give image_path and odometry, or bag");
+  }
   FinishProjectFlags(flag_set.flags, &flag_set.options.project);
   if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
     throw py::type_error(
         "progress: expected a callable or None, got " +
         std::string(py::str(py::type::of(progress).attr("__name__"))));
   }
-  const ReconstructionOptions& options = flag_set.options;
+  ReconstructionOptions& options = flag_set.options;
   return DictFromJson(ReportingErrors([&] {
+    nlohmann::json bag_echo = {
+        {"inputs", {{"bag", nullptr}}},
+        {"options", {{"bag", nlohmann::json::object()}}}};
+    EchoOptions(
+        BagTopicFlags(), flag_set.bag_options, &bag_echo["options"]["bag"]);
+    if (from_bag) {
+      bag_echo["inputs"]["bag"] = flag_set.bag_path;
+      std::ostringstream lines;  // the library prints nothing
+      ExtractBagForRun(flag_set.bag_path,
+                       keywords.contains("camera_params"),
+                       &flag_set.bag_options,
+                       &options,
+                       lines);
+    }
     ProgressCallback callback;
     if (!progress.is_none()) {
       callback = [&progress](const PipelineProgress& step) {
@@ -406,13 +463,61 @@ py::object ReconstructAndCalibrateFolder(const py::object& image_path,
     ColmapCalibrationInputs calibrated = options.project;
     calibrated.model_path = result.model_path;
     calibrated.database_path = result.database_path;
+    nlohmann::json echo = RunResultFlagsEcho(options, result);
+    echo["inputs"]["bag"] = bag_echo["inputs"]["bag"];
+    echo["options"]["bag"] = bag_echo["options"]["bag"];
     return ColmapCalibrationToJson(
                result.calibration,
-               ProjectReportContext(calibrated,
-                                    result.calibration,
-                                    "odomcal run",
-                                    RunResultFlagsEcho(options, result)))
+               ProjectReportContext(
+                   calibrated, result.calibration, "odomcal run", echo))
         .dump();
+  }));
+}
+
+// odomcal.extract: `odomcal extract` as a call; its summary as a dict.
+py::object Extract(const py::object& bag_path,
+                   const py::object& output_path,
+                   const py::kwargs& keywords) {
+  ExtractFlagSet flag_set;
+  ParseKeywords(
+      flag_set.Parser(),
+      WithArguments(keywords,
+                    {{"bag", bag_path}, {"output_path", output_path}}));
+  return DictFromJson(ReportingErrors([&] {
+    std::ostringstream lines;  // the library prints nothing
+    const bag::BagExtractionSummary summary =
+        ExtractBagPrinting(flag_set.bag_path, flag_set.options, lines);
+    const auto topic = [](const bag::TopicExtractionSummary& t) {
+      return nlohmann::json{{"topic", t.topic},
+                            {"type", t.type},
+                            {"messages", t.messages},
+                            {"used", t.used},
+                            {"duplicate_stamps", t.duplicate_stamps},
+                            {"first_stamp_ns", t.first_stamp_ns},
+                            {"last_stamp_ns", t.last_stamp_ns},
+                            {"rate_hz", t.rate_hz},
+                            {"mean_abs_header_minus_receive_s",
+                             t.mean_abs_header_minus_receive_s}};
+    };
+    const fs::path out(flag_set.options.output_folder);
+    const auto [model, params] = ExtractedCamera(summary);
+    nlohmann::json result = {
+        {"images", topic(summary.images)},
+        {"odometry", topic(summary.odometry)},
+        {"image_path", (out / "images").string()},
+        {"image_timestamps", (out / "image_timestamps.csv").string()},
+        {"odometry_path", ExtractedOdometryPath(flag_set.options, summary)},
+        {"planar", summary.planar},
+        {"bag_time", bag::BagTimeName(summary.time)},
+        {"camera_model",
+         model.empty() ? nlohmann::json() : nlohmann::json(model)},
+        {"camera_params",
+         params.empty() ? nlohmann::json() : nlohmann::json(params)},
+        {"warnings", summary.warnings}};
+    if (!summary.camera_info.topic.empty()) {
+      result["camera_info"] = topic(summary.camera_info);
+    }
+    return result.dump();
   }));
 }
 
@@ -500,7 +605,8 @@ PYBIND11_MODULE(odomcal, module) {
              project_doc.c_str());
   static const std::string run_doc =
       "reconstruct_and_calibrate(image_path, odometry, workspace_path,\n"
-      "                          progress=None, **options) -> dict\n\n"
+      "                          progress=None, **options) -> dict\n"
+      "reconstruct_and_calibrate(bag=PATH, workspace_path=WS, ...) -> dict\n\n"
       "Runs `odomcal run`'s pipeline (frame selection, COLMAP in\n"
       "workspace_path, calibration; COLMAP must be on the PATH or given as\n"
       "colmap_path) and returns its calibration.json as a dict. Writes only\n"
@@ -518,9 +624,29 @@ PYBIND11_MODULE(odomcal, module) {
       }();
   module.def("reconstruct_and_calibrate",
              &odomcal::ReconstructAndCalibrateFolder,
-             py::arg("image_path"),
-             py::arg("odometry"),
-             py::arg("workspace_path"),
+             py::arg("image_path") = py::none(),
+             py::arg("odometry") = py::none(),
+             py::arg("workspace_path") = py::none(),
              py::arg("progress") = py::none(),
              run_doc.c_str());
+  static const std::string extract_doc =
+      "extract(bag, output_path, **options) -> dict\n\n"
+      "Runs `odomcal extract`: writes a robot bag's images (images/),\n"
+      "image_timestamps.csv, odometry.csv (or odometry.tum, wheels.csv) and\n"
+      "camera.txt into output_path (created, must be empty) and returns\n"
+      "what it wrote: the topics used, the files, camera_model and\n"
+      "camera_params (None without CameraInfo), warnings.\n\n"
+      "bag: a ROS 1 bag, or a ROS 2 bag (folder with metadata.yaml, .db3 or\n"
+      "    .mcap).\n"
+      "Raises ValueError naming the keyword or file.\n\n"
+      "options (`odomcal extract`'s flags, with their defaults):\n" +
+      [] {
+        odomcal::ExtractFlagSet flag_set;
+        return odomcal::KeywordHelp(flag_set.app, {"bag", "output_path"});
+      }();
+  module.def("extract",
+             &odomcal::Extract,
+             py::arg("bag"),
+             py::arg("output_path"),
+             extract_doc.c_str());
 }

@@ -5,6 +5,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"
 #include "odomcal/plugin/options/bag_flags.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
@@ -147,6 +148,39 @@ std::pair<std::string, std::string> ExtractedCamera(
   return {ColmapCameraModelName(summary.camera->model),
           at == std::string::npos ? std::string()
                                   : flags.substr(at + params_flag.size())};
+}
+
+// `odomcal run --bag`: the workspace claimed, the bag extracted into
+// WS/bag_inputs (replacing an earlier extraction), and `run` pointed at the
+// files: images, image times, odometry, and the camera from CameraInfo
+// unless --camera_params was given.
+bag::BagExtractionSummary ExtractBagForRun(
+    const std::string& bag_path,
+    bool camera_params_given,
+    bag::BagExtractionOptions* bag_options,
+    ReconstructionOptions* run,
+    std::ostream& out) {
+  const fs::path inputs = fs::path(run->workspace_path) / "bag_inputs";
+  PrepareOutputFolder({run->workspace_path, "--workspace_path"},
+                      {{bag_path, "--bag"}},
+                      {"bag_inputs"},
+                      ExistingOutputs::kReplaceOwn);
+  RemoveOwnedOutput(run->workspace_path, "bag_inputs");
+  bag_options->output_folder = inputs.string();
+  bag_options->wheel_track_m = run->project.systematics.wheel_track_m;
+  const bag::BagExtractionSummary summary =
+      ExtractBagPrinting(bag_path, *bag_options, out);
+  run->extracted_inputs_path = inputs.string();
+  run->image_path = (inputs / "images").string();
+  run->project.image_timestamps_path =
+      (inputs / "image_timestamps.csv").string();
+  run->project.odometry_path = ExtractedOdometryPath(*bag_options, summary);
+  const auto [model, params] = ExtractedCamera(summary);
+  if (!model.empty() && !camera_params_given) {
+    run->camera_model = model;
+    run->camera_params = params;
+  }
+  return summary;
 }
 
 int RunInspect(int argc, char** argv) {

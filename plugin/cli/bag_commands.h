@@ -5,6 +5,7 @@
 #pragma once
 
 #include "odomcal/adapters/bag/bag_extraction.h"
+#include "odomcal/plugin/colmap/reconstruction_pipeline.h"
 
 #include <ostream>
 #include <string>
@@ -20,6 +21,17 @@ int RunExtract(int argc, char** argv);
 bag::BagExtractionSummary ExtractBagPrinting(
     const std::string& bag_path,
     const bag::BagExtractionOptions& options,
+    std::ostream& out);
+
+// `odomcal run --bag`: the workspace claimed, the bag extracted into
+// <workspace>/bag_inputs (replacing an earlier extraction), and `run`
+// pointed at the files: images, image times, odometry, and the camera from
+// CameraInfo unless `camera_params_given`. Prints as ExtractBagPrinting.
+bag::BagExtractionSummary ExtractBagForRun(
+    const std::string& bag_path,
+    bool camera_params_given,
+    bag::BagExtractionOptions* bag_options,
+    ReconstructionOptions* run,
     std::ostream& out);
 
 // The input file the extraction wrote for --odometry (odometry.csv,

@@ -116,36 +116,6 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point start_, last_line_;
 };
 
-// `odomcal run --bag`: the workspace claimed, the bag extracted into
-// WS/bag_inputs (replacing an earlier extraction), and `run` pointed at the
-// files: images, image times, odometry, and the camera from CameraInfo
-// unless --camera_params was given.
-void PrepareBagInputs(const std::string& bag_path,
-                      bool camera_params_given,
-                      bag::BagExtractionOptions* bag_options,
-                      ReconstructionOptions* run) {
-  const fs::path inputs = fs::path(run->workspace_path) / "bag_inputs";
-  PrepareOutputFolder({run->workspace_path, "--workspace_path"},
-                      {{bag_path, "--bag"}},
-                      {"bag_inputs"},
-                      ExistingOutputs::kReplaceOwn);
-  RemoveOwnedOutput(run->workspace_path, "bag_inputs");
-  bag_options->output_folder = inputs.string();
-  bag_options->wheel_track_m = run->project.systematics.wheel_track_m;
-  const bag::BagExtractionSummary summary =
-      ExtractBagPrinting(bag_path, *bag_options, std::cout);
-  run->extracted_inputs_path = inputs.string();
-  run->image_path = (inputs / "images").string();
-  run->project.image_timestamps_path =
-      (inputs / "image_timestamps.csv").string();
-  run->project.odometry_path = ExtractedOdometryPath(*bag_options, summary);
-  const auto [model, params] = ExtractedCamera(summary);
-  if (!model.empty() && !camera_params_given) {
-    run->camera_model = model;
-    run->camera_params = params;
-  }
-}
-
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string joined;
   for (const std::string& name : names)
@@ -263,8 +233,11 @@ int RunRun(int argc, char** argv) {
     if (from_bag) {
       bag_echo["inputs"]["bag"] = bag_path;
       std::cout << "odomcal run: extracting " << bag_path << "\n";
-      PrepareBagInputs(
-          bag_path, app.count("--camera_params") > 0, &bag_options, &run);
+      ExtractBagForRun(bag_path,
+                       app.count("--camera_params") > 0,
+                       &bag_options,
+                       &run,
+                       std::cout);
     }
     const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run", bag_echo);
     std::cout << CalibrationSummary(outcome.calibration.check.result,

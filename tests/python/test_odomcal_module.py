@@ -5,11 +5,14 @@ and metric scale: the module must recover them from arrays and from files,
 and reject bad keywords and arrays with the CLI's one-line messages.
 Run by ctest with Debian's /usr/bin/python3 and PYTHONPATH=<build>/python.
 """
+import importlib.util
 import math
 import os
 import pathlib
 import tempfile
+import struct
 import unittest
+import zlib
 
 import numpy as np
 
@@ -356,6 +359,91 @@ class CalibrateProjectTest(unittest.TestCase):
                 odomcal.calibrate_project(model, odometry_path, min_inconsistent_run_pairs=0)
             self.assertEqual(str(raised.exception),
                              "min_inconsistent_run_pairs must be >= 1, got 0")
+
+
+def tiny_png(width, height):
+    """A grey RGB PNG, written with the standard library."""
+    rows = b"".join(b"\x00" + b"\x80" * (3 * width) for _ in range(height))
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    return (b"\x89PNG\r\n\x1a\n" +
+            chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def write_ros1_bag(path, camera, odometry):
+    """The drive as a ROS 1 bag written by Debian's python3-rosbag: PNG
+    CompressedImage at the camera times, CameraInfo, nav_msgs/Odometry."""
+    import rosbag
+    import rospy
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import CameraInfo, CompressedImage
+    png = tiny_png(16, 12)
+    with rosbag.Bag(path, "w") as bag:
+        for row in camera:
+            stamp = rospy.Time.from_sec(row[0])
+            image = CompressedImage(format="png", data=png)
+            image.header.stamp = stamp
+            bag.write("/cam/image/compressed", image, stamp)
+            info = CameraInfo(width=16, height=12, distortion_model="plumb_bob")
+            info.header.stamp = stamp
+            info.D = [0.0] * 5
+            info.K = [20.0, 0, 7.5, 0, 20.0, 5.5, 0, 0, 1]
+            bag.write("/cam/camera_info", info, stamp)
+        for t, x, y, yaw in odometry:
+            message = Odometry()
+            message.header.stamp = rospy.Time.from_sec(t)
+            message.pose.pose.position.x = x
+            message.pose.pose.position.y = y
+            message.pose.pose.orientation.z = math.sin(yaw / 2)
+            message.pose.pose.orientation.w = math.cos(yaw / 2)
+            bag.write("/odom", message, message.header.stamp)
+
+
+@unittest.skipUnless(importlib.util.find_spec("rosbag"), "python3-rosbag missing")
+class BagTest(unittest.TestCase):
+    """odomcal.extract and reconstruct_and_calibrate(bag=...) on a bag of
+    python3-rosbag's, without COLMAP."""
+
+    def test_extract_writes_the_inputs(self):
+        camera, odometry = simulated_drive(duration_s=10)
+        with tempfile.TemporaryDirectory() as folder:
+            bag = os.path.join(folder, "drive.bag")
+            write_ros1_bag(bag, camera, odometry)
+            out = os.path.join(folder, "inputs")
+            result = odomcal.extract(bag, out)
+            self.assertEqual(result["images"]["topic"], "/cam/image/compressed")
+            self.assertEqual(result["images"]["used"], len(camera))
+            self.assertEqual(result["odometry"]["used"], len(odometry))
+            self.assertTrue(result["planar"])
+            self.assertEqual(result["camera_model"], "PINHOLE")
+            # ROS's pixel centre (0, 0) -> COLMAP's (0.5, 0.5).
+            self.assertEqual(result["camera_params"], "20,20,8,6")
+            self.assertEqual(len(os.listdir(result["image_path"])), len(camera))
+            rows = np.loadtxt(result["odometry_path"], delimiter=",", skiprows=1)
+            np.testing.assert_allclose(rows[:, 1:], odometry[:, 1:], atol=1e-9)
+            with self.assertRaisesRegex(ValueError, "image_topic"):
+                odomcal.extract(bag, os.path.join(folder, "again"),
+                                image_topic="/no/such/topic")
+
+    def test_run_from_a_bag_is_refused_before_colmap_on_a_straight_drive(self):
+        camera, odometry = simulated_drive(duration_s=20, turning=False)
+        with tempfile.TemporaryDirectory() as folder:
+            bag = os.path.join(folder, "drive.bag")
+            write_ros1_bag(bag, camera, odometry)
+            result = odomcal.reconstruct_and_calibrate(
+                bag=bag, workspace_path=os.path.join(folder, "work"),
+                colmap_path="/nonexistent/colmap")
+            self.assertEqual(result["status"], "unobservable", result["message"])
+            self.assertEqual(result["inputs"]["bag"], bag)
+            self.assertEqual(result["options"]["bag"]["bag_time"], "header")
+            self.assertEqual(result["options"]["run"]["camera_params"], "20,20,8,6")
+            with self.assertRaisesRegex(ValueError, "bag"):
+                odomcal.reconstruct_and_calibrate(
+                    folder, bag, os.path.join(folder, "w2"), bag=bag)
 
 
 class ReconstructAndCalibrateTest(unittest.TestCase):
