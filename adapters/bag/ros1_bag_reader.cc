@@ -309,7 +309,8 @@ class Ros1BagReader : public BagReader {
     file_.Read(record.data_pos, data.size(), data.data());
     auto& counts = (*chunk_counts)[chunk_pos];
     for (uint32_t i = 0; i < count; ++i) {
-      counts[Ros1LoadU32(&data[8 * i])] += Ros1LoadU32(&data[8 * i + 4]);
+      counts[Ros1LoadU32(&data[size_t{8} * i])] +=
+          Ros1LoadU32(&data[size_t{8} * i + 4]);
     }
   }
 
@@ -346,7 +347,7 @@ class Ros1BagReader : public BagReader {
       file_.Read(record.data_pos, data.size(), data.data());
       Ros1ConnectionStats& s = (*stats)[id];
       for (uint32_t i = 0; i < count; ++i) {
-        const int64_t t = Ros1TimeNs(&data[12 * i]);
+        const int64_t t = Ros1TimeNs(&data[size_t{12} * i]);
         s.first_ns = std::min(s.first_ns, t);
         s.last_ns = std::max(s.last_ns, t);
       }

@@ -15,7 +15,7 @@ namespace {
 // byte (the byte that detects data longer than declared).
 size_t Ros1GrownSize(size_t current, uint32_t declared) {
   const size_t limit = static_cast<size_t>(declared) + 1;
-  return std::min(limit, std::max<size_t>(current * 2, 64 * 1024));
+  return std::min(limit, std::max<size_t>(current * 2, size_t{64} * 1024));
 }
 
 [[noreturn]] void Ros1SizeMismatch(const char* codec,

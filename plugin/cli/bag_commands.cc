@@ -98,7 +98,7 @@ bag::BagExtractionSummary ExtractBagPrinting(
   const std::unique_ptr<bag::BagReader> reader =
       bag::OpenBag(bag_path, SelectedTopics(chosen));
   int last_tenth = -1;
-  const bag::BagExtractionSummary summary =
+  bag::BagExtractionSummary summary =
       bag::ExtractBag(*reader, options, [&](int64_t done, int64_t total) {
         const int tenth = total > 0 ? static_cast<int>(10 * done / total) : 0;
         if (tenth > last_tenth) {
@@ -168,7 +168,7 @@ bag::BagExtractionSummary ExtractBagForRun(
   RemoveOwnedOutput(run->workspace_path, "bag_inputs");
   bag_options->output_folder = inputs.string();
   bag_options->wheel_track_m = run->project.systematics.wheel_track_m;
-  const bag::BagExtractionSummary summary =
+  bag::BagExtractionSummary summary =
       ExtractBagPrinting(bag_path, *bag_options, out);
   run->extracted_inputs_path = inputs.string();
   run->image_path = (inputs / "images").string();
