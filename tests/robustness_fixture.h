@@ -363,7 +363,7 @@ class Robustness : public ::testing::Test {
   // bin/colmap of COLMAP `version` ("3.8" or "4.1"): its banner, and every
   // option odomcal passes checked against the names that version's
   // command registers (COLMAP's option_manager.cc and exe/*.cc at the
-  // release tag; docs/cli.md, COLMAP versions): an unknown one fails as
+  // release tag; docs/colmap_versions.md): an unknown one fails as
   // COLMAP fails, "Failed to parse options - unrecognised option" and exit
   // 1. The stages then behave as WriteFakeColmapWithMapperModels' (the
   // mapper's seed from the version's seed option).

@@ -42,8 +42,9 @@ ColmapVersion ParseColmapVersion(const std::string& banner);
 
 // The names, in the COLMAP `version` that runs, of the options odomcal
 // passes whose names changed between 3.8 and 4.1 (read from COLMAP's
-// option_manager.cc and exe/*.cc at every release tag; docs/cli.md, COLMAP
-// versions). Every other option odomcal passes has one name in all of them.
+// option_manager.cc and exe/*.cc at every release tag;
+// docs/colmap_versions.md). Every other option odomcal passes has one name in
+// all of them.
 // COLMAP refuses an unknown option (exit 1), so a wrong name fails the stage.
 struct ColmapOptionNames {
   // feature_extractor: SiftExtraction.* until 3.12, FeatureExtraction.*
