@@ -46,6 +46,21 @@ struct BagMessage {
   std::vector<uint8_t> data;
 };
 
+// Adds `more`'s messages (count and time span) to `*topic`, the same topic
+// seen in another channel or file.
+inline void AddMessagesOf(const BagTopic& more, BagTopic* topic) {
+  if (more.message_count == 0) return;
+  if (topic->message_count == 0 ||
+      more.first_log_time_ns < topic->first_log_time_ns) {
+    topic->first_log_time_ns = more.first_log_time_ns;
+  }
+  if (topic->message_count == 0 ||
+      more.last_log_time_ns > topic->last_log_time_ns) {
+    topic->last_log_time_ns = more.last_log_time_ns;
+  }
+  topic->message_count += more.message_count;
+}
+
 class BagReader {
  public:
   virtual ~BagReader() = default;

@@ -451,18 +451,7 @@ class McapRos2Storage final : public Ros2Storage {
         Fail("topic " + Ros2Quoted(known.topic) +
              " has channels of different types or encodings");
       }
-      const BagTopic& more = topic.topic;
-      if (more.message_count > 0) {
-        if (known.message_count == 0 ||
-            more.first_log_time_ns < known.first_log_time_ns) {
-          known.first_log_time_ns = more.first_log_time_ns;
-        }
-        if (known.message_count == 0 ||
-            more.last_log_time_ns > known.last_log_time_ns) {
-          known.last_log_time_ns = more.last_log_time_ns;
-        }
-        known.message_count += more.message_count;
-      }
+      AddMessagesOf(topic.topic, &known);
       topic_of_channel_[channel] = i;
       return;
     }

@@ -218,18 +218,7 @@ class Ros2BagReader final : public BagReader {
                           ", an earlier file " + Ros2Quoted(known.type));
       }
       if (refusals_[i].empty()) refusals_[i] = topic.refusal;
-      const BagTopic& more = topic.topic;
-      if (more.message_count > 0) {
-        if (known.message_count == 0 ||
-            more.first_log_time_ns < known.first_log_time_ns) {
-          known.first_log_time_ns = more.first_log_time_ns;
-        }
-        if (known.message_count == 0 ||
-            more.last_log_time_ns > known.last_log_time_ns) {
-          known.last_log_time_ns = more.last_log_time_ns;
-        }
-        known.message_count += more.message_count;
-      }
+      AddMessagesOf(topic.topic, &known);
       return i;
     }
     topics_.push_back(topic.topic);
