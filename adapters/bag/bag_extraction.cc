@@ -278,15 +278,19 @@ class Extraction {
     if (!images_->Use(stamp, options_.time)) return;
     const std::string name =
         std::to_string(stamp) + CompressedImageExtension(image, context);
-    if (!image_size_) {
-      // Only the first is decoded, for the size CameraInfo must match.
-      const cv::Mat pixels = cv::imdecode(image.data, cv::IMREAD_UNCHANGED);
-      if (pixels.empty()) {
-        throw FormatError(context + ": the first image (" + name +
-                          ") does not decode");
-      }
-      SetImageSize(pixels.cols, pixels.rows);
+    // Every image is decoded: COLMAP would skip one that does not decode
+    // without a word, and all must have the size CameraInfo gives.
+    cv::Mat pixels;
+    try {
+      pixels = cv::imdecode(image.data, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception&) {
+      pixels.release();
     }
+    if (pixels.empty()) {
+      throw FormatError(context + ": the image at " + std::to_string(stamp) +
+                        " ns (" + name + ") does not decode");
+    }
+    CheckImageSize(pixels, stamp, context);
     WriteBytes((Output() / "images" / name).string(), image.data);
     AddImageLine(name, stamp);
   }
@@ -299,16 +303,7 @@ class Extraction {
         image.header.stamp_ns, message.log_time_ns, options_.time);
     if (!images_->Use(stamp, options_.time)) return;
     const cv::Mat pixels = ImageMessageToMat(image, context);
-    if (!image_size_) {
-      SetImageSize(pixels.cols, pixels.rows);
-    } else if (pixels.cols != image_size_->width ||
-               pixels.rows != image_size_->height) {
-      throw FormatError(context + ": image at " + std::to_string(stamp) +
-                        " ns is " + std::to_string(pixels.cols) + " x " +
-                        std::to_string(pixels.rows) + ", the first is " +
-                        std::to_string(image_size_->width) + " x " +
-                        std::to_string(image_size_->height));
-    }
+    CheckImageSize(pixels, stamp, context);
     const std::string name = std::to_string(stamp) + ".png";
     const std::string path = (Output() / "images" / name).string();
     bool written = false;
@@ -319,6 +314,22 @@ class Extraction {
     }
     if (!written) throw FormatError(path + ": write failed");
     AddImageLine(name, stamp);
+  }
+
+  // The first image sets the size; every later one must have it.
+  void CheckImageSize(const cv::Mat& pixels,
+                      int64_t stamp_ns,
+                      const std::string& context) {
+    if (!image_size_) {
+      SetImageSize(pixels.cols, pixels.rows);
+    } else if (pixels.cols != image_size_->width ||
+               pixels.rows != image_size_->height) {
+      throw FormatError(context + ": image at " + std::to_string(stamp_ns) +
+                        " ns is " + std::to_string(pixels.cols) + " x " +
+                        std::to_string(pixels.rows) + ", the first is " +
+                        std::to_string(image_size_->width) + " x " +
+                        std::to_string(image_size_->height));
+    }
   }
 
   void AddImageLine(const std::string& name, int64_t stamp_ns) {

@@ -295,6 +295,22 @@ TEST_F(BagExtractionTest, StampsGoingBackAreRefused) {
       << error;
 }
 
+// Every compressed image is decoded, not only the first: COLMAP would skip
+// one that does not decode without a word.
+TEST_F(BagExtractionTest, ACompressedImageThatDoesNotDecodeIsRefused) {
+  const nlohmann::json& expected = Expected()["broken.bag"];
+  const std::string error = FormatErrorOf([&] { Extract("broken.bag", {}); });
+  EXPECT_TRUE(
+      Contains(error, BagPath("broken.bag") + ": /cam/image_raw/compressed: "))
+      << error;
+  EXPECT_TRUE(Contains(
+      error,
+      "the image at " + std::to_string(expected["broken_ns"].get<int64_t>()) +
+          " ns"))
+      << error;
+  EXPECT_TRUE(Contains(error, "does not decode")) << error;
+}
+
 TEST_F(BagExtractionTest, UnstampedImagesNeedReceiveTimes) {
   const nlohmann::json& expected = Expected()["unstamped.bag"];
   const std::string error =
