@@ -708,4 +708,28 @@ TEST_F(Robustness, UnreadableImagesWithRealColmap) {
 // Outputs.
 
 }  // namespace
+// `run --bag` takes the images, their times and the odometry from the bag:
+// the flags that give them otherwise are refused, before any file is read.
+TEST_F(Robustness, RunWithABagAndAnImageFolderIsRefused) {
+  WriteFile(fs::path(Path("drive.bag")), "#ROSBAG V2.0\n");
+  fs::create_directories(Path("images"));
+  ExpectBadInput(
+      RunOdomcal({"run",
+                  "--bag",
+                  Path("drive.bag"),
+                  "--image_path",
+                  Path("images"),
+                  "--workspace_path",
+                  Path("ws")}),
+      "odomcal run: error: --bag gives the images, their times and the "
+      "odometry: drop --image_path");
+  ExpectBadInput(RunOdomcal({"run",
+                             "--workspace_path",
+                             Path("ws"),
+                             "--odometry",
+                             Path("drive.bag")}),
+                 "odomcal run: error: --image_path is required (or --bag)");
+  EXPECT_FALSE(fs::exists(Path("ws")));
+}
+
 }  // namespace odomcal::robustness_test
