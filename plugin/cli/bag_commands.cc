@@ -31,12 +31,16 @@ namespace fs = std::filesystem;
 std::string BagText(const char* format, ...)
     __attribute__((format(printf, 1, 2)));
 std::string BagText(const char* format, ...) {
-  char buffer[512];
   va_list arguments;
   va_start(arguments, format);
-  std::vsnprintf(buffer, sizeof(buffer), format, arguments);
+  va_list again;
+  va_copy(again, arguments);
+  const int size = std::vsnprintf(nullptr, 0, format, arguments);
   va_end(arguments);
-  return buffer;
+  std::string text(size > 0 ? static_cast<size_t>(size) : 0, '\0');
+  if (size > 0) std::vsnprintf(text.data(), text.size() + 1, format, again);
+  va_end(again);
+  return text;
 }
 
 // Messages per second between the first and the last message.
