@@ -207,6 +207,7 @@ void EstimateTranslationZ(const MotionPairs& pairs,
   result->odom_from_cam = odom_from_cam;
   result->metric_scales = scales;
   result->observability.translation_z = Determination::kEstimated;
+  result->observability.translation_z_source = TranslationZSource::kMotion;
   *used_pairs = used;
   *information = z_information;
   *information_segments = z_segments;

@@ -30,6 +30,18 @@ std::vector<std::string> NamesWith(const Observability& o,
 
 }  // namespace
 
+std::string ToString(TranslationZSource source) {
+  switch (source) {
+    case TranslationZSource::kGiven:
+      return "given";
+    case TranslationZSource::kMotion:
+      return "motion";
+    case TranslationZSource::kFloorPlane:
+      return "floor_plane";
+  }
+  return "given";
+}
+
 bool Observability::ExtrinsicDetermined() const {
   return rotation == Determination::kEstimated &&
          translation_x == Determination::kEstimated &&

@@ -16,6 +16,15 @@ enum class Determination {
   kUndetermined,  // the data do not determine it: its value is no estimate
 };
 
+// Where an estimated translation z comes from.
+enum class TranslationZSource {
+  kGiven,       // held at options.fixed_translation_z_m
+  kMotion,      // SE(3) odometry whose rotation axes are not all parallel
+  kFloorPlane,  // the camera's height above the floor (floor_plane.h)
+};
+// "given", "motion", "floor_plane".
+std::string ToString(TranslationZSource source);
+
 struct Observability {
   Determination rotation = Determination::kEstimated;
   Determination translation_x = Determination::kEstimated;
@@ -23,6 +32,7 @@ struct Observability {
   // Planar odometry cannot see z (Guo et al., Section IV-B): held until the
   // solver finds that the (SE(3)) odometry determines it.
   Determination translation_z = Determination::kHeld;
+  TranslationZSource translation_z_source = TranslationZSource::kGiven;
   std::vector<Determination> metric_scales;  // one per segment
 
   // Rotation, x and y all estimated: the extrinsic can be used (z is

@@ -1,0 +1,487 @@
+#include "odomcal/solver/floor_plane.h"
+
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/chi_square.h"
+#include "odomcal/solver/format_number.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <utility>
+
+namespace odomcal {
+namespace {
+
+constexpr int kMaxRefitIterations = 10;
+constexpr int kMaxJackknifeBlocks = 10;
+
+struct Candidate {
+  Eigen::Vector3d xyz;
+  double weight = 1.0;  // 1 / sigma^2
+  int camera = 0;       // nearest camera (horizontally)
+};
+
+// The candidates: below the lowest camera, near a camera centre. Camera
+// centres are binned in a grid of max_path_distance_m cells so that each
+// point is compared with the cameras of its 3 x 3 cells only.
+std::vector<Candidate> SelectCandidates(
+    const std::vector<FloorCandidatePoint>& points,
+    const std::vector<Eigen::Vector3d>& centres,
+    const FloorPlaneOptions& options) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& c : centres) lowest = std::min(lowest, c.z());
+  const double cell = options.max_path_distance_m;
+  const auto key = [cell](double x, double y) {
+    return std::make_pair(static_cast<int64_t>(std::floor(x / cell)),
+                          static_cast<int64_t>(std::floor(y / cell)));
+  };
+  std::map<std::pair<int64_t, int64_t>, std::vector<int>> grid;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    grid[key(centres[i].x(), centres[i].y())].push_back(static_cast<int>(i));
+  }
+  const double max_distance2 = cell * cell;
+  std::vector<Candidate> candidates;
+  for (const FloorCandidatePoint& point : points) {
+    if (!point.xyz.allFinite() || !(point.sigma_m > 0.0)) continue;
+    if (point.xyz.z() > lowest - options.min_depth_below_cameras_m) continue;
+    const auto [gx, gy] = key(point.xyz.x(), point.xyz.y());
+    double best = max_distance2;
+    int nearest = -1;
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = grid.find({gx + dx, gy + dy});
+        if (it == grid.end()) continue;
+        for (const int i : it->second) {
+          const double d2 =
+              (point.xyz.head<2>() - centres[i].head<2>()).squaredNorm();
+          if (d2 <= best) {
+            best = d2;
+            nearest = i;
+          }
+        }
+      }
+    }
+    if (nearest < 0) continue;
+    candidates.push_back(
+        {point.xyz, 1.0 / (point.sigma_m * point.sigma_m), nearest});
+  }
+  return candidates;
+}
+
+// MSAC over planes through 3 candidates within max_tilt_deg of level.
+// Returns the best plane's unit normal (up) and a point on it; false when
+// no sample gave a level plane.
+bool RansacLevelPlane(const std::vector<Candidate>& candidates,
+                      const FloorPlaneOptions& options,
+                      Eigen::Vector3d* normal,
+                      Eigen::Vector3d* on_plane) {
+  std::mt19937_64 random(options.ransac_seed);
+  std::uniform_int_distribution<size_t> pick(0, candidates.size() - 1);
+  const double min_up = std::cos(options.max_tilt_deg * kDegToRad);
+  const double t2 =
+      options.ransac_inlier_distance_m * options.ransac_inlier_distance_m;
+  double best_score = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < options.ransac_iterations; ++iteration) {
+    const size_t i = pick(random);
+    const size_t j = pick(random);
+    const size_t k = pick(random);
+    if (i == j || j == k || i == k) continue;
+    Eigen::Vector3d n = (candidates[j].xyz - candidates[i].xyz)
+                            .cross(candidates[k].xyz - candidates[i].xyz);
+    const double norm = n.norm();
+    if (!(norm > 1e-12)) continue;
+    n /= norm;
+    if (n.z() < 0.0) n = -n;
+    if (n.z() < min_up) continue;
+    double score = 0.0;
+    for (const Candidate& c : candidates) {
+      const double r = n.dot(c.xyz - candidates[i].xyz);
+      score += std::min(r * r, t2);
+      if (score >= best_score) break;
+    }
+    if (score < best_score) {
+      best_score = score;
+      *normal = n;
+      *on_plane = candidates[i].xyz;
+    }
+  }
+  return std::isfinite(best_score);
+}
+
+// Weighted least squares z = c + a (x - x0) + b (y - y0) over `members`.
+// Returns false when the normal equations are singular.
+bool FitPlane(const std::vector<Candidate>& candidates,
+              const std::vector<int>& members,
+              const Eigen::Vector2d& reference,
+              Eigen::Vector3d* parameters,
+              Eigen::Matrix3d* normal_matrix) {
+  Eigen::Matrix3d n = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (const int m : members) {
+    const Candidate& c = candidates[m];
+    const Eigen::Vector3d row(
+        c.xyz.x() - reference.x(), c.xyz.y() - reference.y(), 1.0);
+    n += c.weight * row * row.transpose();
+    rhs += c.weight * row * c.xyz.z();
+  }
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(n);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return false;
+  *parameters = ldlt.solve(rhs);
+  if (normal_matrix != nullptr) *normal_matrix = n;
+  return parameters->allFinite();
+}
+
+double VerticalResidual(const Candidate& c,
+                        const Eigen::Vector2d& reference,
+                        const Eigen::Vector3d& p) {
+  return c.xyz.z() - (p.z() + p.x() * (c.xyz.x() - reference.x()) +
+                      p.y() * (c.xyz.y() - reference.y()));
+}
+
+Eigen::Vector3d PlaneNormal(const Eigen::Vector3d& p) {
+  return Eigen::Vector3d(-p.x(), -p.y(), 1.0).normalized();
+}
+
+}  // namespace
+
+std::string ToString(FloorPlaneUse use) {
+  switch (use) {
+    case FloorPlaneUse::kOff:
+      return "off";
+    case FloorPlaneUse::kCheck:
+      return "check";
+    case FloorPlaneUse::kEstimateZ:
+      return "estimate";
+  }
+  return "estimate";
+}
+
+FloorPlaneUse FloorPlaneUseFromString(const std::string& name) {
+  if (name == "off") return FloorPlaneUse::kOff;
+  if (name == "check") return FloorPlaneUse::kCheck;
+  if (name == "estimate") return FloorPlaneUse::kEstimateZ;
+  throw std::invalid_argument(
+      "floor_plane must be estimate, check or off, got '" + name + "'");
+}
+
+std::string ToString(FloorPlaneStatus status) {
+  switch (status) {
+    case FloorPlaneStatus::kNotRun:
+      return "not_run";
+    case FloorPlaneStatus::kFitted:
+      return "fitted";
+    case FloorPlaneStatus::kTooFewPoints:
+      return "too_few_points";
+    case FloorPlaneStatus::kNotLevel:
+      return "not_level";
+    case FloorPlaneStatus::kSloped:
+      return "sloped";
+    case FloorPlaneStatus::kDisagreesWithMotion:
+      return "disagrees_with_motion";
+  }
+  return "not_run";
+}
+
+void FloorPlaneOptions::Check() const {
+  const auto positive = [](double value, const char* name) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw std::invalid_argument(
+          std::string(name) + " must be positive, got " + FormatNumber(value));
+    }
+  };
+  if (!std::isfinite(odometry_height_m)) {
+    throw std::invalid_argument("odometry_height_m must be finite, got " +
+                                FormatNumber(odometry_height_m));
+  }
+  positive(max_path_distance_m, "floor_max_path_distance_m");
+  if (!(min_depth_below_cameras_m >= 0.0) ||
+      !std::isfinite(min_depth_below_cameras_m)) {
+    throw std::invalid_argument(
+        "floor_min_depth_below_cameras_m must be >= 0, got " +
+        FormatNumber(min_depth_below_cameras_m));
+  }
+  if (!(max_tilt_deg > 0.0 && max_tilt_deg < 90.0)) {
+    throw std::invalid_argument("floor_max_tilt_deg must be in (0, 90), got " +
+                                FormatNumber(max_tilt_deg));
+  }
+  positive(ransac_inlier_distance_m, "floor_inlier_distance_m");
+  if (ransac_iterations < 1) {
+    throw std::invalid_argument("floor_ransac_iterations must be >= 1, got " +
+                                std::to_string(ransac_iterations));
+  }
+  if (min_inliers < 3) {
+    throw std::invalid_argument("floor_min_inliers must be >= 3, got " +
+                                std::to_string(min_inliers));
+  }
+  if (!(max_slope_deg >= 0.0 && max_slope_deg < max_tilt_deg)) {
+    throw std::invalid_argument(
+        "floor_max_slope_deg must be in [0, floor_max_tilt_deg), got " +
+        FormatNumber(max_slope_deg));
+  }
+  if (!(disagreement_alpha > 0.0 && disagreement_alpha < 1.0)) {
+    throw std::invalid_argument(
+        "floor_disagreement_alpha must be in (0, 1), got " +
+        FormatNumber(disagreement_alpha));
+  }
+}
+
+FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
+                         const std::vector<FloorCamera>& cameras,
+                         const Rigid3d& odom_from_cam,
+                         const Eigen::Matrix2d& roll_pitch_covariance,
+                         const std::vector<double>& metric_scales,
+                         const FloorPlaneOptions& options) {
+  options.Check();
+  FloorPlane floor;
+  if (cameras.empty()) {
+    floor.reason = "no camera in the metric model";
+    return floor;
+  }
+  std::vector<Eigen::Vector3d> centres;
+  centres.reserve(cameras.size());
+  for (const FloorCamera& camera : cameras) {
+    centres.push_back(camera.origin_from_cam.translation);
+  }
+  const std::vector<Candidate> candidates =
+      SelectCandidates(points, centres, options);
+  floor.num_candidates = static_cast<int>(candidates.size());
+  const std::string where = " below the cameras within " +
+                            FormatNumber(options.max_path_distance_m) +
+                            " m of the path";
+  if (floor.num_candidates < options.min_inliers) {
+    floor.status = FloorPlaneStatus::kTooFewPoints;
+    floor.reason =
+        "the floor is not seen: " + std::to_string(floor.num_candidates) +
+        " points" + where + " (at least " +
+        std::to_string(options.min_inliers) + " needed)";
+    return floor;
+  }
+  Eigen::Vector3d ransac_normal, on_plane;
+  if (!RansacLevelPlane(candidates, options, &ransac_normal, &on_plane)) {
+    floor.status = FloorPlaneStatus::kNotLevel;
+    floor.reason = "no plane within " + FormatNumber(options.max_tilt_deg) +
+                   " deg of level among the " +
+                   std::to_string(floor.num_candidates) + " points" + where;
+    return floor;
+  }
+
+  // Refit on the inliers: the RANSAC gate first, then 3 a-posteriori sigma
+  // (within the gate) until the set settles.
+  std::vector<int> members;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (std::abs(ransac_normal.dot(candidates[i].xyz - on_plane)) <=
+        options.ransac_inlier_distance_m) {
+      members.push_back(static_cast<int>(i));
+    }
+  }
+  Eigen::Vector2d reference = Eigen::Vector2d::Zero();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  double variance_factor = 1.0;
+  for (int iteration = 0; iteration < kMaxRefitIterations; ++iteration) {
+    if (static_cast<int>(members.size()) < options.min_inliers) break;
+    double weight_sum = 0.0;
+    reference.setZero();
+    for (const int m : members) {
+      reference += candidates[m].weight * candidates[m].xyz.head<2>();
+      weight_sum += candidates[m].weight;
+    }
+    reference /= weight_sum;
+    if (!FitPlane(candidates, members, reference, &p, &normal_matrix)) {
+      members.clear();
+      break;
+    }
+    double weighted_sum = 0.0;
+    for (const int m : members) {
+      const double r = VerticalResidual(candidates[m], reference, p);
+      weighted_sum += candidates[m].weight * r * r;
+    }
+    variance_factor = weighted_sum / static_cast<double>(std::max<size_t>(
+                                         members.size() - 3, 1));
+    std::vector<int> next;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      const double r = VerticalResidual(candidates[i], reference, p);
+      if (std::abs(r) <= options.ransac_inlier_distance_m &&
+          r * r * candidates[i].weight <= 9.0 * variance_factor) {
+        next.push_back(static_cast<int>(i));
+      }
+    }
+    if (next == members) break;
+    members = std::move(next);
+  }
+  floor.num_inliers = static_cast<int>(members.size());
+  if (floor.num_inliers < options.min_inliers) {
+    floor.status = FloorPlaneStatus::kTooFewPoints;
+    floor.reason = "the floor plane has " + std::to_string(floor.num_inliers) +
+                   " points of the " + std::to_string(floor.num_candidates) +
+                   where + " (at least " + std::to_string(options.min_inliers) +
+                   " needed)";
+    return floor;
+  }
+  double rms = 0.0;
+  for (const int m : members) {
+    const double r = VerticalResidual(candidates[m], reference, p);
+    rms += r * r;
+  }
+  floor.inlier_rms_m = std::sqrt(rms / static_cast<double>(members.size()));
+  floor.reference_xy = reference;
+  floor.parameters = p;
+
+  // Covariance: the fit's, or the delete-a-block jackknife's over blocks of
+  // consecutive cameras when larger (errors shared along the drive).
+  Eigen::Matrix3d covariance = variance_factor * normal_matrix.inverse();
+  const int num_blocks =
+      std::min<int>(kMaxJackknifeBlocks, static_cast<int>(cameras.size()) / 2);
+  if (num_blocks >= 4) {
+    std::vector<std::vector<int>> kept(num_blocks);
+    for (const int m : members) {
+      const int block =
+          static_cast<int>(static_cast<int64_t>(candidates[m].camera) *
+                           num_blocks / static_cast<int64_t>(cameras.size()));
+      for (int b = 0; b < num_blocks; ++b) {
+        if (b != block) kept[b].push_back(m);
+      }
+    }
+    std::vector<Eigen::Vector3d> estimates;
+    for (int b = 0; b < num_blocks; ++b) {
+      Eigen::Vector3d q;
+      if (static_cast<int>(kept[b].size()) >= options.min_inliers &&
+          FitPlane(candidates, kept[b], reference, &q, nullptr)) {
+        estimates.push_back(q);
+      }
+    }
+    if (estimates.size() >= 4) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& q : estimates) mean += q;
+      mean /= static_cast<double>(estimates.size());
+      Eigen::Matrix3d jackknife = Eigen::Matrix3d::Zero();
+      for (const Eigen::Vector3d& q : estimates) {
+        jackknife += (q - mean) * (q - mean).transpose();
+      }
+      const double g = static_cast<double>(estimates.size());
+      jackknife *= (g - 1.0) / g;
+      if (jackknife.trace() > covariance.trace()) covariance = jackknife;
+    }
+  }
+  floor.parameter_covariance = covariance;
+  floor.normal = PlaneNormal(p);
+  floor.offset_m =
+      floor.normal.dot(Eigen::Vector3d(reference.x(), reference.y(), p.z()));
+  floor.tilt_deg =
+      std::acos(std::clamp(floor.normal.z(), -1.0, 1.0)) * kRadToDeg;
+
+  floor.disagreement_threshold =
+      ChiSquareCriticalValue(options.disagreement_alpha, 2.0);
+  const Eigen::Matrix2d slope_covariance = covariance.topLeftCorner<2, 2>();
+  const Eigen::LDLT<Eigen::Matrix2d> slope_ldlt(slope_covariance);
+  floor.tilt_chi_square =
+      slope_ldlt.info() == Eigen::Success && slope_ldlt.rcond() > 1e-15
+          ? p.head<2>().dot(slope_ldlt.solve(p.head<2>()))
+          : std::numeric_limits<double>::infinity();
+
+  // The cameras' heights above the plane.
+  const double norm = std::sqrt(1.0 + p.x() * p.x() + p.y() * p.y());
+  Eigen::RowVector3d jacobian = Eigen::RowVector3d::Zero();
+  std::vector<double> heights;
+  heights.reserve(cameras.size());
+  double height_sum = 0.0;
+  for (const Eigen::Vector3d& c : centres) {
+    const Eigen::Vector2d d = c.head<2>() - reference;
+    const double h = (c.z() - (p.z() + p.x() * d.x() + p.y() * d.y())) / norm;
+    heights.push_back(h);
+    height_sum += h;
+    jacobian += Eigen::RowVector3d(-d.x(), -d.y(), -1.0) / norm;
+  }
+  const double n_cameras = static_cast<double>(cameras.size());
+  jacobian /= n_cameras;
+  floor.camera_height_m = height_sum / n_cameras;
+  floor.camera_height_stddev_m = std::sqrt(
+      std::max(0.0, (jacobian * covariance * jacobian.transpose())(0)));
+  double spread = 0.0;
+  for (const double h : heights) {
+    spread += (h - floor.camera_height_m) * (h - floor.camera_height_m);
+  }
+  floor.camera_height_spread_m = std::sqrt(spread / n_cameras);
+  floor.height_per_scale.assign(metric_scales.size(), 0.0);
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const int segment = cameras[i].segment;
+    if (segment < 0 || segment >= static_cast<int>(metric_scales.size()) ||
+        !(metric_scales[segment] > 0.0)) {
+      continue;
+    }
+    floor.height_per_scale[segment] +=
+        heights[i] / metric_scales[segment] / n_cameras;
+  }
+
+  // The cross-check: the floor's normal seen from the cameras, in the
+  // odometry frame by the motion's extrinsic.
+  const Eigen::Matrix3d odom_from_cam_rotation =
+      odom_from_cam.rotation.toRotationMatrix();
+  Eigen::Matrix3d to_odom = Eigen::Matrix3d::Zero();
+  for (const FloorCamera& camera : cameras) {
+    to_odom += odom_from_cam_rotation *
+               camera.origin_from_cam.rotation.toRotationMatrix().transpose();
+  }
+  to_odom /= n_cameras;
+  const Eigen::Vector3d up = (to_odom * floor.normal).normalized();
+  // Exp(-phi) e_z = up: phi = angle * (up_y, -up_x, 0) / |(up_x, up_y)|.
+  const double horizontal = up.head<2>().norm();
+  const double angle = std::atan2(horizontal, up.z());
+  const Eigen::Vector2d phi =
+      horizontal > 0.0 ? Eigen::Vector2d(Eigen::Vector2d(up.y(), -up.x()) *
+                                         (angle / horizontal))
+                       : Eigen::Vector2d(Eigen::Vector2d::Zero());
+  floor.roll_pitch_correction_rad = phi;
+  // d n = (-d a, -d b, 0) (to first order about level); d phi = (d up_y,
+  // -d up_x).
+  Eigen::Matrix<double, 2, 3> swap;
+  swap << 0.0, 1.0, 0.0, -1.0, 0.0, 0.0;
+  Eigen::Matrix3d dn_dp = Eigen::Matrix3d::Zero();
+  dn_dp(0, 0) = -1.0;
+  dn_dp(1, 1) = -1.0;
+  const Eigen::Matrix<double, 2, 3> dphi_dp = swap * to_odom * dn_dp;
+  floor.roll_pitch_correction_covariance =
+      dphi_dp * covariance * dphi_dp.transpose();
+  const Eigen::Vector3d floor_rpy =
+      RollPitchYaw(ExpRotation(Eigen::Vector3d(phi.x(), phi.y(), 0.0)) *
+                   odom_from_cam.rotation);
+  floor.floor_roll_deg = floor_rpy.x() * kRadToDeg;
+  floor.floor_pitch_deg = floor_rpy.y() * kRadToDeg;
+  const Eigen::Matrix2d total =
+      floor.roll_pitch_correction_covariance + roll_pitch_covariance;
+  const Eigen::LDLT<Eigen::Matrix2d> total_ldlt(total);
+  floor.disagreement_chi_square =
+      total_ldlt.info() == Eigen::Success && total_ldlt.rcond() > 1e-15
+          ? phi.dot(total_ldlt.solve(phi))
+          : std::numeric_limits<double>::infinity();
+  if (floor.tilt_deg > options.max_slope_deg &&
+      !(floor.tilt_chi_square <= floor.disagreement_threshold)) {
+    floor.status = FloorPlaneStatus::kSloped;
+    floor.reason = "the floor is tilted " + FormatRounded(floor.tilt_deg, 3) +
+                   " deg against the plane the robot drives in (more than " +
+                   FormatNumber(options.max_slope_deg) + " deg, chi-square " +
+                   FormatRounded(floor.tilt_chi_square, 3) + " > " +
+                   FormatRounded(floor.disagreement_threshold, 3) +
+                   "): a sloped floor or a model that is not flat";
+    return floor;
+  }
+  if (!(floor.disagreement_chi_square <= floor.disagreement_threshold)) {
+    floor.status = FloorPlaneStatus::kDisagreesWithMotion;
+    floor.reason =
+        "the floor's roll/pitch differ from the motion's by " +
+        FormatRounded(angle * kRadToDeg, 3) + " deg (chi-square " +
+        FormatRounded(floor.disagreement_chi_square, 3) + " > " +
+        FormatRounded(floor.disagreement_threshold, 3) +
+        "): a sloped floor, a model that is not flat, or a wrong roll/pitch";
+    return floor;
+  }
+  floor.status = FloorPlaneStatus::kFitted;
+  return floor;
+}
+
+}  // namespace odomcal

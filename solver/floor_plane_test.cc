@@ -1,0 +1,214 @@
+#include "odomcal/solver/floor_plane.h"
+
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/floor_translation_z.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace odomcal {
+namespace {
+
+// A forward-looking camera (optical z along the robot's x) 0.4 m above a
+// floor at z = floor_z, driving a circle of radius 2 m; floor points
+// scattered around the path with 3 mm noise, plus clutter above the floor.
+struct Scene {
+  std::vector<FloorCandidatePoint> points;
+  std::vector<FloorCamera> cameras;
+  Rigid3d odom_from_cam;
+};
+
+Scene MakeScene(double floor_z,
+                double slope_deg,
+                int num_floor_points,
+                bool clutter = true,
+                uint64_t seed = 7) {
+  Scene scene;
+  scene.odom_from_cam.rotation =
+      Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5);  // optical, forward
+  scene.odom_from_cam.translation = Eigen::Vector3d(0.25, 0.05, 0.0);
+  for (int i = 0; i < 60; ++i) {
+    const double yaw = 2.0 * M_PI * i / 60.0;
+    Rigid3d origin_from_odom(
+        Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())),
+        Eigen::Vector3d(2.0 * std::cos(yaw), 2.0 * std::sin(yaw), 0.0));
+    scene.cameras.push_back(
+        {origin_from_odom * scene.odom_from_cam, i < 30 ? 0 : 1});
+  }
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(-3.5, 3.5);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  const double slope = std::tan(slope_deg * kDegToRad);
+  for (int i = 0; i < num_floor_points; ++i) {
+    const double x = uniform(random);
+    const double y = uniform(random);
+    scene.points.push_back(
+        {Eigen::Vector3d(x, y, floor_z + slope * x + noise(random)), 0.003});
+  }
+  // Clutter: box faces and walls, above the floor.
+  for (int i = 0; clutter && i < num_floor_points / 2; ++i) {
+    scene.points.push_back(
+        {Eigen::Vector3d(uniform(random),
+                         uniform(random),
+                         floor_z + 0.05 + 0.1 * std::abs(uniform(random))),
+         0.003});
+  }
+  return scene;
+}
+
+Eigen::Matrix2d SmallMotionCovariance() {
+  const double sigma = 0.05 * kDegToRad;
+  return Eigen::Matrix2d::Identity() * sigma * sigma;
+}
+
+TEST(FloorPlane, LevelFloorGivesTheCameraHeight) {
+  const Scene scene = MakeScene(-0.4, 0.0, 2000);
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         scene.odom_from_cam,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  ASSERT_EQ(floor.status, FloorPlaneStatus::kFitted) << floor.reason;
+  EXPECT_NEAR(floor.camera_height_m, 0.4, 0.001);
+  EXPECT_GT(floor.camera_height_stddev_m, 0.0);
+  EXPECT_LT(floor.camera_height_stddev_m, 0.001);
+  EXPECT_LT(floor.tilt_deg, 0.1);
+  EXPECT_NEAR(floor.floor_roll_deg, -90.0, 0.1);
+  EXPECT_NEAR(floor.floor_pitch_deg, 0.0, 0.1);
+  // Clutter above the floor is not in it.
+  EXPECT_LE(floor.num_inliers, 2000);
+  EXPECT_GE(floor.num_inliers, 1900);
+  // Half the cameras per segment, scale 1: d H / d s_k = H / 2.
+  ASSERT_EQ(floor.height_per_scale.size(), 2u);
+  EXPECT_NEAR(floor.height_per_scale[0], 0.2, 0.001);
+  EXPECT_NEAR(floor.height_per_scale[1], 0.2, 0.001);
+}
+
+TEST(FloorPlane, TiltedCameraMountIsSeenInTheFloorsRollAndPitch) {
+  Scene scene = MakeScene(-0.4, 0.0, 2000);
+  // The motion's extrinsic pitched by 1 deg against the model's cameras:
+  // the floor says so, and disagrees beyond the sigmas.
+  const Rigid3d wrong(Eigen::Quaterniond(Eigen::AngleAxisd(
+                          1.0 * kDegToRad, Eigen::Vector3d::UnitY())) *
+                          scene.odom_from_cam.rotation,
+                      scene.odom_from_cam.translation);
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         wrong,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  EXPECT_EQ(floor.status, FloorPlaneStatus::kDisagreesWithMotion);
+  EXPECT_NE(floor.reason.find("sloped floor"), std::string::npos);
+  EXPECT_NEAR(floor.floor_pitch_deg, 0.0, 0.05);
+  EXPECT_NEAR(floor.roll_pitch_correction_rad.norm(),
+              1.0 * kDegToRad,
+              0.05 * kDegToRad);
+}
+
+TEST(FloorPlane, FloorSlopedAgainstTheDrivenPlaneIsNamed) {
+  const Scene scene = MakeScene(-0.4, 3.0, 2000);
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         scene.odom_from_cam,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  EXPECT_EQ(floor.status, FloorPlaneStatus::kSloped);
+  EXPECT_NE(floor.reason.find("tilted 3"), std::string::npos) << floor.reason;
+  EXPECT_NEAR(floor.tilt_deg, 3.0, 0.1);
+  // Steeper than max_tilt_deg: not the floor at all.
+  const Scene steep = MakeScene(-0.4, 20.0, 2000, /*clutter=*/false);
+  const FloorPlane none = FitFloorPlane(steep.points,
+                                        steep.cameras,
+                                        steep.odom_from_cam,
+                                        SmallMotionCovariance(),
+                                        {1.0, 1.0},
+                                        FloorPlaneOptions());
+  EXPECT_NE(none.status, FloorPlaneStatus::kFitted);
+}
+
+TEST(FloorPlane, UnseenFloorIsTooFewPoints) {
+  const Scene scene = MakeScene(-0.4, 0.0, 20);
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         scene.odom_from_cam,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  EXPECT_EQ(floor.status, FloorPlaneStatus::kTooFewPoints);
+  EXPECT_NE(floor.reason.find("not seen"), std::string::npos);
+}
+
+TEST(FloorPlane, OptionsAreChecked) {
+  FloorPlaneOptions options;
+  options.max_tilt_deg = 95.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = FloorPlaneOptions();
+  options.min_inliers = 2;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_EQ(FloorPlaneUseFromString("check"), FloorPlaneUse::kCheck);
+  EXPECT_THROW(FloorPlaneUseFromString("yes"), std::invalid_argument);
+}
+
+TEST(FloorTranslationZ, AppendsZWithTheScalesCovariance) {
+  const Scene scene = MakeScene(-0.4, 0.0, 2000);
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         scene.odom_from_cam,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  ASSERT_TRUE(floor.Fitted());
+  CalibrationResult result;
+  result.has_estimate = true;
+  result.odom_from_cam = scene.odom_from_cam;
+  result.metric_scales = {1.0, 1.0};
+  result.observability.metric_scales = {Determination::kEstimated,
+                                        Determination::kEstimated};
+  result.covariance_segments = {0, 1};
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Identity(7, 7) * 1e-6;
+  covariance(5, 5) = 1e-4;  // 1 % scale sigma
+  covariance(6, 6) = 4e-4;  // 2 %
+  covariance(5, 3) = covariance(3, 5) = 2e-6;
+  result.covariance = covariance;
+  FloorPlaneOptions options;
+  options.odometry_height_m = 0.1;
+  EXPECT_EQ(SetTranslationZFromFloor(floor, options, &result), "");
+  EXPECT_NEAR(result.odom_from_cam.translation.z(), 0.3, 0.001);
+  EXPECT_EQ(result.observability.translation_z, Determination::kEstimated);
+  EXPECT_EQ(result.observability.translation_z_source,
+            TranslationZSource::kFloorPlane);
+  ASSERT_EQ(result.covariance->rows(), 8);
+  // z = g_0 s_0 + g_1 s_1 + plane (g_k about 0.2).
+  const double g0 = floor.height_per_scale[0];
+  const double g1 = floor.height_per_scale[1];
+  const double expected = g0 * g0 * 1e-4 + g1 * g1 * 4e-4 +
+                          std::pow(floor.camera_height_stddev_m, 2);
+  EXPECT_NEAR((*result.covariance)(7, 7), expected, 1e-8);
+  EXPECT_NEAR((*result.covariance)(7, 3), g0 * 2e-6, 1e-12);
+  EXPECT_NEAR(result.stddev_translation_z_m, std::sqrt(expected), 1e-12);
+  // A second call keeps the estimate (z no longer held).
+  EXPECT_NE(SetTranslationZFromFloor(floor, options, &result), "");
+}
+
+TEST(FloorTranslationZ, CheckOnlyKeepsZHeld) {
+  const Scene scene = MakeScene(-0.4, 0.0, 2000);
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         scene.odom_from_cam,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  CalibrationResult result;
+  FloorPlaneOptions options;
+  options.use = FloorPlaneUse::kCheck;
+  EXPECT_NE(SetTranslationZFromFloor(floor, options, &result), "");
+  EXPECT_EQ(result.observability.translation_z, Determination::kHeld);
+}
+
+}  // namespace
+}  // namespace odomcal
