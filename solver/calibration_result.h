@@ -1,6 +1,7 @@
 // Result of the odometer-camera calibration (see calibrate.h).
 #pragma once
 
+#include "odomcal/solver/floor_plane.h"
 #include "odomcal/solver/noise_estimation.h"
 #include "odomcal/solver/observability.h"
 #include "odomcal/solver/planarity_check.h"
@@ -125,6 +126,11 @@ struct CalibrationResult {
   // The noise estimated from the data (options.estimate_noise), which the
   // covariance above uses; absent when not estimated.
   std::optional<NoiseEstimate> noise_estimate;
+
+  // The floor under a COLMAP project's metric model (floor_plane.h), when
+  // fitted, and why translation z is not taken from it (empty when it is).
+  std::optional<FloorPlane> floor_plane;
+  std::string floor_z_held_reason;
 
   bool IsSuccess() const { return status == CalibrationStatus::kSuccess; }
 };

@@ -147,6 +147,73 @@ Eigen::Vector3d PlaneNormal(const Eigen::Vector3d& p) {
   return Eigen::Vector3d(-p.x(), -p.y(), 1.0).normalized();
 }
 
+std::vector<int> AllOf(const std::vector<FloorCamera>& cameras) {
+  std::vector<int> all(cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) all[i] = static_cast<int>(i);
+  return all;
+}
+
+// The camera height and the roll/pitch correction from the plane `p` and
+// the cameras `subset`, with their Jacobians with respect to p.
+struct Derived {
+  double height = 0.0;
+  std::vector<double> heights;  // per camera of the subset
+  Eigen::RowVector3d height_jacobian = Eigen::RowVector3d::Zero();
+  Eigen::Vector2d phi = Eigen::Vector2d::Zero();
+  Eigen::Matrix<double, 2, 3> phi_jacobian =
+      Eigen::Matrix<double, 2, 3>::Zero();
+};
+
+Derived Derive(const Eigen::Vector3d& p,
+               const Eigen::Vector2d& reference,
+               const std::vector<Eigen::Vector3d>& centres,
+               const std::vector<FloorCamera>& cameras,
+               const std::vector<int>& subset,
+               const Rigid3d& odom_from_cam) {
+  Derived derived;
+  // Perpendicular heights of the camera centres above the plane.
+  const double norm = std::sqrt(1.0 + p.x() * p.x() + p.y() * p.y());
+  double sum = 0.0;
+  for (const int i : subset) {
+    const Eigen::Vector2d d = centres[i].head<2>() - reference;
+    const double h =
+        (centres[i].z() - (p.z() + p.x() * d.x() + p.y() * d.y())) / norm;
+    derived.heights.push_back(h);
+    sum += h;
+    derived.height_jacobian += Eigen::RowVector3d(-d.x(), -d.y(), -1.0) / norm;
+  }
+  const double n = static_cast<double>(subset.size());
+  derived.height = sum / n;
+  derived.height_jacobian /= n;
+  // The floor's normal seen from the cameras, in the odometry frame by the
+  // motion's extrinsic: up = mean_i(R_oc R_i^T) n.
+  const Eigen::Matrix3d odom_from_cam_rotation =
+      odom_from_cam.rotation.toRotationMatrix();
+  Eigen::Matrix3d to_odom = Eigen::Matrix3d::Zero();
+  for (const int i : subset) {
+    to_odom +=
+        odom_from_cam_rotation *
+        cameras[i].origin_from_cam.rotation.toRotationMatrix().transpose();
+  }
+  to_odom /= n;
+  const Eigen::Vector3d up = (to_odom * PlaneNormal(p)).normalized();
+  // Exp(-phi) e_z = up: phi = angle * (up_y, -up_x) / |(up_x, up_y)|.
+  const double horizontal = up.head<2>().norm();
+  const double angle = std::atan2(horizontal, up.z());
+  if (horizontal > 0.0) {
+    derived.phi = Eigen::Vector2d(up.y(), -up.x()) * (angle / horizontal);
+  }
+  // d n = (-d a, -d b, 0) to first order about level; d phi = (d up_y,
+  // -d up_x).
+  Eigen::Matrix<double, 2, 3> swap;
+  swap << 0.0, 1.0, 0.0, -1.0, 0.0, 0.0;
+  Eigen::Matrix3d dn_dp = Eigen::Matrix3d::Zero();
+  dn_dp(0, 0) = -1.0;
+  dn_dp(1, 1) = -1.0;
+  derived.phi_jacobian = swap * to_odom * dn_dp;
+  return derived;
+}
+
 }  // namespace
 
 std::string ToString(FloorPlaneUse use) {
@@ -179,6 +246,8 @@ std::string ToString(FloorPlaneStatus status) {
       return "too_few_points";
     case FloorPlaneStatus::kNotLevel:
       return "not_level";
+    case FloorPlaneStatus::kNotDistinct:
+      return "not_distinct";
     case FloorPlaneStatus::kSloped:
       return "sloped";
     case FloorPlaneStatus::kDisagreesWithMotion:
@@ -223,6 +292,11 @@ void FloorPlaneOptions::Check() const {
         "floor_max_slope_deg must be in [0, floor_max_tilt_deg), got " +
         FormatNumber(max_slope_deg));
   }
+  if (!(max_beside_ratio > 0.0) || !std::isfinite(max_beside_ratio)) {
+    throw std::invalid_argument(
+        "floor_max_beside_ratio must be positive, got " +
+        FormatNumber(max_beside_ratio));
+  }
   if (!(disagreement_alpha > 0.0 && disagreement_alpha < 1.0)) {
     throw std::invalid_argument(
         "floor_disagreement_alpha must be in (0, 1), got " +
@@ -238,6 +312,7 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
                          const FloorPlaneOptions& options) {
   options.Check();
   FloorPlane floor;
+  floor.odometry_height_m = options.odometry_height_m;
   if (cameras.empty()) {
     floor.reason = "no camera in the metric model";
     return floor;
@@ -329,43 +404,89 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
     rms += r * r;
   }
   floor.inlier_rms_m = std::sqrt(rms / static_cast<double>(members.size()));
+  for (const Candidate& c : candidates) {
+    const double r = std::abs(VerticalResidual(c, reference, p));
+    if (r > options.ransac_inlier_distance_m &&
+        r <= 2.0 * options.ransac_inlier_distance_m) {
+      ++floor.num_beside;
+    }
+  }
+  if (floor.num_beside > options.max_beside_ratio * floor.num_inliers) {
+    floor.status = FloorPlaneStatus::kNotDistinct;
+    floor.reason = "the floor is not seen: no plane stands out, " +
+                   std::to_string(floor.num_beside) + " points lie beside (" +
+                   FormatNumber(options.ransac_inlier_distance_m) + " to " +
+                   FormatNumber(2.0 * options.ransac_inlier_distance_m) +
+                   " m from) the best level plane and " +
+                   std::to_string(floor.num_inliers) + " on it";
+    return floor;
+  }
   floor.reference_xy = reference;
   floor.parameters = p;
 
-  // Covariance: the fit's, or the delete-a-block jackknife's over blocks of
-  // consecutive cameras when larger (errors shared along the drive).
-  Eigen::Matrix3d covariance = variance_factor * normal_matrix.inverse();
+  // What the floor gives, from the plane and the cameras; the same on
+  // every subset of the jackknife.
+  const Derived all =
+      Derive(p, reference, centres, cameras, AllOf(cameras), odom_from_cam);
+  // Covariances from the fit alone (points independent).
+  const Eigen::Matrix3d fit_covariance =
+      variance_factor * normal_matrix.inverse();
+  Eigen::Matrix3d covariance = fit_covariance;
+  double height_variance = (all.height_jacobian * fit_covariance *
+                            all.height_jacobian.transpose())(0);
+  Eigen::Matrix2d phi_covariance =
+      all.phi_jacobian * fit_covariance * all.phi_jacobian.transpose();
+  // The delete-a-block jackknife over blocks of consecutive cameras (each
+  // point in its nearest camera's block) takes in the errors the points and
+  // cameras share along the drive; each quantity takes the larger.
   const int num_blocks =
       std::min<int>(kMaxJackknifeBlocks, static_cast<int>(cameras.size()) / 2);
   if (num_blocks >= 4) {
-    std::vector<std::vector<int>> kept(num_blocks);
-    for (const int m : members) {
-      const int block =
-          static_cast<int>(static_cast<int64_t>(candidates[m].camera) *
-                           num_blocks / static_cast<int64_t>(cameras.size()));
-      for (int b = 0; b < num_blocks; ++b) {
-        if (b != block) kept[b].push_back(m);
-      }
-    }
-    std::vector<Eigen::Vector3d> estimates;
+    const auto block_of_camera = [&](int camera) {
+      return static_cast<int>(static_cast<int64_t>(camera) * num_blocks /
+                              static_cast<int64_t>(cameras.size()));
+    };
+    std::vector<Eigen::Matrix<double, 6, 1>> estimates;
     for (int b = 0; b < num_blocks; ++b) {
-      Eigen::Vector3d q;
-      if (static_cast<int>(kept[b].size()) >= options.min_inliers &&
-          FitPlane(candidates, kept[b], reference, &q, nullptr)) {
-        estimates.push_back(q);
+      std::vector<int> kept_points, kept_cameras;
+      for (const int m : members) {
+        if (block_of_camera(candidates[m].camera) != b)
+          kept_points.push_back(m);
       }
+      for (int i = 0; i < static_cast<int>(cameras.size()); ++i) {
+        if (block_of_camera(i) != b) kept_cameras.push_back(i);
+      }
+      Eigen::Vector3d q;
+      if (static_cast<int>(kept_points.size()) < options.min_inliers ||
+          kept_cameras.empty() ||
+          !FitPlane(candidates, kept_points, reference, &q, nullptr)) {
+        continue;
+      }
+      const Derived part =
+          Derive(q, reference, centres, cameras, kept_cameras, odom_from_cam);
+      Eigen::Matrix<double, 6, 1> v;
+      v << q, part.height, part.phi;
+      estimates.push_back(v);
     }
     if (estimates.size() >= 4) {
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (const Eigen::Vector3d& q : estimates) mean += q;
+      Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
+      for (const auto& v : estimates) mean += v;
       mean /= static_cast<double>(estimates.size());
-      Eigen::Matrix3d jackknife = Eigen::Matrix3d::Zero();
-      for (const Eigen::Vector3d& q : estimates) {
-        jackknife += (q - mean) * (q - mean).transpose();
+      Eigen::Matrix<double, 6, 6> jackknife =
+          Eigen::Matrix<double, 6, 6>::Zero();
+      for (const auto& v : estimates) {
+        jackknife += (v - mean) * (v - mean).transpose();
       }
       const double g = static_cast<double>(estimates.size());
       jackknife *= (g - 1.0) / g;
-      if (jackknife.trace() > covariance.trace()) covariance = jackknife;
+      if (jackknife.topLeftCorner<3, 3>().trace() > covariance.trace()) {
+        covariance = jackknife.topLeftCorner<3, 3>();
+      }
+      height_variance = std::max(height_variance, jackknife(3, 3));
+      if (jackknife.bottomRightCorner<2, 2>().trace() >
+          phi_covariance.trace()) {
+        phi_covariance = jackknife.bottomRightCorner<2, 2>();
+      }
     }
   }
   floor.parameter_covariance = covariance;
@@ -384,26 +505,11 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
           ? p.head<2>().dot(slope_ldlt.solve(p.head<2>()))
           : std::numeric_limits<double>::infinity();
 
-  // The cameras' heights above the plane.
-  const double norm = std::sqrt(1.0 + p.x() * p.x() + p.y() * p.y());
-  Eigen::RowVector3d jacobian = Eigen::RowVector3d::Zero();
-  std::vector<double> heights;
-  heights.reserve(cameras.size());
-  double height_sum = 0.0;
-  for (const Eigen::Vector3d& c : centres) {
-    const Eigen::Vector2d d = c.head<2>() - reference;
-    const double h = (c.z() - (p.z() + p.x() * d.x() + p.y() * d.y())) / norm;
-    heights.push_back(h);
-    height_sum += h;
-    jacobian += Eigen::RowVector3d(-d.x(), -d.y(), -1.0) / norm;
-  }
   const double n_cameras = static_cast<double>(cameras.size());
-  jacobian /= n_cameras;
-  floor.camera_height_m = height_sum / n_cameras;
-  floor.camera_height_stddev_m = std::sqrt(
-      std::max(0.0, (jacobian * covariance * jacobian.transpose())(0)));
+  floor.camera_height_m = all.height;
+  floor.camera_height_stddev_m = std::sqrt(std::max(0.0, height_variance));
   double spread = 0.0;
-  for (const double h : heights) {
+  for (const double h : all.heights) {
     spread += (h - floor.camera_height_m) * (h - floor.camera_height_m);
   }
   floor.camera_height_spread_m = std::sqrt(spread / n_cameras);
@@ -415,38 +521,12 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
       continue;
     }
     floor.height_per_scale[segment] +=
-        heights[i] / metric_scales[segment] / n_cameras;
+        all.heights[i] / metric_scales[segment] / n_cameras;
   }
-
-  // The cross-check: the floor's normal seen from the cameras, in the
-  // odometry frame by the motion's extrinsic.
-  const Eigen::Matrix3d odom_from_cam_rotation =
-      odom_from_cam.rotation.toRotationMatrix();
-  Eigen::Matrix3d to_odom = Eigen::Matrix3d::Zero();
-  for (const FloorCamera& camera : cameras) {
-    to_odom += odom_from_cam_rotation *
-               camera.origin_from_cam.rotation.toRotationMatrix().transpose();
-  }
-  to_odom /= n_cameras;
-  const Eigen::Vector3d up = (to_odom * floor.normal).normalized();
-  // Exp(-phi) e_z = up: phi = angle * (up_y, -up_x, 0) / |(up_x, up_y)|.
-  const double horizontal = up.head<2>().norm();
-  const double angle = std::atan2(horizontal, up.z());
-  const Eigen::Vector2d phi =
-      horizontal > 0.0 ? Eigen::Vector2d(Eigen::Vector2d(up.y(), -up.x()) *
-                                         (angle / horizontal))
-                       : Eigen::Vector2d(Eigen::Vector2d::Zero());
+  const Eigen::Vector2d phi = all.phi;
+  const double angle = phi.norm();
   floor.roll_pitch_correction_rad = phi;
-  // d n = (-d a, -d b, 0) (to first order about level); d phi = (d up_y,
-  // -d up_x).
-  Eigen::Matrix<double, 2, 3> swap;
-  swap << 0.0, 1.0, 0.0, -1.0, 0.0, 0.0;
-  Eigen::Matrix3d dn_dp = Eigen::Matrix3d::Zero();
-  dn_dp(0, 0) = -1.0;
-  dn_dp(1, 1) = -1.0;
-  const Eigen::Matrix<double, 2, 3> dphi_dp = swap * to_odom * dn_dp;
-  floor.roll_pitch_correction_covariance =
-      dphi_dp * covariance * dphi_dp.transpose();
+  floor.roll_pitch_correction_covariance = phi_covariance;
   const Eigen::Vector3d floor_rpy =
       RollPitchYaw(ExpRotation(Eigen::Vector3d(phi.x(), phi.y(), 0.0)) *
                    odom_from_cam.rotation);

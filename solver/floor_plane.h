@@ -62,6 +62,9 @@ struct FloorPlaneOptions {
   uint64_t ransac_seed = 1;
   // Fewer inliers than this: the floor is not seen well enough.
   int min_inliers = 50;
+  // More candidates beside the plane than this times its inliers: no plane
+  // stands out (kNotDistinct).
+  double max_beside_ratio = 0.5;
   // A floor tilted against the plane the robot drives in (the origin
   // frame's x-y plane) by more than this, beyond the tilt's chi-square
   // test, is sloped: z stays held.
@@ -91,6 +94,7 @@ enum class FloorPlaneStatus {
   kFitted,               // a level plane, consistent with the motion
   kTooFewPoints,         // fewer than min_inliers on the best plane
   kNotLevel,             // no plane within max_tilt_deg of level
+  kNotDistinct,          // as many points beside the plane as on it
   kSloped,               // tilted against the plane driven in
   kDisagreesWithMotion,  // its roll/pitch contradict the motion's
 };
@@ -102,6 +106,10 @@ struct FloorPlane {
   std::string reason;
   int num_candidates = 0;
   int num_inliers = 0;
+  // Candidates in the bands beside the plane (between one and two inlier
+  // distances from it, both sides): a floor is a peak of the points'
+  // heights; a level slice through vertical surfaces has as many beside it.
+  int num_beside = 0;
   double inlier_rms_m = 0.0;
   // The plane n . x = offset in the origin frame, n up (unit).
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
@@ -121,6 +129,8 @@ struct FloorPlane {
   // standard deviation from the plane (scale excluded) and the spread (RMS
   // about the mean) over the cameras.
   double camera_height_m = 0.0;
+  // options.odometry_height_m, for the writers: z = camera_height_m - it.
+  double odometry_height_m = 0.0;
   double camera_height_stddev_m = 0.0;
   double camera_height_spread_m = 0.0;
   // Per segment: d camera_height_m / d metric_scale (metres per (metre per

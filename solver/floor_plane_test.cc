@@ -131,6 +131,33 @@ TEST(FloorPlane, FloorSlopedAgainstTheDrivenPlaneIsNamed) {
   EXPECT_NE(none.status, FloorPlaneStatus::kFitted);
 }
 
+// An untextured floor: no floor points, only the sides of boxes standing on
+// it. A level plane slices them, with as many points beside it as on it.
+TEST(FloorPlane, LevelSliceThroughVerticalSurfacesIsNotAFloor) {
+  Scene scene = MakeScene(-0.4, 0.0, 0, /*clutter=*/false);
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> along(-0.5, 0.5), up(0.0, 0.35);
+  for (int box = 0; box < 6; ++box) {
+    const Eigen::Vector2d centre(2.5 * std::cos(box), 2.5 * std::sin(box));
+    for (int i = 0; i < 300; ++i) {
+      const bool x_face = i % 2 == 0;
+      const Eigen::Vector2d xy =
+          centre + (x_face ? Eigen::Vector2d(0.5, along(random))
+                           : Eigen::Vector2d(along(random), 0.5));
+      scene.points.push_back(
+          {Eigen::Vector3d(xy.x(), xy.y(), -0.4 + up(random)), 0.003});
+    }
+  }
+  const FloorPlane floor = FitFloorPlane(scene.points,
+                                         scene.cameras,
+                                         scene.odom_from_cam,
+                                         SmallMotionCovariance(),
+                                         {1.0, 1.0},
+                                         FloorPlaneOptions());
+  EXPECT_EQ(floor.status, FloorPlaneStatus::kNotDistinct) << floor.reason;
+  EXPECT_NE(floor.reason.find("no plane stands out"), std::string::npos);
+}
+
 TEST(FloorPlane, UnseenFloorIsTooFewPoints) {
   const Scene scene = MakeScene(-0.4, 0.0, 20);
   const FloorPlane floor = FitFloorPlane(scene.points,

@@ -436,6 +436,11 @@ class FlagEcho : public ScratchFolderTest {
                                     Path("image_timestamps.csv")};
     values["--file_name_time_unit"] = {"ms", "ms"};
     values["--min_inconsistent_run_pairs"] = {"4", 4};
+    values["--floor_plane"] = {"off", "off"};
+    values["--odometry_height_m"] = {"0.05", 0.05};
+    values["--floor_max_path_distance_m"] = {"2.5", 2.5};
+    values["--floor_inlier_distance_m"] = {"0.03", 0.03};
+    values["--floor_max_slope_deg"] = {"0.7", 0.7};
     return values;
   }
 

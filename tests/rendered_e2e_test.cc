@@ -68,8 +68,8 @@ class RenderedEndToEnd : public ::testing::Test {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
 
-  // Renders `preset` and runs the whole pipeline with the true intrinsics
-  // and the true mount height (z is unobservable).
+  // Renders `preset` and runs the whole pipeline with the true intrinsics;
+  // z comes from the floor (the rendered odometry frame lies on it).
   PresetRun RunPreset(const std::string& preset,
                       uint64_t seed,
                       const std::string& extra_run_flags = "") const {
@@ -90,9 +90,6 @@ class RenderedEndToEnd : public ::testing::Test {
       text << value.get<double>();
       params += (params.empty() ? "" : ",") + text.str();
     }
-    std::ostringstream z;
-    z.precision(17);
-    z << run.truth["odom_from_cam"]["translation_m"][2].get<double>();
     const auto inputs_before = Snapshot(data);
     const auto start = std::chrono::steady_clock::now();
     run.exit_code =
@@ -100,9 +97,8 @@ class RenderedEndToEnd : public ::testing::Test {
                 (data / "odometry.csv").string() + " --image_timestamps " +
                 (data / "image_timestamps.csv").string() + " --camera_model " +
                 run.truth["camera"]["model"].get<std::string>() +
-                " --camera_params " + params + " --fixed_translation_z_m " +
-                z.str() + " --workspace_path " + run.workspace.string() + " " +
-                extra_run_flags,
+                " --camera_params " + params + " --workspace_path " +
+                run.workspace.string() + " " + extra_run_flags,
             &run.log);
     run.run_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -188,6 +184,7 @@ class RenderedEndToEnd : public ::testing::Test {
     std::cout << std::endl;
     EXPECT_LT(std::abs(t.x()), translation_m) << run.log;
     EXPECT_LT(std::abs(t.y()), translation_m) << run.log;
+    ExpectCameraHeightFromTheFloor(run);
     for (const double error : MetricModelScaleErrors(run)) {
       EXPECT_LT(std::abs(error), scale_rel) << run.log;
     }
@@ -203,6 +200,33 @@ class RenderedEndToEnd : public ::testing::Test {
               min_fraction_in_calibration *
                   coverage["num_selected_images"].get<double>())
         << run.log;
+  }
+
+  // Issue 40: z from the floor plane within 5 mm of the truth and within
+  // its stated 3 sigma; the floor's roll and pitch within 0.2 deg of the
+  // true mount's.
+  static void ExpectCameraHeightFromTheFloor(const PresetRun& run) {
+    ASSERT_EQ(run.result["translation_z_source"], "floor_plane") << run.log;
+    const double z = run.result["odom_from_cam"]["translation_m"][2];
+    const double z_true = run.truth["odom_from_cam"]["translation_m"][2];
+    const double sigma = run.result["stddev"]["translation_z_m"];
+    const json& floor = run.result["floor_plane"];
+    const auto& q = run.truth["odom_from_cam"]["quaternion_wxyz"];
+    const Eigen::Vector3d rpy = RollPitchYaw(
+        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized());
+    const double roll_error =
+        WrapAngle(floor["floor_roll_deg"].get<double>() * kDegToRad -
+                  rpy.x()) *
+        kRadToDeg;
+    const double pitch_error =
+        floor["floor_pitch_deg"].get<double>() - rpy.y() * kRadToDeg;
+    std::cout << "[ floor    ] z " << 1000.0 * (z - z_true) << " mm (3 sigma "
+              << 3000.0 * sigma << " mm), floor roll " << roll_error
+              << " deg, pitch " << pitch_error << " deg" << std::endl;
+    EXPECT_LT(std::abs(z - z_true), 0.005) << run.log;
+    EXPECT_LE(std::abs(z - z_true), 3.0 * sigma) << run.log;
+    EXPECT_LT(std::abs(roll_error), 0.2) << run.log;
+    EXPECT_LT(std::abs(pitch_error), 0.2) << run.log;
   }
 
   fs::path dir_;
@@ -261,7 +285,8 @@ TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
 TEST_F(RenderedEndToEnd, SmallPreset) {
   const PresetRun run = RunPreset("small", TestSeed(1));
   ExpectAccurate(run, 0.1, 0.005, 0.003);
-  // `odomcal colmap` on the project `odomcal run` made gives the same answer.
+  // `odomcal colmap` on the project `odomcal run` made gives the same answer;
+  // a given z overrides the floor's, which is then only checked.
   std::string log;
   const fs::path data = dir_ / "data";
   const auto project_before = Snapshot(run.workspace);
@@ -281,8 +306,15 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
       json::parse(ReadFile(dir_ / "colmap_out" / "calibration.json"));
   EXPECT_EQ(again["odom_from_cam"]["quaternion_wxyz"],
             run.result["odom_from_cam"]["quaternion_wxyz"]);
-  EXPECT_EQ(again["odom_from_cam"]["translation_m"],
-            run.result["odom_from_cam"]["translation_m"]);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(again["odom_from_cam"]["translation_m"][k],
+              run.result["odom_from_cam"]["translation_m"][k]);
+  }
+  EXPECT_EQ(again["odom_from_cam"]["translation_m"][2], 0.4);
+  EXPECT_EQ(again["translation_z_source"], "given");
+  EXPECT_EQ(again["floor_plane"]["used_for_translation_z"], false);
+  EXPECT_EQ(again["floor_plane"]["camera_height_m"],
+            run.result["floor_plane"]["camera_height_m"]);
   EXPECT_EQ(again["metric_scales"], run.result["metric_scales"]);
 }
 
@@ -321,14 +353,11 @@ TEST_F(RenderedEndToEnd, TiltedCameraFromARos1BagThroughColmap4GlobalMapper) {
             << " --emulate 4.1.1 --real colmap \"$@\"\n";
   }
   fs::permissions(colmap, fs::perms::owner_all, fs::perm_options::add);
-  std::ostringstream z;
-  z.precision(17);
-  z << run.truth["odom_from_cam"]["translation_m"][2].get<double>();
   const auto bag_before = Snapshot(bag.parent_path());
   run.exit_code =
       Run("run --bag " + bag.string() + " --workspace_path " +
-              run.workspace.string() + " --fixed_translation_z_m " + z.str() +
-              " --mapper global --colmap_path " + colmap.string(),
+              run.workspace.string() + " --mapper global --colmap_path " +
+              colmap.string(),
           &run.log);
   run.inputs_unchanged = Snapshot(bag.parent_path()) == bag_before;
   ASSERT_TRUE(fs::exists(run.workspace / "calibration.json")) << run.log;

@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -204,6 +205,11 @@ std::string GroundTruthJson(const RenderedDataset& dataset) {
       {"scene",
        {{"room_from_world", TransformJson(dataset.room_from_origin)},
         {"num_surfaces", dataset.scene.surfaces.size()},
+        {"floor_slope_deg", o.layout.floor_slope_deg},
+        {"floor_textured",
+         std::all_of(o.layout.floors.begin(),
+                     o.layout.floors.end(),
+                     [](const FloorPatch& floor) { return floor.textured; })},
         {"texel_size_m", o.scene.texel_size_m},
         {"supersampling", o.render.supersampling}}},
       {"images", images},

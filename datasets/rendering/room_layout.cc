@@ -92,6 +92,12 @@ double RoomLayout::RayDistance(const Eigen::Vector2d& p,
 
 void RoomLayout::Check() const {
   if (floors.empty()) throw std::invalid_argument("RoomLayout: no floor patch");
+  if (!(std::abs(floor_slope_deg) < 30.0) ||
+      !std::isfinite(floor_slope_pivot_x_m)) {
+    throw std::invalid_argument(
+        "RoomLayout.floor_slope_deg must be within (-30, 30) and its pivot "
+        "finite");
+  }
   for (size_t i = 0; i < floors.size(); ++i) {
     if (!((floors[i].max_xy - floors[i].min_xy).minCoeff() > 0.0)) {
       throw std::invalid_argument("RoomLayout.floors[" + std::to_string(i) +

@@ -47,6 +47,12 @@ struct RoomLayout {
   std::vector<WallSpec> walls;
   std::vector<BoxSpec> boxes;
   std::optional<double> ceiling_height_m;  // none: open to a black sky
+  // The floor patches (not the walls, boxes or the plane the robot drives
+  // in, z = 0) tilted by this about the line y-parallel through
+  // x = floor_slope_pivot_x_m: a floor sloped against the driven plane, for
+  // the floor-plane check. Within (-30, 30) degrees.
+  double floor_slope_deg = 0.0;
+  double floor_slope_pivot_x_m = 0.0;
 
   // Distance from `p` to the nearest wall segment or box outline (0 inside a
   // box), seen from above.

@@ -109,12 +109,16 @@ RoomScene BuildRoomScene(const RoomLayout& layout,
   const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(),
                         ey = Eigen::Vector3d::UnitY(),
                         ez = Eigen::Vector3d::UnitZ();
+  const double slope = std::tan(layout.floor_slope_deg * M_PI / 180.0);
   for (const FloorPatch& floor : layout.floors) {
     const Eigen::Vector2d size = floor.max_xy - floor.min_xy;
-    builder.Add(Eigen::Vector3d(floor.min_xy.x(), floor.min_xy.y(), 0.0),
-                ex,
+    builder.Add(Eigen::Vector3d(
+                    floor.min_xy.x(),
+                    floor.min_xy.y(),
+                    slope * (floor.min_xy.x() - layout.floor_slope_pivot_x_m)),
+                Eigen::Vector3d(1.0, 0.0, slope),
                 ey,
-                size.x(),
+                size.x() * std::sqrt(1.0 + slope * slope),
                 size.y(),
                 floor.textured);
     if (layout.ceiling_height_m) {

@@ -86,7 +86,9 @@ void AddProjectFlags(CLI::App* app,
                      ProjectFlags* flags) {
   AddFlags(ProjectInputFlags(), app, inputs);
   AddFlags(StretchFlags(), app, &inputs->stretch);
+  AddFlags(FloorPlaneFlags(), app, &inputs->floor);
   AddCalibrationFlags(app, &flags->calibrate);
+  flags->fixed_translation_z = app->get_option("--fixed_translation_z_m");
 }
 
 void FinishProjectFlags(const ProjectFlags& flags,
@@ -100,6 +102,11 @@ void FinishProjectFlags(const ProjectFlags& flags,
   inputs->calibration = calibrate.calibration;
   inputs->systematics = calibrate.systematics;
   inputs->robot_frames = calibrate.robot_frames;
+  if (flags.fixed_translation_z != nullptr &&
+      flags.fixed_translation_z->count() > 0 &&
+      inputs->floor.use == FloorPlaneUse::kEstimateZ) {
+    inputs->floor.use = FloorPlaneUse::kCheck;
+  }
 }
 
 void AddRunFlags(CLI::App* app, ReconstructionOptions* settings) {

@@ -86,6 +86,9 @@ void AddCalibrationFlags(CLI::App* app, CalibrateInputs* inputs);
 
 struct ProjectFlags {
   CalibrateInputs calibrate;  // the calibration flags
+  // --fixed_translation_z_m, whose presence turns --floor_plane estimate
+  // into check: a given z overrides the floor's.
+  const CLI::Option* fixed_translation_z = nullptr;
 };
 
 // ProjectInputFlags(), StretchFlags() and the calibration flags.
@@ -93,7 +96,8 @@ void AddProjectFlags(CLI::App* app,
                      ColmapCalibrationInputs* inputs,
                      ProjectFlags* flags);
 
-// Copies the calibration flags into `inputs`.
+// Copies the calibration flags into `inputs`; a given
+// --fixed_translation_z_m makes the floor plane a check.
 void FinishProjectFlags(const ProjectFlags& flags,
                         ColmapCalibrationInputs* inputs);
 

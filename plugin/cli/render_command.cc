@@ -88,6 +88,18 @@ int RunRender(int argc, char** argv) {
                  "images to render instead of the preset's number (the drive "
                  "is as long as they take at the preset's camera rate)")
       ->check(CLI::Range(2, 100000));
+  double floor_slope_deg = 0.0;
+  app.add_option("--floor_slope_deg",
+                 floor_slope_deg,
+                 "tilt the floor by this against the plane the robot drives "
+                 "in (about the y axis through the path's start): a scene "
+                 "for the floor-plane check")
+      ->check(CLI::Range(-29.0, 29.0));
+  bool untextured_floor = false;
+  app.add_flag("--untextured_floor",
+               untextured_floor,
+               "a flat-coloured floor, without features: a scene whose "
+               "floor COLMAP cannot see");
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
@@ -101,6 +113,11 @@ int RunRender(int argc, char** argv) {
     PrepareOutputFolder(output_path, overwrite);
     RenderedDatasetOptions options = MakeDatasetPreset(preset, seed);
     if (num_images > 0) options.num_images = num_images;
+    options.layout.floor_slope_deg = floor_slope_deg;
+    options.layout.floor_slope_pivot_x_m = options.path.start.x;
+    for (FloorPatch& floor : options.layout.floors) {
+      floor.textured = floor.textured && !untextured_floor;
+    }
     std::cout << "odomcal render: preset " << preset << ", seed " << seed
               << ", " << options.num_images << " images "
               << options.camera.width << "x" << options.camera.height << " -> "

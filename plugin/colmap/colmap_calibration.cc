@@ -11,6 +11,7 @@
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/odometry_interpolation_error.h"
 #include "odomcal/adapters/systematics_warnings.h"
+#include "odomcal/plugin/colmap/floor_height.h"
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/colmap/scale_drift_warning.h"
 #include "odomcal/solver/angles.h"
@@ -228,6 +229,7 @@ ColmapCalibrationRun CalibrateColmapProject(
   inputs.association.Check();
   inputs.calibration.Check();
   inputs.robot_frames.Check();
+  inputs.floor.Check();
   const ImageTimestamps timestamps =
       inputs.image_timestamps_path.empty()
           ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
@@ -495,6 +497,14 @@ ColmapCalibrationRun CalibrateColmapProject(
     }
     run.metric_models.push_back(std::move(metric));
   }
+  std::map<std::string, int64_t> stamp_of_image;
+  for (const ColmapSegment& segment : run.segments) {
+    for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
+      stamp_of_image.emplace(segment.image_names.at(i),
+                             segment.trajectory.poses[i].stamp_ns);
+    }
+  }
+  ApplyFloorPlane(inputs.floor, stamp_of_image, &run);
   return run;
 }
 

@@ -21,6 +21,7 @@
 #include "odomcal/plugin/colmap/image_coverage.h"
 #include "odomcal/plugin/colmap/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/floor_plane.h"
 #include "odomcal/solver/repeatability.h"
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
@@ -48,6 +49,8 @@ struct ColmapCalibrationInputs {
   SystematicsEstimationOptions systematics;
   // The frames the robot outputs name (robot_description.h).
   RobotFrameNames robot_frames;
+  // Translation z from the floor under the metric model (floor_height.h).
+  FloorPlaneOptions floor;
 };
 
 // One sub-model in metres in the odometry's origin frame.

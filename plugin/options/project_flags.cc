@@ -96,6 +96,45 @@ const OptionTable<StretchOptions>& StretchFlags() {
   return table;
 }
 
+const OptionTable<FloorPlaneOptions>& FloorPlaneFlags() {
+  using F = FloorPlaneOptions;
+  static const OptionTable<F> table = {
+      ChoiceRow<F>(
+          "floor_plane",
+          "translation z from the floor under the metric model: estimate "
+          "(held with the reason where the floor is not seen well enough), "
+          "check (fit and cross-check only; the default when "
+          "--fixed_translation_z_m is given) or off",
+          {"estimate", "check", "off"},
+          [](const F& o) { return ToString(o.use); },
+          [](F* o, const std::string& name) {
+            o->use = FloorPlaneUseFromString(name);
+          }),
+      NumberRow<F>(
+          "odometry_height_m",
+          "height of the odometry frame's origin above the floor (0: REP "
+          "120 base_footprint); z = camera height - this",
+          [](auto& o) -> auto& { return o.odometry_height_m; }),
+      NumberRow<F>(
+          "floor_max_path_distance_m",
+          "floor points: at most this far (horizontally) from a camera",
+          [](auto& o) -> auto& { return o.max_path_distance_m; },
+          FlagCheck::AtLeast(0.0)),
+      NumberRow<F>(
+          "floor_inlier_distance_m",
+          "RANSAC inlier distance of the floor plane",
+          [](auto& o) -> auto& { return o.ransac_inlier_distance_m; },
+          FlagCheck::AtLeast(0.0)),
+      NumberRow<F>(
+          "floor_max_slope_deg",
+          "a floor tilted more than this against the plane driven in "
+          "(beyond 3 sigma) is sloped: z stays held",
+          [](auto& o) -> auto& { return o.max_slope_deg; },
+          FlagCheck::AtLeast(0.0)),
+  };
+  return table;
+}
+
 nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
   nlohmann::json echo = CalibrationFlagsEcho(inputs.association,
                                              inputs.calibration,
@@ -104,6 +143,7 @@ nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
   EchoOptions(ColmapModelFlags(), inputs, &echo["inputs"]);
   EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
   EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);
+  EchoOptions(FloorPlaneFlags(), inputs.floor, &echo["options"]);
   return echo;
 }
 

@@ -21,6 +21,10 @@ const OptionTable<ColmapCalibrationInputs>& ProjectInputFlags();
 // The stretch check's --min_inconsistent_run_pairs (echoed in `options`).
 const OptionTable<StretchOptions>& StretchFlags();
 
+// The floor plane's --floor_plane, --odometry_height_m and tuning (echoed
+// in `options`).
+const OptionTable<FloorPlaneOptions>& FloorPlaneFlags();
+
 // The echo of `odomcal colmap`'s flags as `inputs` holds them, for
 // ProjectReportContext (its default): the calibration flags, --model_path
 // and --database_path (null when not given), the project inputs and the

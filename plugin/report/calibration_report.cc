@@ -7,6 +7,7 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/options/cli_flags.h"
+#include "odomcal/plugin/report/floor_plane_report.h"
 #include "odomcal/plugin/report/repeatability_report.h"
 #include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/plugin/report/systematics_report.h"
@@ -304,6 +305,8 @@ json CalibrationToJson(const CalibrationResult& result,
   }
   if (result.noise_estimate)
     out["noise_estimated"] = NoiseToJson(*result.noise_estimate);
+  out["translation_z_source"] = ToString(observability.translation_z_source);
+  out["floor_plane"] = FloorPlaneToJson(result);
   out["warnings"] = result.warnings;
   json diagnostics = DiagnosticsToJson(result.diagnostics);
   const AssociationResult& a = context.association;
@@ -544,17 +547,11 @@ std::string CalibrationSummary(const CalibrationResult& result,
     out << "    z     "
         << FormatPrintf("%10.2f cm",
                         100.0 * result.odom_from_cam.translation.z());
-    if (Estimated(o.translation_z)) {
-      if (sigma) {
-        out << FormatPrintf("   +- %.2f cm (3 sigma)",
-                            300.0 * result.stddev_translation_z_m);
-      }
-      out << "   estimated (SE(3) odometry, rotation axes not all "
-             "parallel)\n";
-    } else {
-      out << "   fixed (unobservable under planar motion; "
-             "--fixed_translation_z_m)\n";
+    if (Estimated(o.translation_z) && sigma) {
+      out << FormatPrintf("   +- %.2f cm (3 sigma)",
+                          300.0 * result.stddev_translation_z_m);
     }
+    out << "   " << TranslationZOrigin(result) << "\n";
     for (size_t k = 0; k < result.metric_scales.size(); ++k) {
       out << "  metric scale";
       if (result.metric_scales.size() > 1) out << " [segment " << k << "]";
@@ -579,6 +576,7 @@ std::string CalibrationSummary(const CalibrationResult& result,
     if (result.noise_estimate) {
       out << "  " << NoiseSummary(*result.noise_estimate) << "\n";
     }
+    out << FloorPlaneSummary(result);
   }
   if (context.systematics) out << SystematicsSummary(*context.systematics);
   if (context.repeatability) {

@@ -2,6 +2,7 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/options/project_flags.h"
+#include "odomcal/plugin/report/floor_plane_report.h"
 #include "odomcal/plugin/report/repeatability_report.h"
 #include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/plugin/report/svg_plot.h"
@@ -466,7 +467,7 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                       "offset. Black "
                       "square: the first odometry pose (start); black "
                       "triangle: the last (end).")
-       << "\n<h2>Motion pairs</h2>\n"
+       << FloorPlaneHtml(run) << "\n<h2>Motion pairs</h2>\n"
        << figure_html(fit,
                       pair_definition +
                           "<em>Rotation residual</em>: the angle (deg) of the "
