@@ -288,9 +288,9 @@ void FloorPlaneOptions::Check() const {
                                 std::to_string(min_inliers));
   }
   if (!(max_slope_deg >= 0.0 && max_slope_deg < max_tilt_deg)) {
-    throw std::invalid_argument(
-        "floor_max_slope_deg must be in [0, floor_max_tilt_deg), got " +
-        FormatNumber(max_slope_deg));
+    throw std::invalid_argument("floor_max_slope_deg must be in [0, " +
+                                FormatNumber(max_tilt_deg) + "), got " +
+                                FormatNumber(max_slope_deg));
   }
   if (!(max_beside_ratio > 0.0) || !std::isfinite(max_beside_ratio)) {
     throw std::invalid_argument(

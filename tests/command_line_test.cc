@@ -261,6 +261,18 @@ TEST_F(CommandLine, OptionErrorsNameTheFlag) {
   ExpectBadInput(RunOdomcal(Colmap({"--max_odometry_gap_s", "0"})),
                  std::string(kColmapError) +
                      "--max_odometry_gap_s must be finite and > 0, got 0");
+  ExpectBadInput(RunOdomcal(Colmap({"--floor_plane", "yes"})),
+                 std::string(kColmapError) +
+                     "--floor_plane: yes not in {estimate,check,off}");
+  ExpectBadInput(RunOdomcal(Colmap({"--odometry_height_m", "nan"})),
+                 std::string(kColmapError) +
+                     "--odometry_height_m must be finite, got nan");
+  ExpectBadInput(RunOdomcal(Colmap({"--floor_max_path_distance_m", "0"})),
+                 std::string(kColmapError) +
+                     "--floor_max_path_distance_m must be positive, got 0");
+  ExpectBadInput(RunOdomcal(Colmap({"--floor_max_slope_deg", "20"})),
+                 std::string(kColmapError) +
+                     "--floor_max_slope_deg must be in [0, 10), got 20");
 }
 
 TEST_F(CommandLine, ValuesOfTheWrongTypeNameTheFlag) {
