@@ -341,6 +341,26 @@ class CalibrateProjectTest(unittest.TestCase):
         self.assertIn("max_scale_stddev_rel", result["options"])
         self.assertIn("keyframe_min_rotation_deg", result["inputs"])
         self.assertEqual(len(result["colmap"]["sub_models"]), 1)
+        # A given z overrides the floor, which is then only checked.
+        self.assertEqual(result["options"]["floor_plane"], "check")
+        self.assertEqual(result["translation_z_source"], "given")
+
+    def test_project_without_floor_points_holds_z_with_the_reason(self):
+        camera, odometry = simulated_drive()
+        with tempfile.TemporaryDirectory() as folder:
+            model, odometry_path, stamps = write_colmap_project(folder, camera, odometry)
+            result = odomcal.calibrate_project(
+                model_path=model, odometry=odometry_path, image_timestamps=stamps,
+                odometry_height_m=0.05)
+        self.assertEqual(result["status"], "success", result["message"])
+        self.assertEqual(result["options"]["floor_plane"], "estimate")
+        self.assertEqual(result["options"]["odometry_height_m"], 0.05)
+        self.assertEqual(result["translation_z_source"], "given")
+        self.assertIn("translation_z", result["unobservable"])
+        self.assertEqual(result["floor_plane"]["status"], "too_few_points")
+        self.assertTrue(result["floor_plane"]["translation_z_held_reason"].startswith(
+            "the floor is not seen: 0 points below the cameras"),
+            result["floor_plane"]["translation_z_held_reason"])
 
     def test_project_errors_name_the_keyword(self):
         with tempfile.TemporaryDirectory() as folder:
