@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The floor plane on rendered scenes: renders each case, runs `odomcal run`
 # on it (true intrinsics, no --fixed_translation_z_m) and prints translation
-# z against the truth with its stated 3 sigma, the floor's roll and pitch
-# against the true mount's, and the floor plane's status.
+# z against the truth with its stated 3 sigma, the error of the floor's roll
+# and pitch (tilt_err, deg: the angle between the odometry's up seen from the
+# camera under the floor's rotation and under the true mount's), and the
+# floor plane's status.
 #
 #   scripts/floor_plane_study.sh [WORK_DIR] [CASE ...]
 #
@@ -21,8 +23,8 @@ if [ ${#cases[@]} -eq 0 ]; then
          "small:1:--untextured_floor")
 fi
 mkdir -p "$work"
-printf '%-40s %9s %9s %9s %9s %9s  %s\n' case z_err_mm 3sigma_mm \
-  roll_err pitch_err status reason
+printf '%-40s %9s %9s %9s %9s  %s\n' case z_err_mm 3sigma_mm tilt_err \
+  status reason
 for spec in "${cases[@]}"; do
   IFS=: read -r preset seed flags <<<"$spec"
   seed="${seed:-1}"
@@ -52,21 +54,40 @@ try:
     result = json.load(open(sys.argv[2]))
 except (OSError, ValueError):
     print(f"{sys.argv[3]:40s} no result"); sys.exit(0)
-w, x, y, z = truth["odom_from_cam"]["quaternion_wxyz"]
-roll = math.degrees(math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
-pitch = math.degrees(math.asin(max(-1, min(1, 2 * (w * y - z * x)))))
+def rotate(q, v):  # q = (w, x, y, z) applied to v
+    w, x, y, z = q
+    u = (x, y, z)
+    c = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    c2 = (u[1] * c[2] - u[2] * c[1], u[2] * c[0] - u[0] * c[2], u[0] * c[1] - u[1] * c[0])
+    return tuple(v[i] + 2 * (w * c[i] + c2[i]) for i in range(3))
+def conj(q):
+    return (q[0], -q[1], -q[2], -q[3])
+def mul(a, b):
+    w1, x1, y1, z1 = a; w2, x2, y2, z2 = b
+    return (w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)
+def exp(phi):
+    angle = math.sqrt(sum(p * p for p in phi))
+    if angle == 0:
+        return (1.0, 0.0, 0.0, 0.0)
+    s = math.sin(angle / 2) / angle
+    return (math.cos(angle / 2), phi[0] * s, phi[1] * s, phi[2] * s)
 z_true = truth["odom_from_cam"]["translation_m"][2]
 z_est = result["odom_from_cam"]["translation_m"][2]
 sigma = (result.get("stddev") or {}).get("translation_z_m")
 floor = result.get("floor_plane") or {}
-def err(a, b):
-    return f"{(a - b + 180) % 360 - 180:9.3f}" if a is not None else f"{'-':>9}"
 from_floor = result.get("translation_z_source") == "floor_plane"
 z_text = f"{1000 * (z_est - z_true):9.2f} {3000 * sigma:9.2f}" if from_floor \
     else f"{'held':>9} {'-':>9}"
-print(f"{sys.argv[3]:40s} {z_text} "
-      f"{err(floor.get('floor_roll_deg'), roll)} "
-      f"{err(floor.get('floor_pitch_deg'), pitch)} "
+tilt = f"{'-':>9}"
+if "roll_pitch_correction_deg" in floor:
+    phi = [math.radians(v) for v in floor["roll_pitch_correction_deg"]] + [0.0]
+    q = mul(exp(phi), tuple(result["odom_from_cam"]["quaternion_wxyz"]))
+    a = rotate(conj(q), (0, 0, 1))
+    b = rotate(conj(tuple(truth["odom_from_cam"]["quaternion_wxyz"])), (0, 0, 1))
+    dot = max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b))))
+    tilt = f"{math.degrees(math.acos(dot)):9.3f}"
+print(f"{sys.argv[3]:40s} {z_text} {tilt} "
       f"{floor.get('status', '-'):>9}  {floor.get('translation_z_held_reason') or ''}")
 PY
 done

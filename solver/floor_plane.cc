@@ -292,6 +292,12 @@ void FloorPlaneOptions::Check() const {
                                 FormatNumber(max_tilt_deg) + "), got " +
                                 FormatNumber(max_slope_deg));
   }
+  if (!(orientation_model_sigma_deg >= 0.0) ||
+      !std::isfinite(orientation_model_sigma_deg)) {
+    throw std::invalid_argument(
+        "floor_orientation_model_sigma_deg must be >= 0, got " +
+        FormatNumber(orientation_model_sigma_deg));
+  }
   if (!(max_beside_ratio > 0.0) || !std::isfinite(max_beside_ratio)) {
     throw std::invalid_argument(
         "floor_max_beside_ratio must be positive, got " +
@@ -526,7 +532,9 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
   const Eigen::Vector2d phi = all.phi;
   const double angle = phi.norm();
   floor.roll_pitch_correction_rad = phi;
-  floor.roll_pitch_correction_covariance = phi_covariance;
+  const double model_sigma = options.orientation_model_sigma_deg * kDegToRad;
+  floor.roll_pitch_correction_covariance =
+      phi_covariance + Eigen::Matrix2d::Identity() * model_sigma * model_sigma;
   const Eigen::Vector3d floor_rpy =
       RollPitchYaw(ExpRotation(Eigen::Vector3d(phi.x(), phi.y(), 0.0)) *
                    odom_from_cam.rotation);

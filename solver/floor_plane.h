@@ -65,6 +65,12 @@ struct FloorPlaneOptions {
   // More candidates beside the plane than this times its inliers: no plane
   // stands out (kNotDistinct).
   double max_beside_ratio = 0.5;
+  // The model's camera orientations against its own floor: a standard
+  // deviation per axis added to the floor's roll/pitch correction (errors
+  // common to the whole model, which the jackknife does not see). Measured
+  // on rendered scenes: corrections of 0.020 deg RMS per axis against the
+  // motion's 0.006-0.012 deg (docs/method.md, scripts/floor_plane_study.sh).
+  double orientation_model_sigma_deg = 0.02;
   // A floor tilted against the plane the robot drives in (the origin
   // frame's x-y plane) by more than this, beyond the tilt's chi-square
   // test, is sloped: z stays held.

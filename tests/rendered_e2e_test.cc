@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -204,29 +205,37 @@ class RenderedEndToEnd : public ::testing::Test {
 
   // Issue 40: z from the floor plane within 5 mm of the truth and within
   // its stated 3 sigma; the floor's roll and pitch within 0.2 deg of the
-  // true mount's.
+  // true mount's, measured as the angle between the odometry's up seen from
+  // the camera under the floor's rotation, Exp(phi) * R, and under the truth
+  // (roll and pitch without the Euler angles' singularity: `tilted` is
+  // pitched 80 deg in them).
   static void ExpectCameraHeightFromTheFloor(const PresetRun& run) {
     ASSERT_EQ(run.result["translation_z_source"], "floor_plane") << run.log;
     const double z = run.result["odom_from_cam"]["translation_m"][2];
     const double z_true = run.truth["odom_from_cam"]["translation_m"][2];
     const double sigma = run.result["stddev"]["translation_z_m"];
-    const json& floor = run.result["floor_plane"];
-    const auto& q = run.truth["odom_from_cam"]["quaternion_wxyz"];
-    const Eigen::Vector3d rpy = RollPitchYaw(
-        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized());
-    const double roll_error =
-        WrapAngle(floor["floor_roll_deg"].get<double>() * kDegToRad -
-                  rpy.x()) *
+    const auto& q = run.result["odom_from_cam"]["quaternion_wxyz"];
+    const auto& t = run.truth["odom_from_cam"]["quaternion_wxyz"];
+    const auto& phi = run.result["floor_plane"]["roll_pitch_correction_deg"];
+    const Eigen::Quaterniond floor_rotation =
+        ExpRotation(Eigen::Vector3d(phi[0].get<double>() * kDegToRad,
+                                    phi[1].get<double>() * kDegToRad,
+                                    0.0)) *
+        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
+    const Eigen::Quaterniond truth(t[0], t[1], t[2], t[3]);
+    const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+    const double tilt_error_deg =
+        std::acos(std::clamp(
+            (floor_rotation.conjugate() * up).dot(truth.conjugate() * up),
+            -1.0,
+            1.0)) *
         kRadToDeg;
-    const double pitch_error =
-        floor["floor_pitch_deg"].get<double>() - rpy.y() * kRadToDeg;
     std::cout << "[ floor    ] z " << 1000.0 * (z - z_true) << " mm (3 sigma "
-              << 3000.0 * sigma << " mm), floor roll " << roll_error
-              << " deg, pitch " << pitch_error << " deg" << std::endl;
+              << 3000.0 * sigma << " mm), floor roll/pitch error "
+              << tilt_error_deg << " deg" << std::endl;
     EXPECT_LT(std::abs(z - z_true), 0.005) << run.log;
     EXPECT_LE(std::abs(z - z_true), 3.0 * sigma) << run.log;
-    EXPECT_LT(std::abs(roll_error), 0.2) << run.log;
-    EXPECT_LT(std::abs(pitch_error), 0.2) << run.log;
+    EXPECT_LT(tilt_error_deg, 0.2) << run.log;
   }
 
   fs::path dir_;
@@ -285,20 +294,17 @@ TEST_F(RenderedEndToEnd, HardPresetSplitsIntoTwoSegments) {
 TEST_F(RenderedEndToEnd, SmallPreset) {
   const PresetRun run = RunPreset("small", TestSeed(1));
   ExpectAccurate(run, 0.1, 0.005, 0.003);
-  // `odomcal colmap` on the project `odomcal run` made gives the same answer;
-  // a given z overrides the floor's, which is then only checked.
+  // `odomcal colmap` on the project `odomcal run` made gives the same answer.
   std::string log;
   const fs::path data = dir_ / "data";
   const auto project_before = Snapshot(run.workspace);
-  ASSERT_EQ(Run("colmap --model_path " + (run.workspace / "sparse").string() +
-                    " --database_path " +
-                    (run.workspace / "database.db").string() + " --odometry " +
-                    (data / "odometry.csv").string() + " --image_timestamps " +
-                    (data / "image_timestamps.csv").string() +
-                    " --fixed_translation_z_m 0.4 --output_path " +
-                    (dir_ / "colmap_out").string(),
-                &log),
-            0)
+  const std::string colmap =
+      "colmap --model_path " + (run.workspace / "sparse").string() +
+      " --database_path " + (run.workspace / "database.db").string() +
+      " --odometry " + (data / "odometry.csv").string() +
+      " --image_timestamps " + (data / "image_timestamps.csv").string();
+  ASSERT_EQ(
+      Run(colmap + " --output_path " + (dir_ / "colmap_out").string(), &log), 0)
       << log;
   EXPECT_TRUE(Snapshot(run.workspace) == project_before)
       << "odomcal colmap modified its input";
@@ -306,16 +312,24 @@ TEST_F(RenderedEndToEnd, SmallPreset) {
       json::parse(ReadFile(dir_ / "colmap_out" / "calibration.json"));
   EXPECT_EQ(again["odom_from_cam"]["quaternion_wxyz"],
             run.result["odom_from_cam"]["quaternion_wxyz"]);
-  for (int k = 0; k < 2; ++k) {
-    EXPECT_EQ(again["odom_from_cam"]["translation_m"][k],
-              run.result["odom_from_cam"]["translation_m"][k]);
-  }
-  EXPECT_EQ(again["odom_from_cam"]["translation_m"][2], 0.4);
-  EXPECT_EQ(again["translation_z_source"], "given");
-  EXPECT_EQ(again["floor_plane"]["used_for_translation_z"], false);
-  EXPECT_EQ(again["floor_plane"]["camera_height_m"],
-            run.result["floor_plane"]["camera_height_m"]);
+  EXPECT_EQ(again["odom_from_cam"]["translation_m"],
+            run.result["odom_from_cam"]["translation_m"]);
   EXPECT_EQ(again["metric_scales"], run.result["metric_scales"]);
+  // A given z overrides the floor's, which is then only checked.
+  ASSERT_EQ(Run(colmap + " --fixed_translation_z_m 0.4 --output_path " +
+                    (dir_ / "colmap_given_z").string(),
+                &log),
+            0)
+      << log;
+  const json given =
+      json::parse(ReadFile(dir_ / "colmap_given_z" / "calibration.json"));
+  EXPECT_EQ(given["odom_from_cam"]["translation_m"][2], 0.4);
+  EXPECT_EQ(given["translation_z_source"], "given");
+  EXPECT_EQ(given["options"]["floor_plane"], "check");
+  EXPECT_EQ(given["floor_plane"]["used_for_translation_z"], false);
+  EXPECT_NEAR(given["floor_plane"]["camera_height_m"].get<double>(),
+              run.result["floor_plane"]["camera_height_m"].get<double>(),
+              1e-4);
 }
 
 // Camera pitched 10 deg down and rolled 90 deg: roll and pitch of the
@@ -354,11 +368,10 @@ TEST_F(RenderedEndToEnd, TiltedCameraFromARos1BagThroughColmap4GlobalMapper) {
   }
   fs::permissions(colmap, fs::perms::owner_all, fs::perm_options::add);
   const auto bag_before = Snapshot(bag.parent_path());
-  run.exit_code =
-      Run("run --bag " + bag.string() + " --workspace_path " +
-              run.workspace.string() + " --mapper global --colmap_path " +
-              colmap.string(),
-          &run.log);
+  run.exit_code = Run("run --bag " + bag.string() + " --workspace_path " +
+                          run.workspace.string() +
+                          " --mapper global --colmap_path " + colmap.string(),
+                      &run.log);
   run.inputs_unchanged = Snapshot(bag.parent_path()) == bag_before;
   ASSERT_TRUE(fs::exists(run.workspace / "calibration.json")) << run.log;
   run.result = json::parse(ReadFile(run.workspace / "calibration.json"));
