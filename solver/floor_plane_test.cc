@@ -204,7 +204,7 @@ TEST(FloorTranslationZ, AppendsZWithTheScalesCovariance) {
   result.covariance = covariance;
   FloorPlaneOptions options;
   options.odometry_height_m = 0.1;
-  EXPECT_EQ(SetTranslationZFromFloor(floor, options, &result), "");
+  EXPECT_EQ(SetTranslationZFromFloor(floor, options, 0.05, &result), "");
   EXPECT_NEAR(result.odom_from_cam.translation.z(), 0.3, 0.001);
   EXPECT_EQ(result.observability.translation_z, Determination::kEstimated);
   EXPECT_EQ(result.observability.translation_z_source,
@@ -218,8 +218,16 @@ TEST(FloorTranslationZ, AppendsZWithTheScalesCovariance) {
   EXPECT_NEAR((*result.covariance)(7, 7), expected, 1e-8);
   EXPECT_NEAR((*result.covariance)(7, 3), g0 * 2e-6, 1e-12);
   EXPECT_NEAR(result.stddev_translation_z_m, std::sqrt(expected), 1e-12);
+  // A z known only to more than the limit stays held.
+  CalibrationResult loose = result;
+  loose.observability.translation_z = Determination::kHeld;
+  loose.covariance = covariance;
+  EXPECT_NE(SetTranslationZFromFloor(floor, options, 1e-4, &loose)
+                .find("more than --max_translation_stddev_m"),
+            std::string::npos);
+  EXPECT_EQ(loose.observability.translation_z, Determination::kHeld);
   // A second call keeps the estimate (z no longer held).
-  EXPECT_NE(SetTranslationZFromFloor(floor, options, &result), "");
+  EXPECT_NE(SetTranslationZFromFloor(floor, options, 0.05, &result), "");
 }
 
 TEST(FloorTranslationZ, CheckOnlyKeepsZHeld) {
@@ -233,7 +241,7 @@ TEST(FloorTranslationZ, CheckOnlyKeepsZHeld) {
   CalibrationResult result;
   FloorPlaneOptions options;
   options.use = FloorPlaneUse::kCheck;
-  EXPECT_NE(SetTranslationZFromFloor(floor, options, &result), "");
+  EXPECT_NE(SetTranslationZFromFloor(floor, options, 0.05, &result), "");
   EXPECT_EQ(result.observability.translation_z, Determination::kHeld);
 }
 

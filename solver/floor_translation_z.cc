@@ -1,11 +1,14 @@
 #include "odomcal/solver/floor_translation_z.h"
 
+#include "odomcal/solver/format_number.h"
+
 #include <cmath>
 
 namespace odomcal {
 
 std::string SetTranslationZFromFloor(const FloorPlane& floor,
                                      const FloorPlaneOptions& options,
+                                     double max_stddev_m,
                                      CalibrationResult* result) {
   if (options.use == FloorPlaneUse::kOff) return "--floor_plane off";
   if (options.use == FloorPlaneUse::kCheck) {
@@ -39,6 +42,11 @@ std::string SetTranslationZFromFloor(const FloorPlane& floor,
   covariance(n, n) =
       floor.camera_height_stddev_m * floor.camera_height_stddev_m +
       g.dot(cross);
+  const double stddev = std::sqrt(covariance(n, n));
+  if (!(stddev <= max_stddev_m)) {
+    return "the floor gives z only to " + FormatRounded(1000.0 * stddev, 3) +
+           " mm (1 sigma), more than --max_translation_stddev_m";
+  }
   result->covariance = covariance;
   result->stddev_translation_z_m = std::sqrt(covariance(n, n));
   result->odom_from_cam.translation.z() =

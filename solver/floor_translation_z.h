@@ -17,10 +17,13 @@ namespace odomcal {
 // covariance (last row and column):
 //   var(z) = var(H | plane) + g^T C_ss g,  cov(z, v) = sum_k g_k cov(s_k, v),
 // g = floor.height_per_scale over the covariance's scale rows (the plane's
-// errors are independent of the motion's). Returns the reason z stays held
-// otherwise (empty when z was set).
+// errors are independent of the motion's). A standard deviation of z above
+// max_stddev_m (the calibration's max_translation_stddev_m, the limit of x
+// and y) leaves z held. Returns the reason z stays held otherwise (empty
+// when z was set).
 std::string SetTranslationZFromFloor(const FloorPlane& floor,
                                      const FloorPlaneOptions& options,
+                                     double max_stddev_m,
                                      CalibrationResult* result);
 
 // The motion's covariance of the rotation's x and y components (left

@@ -504,7 +504,10 @@ ColmapCalibrationRun CalibrateColmapProject(
                              segment.trajectory.poses[i].stamp_ns);
     }
   }
-  ApplyFloorPlane(inputs.floor, stamp_of_image, &run);
+  ApplyFloorPlane(inputs.floor,
+                  inputs.calibration.max_translation_stddev_m,
+                  stamp_of_image,
+                  &run);
   return run;
 }
 

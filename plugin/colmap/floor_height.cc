@@ -91,6 +91,7 @@ std::vector<FloorCamera> FloorCamerasOf(
 }
 
 void ApplyFloorPlane(const FloorPlaneOptions& options,
+                     double max_translation_stddev_m,
                      const std::map<std::string, int64_t>& stamp_of_image,
                      ColmapCalibrationRun* run) {
   CalibrationResult& result = run->check.result;
@@ -106,8 +107,8 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
                     result.metric_scales,
                     options);
   const double held_z = result.odom_from_cam.translation.z();
-  result.floor_z_held_reason =
-      SetTranslationZFromFloor(floor, options, &result);
+  result.floor_z_held_reason = SetTranslationZFromFloor(
+      floor, options, max_translation_stddev_m, &result);
   result.floor_plane = floor;
   if (floor.status == FloorPlaneStatus::kSloped ||
       floor.status == FloorPlaneStatus::kDisagreesWithMotion) {

@@ -29,10 +29,12 @@ std::vector<FloorCamera> FloorCamerasOf(
     const std::map<std::string, int64_t>& stamp_of_image);
 
 // Fits the floor of run->metric_models (options.use != kOff), stores it in
-// run->check.result.floor_plane and, when z is set from it, moves every
-// metric model by the change of z. A floor that is sloped or disagrees with
-// the motion adds a warning.
+// run->check.result.floor_plane and, when z is set from it (its standard
+// deviation within max_translation_stddev_m), moves every metric model by
+// the change of z. A floor that is sloped or disagrees with the motion adds
+// a warning.
 void ApplyFloorPlane(const FloorPlaneOptions& options,
+                     double max_translation_stddev_m,
                      const std::map<std::string, int64_t>& stamp_of_image,
                      ColmapCalibrationRun* run);
 
