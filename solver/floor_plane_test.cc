@@ -63,14 +63,21 @@ Eigen::Matrix2d SmallMotionCovariance() {
   return Eigen::Matrix2d::Identity() * sigma * sigma;
 }
 
+// The floor of `scene` under `extrinsic`, with two segments of scale 1 and a
+// motion whose roll/pitch sigma is 0.05 deg.
+FloorPlane Fit(const Scene& scene, const Rigid3d& extrinsic) {
+  return FitFloorPlane(scene.points,
+                       scene.cameras,
+                       extrinsic,
+                       SmallMotionCovariance(),
+                       {1.0, 1.0},
+                       FloorPlaneOptions());
+}
+FloorPlane Fit(const Scene& scene) { return Fit(scene, scene.odom_from_cam); }
+
 TEST(FloorPlane, LevelFloorGivesTheCameraHeight) {
   const Scene scene = MakeScene(-0.4, 0.0, 2000);
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         scene.odom_from_cam,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene);
   ASSERT_EQ(floor.status, FloorPlaneStatus::kFitted) << floor.reason;
   EXPECT_NEAR(floor.camera_height_m, 0.4, 0.001);
   EXPECT_GT(floor.camera_height_stddev_m, 0.0);
@@ -95,12 +102,7 @@ TEST(FloorPlane, TiltedCameraMountIsSeenInTheFloorsRollAndPitch) {
                           1.0 * kDegToRad, Eigen::Vector3d::UnitY())) *
                           scene.odom_from_cam.rotation,
                       scene.odom_from_cam.translation);
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         wrong,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene, wrong);
   EXPECT_EQ(floor.status, FloorPlaneStatus::kDisagreesWithMotion);
   EXPECT_NE(floor.reason.find("sloped floor"), std::string::npos);
   EXPECT_NEAR(floor.floor_pitch_deg, 0.0, 0.05);
@@ -111,23 +113,13 @@ TEST(FloorPlane, TiltedCameraMountIsSeenInTheFloorsRollAndPitch) {
 
 TEST(FloorPlane, FloorSlopedAgainstTheDrivenPlaneIsNamed) {
   const Scene scene = MakeScene(-0.4, 3.0, 2000);
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         scene.odom_from_cam,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene);
   EXPECT_EQ(floor.status, FloorPlaneStatus::kSloped);
   EXPECT_NE(floor.reason.find("tilted 3"), std::string::npos) << floor.reason;
   EXPECT_NEAR(floor.tilt_deg, 3.0, 0.1);
   // Steeper than max_tilt_deg: not the floor at all.
   const Scene steep = MakeScene(-0.4, 20.0, 2000, /*clutter=*/false);
-  const FloorPlane none = FitFloorPlane(steep.points,
-                                        steep.cameras,
-                                        steep.odom_from_cam,
-                                        SmallMotionCovariance(),
-                                        {1.0, 1.0},
-                                        FloorPlaneOptions());
+  const FloorPlane none = Fit(steep);
   EXPECT_NE(none.status, FloorPlaneStatus::kFitted);
 }
 
@@ -148,24 +140,14 @@ TEST(FloorPlane, LevelSliceThroughVerticalSurfacesIsNotAFloor) {
           {Eigen::Vector3d(xy.x(), xy.y(), -0.4 + up(random)), 0.003});
     }
   }
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         scene.odom_from_cam,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene);
   EXPECT_EQ(floor.status, FloorPlaneStatus::kNotDistinct) << floor.reason;
   EXPECT_NE(floor.reason.find("no plane stands out"), std::string::npos);
 }
 
 TEST(FloorPlane, UnseenFloorIsTooFewPoints) {
   const Scene scene = MakeScene(-0.4, 0.0, 20);
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         scene.odom_from_cam,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene);
   EXPECT_EQ(floor.status, FloorPlaneStatus::kTooFewPoints);
   EXPECT_NE(floor.reason.find("not seen"), std::string::npos);
 }
@@ -183,12 +165,7 @@ TEST(FloorPlane, OptionsAreChecked) {
 
 TEST(FloorTranslationZ, AppendsZWithTheScalesCovariance) {
   const Scene scene = MakeScene(-0.4, 0.0, 2000);
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         scene.odom_from_cam,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene);
   ASSERT_TRUE(floor.Fitted());
   CalibrationResult result;
   result.has_estimate = true;
@@ -232,12 +209,7 @@ TEST(FloorTranslationZ, AppendsZWithTheScalesCovariance) {
 
 TEST(FloorTranslationZ, CheckOnlyKeepsZHeld) {
   const Scene scene = MakeScene(-0.4, 0.0, 2000);
-  const FloorPlane floor = FitFloorPlane(scene.points,
-                                         scene.cameras,
-                                         scene.odom_from_cam,
-                                         SmallMotionCovariance(),
-                                         {1.0, 1.0},
-                                         FloorPlaneOptions());
+  const FloorPlane floor = Fit(scene);
   CalibrationResult result;
   FloorPlaneOptions options;
   options.use = FloorPlaneUse::kCheck;
