@@ -352,7 +352,8 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
   }
 
   // Refit on the inliers: the RANSAC gate first, then 3 a-posteriori sigma
-  // (within the gate) until the set settles.
+  // (within the gate) until the set settles; the plane, its normal matrix
+  // and variance factor are always those of `members`.
   std::vector<int> members;
   for (size_t i = 0; i < candidates.size(); ++i) {
     if (std::abs(ransac_normal.dot(candidates[i].xyz - on_plane)) <=
@@ -392,7 +393,8 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
         next.push_back(static_cast<int>(i));
       }
     }
-    if (next == members) break;
+    // The last iteration keeps the set it fitted.
+    if (next == members || iteration + 1 == kMaxRefitIterations) break;
     members = std::move(next);
   }
   floor.num_inliers = static_cast<int>(members.size());
