@@ -12,6 +12,17 @@ namespace odomcal {
 
 using nlohmann::json;
 
+namespace {
+
+// A plane was fitted (its parameters hold), whether or not z came from it.
+bool HasPlane(const FloorPlane& floor) {
+  return floor.status == FloorPlaneStatus::kFitted ||
+         floor.status == FloorPlaneStatus::kSloped ||
+         floor.status == FloorPlaneStatus::kDisagreesWithMotion;
+}
+
+}  // namespace
+
 json FloorPlaneToJson(const CalibrationResult& result) {
   if (!result.floor_plane) return nullptr;
   const FloorPlane& f = *result.floor_plane;
@@ -27,12 +38,7 @@ json FloorPlaneToJson(const CalibrationResult& result) {
       {"num_inliers", f.num_inliers},
       {"num_beside", f.num_beside},
   };
-  if (f.status == FloorPlaneStatus::kNotRun ||
-      f.status == FloorPlaneStatus::kNotLevel ||
-      f.status == FloorPlaneStatus::kNotDistinct ||
-      (f.status == FloorPlaneStatus::kTooFewPoints && f.num_inliers == 0)) {
-    return out;
-  }
+  if (!HasPlane(f)) return out;
   out["inlier_rms_m"] = f.inlier_rms_m;
   out["normal_in_odom_origin"] = {f.normal.x(), f.normal.y(), f.normal.z()};
   out["offset_m"] = f.offset_m;
@@ -56,9 +62,7 @@ std::string FloorPlaneSummary(const CalibrationResult& result) {
   if (!result.floor_plane) return "";
   const FloorPlane& f = *result.floor_plane;
   std::ostringstream out;
-  if (f.num_inliers == 0 || f.status == FloorPlaneStatus::kNotLevel ||
-      f.status == FloorPlaneStatus::kNotDistinct ||
-      f.status == FloorPlaneStatus::kTooFewPoints) {
+  if (!HasPlane(f)) {
     out << "  floor plane: none (" << f.reason << ")\n";
     return out.str();
   }
@@ -100,10 +104,7 @@ std::string TranslationZOrigin(const CalibrationResult& result) {
 
 std::string FloorPlaneHtml(const ColmapCalibrationRun& run) {
   const CalibrationResult& result = run.check.result;
-  if (!result.floor_plane || result.floor_plane->num_inliers == 0 ||
-      result.floor_plane->status == FloorPlaneStatus::kTooFewPoints ||
-      result.floor_plane->status == FloorPlaneStatus::kNotDistinct ||
-      result.floor_plane->status == FloorPlaneStatus::kNotLevel) {
+  if (!result.floor_plane || !HasPlane(*result.floor_plane)) {
     return "";
   }
   const FloorPlane& f = *result.floor_plane;
