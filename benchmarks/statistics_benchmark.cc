@@ -8,6 +8,7 @@
 //   statistics_benchmark drive [seeds] [odometry_hz] [camera_hz] [noise_factor]
 //                              [vo] [odometry_keep_every] [wheel_scale_errors]
 //                              [odometry_resample_hz] [yaw_scale]
+//   statistics_benchmark cost [motions] [estimate_noise]
 //
 // paper: the paper protocol with parametric camera noise (odometry 0.01 rad
 // yaw / 2 % translation, camera 0.005 rad rotation / 0.01 rad translation
@@ -30,6 +31,10 @@
 // issue's rotation reference, without and with the clock offset and the
 // odometry intrinsics estimated (the like-for-like reference of the CLI's
 // default), and the rotation RMSE ratios with paired bootstrap intervals.
+// cost: one default calibration of the paper protocol's data (seed 1) with
+// the noise estimated (estimate_noise = 1, the default) or given (0); prints
+// its wall time and the process's peak resident memory before and after it.
+// One size per process, so that the peak is this calibration's.
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/systematics_estimation.h"
@@ -40,9 +45,12 @@
 #include "odomcal/solver/calibrate.h"
 #include "odomcal/solver/hand_eye_refine.h"
 
+#include <sys/resource.h>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -494,6 +502,59 @@ int RunDrive(int seeds,
   return 0;
 }
 
+double PeakResidentMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+double CpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+int RunCost(int motions, bool estimate_noise) {
+  PaperSimulationOptions simulation;
+  simulation.num_motions = motions;
+  simulation.odom_yaw_sigma_rad = 0.01;
+  simulation.odom_translation_sigma_rel = 0.02;
+  simulation.camera_noise = CameraNoiseMode::kParametric;
+  simulation.cam_rotation_sigma_rad = 0.005;
+  simulation.cam_direction_sigma_rad = 0.01;
+  std::mt19937_64 rng(1001);
+  const Rigid3d truth = RandomOdomFromCam(&rng);
+  MotionPairs pairs =
+      SimulatePaperMotions(simulation, truth, {1.0}, &rng).pairs;
+  for (MotionPair& pair : pairs) {
+    pair.odom_covariance.reset();
+    pair.cam_covariance.reset();
+  }
+  CalibrationOptions options;
+  options.fixed_translation_z_m = truth.translation.z();
+  options.estimate_noise = estimate_noise;
+  const double before_mib = PeakResidentMiB();
+  const double cpu_start = CpuSeconds();
+  const auto start = std::chrono::steady_clock::now();
+  const CalibrationResult result = CalibrateOdomCam(pairs, options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  const double cpu_seconds = CpuSeconds() - cpu_start;
+  std::printf(
+      "%d motions, noise %s: %.3f s (CPU %.3f s), peak resident %.1f MiB "
+      "(%.1f MiB before the calibration), %s\n",
+      motions,
+      estimate_noise ? "estimated" : "given",
+      seconds,
+      cpu_seconds,
+      PeakResidentMiB(),
+      before_mib,
+      result.has_estimate ? "estimate" : "no estimate");
+  return result.has_estimate ? 0 : 1;
+}
+
 }  // namespace
 }  // namespace odomcal
 
@@ -518,10 +579,15 @@ int main(int argc, char** argv) {
                              arg(9, 0.0),
                              arg(10, 1.0));
   }
+  if (mode == "cost") {
+    return odomcal::RunCost(static_cast<int>(arg(2, 10000)),
+                            arg(3, 1.0) != 0.0);
+  }
   std::fprintf(stderr,
                "usage: statistics_benchmark paper [seeds] [motions] "
                "[outlier_fraction] | drive [seeds] [odometry_hz] "
                "[camera_hz] [noise_factor] [vo] [odometry_keep_every] "
-               "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale]\n");
+               "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale] | "
+               "cost [motions] [estimate_noise]\n");
   return 2;
 }

@@ -20,7 +20,7 @@ namespace odomcal {
 namespace {
 
 using internal::Contribution;
-using internal::Forms;
+using internal::CovariancePart;
 using internal::Index;
 using internal::InterpolationContribution;
 using internal::kCoupled;
@@ -28,8 +28,8 @@ using internal::KenwardRogerTerm;
 using internal::kNumCoupled;
 using internal::Matrix6X;
 using internal::PairCovariance;
-using internal::PairForm;
 using internal::PairTerms;
+using internal::ParameterOf;
 using internal::ResidualJacobian;
 using internal::WithFixedParameter;
 
@@ -51,22 +51,26 @@ struct Pass {
   Eigen::MatrixXd helmert;          // H_pq = sum tr(M D_p M D_q)
 };
 
-// mu: one multiplier per free parameter.
+// mu: one multiplier per free parameter. Two passes over the pairs (the
+// normal matrix first, then the sums that need its inverse), each pair's
+// covariance derivatives evaluated again in the second: kept for all pairs,
+// they would take num_free * 288 bytes per pair.
 Pass Evaluate(const std::vector<PairTerms>& terms,
-              const std::vector<PairForm>& forms,
+              const ParameterOf& parameter_of,
               const Eigen::VectorXd& mu) {
   const int num_free = static_cast<int>(mu.size());
   const Eigen::VectorXd all = WithFixedParameter(mu);
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
   std::vector<Matrix6d> precisions(terms.size());
-  // derivatives[i * num_free + p]: D_p of pair i.
-  std::vector<Matrix6d> derivatives(terms.size() * num_free);
+  std::vector<Matrix6d> derivatives(num_free);
+  Matrix6X pj(6, num_columns);
   for (size_t i = 0; i < terms.size(); ++i) {
-    const Matrix6d covariance = PairCovariance(
-        terms[i], forms[i], all, derivatives.data() + i * num_free);
+    const Matrix6d covariance =
+        PairCovariance(terms[i], parameter_of, all, derivatives.data());
     precisions[i] = covariance.ldlt().solve(Matrix6d::Identity());
-    normal += terms[i].jacobian.transpose() * precisions[i] * terms[i].jacobian;
+    pj.noalias() = precisions[i] * terms[i].jacobian;
+    normal.noalias() += terms[i].jacobian.transpose() * pj;
   }
   const Eigen::MatrixXd normal_inverse =
       normal.completeOrthogonalDecomposition().pseudoInverse();
@@ -79,16 +83,20 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   pass.redundancy_part = Eigen::VectorXd::Zero(num_free);
   pass.helmert = Eigen::MatrixXd::Zero(num_free, num_free);
   std::vector<Matrix6d> md(num_free);
+  Matrix6X pj_normal_inverse(6, num_columns);
   for (size_t i = 0; i < terms.size(); ++i) {
+    PairCovariance(terms[i], parameter_of, all, derivatives.data());
     const Matrix6d& p = precisions[i];
-    const Matrix6X pj = p * terms[i].jacobian;
-    const Matrix6d m = p - pj * normal_inverse * pj.transpose();
+    pj.noalias() = p * terms[i].jacobian;
+    pj_normal_inverse.noalias() = pj * normal_inverse;
+    Matrix6d m = p;
+    m.noalias() -= pj_normal_inverse * pj.transpose();
     const Vector6d pe = p * terms[i].residual;
     for (int c = 0; c < num_free; ++c) {
-      const Matrix6d& d = derivatives[i * num_free + c];
+      const Matrix6d& d = derivatives[c];
       pass.weighted_sum(c) += pe.dot(d * pe);
       pass.redundancy_part(c) += trace_of_product(d, m);
-      md[c] = m * d;
+      md[c].noalias() = m * d;
     }
     // H is symmetric: tr(M D_c M D_d) = tr(M D_d M D_c).
     for (int c = 0; c < num_free; ++c) {
@@ -195,7 +203,8 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
                             const std::vector<double>& metric_scales,
                             const CalibrationOptions& options,
                             bool estimate_z,
-                            const ComponentFactors& start) {
+                            const ComponentFactors& start,
+                            const ComponentFactors& initial_guess) {
   NoiseEstimate estimate;
   estimate.component_factors = start;
   estimate.noise = ScaleNoiseComponents(options.noise, start);
@@ -214,6 +223,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   for (auto& [segment, column] : scale_columns) column = num_columns++;
 
   std::vector<PairTerms> terms;
+  terms.reserve(used.size());
   std::array<double, kNumNoiseComponents> trace = {};
   std::array<double, kNumCoupled> coupled_trace = {};
   for (const int i : used) {
@@ -227,22 +237,25 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
                                      scale_columns.at(pair.segment),
                                      num_columns,
                                      estimate_z);
+    std::array<Matrix6d, kNumNoiseComponents> contributions;
     for (int c = 0; c < kNumNoiseComponents; ++c) {
-      term.contributions[c] =
+      contributions[c] =
           Contribution(pair, odom_from_cam, scale, start_noise, {c});
-      trace[c] += term.contributions[c].trace();
+      trace[c] += contributions[c].trace();
+      if (!contributions[c].isZero(0.0)) {
+        term.parts.push_back({c, c, contributions[c]});
+      }
     }
     for (int k = 0; k < kNumCoupled; ++k) {
       const int a = Index(kCoupled[k].first), b = Index(kCoupled[k].second);
-      term.coupled[k].setZero();
-      if (term.contributions[a].isZero(0.0) ||
-          term.contributions[b].isZero(0.0)) {
+      if (contributions[a].isZero(0.0) || contributions[b].isZero(0.0)) {
         continue;
       }
-      term.coupled[k] =
+      const Matrix6d coupled =
           Contribution(pair, odom_from_cam, scale, start_noise, {a, b}) -
-          term.contributions[a] - term.contributions[b];
-      coupled_trace[k] += term.coupled[k].trace();
+          contributions[a] - contributions[b];
+      coupled_trace[k] += coupled.trace();
+      if (!coupled.isZero(0.0)) term.parts.push_back({a, b, coupled});
     }
     term.interpolation =
         InterpolationContribution(pair, odom_from_cam, scale, options.noise);
@@ -268,15 +281,17 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   Eigen::VectorXd mu;
   Pass pass;
   std::array<double, kNumNoiseComponents> last_multiplier;
-  last_multiplier.fill(1.0);
+  for (int c = 0; c < kNumNoiseComponents; ++c) {
+    last_multiplier[c] =
+        std::clamp(initial_guess[c] / start[c], kMinMultiplier, kMaxMultiplier);
+  }
   while (!parameters.empty()) {
     const int num_free = static_cast<int>(parameters.size());
-    std::array<int, kNumNoiseComponents> parameter_of;
+    ParameterOf parameter_of;
     parameter_of.fill(num_free);
     for (int p = 0; p < num_free; ++p) {
       for (const int c : parameters[p]) parameter_of[c] = p;
     }
-    const std::vector<PairForm> forms = Forms(terms, parameter_of, num_free);
     // Warm start: a tie starts from its first member's last multiplier.
     mu.resize(num_free);
     for (int p = 0; p < num_free; ++p) {
@@ -286,7 +301,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     bool converged = false;
     std::vector<bool> held(num_free, false);
     for (; iteration < kMaxIterations; ++iteration) {
-      pass = Evaluate(terms, forms, mu);
+      pass = Evaluate(terms, parameter_of, mu);
       const Eigen::VectorXd score = pass.weighted_sum - pass.redundancy_part;
       // Active set: a parameter at the floor whose score points below it
       // (the data ask for a smaller, even negative, variance) is held there
@@ -335,7 +350,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     }
     estimate.num_iterations += iteration + 1;
     if (converged || iteration == kMaxIterations) {
-      pass = Evaluate(terms, forms, mu);
+      pass = Evaluate(terms, parameter_of, mu);
       const Eigen::VectorXd score = pass.weighted_sum - pass.redundancy_part;
       for (int p = 0; p < num_free; ++p) {
         held[p] = mu(p) <= kMinMultiplier && score(p) <= 0.0;
@@ -353,7 +368,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
       // In the refinement's columns, which hold z (WidenForEstimatedNoise).
       if (!estimate_z) {
         estimate.kenward_roger_term =
-            KenwardRogerTerm(terms, forms, mu, covariance);
+            KenwardRogerTerm(terms, parameter_of, mu, covariance);
         for (const auto& [segment, column] : scale_columns) {
           estimate.kenward_roger_segments.push_back(segment);
         }

@@ -122,10 +122,13 @@ MotionPairs ScaleCovariances(const MotionPairs& pairs,
 // separable (tied) or not determined (kept).
 constexpr double kMaxRelativeStddev = 0.5;
 
-// Variance components of pairs[used] at a fixed estimate, starting from
-// `start` factors relative to options.noise / the pairs' own covariances.
-// Parameters: rotation (3), translation x, y (and z when estimate_z), one
-// scale per segment among `used`.
+// Variance components of pairs[used] at a fixed estimate, relative to
+// `start` factors of options.noise / the pairs' own covariances (the bounds
+// on the estimate are multiples of `start`). The scoring starts from
+// `initial_guess` (factors, e.g. the last round's estimate): the iteration
+// converges to the same estimate from any start, in fewer steps from a
+// close one. Parameters: rotation (3), translation x, y (and z when
+// estimate_z), one scale per segment among `used`.
 NoiseEstimate EstimateNoise(
     const MotionPairs& pairs,
     const std::vector<int>& used,
@@ -133,7 +136,8 @@ NoiseEstimate EstimateNoise(
     const std::vector<double>& metric_scales,
     const CalibrationOptions& options,
     bool estimate_z = false,
-    const ComponentFactors& start = kUnitComponentFactors);
+    const ComponentFactors& start = kUnitComponentFactors,
+    const ComponentFactors& initial_guess = kUnitComponentFactors);
 
 // The information N of the refinement (columns: rotation, translation x, y,
 // one scale per entry of `information_segments`, then z if estimated)

@@ -68,32 +68,29 @@ Matrix6X ResidualJacobian(const MotionPair& pair,
                           int num_columns,
                           bool estimate_z);
 
+// One term of a pair's Cov(r): sqrt(mu_a mu_b) x, with mu_c the multiplier
+// of component c's parameter. a == b: the component's contribution W_a at
+// the starting noise (mu_a x); a != b: the cross term X of kCoupled,
+// Cov(both) - W_a - W_b.
+struct CovariancePart {
+  int a = 0;
+  int b = 0;
+  Matrix6d x;
+};
+
+// Only the nonzero parts are kept: a pair has either the model's components
+// or its own covariances, so about half are zero, and at 10 000 pairs each
+// Matrix6d kept is 2.9 MB.
 struct PairTerms {
   Vector6d residual;
   Matrix6X jacobian;
-  // W_c: each component alone at the starting noise.
-  std::array<Matrix6d, kNumNoiseComponents> contributions;
-  // X of kCoupled[k]: Cov(both) - W_a - W_b.
-  std::array<Matrix6d, kNumCoupled> coupled;
+  std::vector<CovariancePart> parts;
   Matrix6d interpolation;  // unscaled
 };
 
-// One pair's covariance as a quadratic form in the parameters' sqrt(mu):
-// bases[p] (the terms in mu_p), and cross terms sqrt(mu_p mu_q) X.
-struct Cross {
-  int p, q;
-  Matrix6d x;
-};
-struct PairForm {
-  std::vector<Matrix6d> bases;  // one per parameter, the fixed one last
-  std::vector<Cross> crosses;
-};
-
-// parameter_of[c]: the parameter of component c (num_free: the fixed one).
-std::vector<PairForm> Forms(
-    const std::vector<PairTerms>& terms,
-    const std::array<int, kNumNoiseComponents>& parameter_of,
-    int num_free);
+// parameter_of[c]: the parameter of component c, num_free (the number of
+// free parameters) for the fixed one, whose multiplier is 1.
+using ParameterOf = std::array<int, kNumNoiseComponents>;
 
 // The free parameters' multipliers followed by the fixed parameter's, 1.
 Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu);
@@ -101,7 +98,7 @@ Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu);
 // One pair's Cov(r) at the multipliers `all` (the free parameters', then
 // the fixed one's 1) and its derivatives D_p by the free multipliers.
 Matrix6d PairCovariance(const PairTerms& term,
-                        const PairForm& form,
+                        const ParameterOf& parameter_of,
                         const Eigen::VectorXd& all,
                         Matrix6d* derivatives);
 
@@ -113,7 +110,7 @@ Matrix6d PairCovariance(const PairTerms& term,
 // Phi alone treats the estimated noise as known; with a few pairs the
 // weights' own errors add to the estimate's.
 Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
-                                 const std::vector<PairForm>& forms,
+                                 const ParameterOf& parameter_of,
                                  const Eigen::VectorXd& mu,
                                  const Eigen::MatrixXd& multiplier_covariance);
 

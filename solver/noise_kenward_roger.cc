@@ -15,42 +15,51 @@ namespace odomcal {
 namespace internal {
 
 Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
-                                 const std::vector<PairForm>& forms,
+                                 const ParameterOf& parameter_of,
                                  const Eigen::VectorXd& mu,
                                  const Eigen::MatrixXd& multiplier_covariance) {
   const int num_free = static_cast<int>(mu.size());
   const Eigen::VectorXd all = WithFixedParameter(mu);
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
-  std::vector<Eigen::MatrixXd> first(num_free, normal);
-  std::vector<Eigen::MatrixXd> second(
-      static_cast<size_t>(num_free) * static_cast<size_t>(num_free), normal);
+  const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  Eigen::MatrixXd normal = zero;
+  std::vector<Eigen::MatrixXd> first(num_free, zero);  // P_p
+  // sum_pq W_pq Q_pq, summed per pair as sum_p (D_p P J)^T (sum_q W_pq P D_q
+  // P J): num_free products per pair instead of num_free^2.
+  Eigen::MatrixXd weighted_second = zero;
   std::vector<Matrix6d> derivatives(num_free);
-  std::vector<Matrix6X> pdpj(num_free);
-  for (size_t i = 0; i < terms.size(); ++i) {
+  std::vector<Matrix6X> pdpj(num_free, Matrix6X(6, num_columns));
+  std::vector<Matrix6X> ppdpj(num_free, Matrix6X(6, num_columns));
+  Matrix6X pj(6, num_columns);
+  Matrix6X weighted(6, num_columns);
+  for (const PairTerms& term : terms) {
     const Matrix6d covariance =
-        PairCovariance(terms[i], forms[i], all, derivatives.data());
+        PairCovariance(term, parameter_of, all, derivatives.data());
     const Matrix6d precision = covariance.ldlt().solve(Matrix6d::Identity());
-    const Matrix6X pj = precision * terms[i].jacobian;
-    normal += terms[i].jacobian.transpose() * pj;
+    pj.noalias() = precision * term.jacobian;
+    normal.noalias() += term.jacobian.transpose() * pj;
     for (int p = 0; p < num_free; ++p) {
-      pdpj[p] = derivatives[p] * pj;
-      first[p] += pj.transpose() * pdpj[p];
+      pdpj[p].noalias() = derivatives[p] * pj;
+      ppdpj[p].noalias() = precision * pdpj[p];
+      first[p].noalias() += pj.transpose() * pdpj[p];
     }
     for (int p = 0; p < num_free; ++p) {
+      weighted.setZero();
       for (int q = 0; q < num_free; ++q) {
-        second[p * num_free + q] += pdpj[p].transpose() * precision * pdpj[q];
+        const double w = multiplier_covariance(p, q);
+        if (w != 0.0) weighted += w * ppdpj[q];
       }
+      weighted_second.noalias() += pdpj[p].transpose() * weighted;
     }
   }
   const Eigen::MatrixXd phi =
       normal.completeOrthogonalDecomposition().pseudoInverse();
-  Eigen::MatrixXd term = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  Eigen::MatrixXd term = weighted_second;
   for (int p = 0; p < num_free; ++p) {
     for (int q = 0; q < num_free; ++q) {
       const double w = multiplier_covariance(p, q);
       if (w == 0.0) continue;
-      term += w * (second[p * num_free + q] - first[p] * phi * first[q]);
+      term -= w * (first[p] * phi * first[q]);
     }
   }
   return 0.5 * (term + term.transpose());

@@ -1,5 +1,5 @@
 // One pair's residual covariance split into the noise components'
-// contributions, and as a quadratic form in the parameters' multipliers
+// contributions, and evaluated at the parameters' multipliers
 // (noise_estimation_internal.h).
 
 #include "odomcal/solver/hand_eye_residual.h"
@@ -161,32 +161,6 @@ Matrix6X ResidualJacobian(const MotionPair& pair,
   return jacobian;
 }
 
-std::vector<PairForm> Forms(
-    const std::vector<PairTerms>& terms,
-    const std::array<int, kNumNoiseComponents>& parameter_of,
-    int num_free) {
-  std::vector<PairForm> forms(terms.size());
-  for (size_t i = 0; i < terms.size(); ++i) {
-    PairForm& form = forms[i];
-    form.bases.assign(num_free + 1, Matrix6d::Zero());
-    for (int c = 0; c < kNumNoiseComponents; ++c) {
-      form.bases[parameter_of[c]] += terms[i].contributions[c];
-    }
-    for (int k = 0; k < kNumCoupled; ++k) {
-      const Matrix6d& x = terms[i].coupled[k];
-      if (x.isZero(0.0)) continue;
-      const int p = parameter_of[Index(kCoupled[k].first)];
-      const int q = parameter_of[Index(kCoupled[k].second)];
-      if (p == q) {
-        form.bases[p] += x;
-      } else {
-        form.crosses.push_back({p, q, x});
-      }
-    }
-  }
-  return forms;
-}
-
 Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu) {
   Eigen::VectorXd all(mu.size() + 1);
   all << mu, 1.0;
@@ -194,22 +168,27 @@ Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu) {
 }
 
 Matrix6d PairCovariance(const PairTerms& term,
-                        const PairForm& form,
+                        const ParameterOf& parameter_of,
                         const Eigen::VectorXd& all,
                         Matrix6d* derivatives) {
   const int num_free = static_cast<int>(all.size()) - 1;
   Matrix6d covariance = term.interpolation;
-  for (int p = 0; p <= num_free; ++p) covariance += all(p) * form.bases[p];
-  for (int p = 0; p < num_free; ++p) derivatives[p] = form.bases[p];
-  for (const Cross& cross : form.crosses) {
-    covariance += std::sqrt(all(cross.p) * all(cross.q)) * cross.x;
-    if (cross.p < num_free) {
-      derivatives[cross.p] +=
-          0.5 * std::sqrt(all(cross.q) / all(cross.p)) * cross.x;
+  for (int p = 0; p < num_free; ++p) derivatives[p].setZero();
+  for (const CovariancePart& part : term.parts) {
+    const int p = parameter_of[part.a];
+    const int q = parameter_of[part.b];
+    if (p == q) {
+      covariance += all(p) * part.x;
+      if (p < num_free) derivatives[p] += part.x;
+      continue;
     }
-    if (cross.q < num_free) {
-      derivatives[cross.q] +=
-          0.5 * std::sqrt(all(cross.p) / all(cross.q)) * cross.x;
+    // d sqrt(mu_p mu_q) / d mu_p = sqrt(mu_q / mu_p) / 2.
+    covariance += std::sqrt(all(p) * all(q)) * part.x;
+    if (p < num_free) {
+      derivatives[p] += 0.5 * std::sqrt(all(q) / all(p)) * part.x;
+    }
+    if (q < num_free) {
+      derivatives[q] += 0.5 * std::sqrt(all(p) / all(q)) * part.x;
     }
   }
   covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;

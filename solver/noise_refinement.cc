@@ -92,7 +92,14 @@ NoiseRefinement RefineWithNoiseEstimation(
     scales = refined.metric_scales;
     if (round == kMaxRounds) break;
 
-    result.noise = EstimateNoise(pairs, result.used, estimate, scales, options);
+    result.noise = EstimateNoise(pairs,
+                                 result.used,
+                                 estimate,
+                                 scales,
+                                 options,
+                                 /*estimate_z=*/false,
+                                 kUnitComponentFactors,
+                                 /*initial_guess=*/factors);
     const ComponentFactors next = result.noise.component_factors;
     std::vector<int> inliers = result.used;
     if (options.use_ransac) {
