@@ -82,8 +82,10 @@ MotionPairs PairsOf(const std::vector<Rigid3d>& origin_from_odom,
     pair.cam_i_from_cam_j = CameraMotionFromOdometryMotion(
         pair.odom_i_from_odom_j, TrueOdomFromCam(), kMetricScale);
     if (noise) {
-      const MotionCovariance odom = OdometryCovariance(pair, *noise);
-      const MotionCovariance cam = CameraCovariance(pair, *noise);
+      // The true steps: the pair is exact here.
+      const StepSize step = MeasuredStep(pair);
+      const MotionCovariance odom = OdometryCovariance(pair, *noise, step);
+      const MotionCovariance cam = CameraCovariance(pair, *noise, step);
       pair.odom_i_from_odom_j = Measure(pair.odom_i_from_odom_j, odom, rng);
       pair.cam_i_from_cam_j = Measure(pair.cam_i_from_cam_j, cam, rng);
     }

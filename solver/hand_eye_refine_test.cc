@@ -100,15 +100,58 @@ TEST(HandEyeResidualCovariance, PlanarOdometryHeightIsNotSlip) {
       Rigid3d(YawRotation(0.3), Eigen::Vector3d(3.0, 4.0, 0.0));
   const double in_plane = 0.002 + 0.01 * 5.0;
   const double slope = 0.5 * kPi / 180.0 * 5.0;
-  MotionCovariance planar = OdometryCovariance(pair, noise);
+  MotionCovariance planar = OdometryCovariance(pair, noise, MeasuredStep(pair));
   EXPECT_NEAR(planar(3, 3), in_plane * in_plane, 1e-15);
   EXPECT_NEAR(planar(4, 4), in_plane * in_plane, 1e-15);
   EXPECT_NEAR(planar(5, 5), 0.002 * 0.002 + slope * slope, 1e-15);
   pair.odom_i_from_odom_j.translation.z() = 0.01;
   const double length = pair.odom_i_from_odom_j.translation.norm();
   const double per_axis = 0.002 + 0.01 * length;
-  EXPECT_NEAR(
-      OdometryCovariance(pair, noise)(5, 5), per_axis * per_axis, 1e-15);
+  EXPECT_NEAR(OdometryCovariance(pair, noise, MeasuredStep(pair))(5, 5),
+              per_axis * per_axis,
+              1e-15);
+}
+
+// The step the noise is sized by: each sensor's measurement and the other's
+// prediction of it, weighed by their variances.
+TEST(ModelledStep, IsTheInverseVarianceMeanOfMeasurementAndPrediction) {
+  const Rigid3d odom_from_cam(Eigen::Quaterniond::Identity(),
+                              Eigen::Vector3d::Zero());
+  MotionPair pair;
+  pair.odom_i_from_odom_j =
+      Rigid3d(YawRotation(0.2), Eigen::Vector3d(0.9, 0.0, 0.0));
+  pair.cam_i_from_cam_j =
+      Rigid3d(YawRotation(0.3), Eigen::Vector3d(0.55, 0.0, 0.0));
+  const double scale = 2.0;  // the camera predicts a 1.1 m step
+  NoiseModel noise;
+  noise.odom_translation_sigma_m = 0.0;
+  noise.odom_translation_sigma_rel = 0.02;  // sigma 0.018 m at 0.9 m
+  noise.cam_translation_sigma_rel = 0.01;
+  noise.cam_translation_along_sigma_rel = 0.01;  // sigma 0.011 m at 1.1 m
+  noise.odom_yaw_sigma_deg = 0.0;
+  noise.odom_yaw_sigma_rel = 0.05;  // sigma 0.01 rad at 0.2 rad
+  noise.cam_rotation_sigma_deg = 0.01 * 180.0 / kPi;  // sigma 0.01 rad
+  const StepSize step = ModelledStep(pair, odom_from_cam, scale, noise);
+  const double odometry_variance = 0.018 * 0.018;
+  const double camera_variance = 0.011 * 0.011;
+  const double length = (camera_variance * 0.9 + odometry_variance * 1.1) /
+                        (odometry_variance + camera_variance);
+  EXPECT_NEAR(step.odometry_length_m, length, 1e-12);
+  EXPECT_NEAR(step.camera_length, length / scale, 1e-12);
+  EXPECT_NEAR(step.odometry_yaw_rad, 0.25, 1e-12);  // equal variances
+
+  // The measured step where the estimate has no usable scale.
+  const StepSize measured = ModelledStep(pair, odom_from_cam, 0.0, noise);
+  EXPECT_DOUBLE_EQ(measured.odometry_length_m, 0.9);
+  EXPECT_DOUBLE_EQ(measured.camera_length, 0.55);
+  EXPECT_NEAR(measured.odometry_yaw_rad, 0.2, 1e-12);
+
+  // An exact camera (no translation noise) decides the step alone.
+  noise.cam_translation_sigma_rel = 0.0;
+  noise.cam_translation_along_sigma_rel = 0.0;
+  EXPECT_NEAR(ModelledStep(pair, odom_from_cam, scale, noise).odometry_length_m,
+              1.1,
+              1e-12);
 }
 
 TEST(HandEyeCost, GradientCheckerPasses) {

@@ -31,19 +31,51 @@ Vector6d HandEyeResidual(const MotionPair& pair,
                          const Rigid3d& odom_from_cam,
                          double metric_scale);
 
-// The pair's odometry covariance, or the one NoiseModel implies, plus the
-// pair's odom_interpolation_covariance.
-MotionCovariance OdometryCovariance(const MotionPair& pair,
-                                    const NoiseModel& noise);
-// The pair's camera covariance (reconstruction units), or NoiseModel's.
-MotionCovariance CameraCovariance(const MotionPair& pair,
-                                  const NoiseModel& noise);
+// The step sizes NoiseModel's proportional parts scale with.
+struct StepSize {
+  double odometry_length_m = 0.0;  // |t_A|
+  double odometry_yaw_rad = 0.0;   // |yaw of R_A|
+  double camera_length = 0.0;      // |t_B|, reconstruction units
+};
 
-// Cov(r) at the given estimate.
+// The pair's steps as measured, each sensor's by itself.
+StepSize MeasuredStep(const MotionPair& pair);
+
+// The pair's step as both sensors measure it, under the estimate: for each
+// sensor, the inverse-variance mean of its own measurement and the other
+// sensor's prediction of it (NoiseModel's variances at the measured steps).
+// Sized by its own measurement, a pair's weight would follow its own noise:
+// a step measured short weighs more, and the scale comes out low by many of
+// its sigma at a few thousand pairs. The mean is uncorrelated, to first
+// order, with the difference of the two, which the residual is.
+StepSize ModelledStep(const MotionPair& pair,
+                      const Rigid3d& odom_from_cam,
+                      double metric_scale,
+                      const NoiseModel& noise);
+
+// The pair's odometry covariance, or the one NoiseModel implies at the
+// step, plus the pair's odom_interpolation_covariance.
+MotionCovariance OdometryCovariance(const MotionPair& pair,
+                                    const NoiseModel& noise,
+                                    const StepSize& step);
+// The pair's camera covariance (reconstruction units), or NoiseModel's at
+// the step.
+MotionCovariance CameraCovariance(const MotionPair& pair,
+                                  const NoiseModel& noise,
+                                  const StepSize& step);
+
+// Cov(r) at the given estimate, NoiseModel's parts sized by ModelledStep.
 Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
                                    const Rigid3d& odom_from_cam,
                                    double metric_scale,
                                    const NoiseModel& noise);
+// Cov(r) with NoiseModel's parts sized by the given step (the noise
+// estimation sizes each component's part by the full model's step).
+Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
+                                   const Rigid3d& odom_from_cam,
+                                   double metric_scale,
+                                   const NoiseModel& noise,
+                                   const StepSize& step);
 
 // Lower-triangular W with W^T W = Cov(r)^-1, so that W r ~ N(0, I). A tiny
 // diagonal load keeps it finite when Cov(r) is (numerically) singular.

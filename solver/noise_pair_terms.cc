@@ -78,6 +78,8 @@ Matrix6d Contribution(const MotionPair& pair,
                       std::initializer_list<int> components) {
   const int first = *components.begin();
   const bool odometry = IsOdometry(first);
+  // Every part sized by the full model's step, as their sum is.
+  const StepSize step = ModelledStep(pair, odom_from_cam, scale, start_noise);
   const bool own = IsOwnCovariance(first);
   const std::optional<MotionCovariance>& given =
       odometry ? pair.odom_covariance : pair.cam_covariance;
@@ -110,7 +112,7 @@ Matrix6d Contribution(const MotionPair& pair,
   } else {
     noise = OnlyComponents(start_noise, components);
   }
-  return HandEyeResidualCovariance(masked, odom_from_cam, scale, noise);
+  return HandEyeResidualCovariance(masked, odom_from_cam, scale, noise, step);
 }
 
 // Contribution of the odometry's interpolation error to Cov(r), which no
