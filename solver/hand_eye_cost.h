@@ -6,6 +6,7 @@
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <ceres/autodiff_cost_function.h>
@@ -24,6 +25,11 @@ namespace odomcal {
 // q (4, Eigen x,y,z,w order, on EigenQuaternionManifold), p_xy (2),
 // log_scale (1), p_z (1; a constant block where z is held). See
 // hand_eye_residual.h for the model and W.
+//
+// W is either fixed, or W(s) with W^T W = Cov(r)(s)^-1 from a
+// ResidualCovarianceInScale: the camera's translation noise grows with the
+// scale tried, which is the errors-in-variables likelihood with the true
+// motions profiled out (not attenuated towards a smaller scale).
 class HandEyeCost {
  public:
   HandEyeCost(const MotionPair& pair, const Matrix6d& sqrt_information)
@@ -33,11 +39,26 @@ class HandEyeCost {
         q_b_(pair.cam_i_from_cam_j.rotation),
         t_b_(pair.cam_i_from_cam_j.translation),
         sqrt_information_(sqrt_information) {}
+  HandEyeCost(const MotionPair& pair,
+              const ResidualCovarianceInScale& covariance)
+      : HandEyeCost(pair, Matrix6d::Identity()) {
+    covariance_in_scale_ = true;
+    covariance_ = covariance;
+    // The diagonal load of HandEyeSqrtInformation, at the evaluated scale.
+    const Matrix6d at_scale =
+        covariance.fixed + covariance.cross + covariance.quadratic;
+    load_ = 1e-12 * at_scale.trace() + 1e-300;
+  }
 
   static ceres::CostFunction* Create(const MotionPair& pair,
                                      const Matrix6d& sqrt_information) {
     return new ceres::AutoDiffCostFunction<HandEyeCost, 6, 4, 2, 1, 1>(
         new HandEyeCost(pair, sqrt_information));
+  }
+  static ceres::CostFunction* Create(
+      const MotionPair& pair, const ResidualCovarianceInScale& covariance) {
+    return new ceres::AutoDiffCostFunction<HandEyeCost, 6, 4, 2, 1, 1>(
+        new HandEyeCost(pair, covariance));
   }
 
   template <typename T>
@@ -59,7 +80,19 @@ class HandEyeCost {
         r_a_.cast<T>() * p + t_a_.cast<T>() - scale * (q * t_b_.cast<T>()) - p;
 
     Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
-    out = sqrt_information_.cast<T>() * raw;
+    if (!covariance_in_scale_) {
+      out = sqrt_information_.cast<T>() * raw;
+      return true;
+    }
+    const T ratio = scale / covariance_.scale;
+    Eigen::Matrix<T, 6, 6> covariance =
+        covariance_.fixed.cast<T>() + ratio * covariance_.cross.cast<T>() +
+        ratio * ratio * covariance_.quadratic.cast<T>();
+    covariance.diagonal().array() += T(load_);
+    // Cov = L L^T: W = L^-1, so W r = L^-1 r.
+    const Eigen::LLT<Eigen::Matrix<T, 6, 6>> llt(covariance);
+    if (llt.info() != Eigen::Success) return false;
+    out = llt.matrixL().solve(raw);
     return true;
   }
 
@@ -70,6 +103,9 @@ class HandEyeCost {
   Eigen::Quaterniond q_b_;
   Eigen::Vector3d t_b_;
   Matrix6d sqrt_information_;
+  bool covariance_in_scale_ = false;
+  ResidualCovarianceInScale covariance_;
+  double load_ = 0.0;
 };
 
 // odom_from_cam from the refinement's parameter blocks above.

@@ -50,15 +50,15 @@ class HandEyeProblem {
     for (const int index : indices) {
       const MotionPair& pair = pairs[index];
       const double scale = initial_scales.at(pair.segment);
-      const Matrix6d sqrt_information =
-          HandEyeSqrtInformation(pair, initial, scale, options.noise);
+      const ResidualCovarianceInScale covariance =
+          HandEyeResidualCovarianceInScale(pair, initial, scale, options.noise);
       ceres::LossFunction* loss = nullptr;
       if (with_loss && options.robust_loss == RobustLoss::kHuber) {
         loss = new ceres::HuberLoss(options.robust_loss_scale);
       } else if (with_loss && options.robust_loss == RobustLoss::kCauchy) {
         loss = new ceres::CauchyLoss(options.robust_loss_scale);
       }
-      problem_->AddResidualBlock(HandEyeCost::Create(pair, sqrt_information),
+      problem_->AddResidualBlock(HandEyeCost::Create(pair, covariance),
                                  loss,
                                  quaternion_,
                                  p_xy_,

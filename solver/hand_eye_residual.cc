@@ -220,6 +220,33 @@ Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
          f_b * CameraCovariance(pair, noise, step) * f_b.transpose();
 }
 
+ResidualCovarianceInScale HandEyeResidualCovarianceInScale(
+    const MotionPair& pair,
+    const Rigid3d& odom_from_cam,
+    double metric_scale,
+    const NoiseModel& noise) {
+  const StepSize step = ModelledStep(pair, odom_from_cam, metric_scale, noise);
+  // The camera's part alone: the odometry's covariance (and its
+  // interpolation) zero.
+  MotionPair camera_only = pair;
+  camera_only.odom_covariance = MotionCovariance::Zero();
+  camera_only.odom_interpolation_covariance.reset();
+  const Matrix6d camera = HandEyeResidualCovariance(
+      camera_only, odom_from_cam, metric_scale, noise, step);
+  ResidualCovarianceInScale split;
+  split.scale = metric_scale;
+  split.fixed = HandEyeResidualCovariance(
+                    pair, odom_from_cam, metric_scale, noise, step) -
+                camera;
+  split.fixed.topLeftCorner<3, 3>() += camera.topLeftCorner<3, 3>();
+  split.cross.setZero();
+  split.cross.topRightCorner<3, 3>() = camera.topRightCorner<3, 3>();
+  split.cross.bottomLeftCorner<3, 3>() = camera.bottomLeftCorner<3, 3>();
+  split.quadratic.setZero();
+  split.quadratic.bottomRightCorner<3, 3>() = camera.bottomRightCorner<3, 3>();
+  return split;
+}
+
 Matrix6d HandEyeSqrtInformation(const MotionPair& pair,
                                 const Rigid3d& odom_from_cam,
                                 double metric_scale,

@@ -77,6 +77,25 @@ Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
                                    const NoiseModel& noise,
                                    const StepSize& step);
 
+// Cov(r) split by how it depends on the metric scale s: the camera's
+// translation enters as -s R t_B, so Cov(r)(s') = fixed + (s' / s) cross +
+// (s' / s)^2 quadratic about the scale s it was evaluated at (the rest of
+// the estimate held). The refinement weighs each pair by Cov(r) at the
+// scale it tries: weights held at the last scale would make the estimate
+// the errors-in-variables one, attenuated by the camera's noise (a scale
+// low by several of its sigma where the camera is noisy).
+struct ResidualCovarianceInScale {
+  Matrix6d fixed;
+  Matrix6d cross;
+  Matrix6d quadratic;
+  double scale = 1.0;
+};
+ResidualCovarianceInScale HandEyeResidualCovarianceInScale(
+    const MotionPair& pair,
+    const Rigid3d& odom_from_cam,
+    double metric_scale,
+    const NoiseModel& noise);
+
 // Lower-triangular W with W^T W = Cov(r)^-1, so that W r ~ N(0, I). A tiny
 // diagonal load keeps it finite when Cov(r) is (numerically) singular.
 Matrix6d HandEyeSqrtInformation(const MotionPair& pair,
