@@ -237,10 +237,11 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
                                      scale_columns.at(pair.segment),
                                      num_columns,
                                      estimate_z);
+    const StepSize step = ModelledStep(pair, odom_from_cam, scale, start_noise);
     std::array<Matrix6d, kNumNoiseComponents> contributions;
     for (int c = 0; c < kNumNoiseComponents; ++c) {
       contributions[c] =
-          Contribution(pair, odom_from_cam, scale, start_noise, {c});
+          Contribution(pair, odom_from_cam, scale, start_noise, step, {c});
       trace[c] += contributions[c].trace();
       if (!contributions[c].isZero(0.0)) {
         term.parts.push_back({c, c, contributions[c]});
@@ -252,7 +253,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
         continue;
       }
       const Matrix6d coupled =
-          Contribution(pair, odom_from_cam, scale, start_noise, {a, b}) -
+          Contribution(pair, odom_from_cam, scale, start_noise, step, {a, b}) -
           contributions[a] - contributions[b];
       coupled_trace[k] += coupled.trace();
       if (!coupled.isZero(0.0)) term.parts.push_back({a, b, coupled});

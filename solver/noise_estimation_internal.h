@@ -46,11 +46,14 @@ inline constexpr int kNumCoupled = 4;
 
 // Contribution to Cov(r) of the given components (all on one side: odometry
 // or camera) at the starting noise; zero where the pair's own covariance
-// replaces the model or the other way round.
+// replaces the model or the other way round. `step`: the pair's
+// ModelledStep under the full starting noise, which sizes every part as it
+// sizes their sum.
 Matrix6d Contribution(const MotionPair& pair,
                       const Rigid3d& odom_from_cam,
                       double scale,
                       const NoiseModel& start_noise,
+                      const StepSize& step,
                       std::initializer_list<int> components);
 
 // Contribution of the odometry's interpolation error to Cov(r), which no

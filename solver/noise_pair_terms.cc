@@ -75,11 +75,10 @@ Matrix6d Contribution(const MotionPair& pair,
                       const Rigid3d& odom_from_cam,
                       double scale,
                       const NoiseModel& start_noise,
+                      const StepSize& step,
                       std::initializer_list<int> components) {
   const int first = *components.begin();
   const bool odometry = IsOdometry(first);
-  // Every part sized by the full model's step, as their sum is.
-  const StepSize step = ModelledStep(pair, odom_from_cam, scale, start_noise);
   const bool own = IsOwnCovariance(first);
   const std::optional<MotionCovariance>& given =
       odometry ? pair.odom_covariance : pair.cam_covariance;
