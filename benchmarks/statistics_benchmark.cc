@@ -98,6 +98,9 @@ struct Tally {
   // bias the covariance does not cover.
   double scale_error_sum = 0.0;
   double stated_scale_stddev_sum = 0.0;
+  // Sum of the stated x/y variances (trace of the x, y block): its root mean
+  // is what the covariance predicts the x/y RMSE to be.
+  double stated_xy_variance = 0.0;
 
   void Add(const CalibrationResult& result,
            const Rigid3d& truth,
@@ -139,6 +142,7 @@ struct Tally {
     nees += error.dot(c.topLeftCorner<6, 6>().ldlt().solve(error));
     stated_rotation_variance += c.topLeftCorner<3, 3>().trace();
     stated_scale_stddev_sum += std::sqrt(c(5, 5)) / true_scale;
+    stated_xy_variance += c.block<2, 2>(3, 3).trace();
   }
 
   double StatedRotationDeg() const {
@@ -163,7 +167,8 @@ struct Tally {
         "%-22s runs %3d fail %2d | RMSE rot %.4f deg  xy %.2f mm  scale "
         "%.3f %% | stated rot %.4f deg | within 3 sigma: rot %3.0f %%  x "
         "%3.0f %%  y %3.0f %%  scale %3.0f %% | mean NEES %.2f (6) | pairs "
-        "used %.1f %% | mean scale error %+.3f %% (stated sigma %.3f %%)\n",
+        "used %.1f %% | mean scale error %+.3f %% (stated sigma %.3f %%) | "
+        "stated xy %.2f mm\n",
         name,
         runs,
         failures,
@@ -178,7 +183,8 @@ struct Tally {
         nees / n,
         100.0 * used_fraction / std::max(1, runs - failures),
         100.0 * scale_error_sum / std::max(1, runs - failures),
-        100.0 * stated_scale_stddev_sum / n);
+        100.0 * stated_scale_stddev_sum / n,
+        1000.0 * std::sqrt(stated_xy_variance / n));
   }
 };
 

@@ -308,8 +308,11 @@ TEST_F(ColmapRunnerTest, AStageDroppedWhileRunningIsStopped) {
   {
     RunningStage stage = runner.StartStage(
         "mapper_a",
+        // The pid is written aside and renamed: the test must not read the
+        // file between its creation and the write.
         {"mapper",
-         "echo $$ > " + pid_file.string() +
+         "echo $$ > " + pid_file.string() + ".tmp; mv " + pid_file.string() +
+             ".tmp " + pid_file.string() +
              "; sleep 30 & child=$!; trap 'kill $child; exit 143' TERM; "
              "wait $child; touch " +
              mark.string()},
