@@ -230,7 +230,8 @@ RmseRatio PairedRmseRatio(const std::vector<double>& a,
   return result;
 }
 
-int RunPaper(int seeds, int motions, double outlier_fraction) {
+// The paper protocol's noise with parametric camera noise (file comment).
+PaperSimulationOptions PaperProtocol(int motions) {
   PaperSimulationOptions simulation;
   simulation.num_motions = motions;
   simulation.odom_yaw_sigma_rad = 0.01;
@@ -238,6 +239,11 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
   simulation.camera_noise = CameraNoiseMode::kParametric;
   simulation.cam_rotation_sigma_rad = 0.005;
   simulation.cam_direction_sigma_rad = 0.01;
+  return simulation;
+}
+
+int RunPaper(int seeds, int motions, double outlier_fraction) {
+  PaperSimulationOptions simulation = PaperProtocol(motions);
   simulation.outlier_fraction = outlier_fraction;
   Tally estimated, given, gt_b;
   for (int seed = 0; seed < seeds; ++seed) {
@@ -532,13 +538,7 @@ double CpuSeconds() {
 }
 
 int RunCost(int motions, bool estimate_noise) {
-  PaperSimulationOptions simulation;
-  simulation.num_motions = motions;
-  simulation.odom_yaw_sigma_rad = 0.01;
-  simulation.odom_translation_sigma_rel = 0.02;
-  simulation.camera_noise = CameraNoiseMode::kParametric;
-  simulation.cam_rotation_sigma_rad = 0.005;
-  simulation.cam_direction_sigma_rad = 0.01;
+  const PaperSimulationOptions simulation = PaperProtocol(motions);
   std::mt19937_64 rng(1001);
   const Rigid3d truth = RandomOdomFromCam(&rng);
   MotionPairs pairs =
