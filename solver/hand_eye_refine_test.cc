@@ -194,6 +194,16 @@ TEST(HandEyeCost, GradientCheckerPasses) {
   }
 }
 
+// Every pair refined, started at the simulation's truth.
+RefinementResult RefineFromTheTruth(const SimulatedMotions& truth,
+                                    const CalibrationOptions& calibration) {
+  return RefineOdomFromCam(truth.pairs,
+                           AllIndices(truth.pairs),
+                           truth.odom_from_cam,
+                           truth.metric_scales,
+                           calibration);
+}
+
 TEST(RefineOdomFromCam, StaysAtTheTruthWithoutNoise) {
   auto rng = SeededRng(23);
   MotionSimulatorOptions options;
@@ -201,11 +211,7 @@ TEST(RefineOdomFromCam, StaysAtTheTruthWithoutNoise) {
   const SimulatedMotions truth = SimulateMotions(options, &rng);
   CalibrationOptions calibration;
   calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
-  const RefinementResult refined = RefineOdomFromCam(truth.pairs,
-                                                     AllIndices(truth.pairs),
-                                                     truth.odom_from_cam,
-                                                     truth.metric_scales,
-                                                     calibration);
+  const RefinementResult refined = RefineFromTheTruth(truth, calibration);
   ASSERT_TRUE(refined.usable) << refined.report;
   EXPECT_LT(refined.final_cost, 1e-20);
   EXPECT_LT(RotationAngle(refined.odom_from_cam.rotation.conjugate() *
@@ -238,11 +244,7 @@ TEST(RefineOdomFromCam, ScaleIsNotAttenuatedByTheCameraNoise) {
     CalibrationOptions calibration;
     calibration.noise = options.noise;
     calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
-    const RefinementResult refined = RefineOdomFromCam(truth.pairs,
-                                                       AllIndices(truth.pairs),
-                                                       truth.odom_from_cam,
-                                                       truth.metric_scales,
-                                                       calibration);
+    const RefinementResult refined = RefineFromTheTruth(truth, calibration);
     ASSERT_TRUE(refined.usable) << refined.report;
     const double relative_variance =
         refined.information.inverse()(5, 5) /

@@ -201,11 +201,19 @@ Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
       ModelledStep(pair, odom_from_cam, metric_scale, noise));
 }
 
-Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
-                                   const Rigid3d& odom_from_cam,
-                                   double metric_scale,
-                                   const NoiseModel& noise,
-                                   const StepSize& step) {
+namespace {
+
+// Cov(r)'s odometry part F_A Sigma_A F_A^T and camera part F_B Sigma_B F_B^T.
+struct ResidualCovarianceParts {
+  Matrix6d odometry;
+  Matrix6d camera;
+};
+
+ResidualCovarianceParts PartsOfResidualCovariance(const MotionPair& pair,
+                                                  const Rigid3d& odom_from_cam,
+                                                  double metric_scale,
+                                                  const NoiseModel& noise,
+                                                  const StepSize& step) {
   const Eigen::Matrix3d r_a =
       pair.odom_i_from_odom_j.rotation.toRotationMatrix();
   const Eigen::Matrix3d r = odom_from_cam.rotation.toRotationMatrix();
@@ -216,8 +224,20 @@ Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
   Matrix6d f_b = Matrix6d::Zero();
   f_b.topLeftCorner<3, 3>() = r_a.transpose() * r;
   f_b.bottomRightCorner<3, 3>() = -metric_scale * r;
-  return f_a * OdometryCovariance(pair, noise, step) * f_a.transpose() +
-         f_b * CameraCovariance(pair, noise, step) * f_b.transpose();
+  return {f_a * OdometryCovariance(pair, noise, step) * f_a.transpose(),
+          f_b * CameraCovariance(pair, noise, step) * f_b.transpose()};
+}
+
+}  // namespace
+
+Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
+                                   const Rigid3d& odom_from_cam,
+                                   double metric_scale,
+                                   const NoiseModel& noise,
+                                   const StepSize& step) {
+  const ResidualCovarianceParts parts =
+      PartsOfResidualCovariance(pair, odom_from_cam, metric_scale, noise, step);
+  return parts.odometry + parts.camera;
 }
 
 ResidualCovarianceInScale HandEyeResidualCovarianceInScale(
@@ -225,19 +245,16 @@ ResidualCovarianceInScale HandEyeResidualCovarianceInScale(
     const Rigid3d& odom_from_cam,
     double metric_scale,
     const NoiseModel& noise) {
-  const StepSize step = ModelledStep(pair, odom_from_cam, metric_scale, noise);
-  // The camera's part alone: the odometry's covariance (and its
-  // interpolation) zero.
-  MotionPair camera_only = pair;
-  camera_only.odom_covariance = MotionCovariance::Zero();
-  camera_only.odom_interpolation_covariance.reset();
-  const Matrix6d camera = HandEyeResidualCovariance(
-      camera_only, odom_from_cam, metric_scale, noise, step);
+  const ResidualCovarianceParts parts = PartsOfResidualCovariance(
+      pair,
+      odom_from_cam,
+      metric_scale,
+      noise,
+      ModelledStep(pair, odom_from_cam, metric_scale, noise));
+  const Matrix6d& camera = parts.camera;
   ResidualCovarianceInScale split;
   split.scale = metric_scale;
-  split.fixed = HandEyeResidualCovariance(
-                    pair, odom_from_cam, metric_scale, noise, step) -
-                camera;
+  split.fixed = parts.odometry;
   split.fixed.topLeftCorner<3, 3>() += camera.topLeftCorner<3, 3>();
   split.cross.setZero();
   split.cross.topRightCorner<3, 3>() = camera.topRightCorner<3, 3>();
