@@ -1,0 +1,158 @@
+// One bundle adjustment of the images, the wheel odometry and the extrinsic,
+// in metres in the odometry's origin frame.
+//
+// Unknowns:
+//   - per image, the robot's planar pose origin_from_odom_i = (x, y, yaw):
+//     the planar-motion model of the two-step calibration, in which the
+//     odometry frame moves in the origin's x-y plane;
+//   - the shared odom_from_cam, its translation z held (unobservable under
+//     planar motion);
+//   - the 3D points, in metres in the origin frame;
+//   - the camera intrinsics when options.refine_intrinsics (else held).
+// Residuals:
+//   - reprojection: observed pixel minus the projection of the point through
+//     cam_from_odom * Inverse(origin_from_odom_i), divided by the pixel
+//     sigma, under a robust loss;
+//   - odometry: for each link, the planar motion the poses imply minus the
+//     measured one (x, y in the first pose's frame, yaw), whitened by the
+//     link's covariance.
+// The images tie the long spans (COLMAP's model has no drift within the
+// images' overlap) and the odometry fixes the metric scale and what the
+// images leave weak; each fixes what the other cannot, so the metric model
+// carries neither COLMAP's scale drift nor the odometry's.
+//
+// Gauge: the problem is invariant to one planar motion of everything per
+// connected component (images joined by links or shared points); the first
+// image of each component keeps its starting pose. The extrinsic does not
+// depend on that choice.
+//
+// Covariance of the extrinsic: the inverse of the Gauss-Newton information
+// J^T J at the solution, over all unknowns (poses, points, intrinsics when
+// refined), restricted to the extrinsic's rows: the marginal covariance
+// over poses and points. The pixel sigma is estimated from the residuals
+// (a robust scale of the inliers) and the problem solved again at it, so
+// that the images and the odometry weigh as their noise says.
+#pragma once
+
+#include "odomcal/solver/calibration_options.h"
+#include "odomcal/solver/camera_projection.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct JointCamera {
+  ProjectionModel model = ProjectionModel::kPinhole;
+  // ProjectionNumParams(model) values in COLMAP's order and pixel
+  // convention (camera_projection.h).
+  std::vector<double> params;
+};
+
+// A planar pose of the odometry frame in the origin frame.
+struct PlanarPose {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+};
+
+struct JointImage {
+  int camera = 0;               // index into JointAdjustmentProblem::cameras
+  PlanarPose origin_from_odom;  // starting value
+};
+
+struct JointObservation {
+  int image = 0;                                    // index into images
+  int point = 0;                                    // index into points
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // the camera's convention
+};
+
+// The odometry's planar motion from image_i's time to image_j's, and its
+// covariance, order (x, y, yaw), metres and radians.
+struct OdometryLink {
+  int image_i = 0;
+  int image_j = 0;
+  PlanarPose odom_i_from_odom_j;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+};
+
+struct JointAdjustmentProblem {
+  std::vector<JointCamera> cameras;
+  std::vector<JointImage> images;
+  std::vector<Eigen::Vector3d> points;  // starting values, metres, origin
+  std::vector<JointObservation> observations;
+  std::vector<OdometryLink> links;
+  Rigid3d odom_from_cam;  // starting value; its translation z is held
+};
+
+struct JointAdjustmentOptions {
+  // Starting pixel sigma; the adjustment estimates it (see the top).
+  double pixel_sigma = 1.0;
+  // Robust loss on the reprojection residuals, in pixel sigmas.
+  RobustLoss loss = RobustLoss::kHuber;
+  double loss_scale = 3.0;
+  // Observations whose residual exceeds this many pixel sigmas after the
+  // first solve are left out of the second (and reported).
+  double max_reprojection_sigmas = 5.0;
+  bool refine_intrinsics = false;
+  int max_num_iterations = 100;
+  int num_threads = 1;
+  // Throws std::invalid_argument naming the option.
+  void Check() const;
+};
+
+enum class JointAdjustmentStatus {
+  kSuccess,
+  kInvalidInput,   // indices out of range, too few links, ...
+  kNoConvergence,  // Ceres did not converge
+  kSingular,       // the information matrix is singular (not observable)
+};
+const char* ToString(JointAdjustmentStatus status);
+
+struct JointAdjustmentResult {
+  JointAdjustmentStatus status = JointAdjustmentStatus::kInvalidInput;
+  std::string message;  // why, when not kSuccess
+
+  Rigid3d odom_from_cam;
+  // Order [rx, ry, rz, tx, ty]: rotation as a left perturbation
+  // R = Exp(phi) R_hat in radians about the odometry axes, translation in
+  // metres (z held), as CalibrationResult::covariance.
+  Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();
+  std::vector<PlanarPose> origin_from_odom;  // per image
+  std::vector<Eigen::Vector3d> points;       // metres, origin frame
+  std::vector<JointCamera> cameras;          // refined or as given
+
+  double pixel_sigma = 0.0;  // estimated
+  // Root mean square of the reprojection residuals of the inliers, pixels,
+  // at the start and at the solution.
+  double reprojection_rms_px_before = 0.0;
+  double reprojection_rms_px_after = 0.0;
+  // Root mean square of the whitened odometry residuals (1 when the links'
+  // covariances fit), at the start and at the solution.
+  double odometry_rms_sigma_before = 0.0;
+  double odometry_rms_sigma_after = 0.0;
+  int num_observations_used = 0;
+  int num_observations_left_out = 0;  // beyond max_reprojection_sigmas
+  int num_components = 0;             // gauge components (see the top)
+  int num_iterations = 0;
+  double solve_time_s = 0.0;
+  double covariance_time_s = 0.0;
+
+  bool IsSuccess() const { return status == JointAdjustmentStatus::kSuccess; }
+};
+
+// Throws std::invalid_argument for invalid options; invalid problems give
+// kInvalidInput with the reason.
+JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
+                                    const JointAdjustmentOptions& options);
+
+// Composition helpers, exposed for the callers that build the problem and
+// read its result.
+Rigid3d RigidFromPlanar(const PlanarPose& pose);
+// The planar part of a transform (x, y and the yaw about z).
+PlanarPose PlanarFromRigid(const Rigid3d& transform);
+
+}  // namespace odomcal
