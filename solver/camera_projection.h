@@ -53,7 +53,7 @@ const char* ProjectionModelName(ProjectionModel model);
 // Pixel coordinates of the camera-frame point (x, y, z), z > 0. False
 // (pixel untouched) for a point on or behind the camera plane.
 template <ProjectionModel kModel, typename T>
-bool Project(const T* params, const T* point_in_cam, T* pixel) {
+bool ProjectToPixel(const T* params, const T* point_in_cam, T* pixel) {
   const T& z = point_in_cam[2];
   if (!(z > T(0))) return false;
   const T u = point_in_cam[0] / z;
@@ -94,7 +94,7 @@ bool Project(const T* params, const T* point_in_cam, T* pixel) {
   return true;
 }
 
-// Project() for a model known only at run time.
+// ProjectToPixel() for a model known only at run time.
 template <typename T>
 bool ProjectWith(ProjectionModel model,
                  const T* params,
@@ -102,17 +102,20 @@ bool ProjectWith(ProjectionModel model,
                  T* pixel) {
   switch (model) {
     case ProjectionModel::kSimplePinhole:
-      return Project<ProjectionModel::kSimplePinhole>(
+      return ProjectToPixel<ProjectionModel::kSimplePinhole>(
           params, point_in_cam, pixel);
     case ProjectionModel::kPinhole:
-      return Project<ProjectionModel::kPinhole>(params, point_in_cam, pixel);
+      return ProjectToPixel<ProjectionModel::kPinhole>(
+          params, point_in_cam, pixel);
     case ProjectionModel::kSimpleRadial:
-      return Project<ProjectionModel::kSimpleRadial>(
+      return ProjectToPixel<ProjectionModel::kSimpleRadial>(
           params, point_in_cam, pixel);
     case ProjectionModel::kRadial:
-      return Project<ProjectionModel::kRadial>(params, point_in_cam, pixel);
+      return ProjectToPixel<ProjectionModel::kRadial>(
+          params, point_in_cam, pixel);
     case ProjectionModel::kOpenCV:
-      return Project<ProjectionModel::kOpenCV>(params, point_in_cam, pixel);
+      return ProjectToPixel<ProjectionModel::kOpenCV>(
+          params, point_in_cam, pixel);
   }
   return false;
 }

@@ -21,22 +21,6 @@ constexpr double kNullSpaceTolerance = 1e-10;
 // A parameter takes part in a null direction when its component is above this.
 constexpr double kNullComponentTolerance = 0.1;
 
-// Numerical Jacobian of roll-pitch-yaw with respect to a left perturbation.
-Eigen::Matrix3d RollPitchYawJacobian(const Eigen::Quaterniond& q) {
-  constexpr double kStep = 1e-7;
-  Eigen::Matrix3d jacobian;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d delta = Eigen::Vector3d::Unit(k) * kStep;
-    Eigen::Vector3d diff = RollPitchYaw(ExpRotation(delta) * q) -
-                           RollPitchYaw(ExpRotation(-delta) * q);
-    for (int j = 0; j < 3; ++j) {  // unwrap angles across +-pi
-      diff(j) = std::remainder(diff(j), 2.0 * kPi);
-    }
-    jacobian.col(k) = diff / (2.0 * kStep);
-  }
-  return jacobian;
-}
-
 // An information matrix normalised to a unit diagonal, D I D with
 // D = diag(1 / sqrt(I_kk)) (0 where I_kk <= 0), and its eigen-decomposition:
 // the normalisation makes the null-space test independent of the parameters'

@@ -65,7 +65,7 @@ struct ReprojectionCost {
     const Eigen::Matrix<T, 3, 1> in_cam =
         odom_from_cam_rotation.conjugate() * (in_odom - offset);
     T pixel[2];
-    if (!Project<kModel>(params, in_cam.data(), pixel)) return false;
+    if (!ProjectToPixel<kModel>(params, in_cam.data(), pixel)) return false;
     residual[0] = (pixel[0] - T(pixel_[0])) * T(inverse_sigma_);
     residual[1] = (pixel[1] - T(pixel_[1])) * T(inverse_sigma_);
     return true;
@@ -137,8 +137,8 @@ struct OdometryLinkCost {
     T motion[3];
     PlanarMotion(pose_i, pose_j, motion);
     const Eigen::Matrix<T, 3, 1> difference(
-        motion[0] - T(measured_.x_m),
-        motion[1] - T(measured_.y_m),
+        motion[0] - T(measured_.x),
+        motion[1] - T(measured_.y),
         WrapAngle(motion[2] - T(measured_.yaw_rad)));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
     whitened = sqrt_information_.cast<T>() * difference;
@@ -232,8 +232,8 @@ class JointProblem {
       : input_(input), options_(options) {
     poses_.reserve(input.images.size());
     for (const JointImage& image : input.images) {
-      poses_.push_back({image.origin_from_odom.x_m,
-                        image.origin_from_odom.y_m,
+      poses_.push_back({image.origin_from_odom.x,
+                        image.origin_from_odom.y,
                         image.origin_from_odom.yaw_rad});
     }
     points_ = input.points;
@@ -335,6 +335,7 @@ class JointProblem {
     for (const OdometryLink& link : input_.links) {
       Eigen::Matrix3d w;
       SqrtInformation(link.covariance, &w);
+      w /= std::sqrt(odometry_factor_);
       problem_->AddResidualBlock(
           new ceres::AutoDiffCostFunction<OdometryLinkCost, 3, 3, 3>(
               new OdometryLinkCost(link.odom_i_from_odom_j, w)),
@@ -342,8 +343,10 @@ class JointProblem {
           poses_[link.image_i].data(),
           poses_[link.image_j].data());
     }
-    problem_->SetManifold(quaternion_, &quaternion_manifold_);
-    problem_->SetParameterBlockConstant(&t_z_);
+    if (problem_->HasParameterBlock(quaternion_)) {
+      problem_->SetManifold(quaternion_, &quaternion_manifold_);
+      problem_->SetParameterBlockConstant(&t_z_);
+    }
     for (size_t i = 0; i < poses_.size(); ++i) {
       if (held_[i] && problem_->HasParameterBlock(poses_[i].data())) {
         problem_->SetParameterBlockConstant(poses_[i].data());
@@ -452,6 +455,26 @@ class JointProblem {
     return statistics;
   }
 
+  // The odometry's variance factor against the links' covariances: their
+  // whitened sum of squares over its degrees of freedom, 3 per link less
+  // what the odometry alone determines (the metric scale, and the
+  // extrinsic's yaw and x/y in part: 3 in all). Held (1) below 30 degrees
+  // of freedom, within [kMinOdometryFactor, kMaxOdometryFactor].
+  static constexpr double kMinOdometryFactor = 0.01;
+  static constexpr double kMaxOdometryFactor = 100.0;
+  double EstimateOdometryFactor() {
+    const double dof = 3.0 * static_cast<double>(input_.links.size()) - 3.0;
+    constexpr double kMinDof = 30.0;
+    if (dof < kMinDof) return odometry_factor_;
+    const double rms = OdometryRms();
+    const double sum = rms * rms * 3.0 * static_cast<double>(input_.links.size());
+    odometry_factor_ =
+        std::clamp(sum / dof, kMinOdometryFactor, kMaxOdometryFactor);
+    return odometry_factor_;
+  }
+
+  double OdometryFactor() const { return odometry_factor_; }
+
   double OdometryRms() const {
     double sum = 0.0;
     for (const OdometryLink& link : input_.links) {
@@ -525,6 +548,19 @@ class JointProblem {
       result->cameras[c].params = params_[c];
     }
     result->num_components = num_components_;
+    result->observation_error_px.assign(input_.observations.size(), -1.0);
+    for (size_t k = 0; k < input_.observations.size(); ++k) {
+      if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+      Eigen::Vector2d residual;
+      if (ReprojectionResidual(k, &residual)) {
+        result->observation_error_px[k] = residual.norm();
+      }
+    }
+  }
+
+  int NumPointsSeenTwice() const {
+    return static_cast<int>(
+        std::count(seen_twice_.begin(), seen_twice_.end(), 1));
   }
 
   int NumUnused() const {
@@ -540,6 +576,7 @@ class JointProblem {
   double quaternion_[4] = {0.0, 0.0, 0.0, 1.0};
   double t_xy_[2] = {0.0, 0.0};
   double t_z_ = 0.0;
+  double odometry_factor_ = 1.0;  // variance factor on the links
   std::vector<char> used_;
   std::vector<char> seen_twice_;  // per point, among the used observations
   std::vector<char> held_;
@@ -586,19 +623,6 @@ const char* ToString(JointAdjustmentStatus status) {
   return "unknown";
 }
 
-Rigid3d RigidFromPlanar(const PlanarPose& pose) {
-  Rigid3d transform;
-  transform.rotation = YawRotation(pose.yaw_rad);
-  transform.translation = Eigen::Vector3d(pose.x_m, pose.y_m, 0.0);
-  return transform;
-}
-
-PlanarPose PlanarFromRigid(const Rigid3d& transform) {
-  return {transform.translation.x(),
-          transform.translation.y(),
-          YawAboutZ(transform.rotation)};
-}
-
 JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
                                     const JointAdjustmentOptions& options) {
   options.Check();
@@ -613,8 +637,13 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
     result.message = why;
     return result;
   }
-  // Pass 0 measures the start; each pass estimates the pixel sigma from
-  // its solution and drops the outliers for the next.
+  if (joint.NumPointsSeenTwice() == 0) {
+    result.message = "no point is seen in two images";
+    return result;
+  }
+  // Pass 0 measures the start; each pass estimates the pixel sigma (and the
+  // odometry's level) from its solution and drops the outliers for the
+  // next.
   double pixel_sigma = options.pixel_sigma;
   const auto before =
       joint.UpdatePixelSigma(std::numeric_limits<double>::infinity(), false);
@@ -643,13 +672,20 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
     }
     result.reprojection_rms_px_after = statistics.rms;
     result.num_observations_used = statistics.num_inliers;
-    const double change = std::abs(statistics.sigma / pixel_sigma - 1.0);
+    double change = std::abs(statistics.sigma / pixel_sigma - 1.0);
     pixel_sigma = statistics.sigma;
+    if (options.estimate_odometry_noise) {
+      const double factor = joint.OdometryFactor();
+      change = std::max(
+          change,
+          std::abs(std::sqrt(joint.EstimateOdometryFactor() / factor) - 1.0));
+    }
     if (change < kSigmaTolerance && statistics.num_marked == 0) break;
   }
   // The final problem at the estimated sigma, for the covariance.
   joint.Build(pixel_sigma);
   result.pixel_sigma = pixel_sigma;
+  result.odometry_sigma_ratio = std::sqrt(joint.OdometryFactor());
   result.num_observations_left_out = joint.NumUnused();
   result.odometry_rms_sigma_after = joint.OdometryRms();
   joint.WriteResult(&result);

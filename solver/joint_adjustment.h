@@ -30,12 +30,15 @@
 // J^T J at the solution, over all unknowns (poses, points, intrinsics when
 // refined), restricted to the extrinsic's rows: the marginal covariance
 // over poses and points. The pixel sigma is estimated from the residuals
-// (a robust scale of the inliers) and the problem solved again at it, so
-// that the images and the odometry weigh as their noise says.
+// (a robust scale of the inliers), and the odometry's level from its
+// residuals (one factor on the links' covariances), and the problem solved
+// again at them, so that the images and the odometry weigh as their noise
+// says and the covariance states the noise the data show.
 #pragma once
 
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/camera_projection.h"
+#include "odomcal/solver/planar_pose.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -50,13 +53,6 @@ struct JointCamera {
   // ProjectionNumParams(model) values in COLMAP's order and pixel
   // convention (camera_projection.h).
   std::vector<double> params;
-};
-
-// A planar pose of the odometry frame in the origin frame.
-struct PlanarPose {
-  double x_m = 0.0;
-  double y_m = 0.0;
-  double yaw_rad = 0.0;
 };
 
 struct JointImage {
@@ -98,6 +94,10 @@ struct JointAdjustmentOptions {
   // first solve are left out of the second (and reported).
   double max_reprojection_sigmas = 5.0;
   bool refine_intrinsics = false;
+  // Scale the links' covariances by one factor estimated from their
+  // residuals (the images tie the poses, so the odometry's residuals show
+  // its real level); held at the given covariances otherwise.
+  bool estimate_odometry_noise = true;
   int max_num_iterations = 100;
   int num_threads = 1;
   // Throws std::invalid_argument naming the option.
@@ -124,14 +124,21 @@ struct JointAdjustmentResult {
   std::vector<PlanarPose> origin_from_odom;  // per image
   std::vector<Eigen::Vector3d> points;       // metres, origin frame
   std::vector<JointCamera> cameras;          // refined or as given
+  // Per observation: the norm of its reprojection residual at the solution
+  // in pixels, or -1 where it was not used (its point seen in fewer than
+  // two images, or beyond max_reprojection_sigmas).
+  std::vector<double> observation_error_px;
 
   double pixel_sigma = 0.0;  // estimated
+  // sqrt of the odometry's variance factor against the links' covariances
+  // (1 when not estimated); bounded to [0.1, 10].
+  double odometry_sigma_ratio = 1.0;
   // Root mean square of the reprojection residuals of the inliers, pixels,
   // at the start and at the solution.
   double reprojection_rms_px_before = 0.0;
   double reprojection_rms_px_after = 0.0;
-  // Root mean square of the whitened odometry residuals (1 when the links'
-  // covariances fit), at the start and at the solution.
+  // Root mean square of the odometry residuals whitened by the links' given
+  // covariances (1 when they fit), at the start and at the solution.
   double odometry_rms_sigma_before = 0.0;
   double odometry_rms_sigma_after = 0.0;
   int num_observations_used = 0;
@@ -148,11 +155,5 @@ struct JointAdjustmentResult {
 // kInvalidInput with the reason.
 JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
                                     const JointAdjustmentOptions& options);
-
-// Composition helpers, exposed for the callers that build the problem and
-// read its result.
-Rigid3d RigidFromPlanar(const PlanarPose& pose);
-// The planar part of a transform (x, y and the yaw about z).
-PlanarPose PlanarFromRigid(const Rigid3d& transform);
 
 }  // namespace odomcal

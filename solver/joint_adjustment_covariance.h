@@ -13,7 +13,7 @@ namespace odomcal {
 
 // `jacobian`: residuals x unknowns. `*block`: the leading num_wanted x
 // num_wanted block of (J^T J)^-1. False when J^T J is singular (a pivot
-// below 1e-12 of the largest), *block untouched.
+// of its unit-diagonal scaling below 1e-12), *block untouched.
 bool LeadingBlockOfInverseInformation(
     const Eigen::SparseMatrix<double, Eigen::RowMajor>& jacobian,
     int num_wanted,

@@ -16,20 +16,20 @@ TEST(Project, FollowsColmapsModels) {
   const double point[3] = {1.0, 2.0, 4.0};  // u = 0.25, v = 0.5, r^2 = 0.3125
   double pixel[2];
   const double simple_radial[4] = {100.0, 50.0, 40.0, 0.1};
-  ASSERT_TRUE(
-      Project<ProjectionModel::kSimpleRadial>(simple_radial, point, pixel));
+  ASSERT_TRUE(ProjectToPixel<ProjectionModel::kSimpleRadial>(
+      simple_radial, point, pixel));
   EXPECT_DOUBLE_EQ(pixel[0], 100.0 * 0.25 * 1.03125 + 50.0);
   EXPECT_DOUBLE_EQ(pixel[1], 100.0 * 0.5 * 1.03125 + 40.0);
   // OPENCV, tangential only: du = 2 p1 u v + p2 (r^2 + 2 u^2).
   const double opencv[8] = {100.0, 200.0, 50.0, 40.0, 0.0, 0.0, 0.01, 0.02};
-  ASSERT_TRUE(Project<ProjectionModel::kOpenCV>(opencv, point, pixel));
+  ASSERT_TRUE(ProjectToPixel<ProjectionModel::kOpenCV>(opencv, point, pixel));
   EXPECT_DOUBLE_EQ(pixel[0],
                    100.0 * (0.25 + 2 * 0.01 * 0.125 + 0.02 * 0.4375) + 50.0);
   EXPECT_DOUBLE_EQ(pixel[1],
                    200.0 * (0.5 + 2 * 0.02 * 0.125 + 0.01 * 0.8125) + 40.0);
   const double behind[3] = {1.0, 2.0, -4.0};
-  EXPECT_FALSE(
-      Project<ProjectionModel::kSimpleRadial>(simple_radial, behind, pixel));
+  EXPECT_FALSE(ProjectToPixel<ProjectionModel::kSimpleRadial>(
+      simple_radial, behind, pixel));
 }
 
 // A planar drive past random points, observed by a forward camera, with
@@ -63,8 +63,8 @@ Scene MakeScene(int seed,
   for (int i = 0; i < kNumImages; ++i) {
     scene.poses.push_back(pose);
     const double turn = 0.25 * std::sin(0.12 * i);
-    pose.x_m += 0.25 * std::cos(pose.yaw_rad + 0.5 * turn);
-    pose.y_m += 0.25 * std::sin(pose.yaw_rad + 0.5 * turn);
+    pose.x += 0.25 * std::cos(pose.yaw_rad + 0.5 * turn);
+    pose.y += 0.25 * std::sin(pose.yaw_rad + 0.5 * turn);
     pose.yaw_rad += turn;
   }
   // Points 2-8 m to the sides and ahead of the path.
@@ -74,7 +74,7 @@ Scene MakeScene(int seed,
       const double side = (uniform(random) - 0.5) * 10.0;
       const double height = -0.3 + 2.5 * uniform(random);
       const Eigen::Vector3d in_odom(ahead, side, height);
-      scene.points.push_back(RigidFromPlanar(p) * in_odom);
+      scene.points.push_back(p.ToRigid3d() * in_odom);
     }
   }
   JointAdjustmentProblem& problem = scene.problem;
@@ -90,7 +90,7 @@ Scene MakeScene(int seed,
   for (int i = 0; i < kNumImages; ++i) {
     const double fraction = static_cast<double>(i) / kNumImages;
     const Eigen::Vector3d xy = drifted(
-        Eigen::Vector3d(scene.poses[i].x_m, scene.poses[i].y_m, 0.0), fraction);
+        Eigen::Vector3d(scene.poses[i].x, scene.poses[i].y, 0.0), fraction);
     problem.images.push_back(
         {0, {xy.x(), xy.y(), scene.poses[i].yaw_rad + 0.002 * normal(random)}});
   }
@@ -111,12 +111,12 @@ Scene MakeScene(int seed,
   const std::vector<double>& params = problem.cameras[0].params;
   for (int i = 0; i < kNumImages; ++i) {
     const Rigid3d cam_from_origin =
-        Inverse(RigidFromPlanar(scene.poses[i]) * scene.odom_from_cam);
+        Inverse(scene.poses[i].ToRigid3d() * scene.odom_from_cam);
     for (size_t k = 0; k < scene.points.size(); ++k) {
       const Eigen::Vector3d in_cam = cam_from_origin * scene.points[k];
       if (in_cam.z() < 0.5 || in_cam.z() > 12.0) continue;
       Eigen::Vector2d pixel;
-      if (!Project<ProjectionModel::kSimpleRadial>(
+      if (!ProjectToPixel<ProjectionModel::kSimpleRadial>(
               params.data(), in_cam.data(), pixel.data()) ||
           pixel.x() < 0.0 || pixel.x() > 640.0 || pixel.y() < 0.0 ||
           pixel.y() > 480.0) {
@@ -131,10 +131,10 @@ Scene MakeScene(int seed,
   }
   // Odometry between consecutive images: 2 mm + 1 % per axis, 0.2 deg + 1 %.
   for (int i = 0; i + 1 < kNumImages; ++i) {
-    const Rigid3d truth = Inverse(RigidFromPlanar(scene.poses[i])) *
-                          RigidFromPlanar(scene.poses[i + 1]);
+    const Rigid3d truth =
+        Inverse(scene.poses[i].ToRigid3d()) * scene.poses[i + 1].ToRigid3d();
     const PlanarPose motion = PlanarFromRigid(truth);
-    const double length = std::hypot(motion.x_m, motion.y_m);
+    const double length = std::hypot(motion.x, motion.y);
     const double xy_sigma = 0.002 + 0.01 * length;
     const double yaw_sigma = 0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
     OdometryLink link;
@@ -144,8 +144,8 @@ Scene MakeScene(int seed,
         Eigen::Vector3d(
             xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
             .asDiagonal();
-    link.odom_i_from_odom_j = {motion.x_m + xy_sigma * normal(random),
-                               motion.y_m + xy_sigma * normal(random),
+    link.odom_i_from_odom_j = {motion.x + xy_sigma * normal(random),
+                               motion.y + xy_sigma * normal(random),
                                motion.yaw_rad + yaw_sigma * normal(random)};
     problem.links.push_back(link);
   }
@@ -188,10 +188,10 @@ TEST(AdjustJointly, RemovesTheModelsScaleDriftAndStatesItsUncertainty) {
   // The drift (5 % at the end, about 1 m) is gone from the poses.
   double worst = 0.0;
   for (size_t i = 0; i < scene.poses.size(); ++i) {
-    worst = std::max(
-        worst,
-        std::hypot(result.origin_from_odom[i].x_m - scene.poses[i].x_m,
-                   result.origin_from_odom[i].y_m - scene.poses[i].y_m));
+    worst =
+        std::max(worst,
+                 std::hypot(result.origin_from_odom[i].x - scene.poses[i].x,
+                            result.origin_from_odom[i].y - scene.poses[i].y));
   }
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(result.reprojection_rms_px_after,

@@ -1,5 +1,7 @@
 #include "odomcal/solver/rigid3.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -79,6 +81,21 @@ Eigen::Vector3d RollPitchYaw(const Eigen::Quaterniond& q) {
 bool IsFinite(const Rigid3d& transform) {
   return transform.rotation.coeffs().allFinite() &&
          transform.translation.allFinite();
+}
+
+Eigen::Matrix3d RollPitchYawJacobian(const Eigen::Quaterniond& q) {
+  constexpr double kStep = 1e-7;
+  Eigen::Matrix3d jacobian;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d delta = Eigen::Vector3d::Unit(k) * kStep;
+    Eigen::Vector3d diff = RollPitchYaw(ExpRotation(delta) * q) -
+                           RollPitchYaw(ExpRotation(-delta) * q);
+    for (int j = 0; j < 3; ++j) {  // unwrap angles across +-pi
+      diff(j) = std::remainder(diff(j), 2.0 * kPi);
+    }
+    jacobian.col(k) = diff / (2.0 * kStep);
+  }
+  return jacobian;
 }
 
 }  // namespace odomcal

@@ -57,6 +57,10 @@ Eigen::Quaterniond WithPositiveScalar(const Eigen::Quaterniond& q);
 // Intrinsic roll-pitch-yaw (R = Rz(yaw) * Ry(pitch) * Rx(roll)), radians.
 Eigen::Vector3d RollPitchYaw(const Eigen::Quaterniond& q);
 
+// d RollPitchYaw / d phi at q for a left perturbation Exp(phi) q
+// (numerical), to carry a rotation covariance into roll, pitch and yaw.
+Eigen::Matrix3d RollPitchYawJacobian(const Eigen::Quaterniond& q);
+
 // True when every coefficient is finite.
 bool IsFinite(const Rigid3d& transform);
 

@@ -8,10 +8,6 @@
 
 namespace odomcal {
 
-Rigid3d PlanarPose::ToRigid3d() const {
-  return Rigid3d(YawRotation(yaw_rad), Eigen::Vector3d(x, y, 0.0));
-}
-
 PlanarPose UnicycleStep(const PlanarPose& pose, double v, double w, double dt) {
   const double dyaw = w * dt;
   double forward, left;

@@ -8,6 +8,7 @@
 // Planar poses are origin-free here: (x, y, yaw) in the path's frame.
 #pragma once
 
+#include "odomcal/solver/planar_pose.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
@@ -16,11 +17,6 @@
 #include <vector>
 
 namespace odomcal {
-
-struct PlanarPose {
-  double x = 0.0, y = 0.0, yaw_rad = 0.0;
-  Rigid3d ToRigid3d() const;  // rotation about +z, z = 0
-};
 
 // The pose after dt seconds at forward speed v (m/s) and yaw rate w (rad/s),
 // both constant: exact (an arc, a straight line or a turn in place).

@@ -7,6 +7,7 @@
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/colmap_report.h"
+#include "odomcal/plugin/report/joint_adjustment_report.h"
 
 #include <CLI/CLI.hpp>
 
@@ -58,7 +59,8 @@ int RunColmap(int argc, char** argv) {
     const std::vector<std::string> written =
         WriteColmapCalibrationOutputs(run, context, output_path);
     if (!quiet) {
-      std::cout << CalibrationSummary(run.check.result, context);
+      std::cout << CalibrationSummary(run.check.result, context)
+                << JointAdjustmentSummary(run);
       std::string names;
       for (const std::string& name : written)
         names += (names.empty() ? "" : ", ") + name;

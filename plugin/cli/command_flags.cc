@@ -87,6 +87,7 @@ void AddProjectFlags(CLI::App* app,
   AddFlags(ProjectInputFlags(), app, inputs);
   AddFlags(StretchFlags(), app, &inputs->stretch);
   AddFlags(FloorPlaneFlags(), app, &inputs->floor);
+  AddFlags(JointAdjustmentFlags(), app, &inputs->joint_adjustment);
   AddCalibrationFlags(app, &flags->calibrate);
   flags->fixed_translation_z = app->get_option("--fixed_translation_z_m");
 }

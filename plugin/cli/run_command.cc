@@ -12,6 +12,7 @@
 #include "odomcal/plugin/output/output_folder.h"
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/colmap_report.h"
+#include "odomcal/plugin/report/joint_adjustment_report.h"
 
 #include <unistd.h>
 
@@ -241,7 +242,8 @@ int RunRun(int argc, char** argv) {
     }
     const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run", bag_echo);
     std::cout << CalibrationSummary(outcome.calibration.check.result,
-                                    outcome.context);
+                                    outcome.context)
+              << JointAdjustmentSummary(outcome.calibration);
     if (!outcome.calibration.colmap_version.empty()) {
       const ColmapCalibrationRun& run = outcome.calibration;
       std::cout << "  reconstructed by: "

@@ -12,6 +12,7 @@
 #include "odomcal/adapters/odometry_interpolation_error.h"
 #include "odomcal/adapters/systematics_warnings.h"
 #include "odomcal/plugin/colmap/floor_height.h"
+#include "odomcal/plugin/colmap/joint_adjustment_stage.h"
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/colmap/scale_drift_warning.h"
 #include "odomcal/solver/angles.h"
@@ -230,6 +231,7 @@ ColmapCalibrationRun CalibrateColmapProject(
   inputs.calibration.Check();
   inputs.robot_frames.Check();
   inputs.floor.Check();
+  inputs.joint_adjustment.Check();
   const ImageTimestamps timestamps =
       inputs.image_timestamps_path.empty()
           ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
@@ -456,7 +458,7 @@ ColmapCalibrationRun CalibrateColmapProject(
     metric.origin_from_sfm = AlignSfmToOrigin(
         origin_from_cam, sfm_from_cam, result.metric_scales[output]);
     metric.model = TransformModel(ColmapModelSubset(model, image_ids),
-                                  metric.origin_from_sfm);
+                                  *metric.origin_from_sfm);
     if (!left_out.empty()) {
       std::string list;
       for (const std::string& name : left_out)
@@ -504,6 +506,8 @@ ColmapCalibrationRun CalibrateColmapProject(
                              segment.trajectory.poses[i].stamp_ns);
     }
   }
+  // Before the floor: the floor is fitted in the adjusted model.
+  ApplyJointAdjustment(inputs, stamp_of_image, &run);
   ApplyFloorPlane(inputs.floor,
                   inputs.calibration.max_translation_stddev_m,
                   stamp_of_image,

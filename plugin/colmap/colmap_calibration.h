@@ -19,6 +19,7 @@
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/plugin/colmap/image_coverage.h"
+#include "odomcal/plugin/colmap/joint_adjustment_run.h"
 #include "odomcal/plugin/colmap/mapper_attempts.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/floor_plane.h"
@@ -51,6 +52,9 @@ struct ColmapCalibrationInputs {
   RobotFrameNames robot_frames;
   // Translation z from the floor under the metric model (floor_height.h).
   FloorPlaneOptions floor;
+  // One adjustment of images, odometry and extrinsic after the two-step
+  // calibration (joint_adjustment_stage.h).
+  JointAdjustmentSettings joint_adjustment;
 };
 
 // One sub-model in metres in the odometry's origin frame.
@@ -59,7 +63,9 @@ struct MetricSubModel {
   // when the checks cut the sub-model into parts with scales of their own.
   std::string name;
   int output_segment = -1;  // segment whose scale was used
-  Sim3d origin_from_sfm;
+  // The similarity that moved the sub-model into metres; absent for the
+  // joint adjustment's model, whose every pose and point was adjusted.
+  std::optional<Sim3d> origin_from_sfm;
   ColmapModel model;  // transformed copy
 };
 
@@ -89,6 +95,9 @@ struct ColmapCalibrationRun {
   // The calibration repeated on time blocks of the drive (ran = false when
   // it did not succeed).
   Repeatability repeatability;
+  // The joint adjustment (--joint_adjustment on): what it did, and the
+  // two-step extrinsic it started from.
+  JointAdjustmentRun joint;
 };
 
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).

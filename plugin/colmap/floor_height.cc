@@ -119,7 +119,7 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
   if (dz == 0.0) return;
   // Every camera moves by dz along the odometry's z, and so does the model.
   for (MetricSubModel& metric : run->metric_models) {
-    metric.origin_from_sfm.translation.z() += dz;
+    if (metric.origin_from_sfm) metric.origin_from_sfm->translation.z() += dz;
     for (auto& [id, image] : metric.model.images) {
       image.cam_from_world.translation -=
           image.cam_from_world.rotation * Eigen::Vector3d(0.0, 0.0, dz);

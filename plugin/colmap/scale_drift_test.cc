@@ -95,7 +95,7 @@ TEST_F(ScaleDriftTest, TenPercentIsNamedAndEachExportedStretchHasItsScale) {
       }
       ASSERT_FALSE(metric.model.images.empty());
       const double truth = sum / metric.model.images.size();
-      EXPECT_NEAR(metric.origin_from_sfm.scale / truth, 1.0, 0.01)
+      EXPECT_NEAR(metric.origin_from_sfm->scale / truth, 1.0, 0.01)
           << metric.name;
     }
   }
@@ -149,7 +149,7 @@ TEST_F(ScaleDriftTest, NoneIsNamedWithoutDrift) {
     EXPECT_TRUE(run.check.scale_changes.empty()) << "seed " << options.seed;
     EXPECT_TRUE(run.check.scale_drifts.empty());
     ASSERT_EQ(run.metric_models.size(), 1u);
-    EXPECT_NEAR(run.metric_models[0].origin_from_sfm.scale /
+    EXPECT_NEAR(run.metric_models[0].origin_from_sfm->scale /
                     SimulatedImageMetricScale(options, 0, NumImages(run)),
                 1.0,
                 0.005);

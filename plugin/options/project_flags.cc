@@ -135,6 +135,41 @@ const OptionTable<FloorPlaneOptions>& FloorPlaneFlags() {
   return table;
 }
 
+const OptionTable<JointAdjustmentSettings>& JointAdjustmentFlags() {
+  using J = JointAdjustmentSettings;
+  static const OptionTable<J> table = {
+      ChoiceRow<J>(
+          "joint_adjustment",
+          "after the two-step calibration, one bundle adjustment of the "
+          "images, the wheel odometry and the extrinsic in metres: its "
+          "extrinsic and one metric model without COLMAP's scale drift",
+          {"on", "off"},
+          [](const J& o) { return ToString(o.use); },
+          [](J* o, const std::string& name) {
+            o->use = JointAdjustmentUseFromString(name);
+          }),
+      ChoiceRow<J>(
+          "joint_intrinsics",
+          "the camera intrinsics in the joint adjustment: held as COLMAP "
+          "estimated them, or refined",
+          {"held", "refined"},
+          [](const J& o) {
+            return std::string(o.options.refine_intrinsics ? "refined"
+                                                           : "held");
+          },
+          [](J* o, const std::string& name) {
+            o->options.refine_intrinsics = name == "refined";
+          }),
+      NumberRow<J>(
+          "joint_max_reprojection_sigmas",
+          "observations beyond this many pixel sigmas are left out of the "
+          "joint adjustment",
+          [](auto& o) -> auto& { return o.options.max_reprojection_sigmas; },
+          FlagCheck::AtLeast(1.0)),
+  };
+  return table;
+}
+
 nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
   nlohmann::json echo = CalibrationFlagsEcho(inputs.association,
                                              inputs.calibration,
@@ -144,6 +179,8 @@ nlohmann::json ProjectFlagsEcho(const ColmapCalibrationInputs& inputs) {
   EchoOptions(ProjectInputFlags(), inputs, &echo["inputs"]);
   EchoOptions(StretchFlags(), inputs.stretch, &echo["options"]);
   EchoOptions(FloorPlaneFlags(), inputs.floor, &echo["options"]);
+  EchoOptions(
+      JointAdjustmentFlags(), inputs.joint_adjustment, &echo["options"]);
   return echo;
 }
 

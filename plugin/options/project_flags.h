@@ -25,6 +25,9 @@ const OptionTable<StretchOptions>& StretchFlags();
 // in `options`).
 const OptionTable<FloorPlaneOptions>& FloorPlaneFlags();
 
+// --joint_adjustment and its tuning (echoed in `options`).
+const OptionTable<JointAdjustmentSettings>& JointAdjustmentFlags();
+
 // The echo of `odomcal colmap`'s flags as `inputs` holds them, for
 // ProjectReportContext (its default): the calibration flags, --model_path
 // and --database_path (null when not given), the project inputs and the

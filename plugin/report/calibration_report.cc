@@ -41,35 +41,6 @@ json NumberOrNull(double value, bool determined) {
   return determined && std::isfinite(value) ? json(value) : json(nullptr);
 }
 
-json TransformToJson(const Rigid3d& transform,
-                     bool rotation_determined,
-                     bool x_determined,
-                     bool y_determined,
-                     bool z_determined) {
-  json out;
-  if (!rotation_determined) {
-    out["matrix"] = nullptr;
-    out["quaternion_wxyz"] = nullptr;
-    out["roll_pitch_yaw_deg"] = nullptr;
-  } else {
-    const Eigen::Matrix4d m = transform.ToMatrix();
-    json rows = json::array();
-    for (int r = 0; r < 4; ++r) {
-      rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
-    }
-    out["matrix"] = rows;
-    const Eigen::Quaterniond q = WithPositiveScalar(transform.rotation);
-    out["quaternion_wxyz"] = {q.w(), q.x(), q.y(), q.z()};
-    const Eigen::Vector3d rpy = RollPitchYaw(q) * kRadToDeg;
-    out["roll_pitch_yaw_deg"] = {rpy.x(), rpy.y(), rpy.z()};
-  }
-  out["translation_m"] = {
-      NumberOrNull(transform.translation.x(), x_determined),
-      NumberOrNull(transform.translation.y(), y_determined),
-      NumberOrNull(transform.translation.z(), z_determined)};
-  return out;
-}
-
 json PlanarityToJson(const PlanarityCheck& p) {
   if (!p.checked) return {{"checked", false}};
   return {
@@ -200,6 +171,35 @@ json NoiseToJson(const NoiseEstimate& estimate) {
 }
 
 }  // namespace
+
+json TransformToJson(const Rigid3d& transform,
+                     bool rotation_determined,
+                     bool x_determined,
+                     bool y_determined,
+                     bool z_determined) {
+  json out;
+  if (!rotation_determined) {
+    out["matrix"] = nullptr;
+    out["quaternion_wxyz"] = nullptr;
+    out["roll_pitch_yaw_deg"] = nullptr;
+  } else {
+    const Eigen::Matrix4d m = transform.ToMatrix();
+    json rows = json::array();
+    for (int r = 0; r < 4; ++r) {
+      rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+    }
+    out["matrix"] = rows;
+    const Eigen::Quaterniond q = WithPositiveScalar(transform.rotation);
+    out["quaternion_wxyz"] = {q.w(), q.x(), q.y(), q.z()};
+    const Eigen::Vector3d rpy = RollPitchYaw(q) * kRadToDeg;
+    out["roll_pitch_yaw_deg"] = {rpy.x(), rpy.y(), rpy.z()};
+  }
+  out["translation_m"] = {
+      NumberOrNull(transform.translation.x(), x_determined),
+      NumberOrNull(transform.translation.y(), y_determined),
+      NumberOrNull(transform.translation.z(), z_determined)};
+  return out;
+}
 
 json CalibrationToJson(const CalibrationResult& result,
                        const ReportContext& context) {

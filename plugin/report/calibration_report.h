@@ -54,6 +54,15 @@ constexpr int kResultSchemaVersion = 1;
 nlohmann::json CalibrationToJson(const CalibrationResult& result,
                                  const ReportContext& context);
 
+// A transform as the JSON's odom_from_cam holds it: "matrix" (4 x 4, rows),
+// "quaternion_wxyz", "roll_pitch_yaw_deg" (null unless the rotation is
+// determined) and "translation_m" (each axis null unless determined).
+nlohmann::json TransformToJson(const Rigid3d& transform,
+                               bool rotation_determined,
+                               bool x_determined,
+                               bool y_determined,
+                               bool z_determined);
+
 // OpenCV FileStorage YAML ("%YAML:1.0"), readable with cv::FileStorage.
 std::string CalibrationToYaml(const CalibrationResult& result);
 

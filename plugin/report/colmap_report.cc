@@ -3,6 +3,7 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/options/project_flags.h"
 #include "odomcal/plugin/report/floor_plane_report.h"
+#include "odomcal/plugin/report/joint_adjustment_report.h"
 #include "odomcal/plugin/report/repeatability_report.h"
 #include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/plugin/report/svg_plot.h"
@@ -67,6 +68,8 @@ ReportContext ProjectReportContext(const ColmapCalibrationInputs& inputs,
 json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
                              const ReportContext& context) {
   json out = CalibrationToJson(run.check.result, context);
+  out["joint_adjustment"] = JointAdjustmentToJson(run);
+  out["diagnostics"]["two_step"] = TwoStepToJson(run);
   json sub_models = json::array();
   for (const ColmapSegment& segment : run.segments) {
     sub_models.push_back(
@@ -130,7 +133,10 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
         {{"name", metric.name},
          {"path", "sparse_metric/" + metric.name},
          {"segment", metric.output_segment},
-         {"origin_from_sfm", Sim3ToJson(metric.origin_from_sfm)}});
+         // null for the joint adjustment's model (no single similarity).
+         {"origin_from_sfm",
+          metric.origin_from_sfm ? Sim3ToJson(*metric.origin_from_sfm)
+                                 : json(nullptr)}});
   }
   json duplicates = json::array();
   for (const DuplicateSegment& duplicate : run.duplicate_segments) {
@@ -467,7 +473,8 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                       "offset. Black "
                       "square: the first odometry pose (start); black "
                       "triangle: the last (end).")
-       << FloorPlaneHtml(run) << "\n<h2>Motion pairs</h2>\n"
+       << JointAdjustmentHtml(run) << FloorPlaneHtml(run)
+       << "\n<h2>Motion pairs</h2>\n"
        << figure_html(fit,
                       pair_definition +
                           "<em>Rotation residual</em>: the angle (deg) of the "

@@ -6,6 +6,7 @@
 //   - SimulatedCalibrationRun: what `odomcal calibrate` computes for a drive.
 #pragma once
 
+#include "odomcal/datasets/simulation/drive_simulator.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/colmap/colmap_calibration.h"
 
@@ -35,6 +36,13 @@ struct SimulatedColmapProjectOptions {
   // last (each step divided by the scale at its time), as an incremental
   // reconstruction's does.
   double scale_drift = 0.0;
+  // Points seen by the images: this many new points per image, 2 to 8 m
+  // ahead of its camera, each observed (0.5 px noise) in the images that
+  // see it among the next 20 (PINHOLE 320 x 240, COLMAP's pixel
+  // convention: a feature track) and placed in
+  // the model through its first image's pose (so that the model carries
+  // the scale drift locally, as COLMAP's does). 0: a model without points.
+  int points_per_image = 0;
 };
 
 // True metric scale of image `index` of a project written with `options`
@@ -45,8 +53,11 @@ double SimulatedImageMetricScale(const SimulatedColmapProjectOptions& options,
 
 // Writes the project under `dir` (created) and returns the inputs of
 // CalibrateColmapProject for it (fixed translation z: 0.4 m, the truth).
+// `drive` (optional) receives the simulated drive, with its truth.
 ColmapCalibrationInputs WriteSimulatedColmapProject(
-    const std::string& dir, const SimulatedColmapProjectOptions& options);
+    const std::string& dir,
+    const SimulatedColmapProjectOptions& options,
+    SimulatedDrive* drive = nullptr);
 
 // `odomcal calibrate` on a simulated drive, in memory; straight_only gives a
 // drive that determines neither rotation nor x/y (status unobservable).

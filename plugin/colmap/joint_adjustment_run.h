@@ -1,0 +1,62 @@
+// The joint adjustment of a project calibration (`--joint_adjustment`):
+// its settings and what it did. The stage itself is
+// joint_adjustment_stage.h.
+#pragma once
+
+#include "odomcal/solver/joint_adjustment.h"
+#include "odomcal/solver/joint_extrinsic.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+enum class JointAdjustmentUse { kOn, kOff };
+std::string ToString(JointAdjustmentUse use);  // "on", "off"
+// Throws std::invalid_argument naming the value.
+JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name);
+
+struct JointAdjustmentSettings {
+  JointAdjustmentUse use = JointAdjustmentUse::kOff;
+  JointAdjustmentOptions options;
+  void Check() const { options.Check(); }
+};
+
+// A stretch of the drive: the metric scale the two-step model gave it and
+// the one the adjustment's model has there (its camera path in metres over
+// the same path in COLMAP's units). Their ratio is the COLMAP scale drift
+// the adjustment took out.
+struct JointStretchScale {
+  std::string metric_model;    // the two-step model's part it lies in
+  int64_t first_stamp_ns = 0;  // odometry clock
+  int64_t last_stamp_ns = 0;
+  int num_images = 0;
+  double path_length_m = 0.0;   // in the adjusted model
+  double two_step_scale = 0.0;  // metres per reconstruction unit
+  double joint_scale = 0.0;
+};
+
+struct JointAdjustmentRun {
+  bool requested = false;  // --joint_adjustment on
+  bool ran = false;        // the adjustment was attempted
+  std::string skipped;     // why it was not (empty when it ran or was off)
+  JointAdjustmentResult result;
+  // The two-step estimate it started from ([rx, ry, rz, tx, ty] covariance).
+  Rigid3d two_step_odom_from_cam;
+  Eigen::Matrix<double, 5, 5> two_step_covariance =
+      Eigen::Matrix<double, 5, 5>::Zero();
+  std::vector<ExtrinsicDisagreement> disagreements;
+  int num_images = 0;
+  int num_points = 0;
+  int num_links = 0;
+  int num_joining_links = 0;  // links added between the two-step's pieces
+  std::vector<JointStretchScale> stretches;
+  // The largest |joint_scale / two_step_scale - 1| over the stretches.
+  double max_scale_change = 0.0;
+};
+
+}  // namespace odomcal

@@ -1,0 +1,509 @@
+#include "odomcal/plugin/colmap/joint_adjustment_stage.h"
+
+#include "odomcal/adapters/association.h"
+#include "odomcal/adapters/odometry_interpolation_error.h"
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
+#include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/joint_extrinsic.h"
+#include "odomcal/solver/noise_estimation.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+namespace odomcal {
+namespace {
+
+// Stretches of at least this many images, at most kMaxStretchesPerPart per
+// part of the two-step model, for the scale comparison.
+constexpr int kMinStretchImages = 10;
+constexpr int kMaxStretchesPerPart = 10;
+
+std::optional<ProjectionModel> ProjectionOf(ColmapCameraModel model) {
+  switch (model) {
+    case ColmapCameraModel::kSimplePinhole:
+      return ProjectionModel::kSimplePinhole;
+    case ColmapCameraModel::kPinhole:
+      return ProjectionModel::kPinhole;
+    case ColmapCameraModel::kSimpleRadial:
+      return ProjectionModel::kSimpleRadial;
+    case ColmapCameraModel::kRadial:
+      return ProjectionModel::kRadial;
+    case ColmapCameraModel::kOpenCV:
+      return ProjectionModel::kOpenCV;
+    default:
+      return std::nullopt;
+  }
+}
+
+// The (x, y, yaw) part of a MotionCovariance ([rotation; translation]).
+Eigen::Matrix3d PlanarCovariance(const MotionCovariance& covariance) {
+  constexpr int kIndex[3] = {3, 4, 2};
+  Eigen::Matrix3d planar;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      planar(r, c) = covariance(kIndex[r], kIndex[c]);
+    }
+  }
+  return planar;
+}
+
+// The problem and where each of its parts came from.
+struct JointInput {
+  JointAdjustmentProblem problem;
+  std::vector<std::string> image_names;  // per joint image
+  std::vector<int64_t> image_stamps_ns;  // odometry clock
+  std::vector<const ColmapImage*> source_images;
+  std::vector<const ColmapCamera*> source_cameras;
+  std::vector<const ColmapPoint3D*> source_points;
+  std::vector<uint32_t> observation_point2D;  // index into the image's list
+  int num_joining_links = 0;
+};
+
+OdometryLink LinkOf(const MotionPair& pair,
+                    int image_i,
+                    int image_j,
+                    const CalibrationResult& fit,
+                    const NoiseModel& given) {
+  MotionPair weighted = pair;
+  NoiseModel noise = given;
+  if (fit.noise_estimate) {
+    weighted = ScaleCovariances({pair}, *fit.noise_estimate)[0];
+    noise = fit.noise_estimate->noise;
+  }
+  OdometryLink link;
+  link.image_i = image_i;
+  link.image_j = image_j;
+  link.odom_i_from_odom_j = PlanarFromRigid(pair.odom_i_from_odom_j);
+  link.covariance = PlanarCovariance(
+      OdometryCovariance(weighted, noise, MeasuredStep(weighted)));
+  return link;
+}
+
+// The images, points and cameras of the metric models; "" or why the
+// adjustment cannot take them.
+std::string AddModels(const ColmapCalibrationRun& run,
+                      const std::map<std::string, int64_t>& stamp_of_image,
+                      JointInput* input) {
+  JointAdjustmentProblem& problem = input->problem;
+  const Rigid3d cam_from_odom = Inverse(run.check.result.odom_from_cam);
+  std::map<std::string, int> image_index;
+  std::map<std::pair<int, uint32_t>, int> camera_index;
+  std::map<std::pair<int, int64_t>, int> point_index;
+  std::set<std::pair<int, int>> observed;  // (joint image, input segment)
+  for (const MetricSubModel& metric : run.metric_models) {
+    const int k =
+        run.check.input_segment_of_output_segment.at(metric.output_segment);
+    for (const auto& [image_id, image] : metric.model.images) {
+      const auto stamp = stamp_of_image.find(image.name);
+      if (stamp == stamp_of_image.end()) continue;
+      auto [where, inserted] = image_index.emplace(
+          image.name, static_cast<int>(problem.images.size()));
+      const int i = where->second;
+      if (inserted) {
+        const ColmapCamera& camera = metric.model.cameras.at(image.camera_id);
+        const auto projection = ProjectionOf(camera.model);
+        if (!projection) {
+          return std::string("camera model ") +
+                 ColmapCameraModelName(camera.model) +
+                 " is not one it projects (SIMPLE_PINHOLE, PINHOLE, "
+                 "SIMPLE_RADIAL, RADIAL, OPENCV)";
+        }
+        auto [camera_where, new_camera] =
+            camera_index.emplace(std::make_pair(k, image.camera_id),
+                                 static_cast<int>(problem.cameras.size()));
+        if (new_camera) {
+          problem.cameras.push_back({*projection, camera.params});
+          input->source_cameras.push_back(&camera);
+        }
+        JointImage joint_image;
+        joint_image.camera = camera_where->second;
+        joint_image.origin_from_odom =
+            PlanarFromRigid(Inverse(image.cam_from_world) * cam_from_odom);
+        problem.images.push_back(joint_image);
+        input->image_names.push_back(image.name);
+        input->image_stamps_ns.push_back(stamp->second +
+                                         run.systematics.camera_time_offset_ns);
+        input->source_images.push_back(&image);
+      }
+      // A part of a sub-model shares its points with the other parts: the
+      // image's observations are added once per sub-model.
+      if (!observed.insert({i, k}).second) continue;
+      if (image.points2D.size() != input->source_images[i]->points2D.size()) {
+        continue;  // another reconstruction with another keypoint list
+      }
+      for (size_t idx = 0; idx < image.points2D.size(); ++idx) {
+        const ColmapPoint2D& point2D = image.points2D[idx];
+        if (point2D.point3D_id == kColmapNoPoint3D) continue;
+        const auto point = metric.model.points3D.find(point2D.point3D_id);
+        if (point == metric.model.points3D.end()) continue;
+        auto [point_where, new_point] =
+            point_index.emplace(std::make_pair(k, point2D.point3D_id),
+                                static_cast<int>(problem.points.size()));
+        if (new_point) {
+          problem.points.push_back(point->second.xyz);
+          input->source_points.push_back(&point->second);
+        }
+        problem.observations.push_back({i, point_where->second, point2D.xy});
+        input->observation_point2D.push_back(static_cast<uint32_t>(idx));
+      }
+    }
+  }
+  if (problem.images.empty()) return "the metric models hold no timed image";
+  return "";
+}
+
+// The calibration's motion pairs as links, and one link between
+// consecutive pieces of the drive.
+void AddLinks(const ColmapCalibrationInputs& inputs,
+              const ColmapCalibrationRun& run,
+              JointInput* input) {
+  const CalibrationResult& fit = run.check.result;
+  std::map<int64_t, int> image_at;
+  for (size_t i = 0; i < input->image_stamps_ns.size(); ++i) {
+    image_at.emplace(input->image_stamps_ns[i], static_cast<int>(i));
+  }
+  std::set<std::pair<int, int>> linked;
+  const std::vector<char>& contradicts = run.check.contradicts_odometry;
+  for (size_t p = 0; p < run.check.pairs.size(); ++p) {
+    if (p < contradicts.size() && contradicts[p] != 0) continue;
+    const MotionPair& pair = run.check.pairs[p];
+    const auto i = image_at.find(pair.stamp_i_ns);
+    const auto j = image_at.find(pair.stamp_j_ns);
+    if (i == image_at.end() || j == image_at.end() || i->second == j->second)
+      continue;
+    if (!linked.insert({i->second, j->second}).second) continue;
+    input->problem.links.push_back(
+        LinkOf(pair, i->second, j->second, fit, inputs.calibration.noise));
+  }
+  // Pieces: images joined by links or shared points, in time order.
+  const int num_images = static_cast<int>(input->image_names.size());
+  std::vector<int> piece(num_images);
+  for (int i = 0; i < num_images; ++i) piece[i] = i;
+  const auto find = [&piece](int i) {
+    while (piece[i] != i) i = piece[i] = piece[piece[i]];
+    return i;
+  };
+  for (const OdometryLink& link : input->problem.links) {
+    piece[find(link.image_i)] = find(link.image_j);
+  }
+  std::vector<int> first_image_of_point(input->problem.points.size(), -1);
+  for (const JointObservation& observation : input->problem.observations) {
+    int& first = first_image_of_point[observation.point];
+    if (first < 0) {
+      first = observation.image;
+    } else {
+      piece[find(first)] = find(observation.image);
+    }
+  }
+  std::vector<int> by_time(num_images);
+  for (int i = 0; i < num_images; ++i) by_time[i] = i;
+  std::sort(by_time.begin(), by_time.end(), [&](int a, int b) {
+    return input->image_stamps_ns[a] < input->image_stamps_ns[b];
+  });
+  const double gap_s = run.association.max_odometry_gap_s;
+  for (size_t n = 0; n + 1 < by_time.size(); ++n) {
+    const int a = by_time[n];
+    const int b = by_time[n + 1];
+    if (find(a) == find(b)) continue;
+    const int64_t stamp_a = input->image_stamps_ns[a];
+    const int64_t stamp_b = input->image_stamps_ns[b];
+    const auto origin_from_odom_a =
+        InterpolateOdometry(run.odometry, stamp_a, gap_s, nullptr);
+    const auto origin_from_odom_b =
+        InterpolateOdometry(run.odometry, stamp_b, gap_s, nullptr);
+    if (!origin_from_odom_a || !origin_from_odom_b) continue;
+    MotionPair pair;
+    pair.odom_i_from_odom_j =
+        Inverse(*origin_from_odom_a) * *origin_from_odom_b;
+    pair.stamp_i_ns = stamp_a;
+    pair.stamp_j_ns = stamp_b;
+    pair.odom_interpolation_covariance = RelativeMotionInterpolationCovariance(
+        *origin_from_odom_a,
+        OdometryInterpolationCovariance(run.odometry, stamp_a),
+        *origin_from_odom_b,
+        OdometryInterpolationCovariance(run.odometry, stamp_b));
+    input->problem.links.push_back(
+        LinkOf(pair, a, b, fit, inputs.calibration.noise));
+    ++input->num_joining_links;
+    piece[find(a)] = find(b);
+  }
+}
+
+// The adjustment holds one pose per component where it started: its
+// placement in the origin frame is a choice of gauge. Placed as the
+// two-step places its models, by the planar motion that best aligns the
+// robot's positions with the odometry's at the image times (least squares;
+// the extrinsic and the model's shape are unchanged by it).
+void AlignWithOdometry(const ColmapCalibrationRun& run,
+                       const JointInput& input,
+                       JointAdjustmentResult* result) {
+  std::vector<Eigen::Vector2d> adjusted, odometry;
+  for (size_t i = 0; i < result->origin_from_odom.size(); ++i) {
+    const auto origin_from_odom =
+        InterpolateOdometry(run.odometry,
+                            input.image_stamps_ns[i],
+                            run.association.max_odometry_gap_s,
+                            nullptr);
+    if (!origin_from_odom) continue;
+    adjusted.emplace_back(result->origin_from_odom[i].x,
+                          result->origin_from_odom[i].y);
+    odometry.push_back(origin_from_odom->translation.head<2>());
+  }
+  if (adjusted.size() < 2) return;
+  Eigen::Vector2d mean_adjusted = Eigen::Vector2d::Zero();
+  Eigen::Vector2d mean_odometry = Eigen::Vector2d::Zero();
+  for (size_t k = 0; k < adjusted.size(); ++k) {
+    mean_adjusted += adjusted[k];
+    mean_odometry += odometry[k];
+  }
+  mean_adjusted /= static_cast<double>(adjusted.size());
+  mean_odometry /= static_cast<double>(adjusted.size());
+  double dot = 0.0, cross = 0.0;
+  for (size_t k = 0; k < adjusted.size(); ++k) {
+    const Eigen::Vector2d a = adjusted[k] - mean_adjusted;
+    const Eigen::Vector2d b = odometry[k] - mean_odometry;
+    dot += a.dot(b);
+    cross += a.x() * b.y() - a.y() * b.x();
+  }
+  const double yaw = std::atan2(cross, dot);
+  const Eigen::Rotation2Dd rotation(yaw);
+  const Eigen::Vector2d shift = mean_odometry - rotation * mean_adjusted;
+  for (PlanarPose& pose : result->origin_from_odom) {
+    const Eigen::Vector2d xy = rotation * Eigen::Vector2d(pose.x, pose.y) + shift;
+    pose.x = xy.x();
+    pose.y = xy.y();
+    pose.yaw_rad = std::remainder(pose.yaw_rad + yaw, 2.0 * kPi);
+  }
+  for (Eigen::Vector3d& point : result->points) {
+    point.head<2>() = rotation * point.head<2>() + shift;
+  }
+}
+
+Eigen::Vector3d CentreOf(const PlanarPose& origin_from_odom,
+                         const Rigid3d& odom_from_cam) {
+  return (origin_from_odom.ToRigid3d() * odom_from_cam).translation;
+}
+
+// The two-step scale and the adjusted model's, per stretch of each part.
+void CompareScales(const ColmapCalibrationRun& run,
+                   const JointInput& input,
+                   JointAdjustmentRun* joint) {
+  std::map<std::string, int> image_index;
+  for (size_t i = 0; i < input.image_names.size(); ++i) {
+    image_index.emplace(input.image_names[i], static_cast<int>(i));
+  }
+  const JointAdjustmentResult& result = joint->result;
+  for (const MetricSubModel& metric : run.metric_models) {
+    // (stamp, joint image, two-step centre) in time order.
+    std::vector<std::tuple<int64_t, int, Eigen::Vector3d>> images;
+    for (const auto& [id, image] : metric.model.images) {
+      const auto i = image_index.find(image.name);
+      if (i == image_index.end()) continue;
+      images.emplace_back(input.image_stamps_ns[i->second],
+                          i->second,
+                          Inverse(image.cam_from_world).translation);
+    }
+    std::sort(images.begin(), images.end(), [](const auto& a, const auto& b) {
+      return std::get<0>(a) < std::get<0>(b);
+    });
+    const int n = static_cast<int>(images.size());
+    if (n < 2 || !metric.origin_from_sfm) continue;
+    const double scale = metric.origin_from_sfm->scale;
+    const int num_stretches =
+        std::clamp(n / kMinStretchImages, 1, kMaxStretchesPerPart);
+    for (int s = 0; s < num_stretches; ++s) {
+      const int first = s * (n - 1) / num_stretches;
+      const int last = (s + 1) * (n - 1) / num_stretches;
+      double two_step_length = 0.0;
+      double joint_length = 0.0;
+      for (int k = first; k < last; ++k) {
+        two_step_length +=
+            (std::get<2>(images[k + 1]) - std::get<2>(images[k])).norm();
+        joint_length +=
+            (CentreOf(result.origin_from_odom[std::get<1>(images[k + 1])],
+                      result.odom_from_cam) -
+             CentreOf(result.origin_from_odom[std::get<1>(images[k])],
+                      result.odom_from_cam))
+                .norm();
+      }
+      if (!(two_step_length > 0.0)) continue;
+      JointStretchScale stretch;
+      stretch.metric_model = metric.name;
+      stretch.first_stamp_ns = std::get<0>(images[first]);
+      stretch.last_stamp_ns = std::get<0>(images[last]);
+      stretch.num_images = last - first + 1;
+      stretch.path_length_m = joint_length;
+      stretch.two_step_scale = scale;
+      stretch.joint_scale = scale * joint_length / two_step_length;
+      joint->max_scale_change = std::max(
+          joint->max_scale_change,
+          std::abs(stretch.joint_scale / stretch.two_step_scale - 1.0));
+      joint->stretches.push_back(stretch);
+    }
+  }
+}
+
+// The adjusted model as one COLMAP model: cameras numbered from 1 in the
+// problem's order, images likewise, points numbered from 1; an observation
+// the adjustment did not use is no longer a point's, a point seen in fewer
+// than two images is left out.
+ColmapModel AdjustedModel(const JointInput& input,
+                          const JointAdjustmentResult& result) {
+  ColmapModel model;
+  for (size_t c = 0; c < input.source_cameras.size(); ++c) {
+    ColmapCamera camera = *input.source_cameras[c];
+    camera.camera_id = static_cast<uint32_t>(c + 1);
+    camera.params = result.cameras[c].params;
+    model.cameras.emplace(camera.camera_id, camera);
+  }
+  for (size_t i = 0; i < input.source_images.size(); ++i) {
+    ColmapImage image = *input.source_images[i];
+    image.image_id = static_cast<uint32_t>(i + 1);
+    image.camera_id = static_cast<uint32_t>(input.problem.images[i].camera + 1);
+    image.cam_from_world =
+        Inverse(result.origin_from_odom[i].ToRigid3d() * result.odom_from_cam);
+    for (ColmapPoint2D& point2D : image.points2D) {
+      point2D.point3D_id = kColmapNoPoint3D;
+    }
+    model.images.emplace(image.image_id, std::move(image));
+  }
+  // Per point, its used observations (at most one per image).
+  std::vector<std::vector<size_t>> observations_of(input.problem.points.size());
+  for (size_t k = 0; k < input.problem.observations.size(); ++k) {
+    if (result.observation_error_px[k] < 0.0) continue;
+    observations_of[input.problem.observations[k].point].push_back(k);
+  }
+  int64_t next_id = 1;
+  for (size_t p = 0; p < observations_of.size(); ++p) {
+    ColmapPoint3D point;
+    double error_sum = 0.0;
+    std::set<int> images;
+    for (const size_t k : observations_of[p]) {
+      const JointObservation& observation = input.problem.observations[k];
+      ColmapImage& image = model.images.at(observation.image + 1);
+      ColmapPoint2D& point2D = image.points2D.at(input.observation_point2D[k]);
+      if (point2D.point3D_id != kColmapNoPoint3D) continue;  // taken
+      point2D.point3D_id = next_id;
+      point.track.push_back({image.image_id, input.observation_point2D[k]});
+      error_sum += result.observation_error_px[k];
+      images.insert(observation.image);
+    }
+    if (images.size() < 2) {
+      for (const ColmapTrackElement& element : point.track) {
+        model.images.at(element.image_id)
+            .points2D[element.point2D_idx]
+            .point3D_id = kColmapNoPoint3D;
+      }
+      continue;
+    }
+    point.point3D_id = next_id++;
+    point.xyz = result.points[p];
+    point.rgb = input.source_points[p]->rgb;
+    point.error = error_sum / static_cast<double>(point.track.size());
+    model.points3D.emplace(point.point3D_id, std::move(point));
+  }
+  return model;
+}
+
+std::string Degrees(double value) { return FormatNumber(value) + " deg"; }
+
+}  // namespace
+
+std::string ToString(JointAdjustmentUse use) {
+  return use == JointAdjustmentUse::kOn ? "on" : "off";
+}
+
+JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name) {
+  if (name == "on") return JointAdjustmentUse::kOn;
+  if (name == "off") return JointAdjustmentUse::kOff;
+  throw std::invalid_argument("joint_adjustment: '" + name +
+                              "' is not on or off");
+}
+
+void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
+                          const std::map<std::string, int64_t>& stamp_of_image,
+                          ColmapCalibrationRun* run) {
+  JointAdjustmentRun& joint = run->joint;
+  CalibrationResult& result = run->check.result;
+  if (inputs.joint_adjustment.use == JointAdjustmentUse::kOff) return;
+  joint.requested = true;
+  const auto skip = [&](const std::string& why) {
+    joint.skipped = why;
+    result.warnings.push_back("joint adjustment not run: " + why +
+                              "; the two-step result stands");
+  };
+  if (run->metric_models.empty() || !result.covariance) {
+    skip("no metric model to adjust");
+    return;
+  }
+  if (result.observability.translation_z == Determination::kEstimated) {
+    skip(
+        "it models planar motion, and the SE(3) odometry's tilts "
+        "determine z here");
+    return;
+  }
+  JointInput input;
+  input.problem.odom_from_cam = result.odom_from_cam;
+  if (const std::string why = AddModels(*run, stamp_of_image, &input);
+      !why.empty()) {
+    skip(why);
+    return;
+  }
+  AddLinks(inputs, *run, &input);
+  JointAdjustmentOptions options = inputs.joint_adjustment.options;
+  options.num_threads =
+      std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  joint.ran = true;
+  joint.num_images = static_cast<int>(input.problem.images.size());
+  joint.num_points = static_cast<int>(input.problem.points.size());
+  joint.num_links = static_cast<int>(input.problem.links.size());
+  joint.num_joining_links = input.num_joining_links;
+  joint.two_step_odom_from_cam = result.odom_from_cam;
+  joint.two_step_covariance = result.covariance->topLeftCorner<5, 5>();
+  joint.result = AdjustJointly(input.problem, options);
+  if (!joint.result.IsSuccess()) {
+    result.warnings.push_back(std::string("joint adjustment failed (") +
+                              ToString(joint.result.status) +
+                              "): " + joint.result.message +
+                              "; the two-step result stands");
+    return;
+  }
+  joint.disagreements = ExtrinsicDisagreements(joint.result.odom_from_cam,
+                                               joint.two_step_odom_from_cam,
+                                               joint.two_step_covariance);
+  for (const ExtrinsicDisagreement& disagreement : joint.disagreements) {
+    const bool angle =
+        disagreement.quantity.find("translation") == std::string::npos;
+    const auto text = [&](double value) {
+      return angle ? Degrees(value) : FormatNumber(value * 1e3) + " mm";
+    };
+    result.warnings.push_back(
+        "joint adjustment: " + disagreement.quantity +
+        " differs from the "
+        "two-step estimate by " +
+        text(disagreement.difference) + " (" +
+        FormatNumber(std::abs(disagreement.difference) /
+                     disagreement.two_step_stddev) +
+        " two-step sigma): the motion pairs and the images disagree; "
+        "check the reconstruction (scale drift, folds) and the odometry");
+  }
+  AlignWithOdometry(*run, input, &joint.result);
+  CompareScales(*run, input, &joint);
+  AdoptJointExtrinsic(joint.result, &result);
+  MetricSubModel adjusted;
+  adjusted.name = "0";
+  adjusted.output_segment = run->metric_models.front().output_segment;
+  adjusted.model = AdjustedModel(input, joint.result);
+  run->metric_models.clear();
+  run->metric_models.push_back(std::move(adjusted));
+}
+
+}  // namespace odomcal

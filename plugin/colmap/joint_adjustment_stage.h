@@ -1,0 +1,42 @@
+// The joint adjustment stage of a project calibration: the two-step metric
+// models (colmap_calibration.h) and the wheel odometry handed to
+// AdjustJointly (solver/joint_adjustment.h), its extrinsic taken into the
+// result and its model written as the metric model.
+//
+// The problem it builds:
+//   - images: every image of the metric models, once by name, started at
+//     its pose there (origin_from_cam composed with the two-step
+//     cam_from_odom, its planar part);
+//   - points: each sub-model's points once (a part of a sub-model cut by
+//     the checks shares its points with the other parts), in metres;
+//   - cameras: each sub-model's, with COLMAP's intrinsics (held unless
+//     refined);
+//   - odometry links: the calibration's motion pairs the odometry does not
+//     contradict, their covariance the calibration's noise model (the
+//     estimated one when estimated); and between consecutive pieces of the
+//     drive (sub-models, or parts the checks cut), one link from the
+//     odometry between the last image of one and the first of the next, so
+//     that the pieces become one model.
+#pragma once
+
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace odomcal {
+
+// Runs the adjustment when inputs.joint_adjustment.use is kOn and the
+// two-step calibration gave an extrinsic and metric models; fills
+// run->joint. On success, run->check.result holds the adjustment's
+// extrinsic (the two-step one stays in run->joint) and run->metric_models
+// the one adjusted model ("0"). Where it cannot run (a camera model it does
+// not know, SE(3) odometry with z estimated) or does not succeed, the
+// two-step result stays, with a warning naming the reason.
+// `stamp_of_image`: image name to time (camera clock).
+void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
+                          const std::map<std::string, int64_t>& stamp_of_image,
+                          ColmapCalibrationRun* run);
+
+}  // namespace odomcal

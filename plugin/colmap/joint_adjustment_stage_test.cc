@@ -1,0 +1,148 @@
+// The joint adjustment through the project calibration: a simulated drive
+// whose model drifts by 10 % in scale (points and poses), with points seen
+// by the images. The adjusted model must lie on the truth in metres with
+// only the calibrated transform applied, the extrinsic within its stated
+// 3 sigma, and the drift reported.
+
+#include "odomcal/adapters/association.h"
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/report/colmap_report.h"
+#include "odomcal/plugin/report/report_testing.h"
+#include "odomcal/solver/angles.h"
+#include "odomcal/tests/test_seed.h"
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+
+class JointAdjustmentStageTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ =
+        fs::path(::testing::TempDir()) / (std::string("joint_") + info->name() +
+                                          "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+};
+
+SimulatedColmapProjectOptions DriftingProject(uint64_t seed) {
+  SimulatedColmapProjectOptions options;
+  options.seed = seed;
+  options.duration_s = 20.0;
+  options.scale_drift = 0.10;
+  options.points_per_image = 12;
+  return options;
+}
+
+TEST_F(JointAdjustmentStageTest, TakesTheDriftOutOfTheMetricModel) {
+  SimulatedDrive drive;
+  ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
+      (dir_ / "project").string(), DriftingProject(TestSeed(7)), &drive);
+  inputs.joint_adjustment.use = JointAdjustmentUse::kOn;
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  const CalibrationResult& result = run.check.result;
+  ASSERT_TRUE(result.has_estimate) << result.message;
+  ASSERT_TRUE(run.joint.ran) << run.joint.skipped;
+  const JointAdjustmentResult& joint = run.joint.result;
+  ASSERT_TRUE(joint.IsSuccess()) << joint.message;
+  // The two-step cut the drifting model into parts; the adjustment joins
+  // them into one.
+  ASSERT_EQ(run.metric_models.size(), 1u);
+  EXPECT_FALSE(run.metric_models[0].origin_from_sfm.has_value());
+  EXPECT_GT(run.joint.max_scale_change, 0.02);
+
+  // The result is the adjustment's, within its stated 3 sigma.
+  const Eigen::Vector3d rotation_error = LogRotation(
+      result.odom_from_cam.rotation * drive.odom_from_cam.rotation.conjugate());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LT(std::abs(rotation_error[k]),
+              3.0 * result.stddev_rotation_axes_deg[k] * kDegToRad)
+        << "axis " << k;
+  }
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_LT(std::abs(result.odom_from_cam.translation[k] -
+                       drive.odom_from_cam.translation[k]),
+              3.0 * result.stddev_translation_xy_m[k])
+        << "translation " << k;
+  }
+
+  // Camera centres against the truth, nothing but the calibration applied:
+  // within 0.2 % of the path length or 5 mm.
+  std::map<std::string, int64_t> stamps;
+  for (size_t i = 0; i < run.segments[0].image_names.size(); ++i) {
+    stamps.emplace(run.segments[0].image_names[i],
+                   run.segments[0].trajectory.poses[i].stamp_ns);
+  }
+  double path_length = 0.0;
+  for (size_t i = 1; i < drive.true_odometry.poses.size(); ++i) {
+    path_length +=
+        (drive.true_odometry.poses[i].world_from_sensor.translation -
+         drive.true_odometry.poses[i - 1].world_from_sensor.translation)
+            .norm();
+  }
+  const double tolerance = std::max(0.005, 0.002 * path_length);
+  double worst = 0.0;
+  for (const auto& [id, image] : run.metric_models[0].model.images) {
+    const auto origin_from_odom = InterpolateOdometry(
+        drive.true_odometry, stamps.at(image.name), 1.0, nullptr);
+    ASSERT_TRUE(origin_from_odom.has_value());
+    const Eigen::Vector3d truth =
+        (*origin_from_odom * drive.odom_from_cam).translation;
+    worst = std::max(
+        worst, (Inverse(image.cam_from_world).translation - truth).norm());
+
+  }
+  EXPECT_LT(worst, tolerance) << "path " << path_length << " m";
+
+  // The JSON carries the adjustment and the two-step estimate it replaced.
+  const nlohmann::json json = ColmapCalibrationToJson(
+      run, ProjectReportContext(inputs, run, "odomcal colmap"));
+  EXPECT_EQ(json["joint_adjustment"]["status"], "success");
+  EXPECT_TRUE(json["diagnostics"]["two_step"].is_object());
+  EXPECT_FALSE(json["joint_adjustment"]["stretches"].empty());
+}
+
+TEST_F(JointAdjustmentStageTest, OffLeavesTheTwoStepResult) {
+  const ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
+      (dir_ / "project").string(), DriftingProject(TestSeed(8)));
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  EXPECT_FALSE(run.joint.requested);
+  const nlohmann::json json = ColmapCalibrationToJson(
+      run, ProjectReportContext(inputs, run, "odomcal colmap"));
+  EXPECT_TRUE(json["joint_adjustment"].is_null());
+  EXPECT_TRUE(json["diagnostics"]["two_step"].is_null());
+  EXPECT_GT(run.metric_models.size(), 1u);  // the drift's parts
+}
+
+TEST_F(JointAdjustmentStageTest, AModelWithoutPointsIsNamedNotAdjusted) {
+  SimulatedColmapProjectOptions options = DriftingProject(TestSeed(9));
+  options.points_per_image = 0;
+  ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir_ / "project").string(), options);
+  inputs.joint_adjustment.use = JointAdjustmentUse::kOn;
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  ASSERT_TRUE(run.check.result.has_estimate);
+  EXPECT_FALSE(run.joint.result.IsSuccess());
+  bool named = false;
+  for (const std::string& warning : run.check.result.warnings) {
+    named |= warning.rfind("joint adjustment", 0) == 0;
+  }
+  EXPECT_TRUE(named);
+  EXPECT_TRUE(run.check.result.has_estimate);
+}
+
+}  // namespace
+}  // namespace odomcal

@@ -1,0 +1,208 @@
+#include "odomcal/plugin/report/joint_adjustment_report.h"
+
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/plugin/report/calibration_report.h"
+#include "odomcal/plugin/report/svg_plot.h"
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
+
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
+
+namespace odomcal {
+
+using nlohmann::json;
+
+namespace {
+
+bool Succeeded(const JointAdjustmentRun& joint) {
+  return joint.ran && joint.result.IsSuccess();
+}
+
+// The values in `format` each, joined by " / ".
+std::string Joined(const char* format, std::initializer_list<double> values) {
+  std::string text;
+  for (const double value : values) {
+    text += (text.empty() ? "" : " / ") + FormatPrintf(format, value);
+  }
+  return text;
+}
+
+bool IsAngle(const ExtrinsicDisagreement& disagreement) {
+  return disagreement.quantity.find("translation") == std::string::npos;
+}
+
+}  // namespace
+
+json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
+  const JointAdjustmentRun& joint = run.joint;
+  if (!joint.requested) return nullptr;
+  if (!joint.ran) {
+    return {{"status", "skipped"},
+            {"message",
+             joint.skipped.empty() ? "no extrinsic to adjust" : joint.skipped}};
+  }
+  const JointAdjustmentResult& r = joint.result;
+  json out = {
+      {"status", ToString(r.status)},
+      {"message", r.message},
+      {"num_images", joint.num_images},
+      {"num_points", joint.num_points},
+      {"num_odometry_links", joint.num_links},
+      {"num_joining_links", joint.num_joining_links},
+  };
+  if (!r.IsSuccess()) return out;
+  json disagreements = json::array();
+  for (const ExtrinsicDisagreement& d : joint.disagreements) {
+    disagreements.push_back({{"quantity", d.quantity},
+                             {"difference", d.difference},
+                             {"two_step_stddev", d.two_step_stddev},
+                             {"unit", IsAngle(d) ? "deg" : "m"}});
+  }
+  json stretches = json::array();
+  for (const JointStretchScale& s : joint.stretches) {
+    stretches.push_back(
+        {{"metric_model", s.metric_model},
+         {"first_time_s", FormatTimestampSeconds(s.first_stamp_ns)},
+         {"last_time_s", FormatTimestampSeconds(s.last_stamp_ns)},
+         {"num_images", s.num_images},
+         {"path_length_m", s.path_length_m},
+         {"two_step_metric_scale", s.two_step_scale},
+         {"joint_metric_scale", s.joint_scale}});
+  }
+  out["num_components"] = r.num_components;
+  out["num_observations_used"] = r.num_observations_used;
+  out["num_observations_left_out"] = r.num_observations_left_out;
+  out["pixel_sigma_px"] = r.pixel_sigma;
+  out["reprojection_rms_px"] = {{"before", r.reprojection_rms_px_before},
+                                {"after", r.reprojection_rms_px_after}};
+  out["odometry_rms_sigma"] = {{"before", r.odometry_rms_sigma_before},
+                               {"after", r.odometry_rms_sigma_after}};
+  out["num_iterations"] = r.num_iterations;
+  out["time_s"] = r.solve_time_s + r.covariance_time_s;
+  out["covariance_time_s"] = r.covariance_time_s;
+  out["disagreements"] = disagreements;
+  out["stretches"] = stretches;
+  out["max_scale_change"] = joint.max_scale_change;
+  return out;
+}
+
+json TwoStepToJson(const ColmapCalibrationRun& run) {
+  const JointAdjustmentRun& joint = run.joint;
+  if (!Succeeded(joint)) return nullptr;
+  const Eigen::Matrix3d rpy =
+      RollPitchYawJacobian(joint.two_step_odom_from_cam.rotation);
+  const Eigen::Vector3d rpy_stddev =
+      (rpy * joint.two_step_covariance.topLeftCorner<3, 3>() * rpy.transpose())
+          .diagonal()
+          .cwiseSqrt() *
+      kRadToDeg;
+  return {
+      {"odom_from_cam",
+       TransformToJson(joint.two_step_odom_from_cam, true, true, true, true)},
+      {"stddev",
+       {{"roll_deg", rpy_stddev.x()},
+        {"pitch_deg", rpy_stddev.y()},
+        {"yaw_deg", rpy_stddev.z()},
+        {"translation_x_m", std::sqrt(joint.two_step_covariance(3, 3))},
+        {"translation_y_m", std::sqrt(joint.two_step_covariance(4, 4))}}}};
+}
+
+std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
+  const JointAdjustmentRun& joint = run.joint;
+  if (!joint.ran) return "";
+  std::ostringstream out;
+  const JointAdjustmentResult& r = joint.result;
+  if (!r.IsSuccess()) {
+    out << "  joint adjustment: " << ToString(r.status) << " (" << r.message
+        << "); the two-step result stands\n";
+    return out.str();
+  }
+  out << "  joint adjustment: " << joint.num_images << " images, "
+      << joint.num_points << " points, " << joint.num_links
+      << " odometry links; reprojection rms "
+      << FormatPrintf("%.2f", r.reprojection_rms_px_before) << " -> "
+      << FormatPrintf("%.2f px", r.reprojection_rms_px_after)
+      << ", odometry rms " << FormatPrintf("%.2f", r.odometry_rms_sigma_before)
+      << " -> " << FormatPrintf("%.2f sigma", r.odometry_rms_sigma_after)
+      << "; " << FormatPrintf("%.1f s", r.solve_time_s + r.covariance_time_s)
+      << "\n";
+  const Rigid3d& two_step = joint.two_step_odom_from_cam;
+  const Eigen::Vector3d rpy = RollPitchYaw(two_step.rotation) * kRadToDeg;
+  out << "  two-step estimate: roll/pitch/yaw "
+      << Joined("%.3f", {rpy.x(), rpy.y(), rpy.z()}) << " deg, x/y "
+      << Joined("%.4f", {two_step.translation.x(), two_step.translation.y()})
+      << " m"
+      << "; COLMAP scale drift taken out: up to "
+      << FormatPrintf("%.2f %%", 100.0 * joint.max_scale_change) << "\n";
+  return out.str();
+}
+
+std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
+  const JointAdjustmentRun& joint = run.joint;
+  if (!joint.ran) return "";
+  const JointAdjustmentResult& r = joint.result;
+  std::ostringstream html;
+  html << "<h2>Joint adjustment</h2>\n";
+  if (!r.IsSuccess()) {
+    html << "<p>Not used: " << EscapeMarkup(ToString(r.status)) << " ("
+         << EscapeMarkup(r.message)
+         << "). The extrinsic and the metric model are the two-step "
+            "calibration's.</p>\n";
+    return html.str();
+  }
+  const Eigen::Vector3d rpy_two =
+      RollPitchYaw(joint.two_step_odom_from_cam.rotation) * kRadToDeg;
+  const Eigen::Vector3d rpy_joint =
+      RollPitchYaw(r.odom_from_cam.rotation) * kRadToDeg;
+  html << "<table>\n<tr><th></th><th>two-step</th><th>joint</th></tr>\n"
+       << "<tr><td>roll / pitch / yaw [deg]</td><td>"
+       << Joined("%.3f", {rpy_two.x(), rpy_two.y(), rpy_two.z()}) << "</td><td>"
+       << Joined("%.3f", {rpy_joint.x(), rpy_joint.y(), rpy_joint.z()})
+       << "</td></tr>\n<tr><td>x / y [mm]</td><td>"
+       << Joined("%.1f",
+                 {1e3 * joint.two_step_odom_from_cam.translation.x(),
+                  1e3 * joint.two_step_odom_from_cam.translation.y()})
+       << "</td><td>"
+       << Joined("%.1f",
+                 {1e3 * r.odom_from_cam.translation.x(),
+                  1e3 * r.odom_from_cam.translation.y()})
+       << "</td></tr>\n<tr><td>reprojection rms [px]</td><td>"
+       << FormatPrintf("%.2f", r.reprojection_rms_px_before) << "</td><td>"
+       << FormatPrintf("%.2f", r.reprojection_rms_px_after)
+       << "</td></tr>\n<tr><td>odometry rms [sigma]</td><td>"
+       << FormatPrintf("%.2f", r.odometry_rms_sigma_before) << "</td><td>"
+       << FormatPrintf("%.2f", r.odometry_rms_sigma_after)
+       << "</td></tr>\n</table>\n";
+  if (joint.stretches.empty()) return html.str();
+  PlotFigure figure;
+  figure.num_columns = 1;
+  figure.panel_width_px = 900.0;
+  figure.panel_height_px = 240.0;
+  PlotPanel& panel = figure.panels.emplace_back();
+  panel.title = "COLMAP's scale along the drive";
+  panel.x_label = "time [s]";
+  panel.y_label = "joint / two-step scale - 1 [%]";
+  PlotSeries change{"per stretch", {}, {}, "#1f77b4", false, true, false};
+  for (const JointStretchScale& s : joint.stretches) {
+    change.x.push_back(1e-9 * 0.5 *
+                       static_cast<double>(s.first_stamp_ns + s.last_stamp_ns));
+    change.y.push_back(100.0 * (s.joint_scale / s.two_step_scale - 1.0));
+  }
+  panel.series = {change};
+  html << "<figure>\n"
+       << RenderSvg(figure)
+       << "<figcaption>Per stretch of the drive, the metric scale of the "
+          "adjusted model (its camera path in metres over COLMAP's) against "
+          "the one scale the two-step calibration gave the part: where COLMAP "
+          "drifted, the adjustment follows the odometry and the images "
+          "together. "
+       << r.num_observations_left_out
+       << " observations beyond the outlier gate were left out; pixel sigma "
+       << EscapeMarkup(FormatPrintf("%.2f px", r.pixel_sigma))
+       << ".</figcaption>\n</figure>\n";
+  return html.str();
+}
+
+}  // namespace odomcal
