@@ -114,7 +114,7 @@ ceres::CostFunction* ReprojectionCostFor(ProjectionModel model,
 
 // The planar motion from pose i to pose j, in pose i's frame.
 template <typename T>
-void PlanarMotion(const T* pose_i, const T* pose_j, T* motion) {
+void PlanarMotionBetween(const T* pose_i, const T* pose_j, T* motion) {
   using std::cos;
   using std::sin;
   const T c = cos(pose_i[2]);
@@ -126,7 +126,24 @@ void PlanarMotion(const T* pose_i, const T* pose_j, T* motion) {
   motion[2] = WrapAngle(pose_j[2] - pose_i[2]);
 }
 
-// Whitened odometry residual of one link.
+// Whitened odometry residual of one link: the poses' planar motion minus
+// the measured one.
+template <typename T>
+void WhitenedLinkResidual(const T* pose_i,
+                          const T* pose_j,
+                          const T* measured,
+                          const Eigen::Matrix3d& sqrt_information,
+                          T* residual) {
+  T motion[3];
+  PlanarMotionBetween(pose_i, pose_j, motion);
+  const Eigen::Matrix<T, 3, 1> difference(motion[0] - measured[0],
+                                          motion[1] - measured[1],
+                                          WrapAngle(motion[2] - measured[2]));
+  Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
+  whitened = sqrt_information.cast<T>() * difference;
+}
+
+// A link whose measurement is fixed.
 struct OdometryLinkCost {
   OdometryLinkCost(const PlanarPose& measured,
                    const Eigen::Matrix3d& sqrt_information)
@@ -134,19 +151,43 @@ struct OdometryLinkCost {
 
   template <typename T>
   bool operator()(const T* pose_i, const T* pose_j, T* residual) const {
-    T motion[3];
-    PlanarMotion(pose_i, pose_j, motion);
-    const Eigen::Matrix<T, 3, 1> difference(
-        motion[0] - T(measured_.x),
-        motion[1] - T(measured_.y),
-        WrapAngle(motion[2] - T(measured_.yaw_rad)));
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
-    whitened = sqrt_information_.cast<T>() * difference;
+    const T measured[3] = {
+        T(measured_.x), T(measured_.y), T(measured_.yaw_rad)};
+    WhitenedLinkResidual(pose_i, pose_j, measured, sqrt_information_, residual);
     return true;
   }
 
   PlanarPose measured_;
   Eigen::Matrix3d sqrt_information_;
+};
+
+// A link whose measurement is the logged odometry re-integrated with the
+// intrinsics and the clock offset's change being refined
+// (CorrectedOdometryMotion, solver/odometry_intrinsics.h).
+struct SystematicOdometryLinkCost {
+  SystematicOdometryLinkCost(const OdometrySamples& samples,
+                             const Eigen::Matrix3d& sqrt_information,
+                             double wheel_track_m)
+      : samples_(samples),
+        sqrt_information_(sqrt_information),
+        wheel_track_m_(wheel_track_m) {}
+
+  template <typename T>
+  bool operator()(const T* pose_i,
+                  const T* pose_j,
+                  const T* intrinsics,
+                  const T* offset_change_s,
+                  T* residual) const {
+    const PlanarMotion<T> motion = CorrectedOdometryMotion(
+        samples_, intrinsics, offset_change_s[0], wheel_track_m_);
+    const T measured[3] = {motion.x, motion.y, motion.yaw};
+    WhitenedLinkResidual(pose_i, pose_j, measured, sqrt_information_, residual);
+    return true;
+  }
+
+  OdometrySamples samples_;
+  Eigen::Matrix3d sqrt_information_;
+  double wheel_track_m_;
 };
 
 // Upper-triangular W with W^T W = covariance^-1; false when the covariance
@@ -205,13 +246,21 @@ std::string CheckProblem(const JointAdjustmentProblem& problem) {
     }
   }
   if (!IsFinite(problem.odom_from_cam)) return "a non-finite extrinsic";
+  if (problem.systematics) {
+    for (const OdometryLink& link : problem.links) {
+      if (!link.samples) {
+        return "an odometry link without the logged odometry, which the "
+               "refinement of the odometry's systematics needs";
+      }
+    }
+  }
   return "";
 }
 
 // Union-find over the images: joined by links and by shared points.
-class Components {
+class ImageComponents {
  public:
-  explicit Components(int size) : parent_(size) {
+  explicit ImageComponents(int size) : parent_(size) {
     std::iota(parent_.begin(), parent_.end(), 0);
   }
   int Find(int i) {
@@ -247,13 +296,19 @@ class JointProblem {
     t_z_ = input.odom_from_cam.translation.z();
     used_.assign(input.observations.size(), 1);
     FindPointsSeenTwice();
+    if (input.systematics) {
+      const OdometryIntrinsics& start = input.systematics->intrinsics;
+      intrinsics_[0] = start.yaw_scale;
+      intrinsics_[1] = start.yaw_per_metre_rad;
+      intrinsics_[2] = start.yaw_rate_bias_rad_s;
+    }
   }
 
   // The images that keep their starting pose: the first of each component.
   // Empty string, or why the problem has no determined scale.
   std::string FindGauge() {
     const int num_images = static_cast<int>(input_.images.size());
-    Components components(num_images);
+    ImageComponents components(num_images);
     for (const OdometryLink& link : input_.links) {
       components.Join(link.image_i, link.image_j);
     }
@@ -310,6 +365,8 @@ class JointProblem {
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_ = std::make_unique<ceres::Problem>(problem_options);
+    residual_blocks_.clear();
+    cluster_of_block_.clear();
     FindPointsSeenTwice();
     for (size_t k = 0; k < input_.observations.size(); ++k) {
       if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
@@ -321,7 +378,7 @@ class JointProblem {
       } else if (options_.loss == RobustLoss::kCauchy) {
         loss = new ceres::CauchyLoss(options_.loss_scale);
       }
-      problem_->AddResidualBlock(
+      const ceres::ResidualBlockId id = problem_->AddResidualBlock(
           ReprojectionCostFor(
               input_.cameras[camera].model, observation.pixel, pixel_sigma),
           loss,
@@ -331,17 +388,55 @@ class JointProblem {
           &t_z_,
           points_[observation.point].data(),
           params_[camera].data());
+      residual_blocks_.push_back(id);
+      cluster_of_block_.push_back(observation.point);
     }
-    for (const OdometryLink& link : input_.links) {
+    for (size_t l = 0; l < input_.links.size(); ++l) {
+      const OdometryLink& link = input_.links[l];
       Eigen::Matrix3d w;
       SqrtInformation(link.covariance, &w);
       w /= std::sqrt(odometry_factor_);
-      problem_->AddResidualBlock(
-          new ceres::AutoDiffCostFunction<OdometryLinkCost, 3, 3, 3>(
-              new OdometryLinkCost(link.odom_i_from_odom_j, w)),
-          nullptr,
-          poses_[link.image_i].data(),
-          poses_[link.image_j].data());
+      ceres::ResidualBlockId id = nullptr;
+      if (input_.systematics) {
+        id = problem_->AddResidualBlock(
+            new ceres::
+                AutoDiffCostFunction<SystematicOdometryLinkCost, 3, 3, 3, 3, 1>(
+                    new SystematicOdometryLinkCost(
+                        *link.samples,
+                        w,
+                        input_.systematics->intrinsics.wheel_track_m)),
+            nullptr,
+            poses_[link.image_i].data(),
+            poses_[link.image_j].data(),
+            intrinsics_,
+            &offset_change_s_);
+      } else {
+        id = problem_->AddResidualBlock(
+            new ceres::AutoDiffCostFunction<OdometryLinkCost, 3, 3, 3>(
+                new OdometryLinkCost(link.odom_i_from_odom_j, w)),
+            nullptr,
+            poses_[link.image_i].data(),
+            poses_[link.image_j].data());
+      }
+      // Each link a cluster of its own.
+      residual_blocks_.push_back(id);
+      cluster_of_block_.push_back(static_cast<int>(input_.points.size() + l));
+    }
+    if (input_.systematics) {
+      const JointSystematics& systematics = *input_.systematics;
+      std::vector<int> held;
+      for (int k = 0; k < 3; ++k) {
+        if (!systematics.refine_intrinsics[k]) held.push_back(k);
+      }
+      if (held.size() == 3) {
+        problem_->SetParameterBlockConstant(intrinsics_);
+      } else if (!held.empty()) {
+        intrinsics_manifold_ = std::make_unique<ceres::SubsetManifold>(3, held);
+        problem_->SetManifold(intrinsics_, intrinsics_manifold_.get());
+      }
+      if (!systematics.refine_time_offset) {
+        problem_->SetParameterBlockConstant(&offset_change_s_);
+      }
     }
     if (problem_->HasParameterBlock(quaternion_)) {
       problem_->SetManifold(quaternion_, &quaternion_manifold_);
@@ -467,7 +562,8 @@ class JointProblem {
     constexpr double kMinDof = 30.0;
     if (dof < kMinDof) return odometry_factor_;
     const double rms = OdometryRms();
-    const double sum = rms * rms * 3.0 * static_cast<double>(input_.links.size());
+    const double sum =
+        rms * rms * 3.0 * static_cast<double>(input_.links.size());
     odometry_factor_ =
         std::clamp(sum / dof, kMinOdometryFactor, kMaxOdometryFactor);
     return odometry_factor_;
@@ -480,34 +576,74 @@ class JointProblem {
     for (const OdometryLink& link : input_.links) {
       Eigen::Matrix3d w;
       SqrtInformation(link.covariance, &w);
-      const OdometryLinkCost cost(link.odom_i_from_odom_j, w);
       Eigen::Vector3d residual;
-      cost(poses_[link.image_i].data(),
-           poses_[link.image_j].data(),
-           residual.data());
+      if (input_.systematics) {
+        const SystematicOdometryLinkCost cost(
+            *link.samples, w, input_.systematics->intrinsics.wheel_track_m);
+        cost(poses_[link.image_i].data(),
+             poses_[link.image_j].data(),
+             intrinsics_,
+             &offset_change_s_,
+             residual.data());
+      } else {
+        const OdometryLinkCost cost(link.odom_i_from_odom_j, w);
+        cost(poses_[link.image_i].data(),
+             poses_[link.image_j].data(),
+             residual.data());
+      }
       sum += residual.squaredNorm();
     }
     return std::sqrt(sum / (3.0 * input_.links.size()));
   }
 
-  // Marginal covariance of [rotation (3), t_xy (2)] (see the header).
-  bool ExtrinsicCovariance(Eigen::Matrix<double, 5, 5>* covariance) {
+  // Marginal covariance of [rotation (3), t_xy (2)] (see the header), and
+  // the standard deviations of the refined systematics.
+  bool ExtrinsicCovariance(JointAdjustmentResult* result) {
     std::vector<double*> blocks = {quaternion_, t_xy_};
+    const auto free = [&](double* block) {
+      return problem_->HasParameterBlock(block) &&
+             !problem_->IsParameterBlockConstant(block);
+    };
+    // After the extrinsic: the offset's change, then the free intrinsics.
+    int num_wanted = 5;
+    const bool offset_free = free(&offset_change_s_);
+    if (offset_free) {
+      blocks.push_back(&offset_change_s_);
+      ++num_wanted;
+    }
+    const bool intrinsics_free = free(intrinsics_);
+    if (intrinsics_free) {
+      blocks.push_back(intrinsics_);
+      num_wanted += problem_->ParameterBlockTangentSize(intrinsics_);
+    }
     std::vector<double*> others;
     problem_->GetParameterBlocks(&others);
     for (double* block : others) {
-      if (block == quaternion_ || block == t_xy_) continue;
+      if (block == quaternion_ || block == t_xy_ ||
+          block == &offset_change_s_ || block == intrinsics_) {
+        continue;
+      }
       if (problem_->IsParameterBlockConstant(block)) continue;
       blocks.push_back(block);
     }
     ceres::Problem::EvaluateOptions evaluate_options;
     evaluate_options.parameter_blocks = blocks;
+    evaluate_options.residual_blocks = residual_blocks_;
     evaluate_options.apply_loss_function = true;
     evaluate_options.num_threads = options_.num_threads;
     ceres::CRSMatrix jacobian;
+    std::vector<double> residuals;
     if (!problem_->Evaluate(
-            evaluate_options, nullptr, nullptr, nullptr, &jacobian)) {
+            evaluate_options, nullptr, &residuals, nullptr, &jacobian)) {
       return false;
+    }
+    std::vector<int> cluster_of_row;
+    cluster_of_row.reserve(residuals.size());
+    for (size_t b = 0; b < residual_blocks_.size(); ++b) {
+      const int size =
+          problem_->GetCostFunctionForResidualBlock(residual_blocks_[b])
+              ->num_residuals();
+      cluster_of_row.insert(cluster_of_row.end(), size, cluster_of_block_[b]);
     }
     Eigen::SparseMatrix<double, Eigen::RowMajor> sparse(jacobian.num_rows,
                                                         jacobian.num_cols);
@@ -519,15 +655,45 @@ class JointProblem {
       }
     }
     sparse.finalize();
-    Eigen::MatrixXd leading;
-    if (!LeadingBlockOfInverseInformation(sparse, 5, &leading)) {
+    LeadingCovariances covariances;
+    if (!LeadingCovariancesOf(
+            sparse,
+            Eigen::Map<const Eigen::VectorXd>(
+                residuals.data(), static_cast<Eigen::Index>(residuals.size())),
+            cluster_of_row,
+            num_wanted,
+            &covariances)) {
       return false;
     }
+    // Widened per unknown to the cluster-robust standard deviation where
+    // that is larger (correlated errors along tracks), never narrowed.
+    Eigen::VectorXd widening(num_wanted);
+    for (int k = 0; k < num_wanted; ++k) {
+      widening[k] = std::max(
+          1.0, std::sqrt(covariances.robust(k, k) / covariances.model(k, k)));
+    }
+    const Eigen::MatrixXd leading =
+        widening.asDiagonal() * covariances.model * widening.asDiagonal();
+    result->covariance_widening = widening.head<5>();
     // Ceres' quaternion tangent delta is half the rotation vector.
     Eigen::Matrix<double, 5, 5> to_reported =
         Eigen::Matrix<double, 5, 5>::Identity();
     to_reported.topLeftCorner<3, 3>() *= 2.0;
-    *covariance = to_reported * leading * to_reported.transpose();
+    result->covariance =
+        to_reported * leading.topLeftCorner<5, 5>() * to_reported.transpose();
+    int row = 5;
+    if (offset_free) {
+      result->time_offset_change_stddev_s = std::sqrt(leading(row, row));
+      ++row;
+    }
+    if (intrinsics_free) {
+      // The subset manifold's tangent lists the free intrinsics in order.
+      for (int k = 0; k < 3; ++k) {
+        if (!input_.systematics->refine_intrinsics[k]) continue;
+        result->intrinsics_stddev[k] = std::sqrt(leading(row, row));
+        ++row;
+      }
+    }
     return true;
   }
 
@@ -548,6 +714,13 @@ class JointProblem {
       result->cameras[c].params = params_[c];
     }
     result->num_components = num_components_;
+    if (input_.systematics) {
+      result->intrinsics = input_.systematics->intrinsics;
+      result->intrinsics.yaw_scale = intrinsics_[0];
+      result->intrinsics.yaw_per_metre_rad = intrinsics_[1];
+      result->intrinsics.yaw_rate_bias_rad_s = intrinsics_[2];
+      result->time_offset_change_s = offset_change_s_;
+    }
     result->observation_error_px.assign(input_.observations.size(), -1.0);
     for (size_t k = 0; k < input_.observations.size(); ++k) {
       if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
@@ -577,8 +750,16 @@ class JointProblem {
   double t_xy_[2] = {0.0, 0.0};
   double t_z_ = 0.0;
   double odometry_factor_ = 1.0;  // variance factor on the links
+  // The odometry's systematics (JointAdjustmentProblem::systematics).
+  double intrinsics_[3] = {1.0, 0.0, 0.0};
+  double offset_change_s_ = 0.0;
+  std::unique_ptr<ceres::SubsetManifold> intrinsics_manifold_;
   std::vector<char> used_;
   std::vector<char> seen_twice_;  // per point, among the used observations
+  // The residual blocks of the built problem and their clusters (the
+  // observations of a point, or one link), for the robust covariance.
+  std::vector<ceres::ResidualBlockId> residual_blocks_;
+  std::vector<int> cluster_of_block_;
   std::vector<char> held_;
   int num_components_ = 0;
   std::unique_ptr<ceres::Problem> problem_;
@@ -691,7 +872,7 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
   joint.WriteResult(&result);
   result.solve_time_s = SecondsSince(start);
   const auto covariance_start = std::chrono::steady_clock::now();
-  if (!joint.ExtrinsicCovariance(&result.covariance)) {
+  if (!joint.ExtrinsicCovariance(&result)) {
     result.status = JointAdjustmentStatus::kSingular;
     result.message =
         "the information matrix is singular: the images and the odometry "

@@ -29,7 +29,10 @@
 // Covariance of the extrinsic: the inverse of the Gauss-Newton information
 // J^T J at the solution, over all unknowns (poses, points, intrinsics when
 // refined), restricted to the extrinsic's rows: the marginal covariance
-// over poses and points. The pixel sigma is estimated from the residuals
+// over poses and points, each standard deviation widened to the
+// cluster-robust one (a point's observations, or a link, one cluster) where
+// that is larger, as where a feature's errors are correlated along its
+// track. The pixel sigma is estimated from the residuals
 // (a robust scale of the inliers), and the odometry's level from its
 // residuals (one factor on the links' covariances), and the problem solved
 // again at them, so that the images and the odometry weigh as their noise
@@ -38,11 +41,14 @@
 
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/camera_projection.h"
+#include "odomcal/solver/odometry_intrinsics.h"
 #include "odomcal/solver/planar_pose.h"
 #include "odomcal/solver/rigid3.h"
 
 #include <Eigen/Core>
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,6 +79,22 @@ struct OdometryLink {
   int image_j = 0;
   PlanarPose odom_i_from_odom_j;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  // The logged odometry between the two images' times (as the log holds
+  // it, before any intrinsics correction): required with
+  // JointAdjustmentProblem::systematics, which then measures the link by
+  // re-integrating it (odom_i_from_odom_j is not used).
+  std::optional<OdometrySamples> samples;
+};
+
+// The odometry's systematic errors refined with everything else: its
+// intrinsics (odometry_intrinsics.h) and a change of the clock offset (s,
+// the odometry's times at the images later by it), started from the
+// two-step estimate.
+struct JointSystematics {
+  OdometryIntrinsics intrinsics;  // start; wheel_track_m is given, held
+  // [yaw_scale, yaw_per_metre_rad, yaw_rate_bias_rad_s]: refined or held.
+  std::array<bool, 3> refine_intrinsics{};
+  bool refine_time_offset = false;
 };
 
 struct JointAdjustmentProblem {
@@ -82,6 +104,9 @@ struct JointAdjustmentProblem {
   std::vector<JointObservation> observations;
   std::vector<OdometryLink> links;
   Rigid3d odom_from_cam;  // starting value; its translation z is held
+  // When set, the links are re-integrated from their samples with refined
+  // systematics, whose uncertainty then enters the extrinsic's covariance.
+  std::optional<JointSystematics> systematics;
 };
 
 struct JointAdjustmentOptions {
@@ -121,9 +146,21 @@ struct JointAdjustmentResult {
   // R = Exp(phi) R_hat in radians about the odometry axes, translation in
   // metres (z held), as CalibrationResult::covariance.
   Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();
+  // Per [rx, ry, rz, tx, ty], the factor (>= 1) on the model's standard
+  // deviation that `covariance` holds: the cluster-robust one over the
+  // model's where larger (joint_adjustment_covariance.h).
+  Eigen::Matrix<double, 5, 1> covariance_widening =
+      Eigen::Matrix<double, 5, 1>::Ones();
   std::vector<PlanarPose> origin_from_odom;  // per image
   std::vector<Eigen::Vector3d> points;       // metres, origin frame
   std::vector<JointCamera> cameras;          // refined or as given
+  // With systematics: the refined intrinsics, the clock offset's change
+  // (odometry_time = camera_time + the given offset + this) and their
+  // standard deviations (0 where held).
+  OdometryIntrinsics intrinsics;
+  double time_offset_change_s = 0.0;
+  std::array<double, 3> intrinsics_stddev{};
+  double time_offset_change_stddev_s = 0.0;
   // Per observation: the norm of its reprojection residual at the solution
   // in pixels, or -1 where it was not used (its point seen in fewer than
   // two images, or beyond max_reprojection_sigmas).

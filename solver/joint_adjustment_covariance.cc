@@ -2,16 +2,23 @@
 
 #include <Eigen/SparseCholesky>
 
+#include <algorithm>
 #include <cmath>
 
 namespace odomcal {
 
-bool LeadingBlockOfInverseInformation(
+bool LeadingCovariancesOf(
     const Eigen::SparseMatrix<double, Eigen::RowMajor>& jacobian,
+    const Eigen::VectorXd& residuals,
+    const std::vector<int>& cluster_of_row,
     int num_wanted,
-    Eigen::MatrixXd* block) {
+    LeadingCovariances* covariances) {
   const Eigen::Index num_unknowns = jacobian.cols();
-  if (num_wanted < 1 || num_wanted > num_unknowns) return false;
+  if (num_wanted < 1 || num_wanted > num_unknowns ||
+      residuals.size() != jacobian.rows() ||
+      cluster_of_row.size() != static_cast<size_t>(jacobian.rows())) {
+    return false;
+  }
   Eigen::SparseMatrix<double> information =
       Eigen::SparseMatrix<double>(jacobian.transpose()) * jacobian;
   // Scaled to a unit diagonal, so that the pivot test does not depend on the
@@ -33,13 +40,32 @@ bool LeadingBlockOfInverseInformation(
   if (!(ldlt.vectorD().minCoeff() > kMinPivot)) return false;
   const Eigen::MatrixXd unit =
       Eigen::MatrixXd::Identity(num_unknowns, num_wanted);
-  const Eigen::MatrixXd columns = ldlt.solve(unit);
+  // Columns of H^-1 for the wanted unknowns: S H_s^-1 S e_k.
+  Eigen::MatrixXd columns = ldlt.solve(unit);
   if (ldlt.info() != Eigen::Success || !columns.allFinite()) return false;
-  const Eigen::VectorXd leading_scale = scale.head(num_wanted);
-  const Eigen::MatrixXd leading = leading_scale.asDiagonal() *
-                                  columns.topRows(num_wanted) *
-                                  leading_scale.asDiagonal();
-  *block = 0.5 * (leading + leading.transpose());
+  columns = scale.asDiagonal() * columns;
+  columns *= scale.head(num_wanted).asDiagonal();
+  const Eigen::MatrixXd model = columns.topRows(num_wanted);
+  covariances->model = 0.5 * (model + model.transpose());
+  // Per cluster, v_c = (H^-1 g_c) restricted to the wanted unknowns =
+  // columns^T J_c^T r_c; the sandwich is sum_c v_c v_c^T.
+  const int num_clusters =
+      cluster_of_row.empty()
+          ? 0
+          : *std::max_element(cluster_of_row.begin(), cluster_of_row.end()) + 1;
+  Eigen::MatrixXd projected(num_wanted, num_clusters);
+  projected.setZero();
+  for (Eigen::Index row = 0; row < jacobian.rows(); ++row) {
+    const int cluster = cluster_of_row[row];
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(
+             jacobian, row);
+         it;
+         ++it) {
+      projected.col(cluster) +=
+          columns.row(it.col()).transpose() * (it.value() * residuals[row]);
+    }
+  }
+  covariances->robust = projected * projected.transpose();
   return true;
 }
 

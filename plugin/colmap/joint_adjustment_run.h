@@ -54,6 +54,10 @@ struct JointAdjustmentRun {
   int num_points = 0;
   int num_links = 0;
   int num_joining_links = 0;  // links added between the two-step's pieces
+  // The odometry's systematics (clock offset, intrinsics) were refined in
+  // the adjustment (planar odometry whose systematics the two-step
+  // estimated).
+  bool refined_systematics = false;
   std::vector<JointStretchScale> stretches;
   // The largest |joint_scale / two_step_scale - 1| over the stretches.
   double max_scale_change = 0.0;

@@ -1,7 +1,9 @@
 #include "odomcal/plugin/colmap/joint_adjustment_stage.h"
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/adapters/odometry_interpolation_error.h"
+#include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/hand_eye_residual.h"
@@ -64,6 +66,9 @@ struct JointInput {
   std::vector<const ColmapCamera*> source_cameras;
   std::vector<const ColmapPoint3D*> source_points;
   std::vector<uint32_t> observation_point2D;  // index into the image's list
+  // Per link, the motion pair it was made from (stamps on the odometry's
+  // clock), for attaching the logged odometry.
+  MotionPairs link_pairs;
   int num_joining_links = 0;
 };
 
@@ -182,6 +187,7 @@ void AddLinks(const ColmapCalibrationInputs& inputs,
     if (!linked.insert({i->second, j->second}).second) continue;
     input->problem.links.push_back(
         LinkOf(pair, i->second, j->second, fit, inputs.calibration.noise));
+    input->link_pairs.push_back(pair);
   }
   // Pieces: images joined by links or shared points, in time order.
   const int num_images = static_cast<int>(input->image_names.size());
@@ -232,6 +238,7 @@ void AddLinks(const ColmapCalibrationInputs& inputs,
         OdometryInterpolationCovariance(run.odometry, stamp_b));
     input->problem.links.push_back(
         LinkOf(pair, a, b, fit, inputs.calibration.noise));
+    input->link_pairs.push_back(pair);
     ++input->num_joining_links;
     piece[find(a)] = find(b);
   }
@@ -277,7 +284,8 @@ void AlignWithOdometry(const ColmapCalibrationRun& run,
   const Eigen::Rotation2Dd rotation(yaw);
   const Eigen::Vector2d shift = mean_odometry - rotation * mean_adjusted;
   for (PlanarPose& pose : result->origin_from_odom) {
-    const Eigen::Vector2d xy = rotation * Eigen::Vector2d(pose.x, pose.y) + shift;
+    const Eigen::Vector2d xy =
+        rotation * Eigen::Vector2d(pose.x, pose.y) + shift;
     pose.x = xy.x();
     pose.y = xy.y();
     pose.yaw_rad = std::remainder(pose.yaw_rad + yaw, 2.0 * kPi);
@@ -285,6 +293,32 @@ void AlignWithOdometry(const ColmapCalibrationRun& run,
   for (Eigen::Vector3d& point : result->points) {
     point.head<2>() = rotation * point.head<2>() + shift;
   }
+}
+
+// The odometry's systematics refined in the adjustment where the two-step
+// estimated them, from the logged odometry (before its intrinsics
+// correction) between each link's images: a planar log only.
+void AddSystematics(const ColmapCalibrationInputs& inputs,
+                    const ColmapCalibrationRun& run,
+                    JointInput* input) {
+  const SystematicsEstimate& estimate = run.systematics;
+  const bool any =
+      estimate.time_offset_estimated || estimate.intrinsics_estimated[0] ||
+      estimate.intrinsics_estimated[1] || estimate.intrinsics_estimated[2];
+  if (!any || !run.odometry.planar) return;
+  const Trajectory logged = ReadOdometryOf(inputs);
+  if (!logged.planar) return;
+  MotionPairs pairs = input->link_pairs;
+  AttachOdometrySamples(logged, &pairs);
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (!pairs[k].odometry_samples) return;
+    input->problem.links[k].samples = pairs[k].odometry_samples;
+  }
+  JointSystematics systematics;
+  systematics.intrinsics = estimate.intrinsics;
+  systematics.refine_intrinsics = estimate.intrinsics_estimated;
+  systematics.refine_time_offset = estimate.time_offset_estimated;
+  input->problem.systematics = systematics;
 }
 
 Eigen::Vector3d CentreOf(const PlanarPose& origin_from_odom,
@@ -458,6 +492,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
     return;
   }
   AddLinks(inputs, *run, &input);
+  AddSystematics(inputs, *run, &input);
   JointAdjustmentOptions options = inputs.joint_adjustment.options;
   options.num_threads =
       std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -466,6 +501,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   joint.num_points = static_cast<int>(input.problem.points.size());
   joint.num_links = static_cast<int>(input.problem.links.size());
   joint.num_joining_links = input.num_joining_links;
+  joint.refined_systematics = input.problem.systematics.has_value();
   joint.two_step_odom_from_cam = result.odom_from_cam;
   joint.two_step_covariance = result.covariance->topLeftCorner<5, 5>();
   joint.result = AdjustJointly(input.problem, options);

@@ -103,7 +103,6 @@ TEST_F(JointAdjustmentStageTest, TakesTheDriftOutOfTheMetricModel) {
         (*origin_from_odom * drive.odom_from_cam).translation;
     worst = std::max(
         worst, (Inverse(image.cam_from_world).translation - truth).norm());
-
   }
   EXPECT_LT(worst, tolerance) << "path " << path_length << " m";
 

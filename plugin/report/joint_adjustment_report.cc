@@ -75,6 +75,26 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   out["num_observations_used"] = r.num_observations_used;
   out["num_observations_left_out"] = r.num_observations_left_out;
   out["pixel_sigma_px"] = r.pixel_sigma;
+  out["odometry_sigma_ratio"] = r.odometry_sigma_ratio;
+  out["covariance_widening"] = {r.covariance_widening[0],
+                                r.covariance_widening[1],
+                                r.covariance_widening[2],
+                                r.covariance_widening[3],
+                                r.covariance_widening[4]};
+  if (joint.refined_systematics) {
+    out["systematics"] = {
+        {"time_offset_change_s", r.time_offset_change_s},
+        {"time_offset_change_stddev_s", r.time_offset_change_stddev_s},
+        {"yaw_scale", r.intrinsics.yaw_scale},
+        {"yaw_per_metre_rad", r.intrinsics.yaw_per_metre_rad},
+        {"yaw_rate_bias_rad_s", r.intrinsics.yaw_rate_bias_rad_s},
+        {"intrinsics_stddev",
+         {r.intrinsics_stddev[0],
+          r.intrinsics_stddev[1],
+          r.intrinsics_stddev[2]}}};
+  } else {
+    out["systematics"] = nullptr;
+  }
   out["reprojection_rms_px"] = {{"before", r.reprojection_rms_px_before},
                                 {"after", r.reprojection_rms_px_after}};
   out["odometry_rms_sigma"] = {{"before", r.odometry_rms_sigma_before},
@@ -128,6 +148,19 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
       << " -> " << FormatPrintf("%.2f sigma", r.odometry_rms_sigma_after)
       << "; " << FormatPrintf("%.1f s", r.solve_time_s + r.covariance_time_s)
       << "\n";
+  const bool at_bound = r.odometry_sigma_ratio <= 0.1 + 1e-9 ||
+                        r.odometry_sigma_ratio >= 10.0 - 1e-9;
+  out << "  joint noise: pixel sigma " << FormatPrintf("%.3f px", r.pixel_sigma)
+      << ", odometry " << FormatPrintf("x%.2g", r.odometry_sigma_ratio)
+      << " the two-step's noise model" << (at_bound ? " (at its bound)" : "")
+      << "\n";
+  if (joint.refined_systematics) {
+    out << "  joint systematics (3 sigma): clock offset changed by "
+        << FormatPrintf("%+.2f", 1e3 * r.time_offset_change_s) << " +- "
+        << FormatPrintf("%.2f ms", 3e3 * r.time_offset_change_stddev_s)
+        << ", yaw_scale " << FormatPrintf("%.5f", r.intrinsics.yaw_scale)
+        << " +- " << FormatPrintf("%.5f", 3.0 * r.intrinsics_stddev[0]) << "\n";
+  }
   const Rigid3d& two_step = joint.two_step_odom_from_cam;
   const Eigen::Vector3d rpy = RollPitchYaw(two_step.rotation) * kRadToDeg;
   out << "  two-step estimate: roll/pitch/yaw "

@@ -362,6 +362,28 @@ class CalibrateProjectTest(unittest.TestCase):
             "the floor is not seen: 0 points below the cameras"),
             result["floor_plane"]["translation_z_held_reason"])
 
+    def test_project_joint_adjustment_keyword(self):
+        # The model has poses but no points: the adjustment is asked for,
+        # runs, says why it cannot adjust, and the two-step result stands.
+        camera, odometry = simulated_drive()
+        with tempfile.TemporaryDirectory() as folder:
+            model, odometry_path, stamps = write_colmap_project(folder, camera, odometry)
+            result = odomcal.calibrate_project(
+                model_path=model, odometry=odometry_path, image_timestamps=stamps,
+                fixed_translation_z_m=0.40, joint_adjustment="on")
+            off = odomcal.calibrate_project(
+                model_path=model, odometry=odometry_path, image_timestamps=stamps,
+                fixed_translation_z_m=0.40)
+        self.assertEqual(result["status"], "success", result["message"])
+        self.assertEqual(result["options"]["joint_adjustment"], "on")
+        self.assertEqual(result["joint_adjustment"]["status"], "invalid_input")
+        self.assertEqual(result["joint_adjustment"]["message"],
+                         "no point is seen in two images")
+        self.assertIsNone(result["diagnostics"]["two_step"])
+        self.assertEqual(result["odom_from_cam"], off["odom_from_cam"])
+        self.assertIsNone(off["joint_adjustment"])
+        self.assertEqual(off["options"]["joint_adjustment"], "off")
+
     def test_project_errors_name_the_keyword(self):
         with tempfile.TemporaryDirectory() as folder:
             camera, odometry = simulated_drive(duration_s=2)
