@@ -1,0 +1,101 @@
+#include "odomcal/solver/joint_extrinsic.h"
+
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/joint_adjustment_covariance.h"
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace odomcal {
+namespace {
+
+TEST(ExtrinsicDisagreements, NameWhatLiesOutsideTheTwoStepsThreeSigma) {
+  Rigid3d two_step;
+  two_step.rotation = YawRotation(0.3);
+  two_step.translation = Eigen::Vector3d(0.25, 0.05, 0.4);
+  Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();
+  const double rotation_sigma = 0.01 * kDegToRad;
+  covariance.diagonal() << rotation_sigma * rotation_sigma,
+      rotation_sigma * rotation_sigma, rotation_sigma * rotation_sigma, 1e-6,
+      1e-6;
+  Rigid3d joint = two_step;
+  joint.rotation = YawRotation(0.3 + 0.02 * kDegToRad);  // 2 sigma
+  joint.translation.x() += 0.0035;                       // 3.5 sigma
+  const std::vector<ExtrinsicDisagreement> disagreements =
+      ExtrinsicDisagreements(joint, two_step, covariance);
+  ASSERT_EQ(disagreements.size(), 1u);
+  EXPECT_EQ(disagreements[0].quantity, "translation_x");
+  EXPECT_NEAR(disagreements[0].difference, 0.0035, 1e-12);
+  EXPECT_NEAR(disagreements[0].two_step_stddev, 0.001, 1e-12);
+  joint.rotation = YawRotation(0.3 - 0.04 * kDegToRad);  // 4 sigma
+  const auto with_yaw = ExtrinsicDisagreements(joint, two_step, covariance);
+  ASSERT_EQ(with_yaw.size(), 2u);
+  EXPECT_EQ(with_yaw[0].quantity, "yaw");
+  EXPECT_NEAR(with_yaw[0].difference, -0.04, 1e-9);
+}
+
+TEST(AdoptJointExtrinsic, ReplacesTheExtrinsicBlockAndKeepsTheScales) {
+  CalibrationResult result;
+  result.odom_from_cam.translation = Eigen::Vector3d(0.2, 0.1, 0.4);
+  result.metric_scales = {0.5};
+  result.covariance = Eigen::MatrixXd::Constant(6, 6, 1e-8);
+  (*result.covariance)(5, 5) = 4e-6;
+  JointAdjustmentResult joint;
+  joint.odom_from_cam.rotation = YawRotation(0.1);
+  joint.odom_from_cam.translation = Eigen::Vector3d(0.21, 0.11, 9.0);
+  joint.covariance.diagonal() << 1e-8, 4e-8, 9e-8, 1e-6, 4e-6;
+  AdoptJointExtrinsic(joint, &result);
+  EXPECT_EQ(result.odom_from_cam.translation,
+            Eigen::Vector3d(0.21, 0.11, 0.4));  // z stays
+  const Eigen::MatrixXd extrinsic_block =
+      result.covariance->topLeftCorner(5, 5);
+  EXPECT_TRUE(extrinsic_block.isApprox(Eigen::MatrixXd(joint.covariance)));
+  EXPECT_EQ((*result.covariance)(5, 5), 4e-6);
+  EXPECT_EQ((*result.covariance)(0, 5), 0.0);
+  EXPECT_NEAR(result.stddev_translation_xy_m.y(), 2e-3, 1e-15);
+  EXPECT_NEAR(result.stddev_rotation_axes_deg.z(), 3e-4 * kRadToDeg, 1e-12);
+}
+
+// The sparse covariances against their dense formulas on a random
+// least-squares problem: (J^T J)^-1 and the sandwich
+// H^-1 (sum_c J_c^T r_c r_c^T J_c) H^-1 over clusters of rows.
+TEST(LeadingCovariancesOf, MatchTheDenseFormulas) {
+  std::mt19937 random(3);
+  std::normal_distribution<double> normal;
+  constexpr int kRows = 40, kCols = 7, kWanted = 3;
+  Eigen::MatrixXd dense(kRows, kCols);
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kCols; ++c)
+      dense(r, c) = (r + c) % 3 == 0 ? 0.0 : normal(random) * (1.0 + c);
+  Eigen::VectorXd residuals(kRows);
+  for (int r = 0; r < kRows; ++r) residuals[r] = normal(random);
+  std::vector<int> clusters(kRows);
+  for (int r = 0; r < kRows; ++r) clusters[r] = r / 4;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> sparse =
+      dense.sparseView();
+  LeadingCovariances covariances;
+  ASSERT_TRUE(
+      LeadingCovariancesOf(sparse, residuals, clusters, kWanted, &covariances));
+  const Eigen::MatrixXd inverse = (dense.transpose() * dense).inverse();
+  EXPECT_TRUE(covariances.model.isApprox(
+      inverse.topLeftCorner(kWanted, kWanted), 1e-9));
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(kCols, kCols);
+  for (int c = 0; c < kRows / 4; ++c) {
+    const Eigen::VectorXd g =
+        dense.middleRows(4 * c, 4).transpose() * residuals.segment(4 * c, 4);
+    meat += g * g.transpose();
+  }
+  const Eigen::MatrixXd sandwich = inverse * meat * inverse;
+  EXPECT_TRUE(covariances.robust.isApprox(
+      sandwich.topLeftCorner(kWanted, kWanted), 1e-9));
+  // A column nothing sees: singular.
+  Eigen::MatrixXd blind = dense;
+  blind.col(5).setZero();
+  EXPECT_FALSE(LeadingCovariancesOf(
+      blind.sparseView(), residuals, clusters, kWanted, &covariances));
+}
+
+}  // namespace
+}  // namespace odomcal
