@@ -441,6 +441,9 @@ class FlagEcho : public ScratchFolderTest {
     values["--floor_max_path_distance_m"] = {"2.5", 2.5};
     values["--floor_inlier_distance_m"] = {"0.03", 0.03};
     values["--floor_max_slope_deg"] = {"0.7", 0.7};
+    values["--joint_adjustment"] = {"on", "on"};
+    values["--joint_intrinsics"] = {"refined", "refined"};
+    values["--joint_max_reprojection_sigmas"] = {"4", 4};
     return values;
   }
 
