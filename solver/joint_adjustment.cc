@@ -295,6 +295,12 @@ class JointProblem {
     t_xy_[1] = input.odom_from_cam.translation.y();
     t_z_ = input.odom_from_cam.translation.z();
     used_.assign(input.observations.size(), 1);
+    // A point on or behind a camera that sees it cannot be projected: the
+    // observation is left out from the start (Ceres would stop at it).
+    for (size_t k = 0; k < input.observations.size(); ++k) {
+      Eigen::Vector2d residual;
+      if (!ReprojectionResidual(k, &residual)) used_[k] = 0;
+    }
     FindPointsSeenTwice();
     if (input.systematics) {
       const OdometryIntrinsics& start = input.systematics->intrinsics;

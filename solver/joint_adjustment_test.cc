@@ -216,6 +216,23 @@ TEST(AdjustJointly, LeavesOutGrossOutliers) {
   }
 }
 
+TEST(AdjustJointly, LeavesOutAPointBehindItsCameras) {
+  Scene scene = MakeScene(5, 0.5, 0.0);
+  JointAdjustmentProblem& problem = scene.problem;
+  // 3 m behind the first camera, "seen" by the first two images.
+  const Rigid3d origin_from_cam =
+      problem.images[0].origin_from_odom.ToRigid3d() * problem.odom_from_cam;
+  problem.points.push_back(origin_from_cam * Eigen::Vector3d(0.0, 0.0, -3.0));
+  const int behind = static_cast<int>(problem.points.size()) - 1;
+  problem.observations.push_back({0, behind, Eigen::Vector2d(320.0, 240.0)});
+  problem.observations.push_back({1, behind, Eigen::Vector2d(321.0, 240.0)});
+  const JointAdjustmentResult result =
+      AdjustJointly(problem, JointAdjustmentOptions());
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  EXPECT_GE(result.num_observations_left_out, 2);
+  EXPECT_EQ(result.observation_error_px.back(), -1.0);
+}
+
 TEST(AdjustJointly, RefusesImagesWithoutAnOdometryLink) {
   Scene scene = MakeScene(3, 0.5, 0.0);
   // Cut the drive in two: no link between the halves, and no point seen

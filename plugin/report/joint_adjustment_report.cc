@@ -6,7 +6,9 @@
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <sstream>
 
@@ -215,12 +217,19 @@ std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
   figure.panel_height_px = 240.0;
   PlotPanel& panel = figure.panels.emplace_back();
   panel.title = "COLMAP's scale along the drive";
-  panel.x_label = "time [s]";
+  panel.x_label = "time from the first stretch's start [s]";
   panel.y_label = "joint / two-step scale - 1 [%]";
   PlotSeries change{"per stretch", {}, {}, "#1f77b4", false, true, false};
+  int64_t start_ns = joint.stretches.front().first_stamp_ns;
   for (const JointStretchScale& s : joint.stretches) {
-    change.x.push_back(1e-9 * 0.5 *
-                       static_cast<double>(s.first_stamp_ns + s.last_stamp_ns));
+    start_ns = std::min(start_ns, s.first_stamp_ns);
+  }
+  for (const JointStretchScale& s : joint.stretches) {
+    // Stamps are epoch nanoseconds: the middle of the stretch, from the
+    // start, in seconds.
+    change.x.push_back(
+        1e-9 * static_cast<double>(s.first_stamp_ns - start_ns) +
+        0.5e-9 * static_cast<double>(s.last_stamp_ns - s.first_stamp_ns));
     change.y.push_back(100.0 * (s.joint_scale / s.two_step_scale - 1.0));
   }
   panel.series = {change};
@@ -231,8 +240,10 @@ std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
           "the one scale the two-step calibration gave the part: where COLMAP "
           "drifted, the adjustment follows the odometry and the images "
           "together. "
-       << r.num_observations_left_out
-       << " observations beyond the outlier gate were left out; pixel sigma "
+       << r.num_observations_left_out << " of "
+       << r.num_observations_left_out + r.num_observations_used
+       << " observations lay beyond the outlier gate and were left out; "
+          "pixel sigma "
        << EscapeMarkup(FormatPrintf("%.2f px", r.pixel_sigma))
        << ".</figcaption>\n</figure>\n";
   return html.str();
