@@ -307,6 +307,7 @@ class JointProblem {
       intrinsics_[0] = start.yaw_scale;
       intrinsics_[1] = start.yaw_per_metre_rad;
       intrinsics_[2] = start.yaw_rate_bias_rad_s;
+      offset_change_s_ = input.systematics->time_offset_change_s;
     }
   }
 
@@ -877,6 +878,10 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
   result.odometry_rms_sigma_after = joint.OdometryRms();
   joint.WriteResult(&result);
   result.solve_time_s = SecondsSince(start);
+  if (!options.compute_covariance) {
+    result.status = JointAdjustmentStatus::kSuccess;
+    return result;
+  }
   const auto covariance_start = std::chrono::steady_clock::now();
   if (!joint.ExtrinsicCovariance(&result)) {
     result.status = JointAdjustmentStatus::kSingular;

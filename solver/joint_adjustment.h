@@ -95,6 +95,7 @@ struct JointSystematics {
   // [yaw_scale, yaw_per_metre_rad, yaw_rate_bias_rad_s]: refined or held.
   std::array<bool, 3> refine_intrinsics{};
   bool refine_time_offset = false;
+  double time_offset_change_s = 0.0;  // start of the offset's change
 };
 
 struct JointAdjustmentProblem {
@@ -125,6 +126,9 @@ struct JointAdjustmentOptions {
   bool estimate_odometry_noise = true;
   int max_num_iterations = 100;
   int num_threads = 1;
+  // The extrinsic's covariance at the solution (off for re-solves whose
+  // point estimate alone is wanted, as the jackknife's).
+  bool compute_covariance = true;
   // Throws std::invalid_argument naming the option.
   void Check() const;
 };

@@ -1,6 +1,7 @@
 #include "odomcal/solver/joint_adjustment.h"
 
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/joint_adjustment_jackknife.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -45,7 +46,8 @@ struct Scene {
 Scene MakeScene(int seed,
                 double pixel_sigma,
                 double drift,
-                double outlier_fraction = 0.0) {
+                double outlier_fraction = 0.0,
+                double image_shift_px = 0.0) {
   std::mt19937 random(seed);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -112,6 +114,10 @@ Scene MakeScene(int seed,
   for (int i = 0; i < kNumImages; ++i) {
     const Rigid3d cam_from_origin =
         Inverse(scene.poses[i].ToRigid3d() * scene.odom_from_cam);
+    // One error common to the image's features (as a timing or rolling
+    // shutter error moves them together), which no per-track model sees.
+    const Eigen::Vector2d image_shift =
+        image_shift_px * Eigen::Vector2d(normal(random), normal(random));
     for (size_t k = 0; k < scene.points.size(); ++k) {
       const Eigen::Vector3d in_cam = cam_from_origin * scene.points[k];
       if (in_cam.z() < 0.5 || in_cam.z() > 12.0) continue;
@@ -122,7 +128,8 @@ Scene MakeScene(int seed,
           pixel.y() > 480.0) {
         continue;
       }
-      pixel += pixel_sigma * Eigen::Vector2d(normal(random), normal(random));
+      pixel += image_shift +
+               pixel_sigma * Eigen::Vector2d(normal(random), normal(random));
       if (uniform(random) < outlier_fraction) {
         pixel += Eigen::Vector2d(40.0 * normal(random), 40.0 * normal(random));
       }
@@ -268,6 +275,78 @@ TEST(AdjustJointly, RefusesInvalidInput) {
   options.pixel_sigma = 0.0;
   EXPECT_THROW(AdjustJointly(MakeScene(4, 0.5, 0.0).problem, options),
                std::invalid_argument);
+}
+
+// The images in time order, as the problem lists them.
+std::vector<int> InOrder(const JointAdjustmentProblem& problem) {
+  std::vector<int> order(problem.images.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  return order;
+}
+
+TEST(JackknifeJointExtrinsic, AgreesWithTheModelWhereItsNoiseIsRight) {
+  const Scene scene = MakeScene(2, 0.5, 0.05);
+  const JointAdjustmentOptions options;
+  JointAdjustmentResult result = AdjustJointly(scene.problem, options);
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  const Eigen::Matrix<double, 5, 5> before = result.covariance;
+  const JointJackknife jackknife = JackknifeJointExtrinsic(
+      scene.problem, options, InOrder(scene.problem), {}, &result);
+  ASSERT_TRUE(jackknife.ran) << jackknife.reason;
+  EXPECT_EQ(jackknife.num_blocks, 8);
+  for (int k = 0; k < 5; ++k) {
+    // 7 degrees of freedom, and the jackknife errs wide (Efron & Stein):
+    // a standard deviation within about -60 % / +150 %.
+    EXPECT_GT(jackknife.ratio[k], 0.4) << "component " << k;
+    EXPECT_LT(jackknife.ratio[k], 2.5) << "component " << k;
+    EXPECT_GE(result.covariance(k, k), before(k, k));
+  }
+}
+
+TEST(JackknifeJointExtrinsic, WidensWhatErrorsCommonToAnImageHide) {
+  // Each image's features move together by 0.6 px besides their own
+  // 0.3 px: the model (and the per-track sandwich) count 0.3 px
+  // independent errors and understate the extrinsic's spread.
+  const Scene scene = MakeScene(3, 0.3, 0.05, 0.0, 0.6);
+  const JointAdjustmentOptions options;
+  JointAdjustmentResult result = AdjustJointly(scene.problem, options);
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  const Eigen::Matrix<double, 5, 1> error =
+      ExtrinsicError(result, scene.odom_from_cam);
+  const Eigen::Matrix<double, 5, 1> model_sigma =
+      result.covariance.diagonal().cwiseSqrt().cwiseQuotient(
+          result.covariance_widening);
+  const JointJackknife jackknife = JackknifeJointExtrinsic(
+      scene.problem, options, InOrder(scene.problem), {}, &result);
+  ASSERT_TRUE(jackknife.ran) << jackknife.reason;
+  EXPECT_GT(jackknife.ratio.maxCoeff(), 2.0);
+  int outside_model = 0;
+  for (int k = 0; k < 5; ++k) {
+    if (std::abs(error[k]) > 3.0 * model_sigma[k]) ++outside_model;
+    EXPECT_LT(std::abs(error[k]), 3.0 * std::sqrt(result.covariance(k, k)))
+        << "component " << k;
+  }
+  EXPECT_GT(outside_model, 0);  // the case the jackknife is for
+}
+
+TEST(JackknifeJointExtrinsic, NeedsTwoImagesPerBlock) {
+  const Scene scene = MakeScene(4, 0.5, 0.0);
+  JointAdjustmentResult result =
+      AdjustJointly(scene.problem, JointAdjustmentOptions());
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  const Eigen::Matrix<double, 5, 5> before = result.covariance;
+  JointJackknifeOptions jackknife;
+  jackknife.num_blocks = 50;  // 80 images
+  const JointJackknife out = JackknifeJointExtrinsic(scene.problem,
+                                                     JointAdjustmentOptions(),
+                                                     InOrder(scene.problem),
+                                                     jackknife,
+                                                     &result);
+  EXPECT_FALSE(out.ran);
+  EXPECT_NE(out.reason.find("fewer than 2 per block"), std::string::npos);
+  EXPECT_EQ(result.covariance, before);
+  jackknife.num_blocks = 2;
+  EXPECT_THROW(jackknife.Check(), std::invalid_argument);
 }
 
 }  // namespace

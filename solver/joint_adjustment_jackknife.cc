@@ -1,0 +1,146 @@
+#include "odomcal/solver/joint_adjustment_jackknife.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace odomcal {
+namespace {
+
+using Vector5d = Eigen::Matrix<double, 5, 1>;
+
+// The extrinsic as a deviation from `reference`, in the covariance's
+// coordinates: left rotation perturbation, then translation x, y.
+Vector5d DeviationFrom(const Rigid3d& reference, const Rigid3d& estimate) {
+  Vector5d deviation;
+  deviation.head<3>() =
+      LogRotation(estimate.rotation * reference.rotation.inverse());
+  deviation.tail<2>() =
+      (estimate.translation - reference.translation).head<2>();
+  return deviation;
+}
+
+// The problem started at the full solution, without the feature
+// observations of the images in [begin, end) of image_order, nor the
+// observations the full solve left out; the links at the estimated level.
+JointAdjustmentProblem WithoutBlock(const JointAdjustmentProblem& problem,
+                                    const JointAdjustmentResult& full,
+                                    const std::vector<int>& image_order,
+                                    size_t begin,
+                                    size_t end) {
+  JointAdjustmentProblem reduced;
+  reduced.cameras = full.cameras;
+  reduced.images = problem.images;
+  for (size_t i = 0; i < reduced.images.size(); ++i) {
+    reduced.images[i].origin_from_odom = full.origin_from_odom[i];
+  }
+  reduced.points = full.points;
+  std::vector<char> left_out(problem.images.size(), 0);
+  for (size_t n = begin; n < end; ++n) left_out[image_order[n]] = 1;
+  for (size_t k = 0; k < problem.observations.size(); ++k) {
+    const JointObservation& observation = problem.observations[k];
+    if (left_out[observation.image] || full.observation_error_px[k] < 0.0) {
+      continue;
+    }
+    reduced.observations.push_back(observation);
+  }
+  reduced.links = problem.links;
+  const double factor = full.odometry_sigma_ratio * full.odometry_sigma_ratio;
+  for (OdometryLink& link : reduced.links) link.covariance *= factor;
+  reduced.odom_from_cam = full.odom_from_cam;
+  reduced.systematics = problem.systematics;
+  if (reduced.systematics) {
+    reduced.systematics->intrinsics = full.intrinsics;
+    reduced.systematics->time_offset_change_s = full.time_offset_change_s;
+  }
+  return reduced;
+}
+
+}  // namespace
+
+void JointJackknifeOptions::Check() const {
+  if (num_blocks < 0 || num_blocks == 1 || num_blocks == 2) {
+    throw std::invalid_argument("num_blocks must be 0 (off) or at least 3");
+  }
+}
+
+JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
+                                       const JointAdjustmentOptions& options,
+                                       const std::vector<int>& image_order,
+                                       const JointJackknifeOptions& jackknife,
+                                       JointAdjustmentResult* result) {
+  jackknife.Check();
+  options.Check();
+  JointJackknife out;
+  if (jackknife.num_blocks == 0) {
+    out.reason = "off";
+    return out;
+  }
+  if (!result->IsSuccess()) {
+    out.reason = "the adjustment did not succeed";
+    return out;
+  }
+  const size_t num_images = image_order.size();
+  if (num_images != problem.images.size()) {
+    out.reason = "the image order does not list every image";
+    return out;
+  }
+  const size_t num_blocks = static_cast<size_t>(jackknife.num_blocks);
+  if (num_images < 2 * num_blocks) {
+    out.reason = std::to_string(num_images) + " images: fewer than 2 per block";
+    return out;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  JointAdjustmentOptions resolve = options;
+  resolve.pixel_sigma = result->pixel_sigma;
+  resolve.estimate_odometry_noise = false;
+  resolve.compute_covariance = false;
+  // The full solve's outliers are already out; the rest stays in.
+  resolve.max_reprojection_sigmas = std::numeric_limits<double>::max();
+  std::vector<Vector5d> deviations;
+  for (size_t b = 0; b < num_blocks; ++b) {
+    const size_t begin = b * num_images / num_blocks;
+    const size_t end = (b + 1) * num_images / num_blocks;
+    const JointAdjustmentResult replicate = AdjustJointly(
+        WithoutBlock(problem, *result, image_order, begin, end), resolve);
+    if (!replicate.IsSuccess()) continue;
+    deviations.push_back(
+        DeviationFrom(result->odom_from_cam, replicate.odom_from_cam));
+  }
+  out.time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  out.num_blocks = static_cast<int>(deviations.size());
+  if (deviations.size() < 3) {
+    out.reason = std::to_string(deviations.size()) + " of " +
+                 std::to_string(num_blocks) +
+                 " re-solves succeeded: fewer than 3";
+    return out;
+  }
+  const double g = static_cast<double>(deviations.size());
+  Vector5d mean = Vector5d::Zero();
+  for (const Vector5d& deviation : deviations) mean += deviation / g;
+  for (const Vector5d& deviation : deviations) {
+    out.covariance += (deviation - mean) * (deviation - mean).transpose();
+  }
+  out.covariance *= (g - 1.0) / g;
+  out.ran = true;
+
+  // The model's covariance: the stated one without its widening.
+  const Vector5d widening = result->covariance_widening;
+  const Eigen::Matrix<double, 5, 5> model =
+      widening.cwiseInverse().asDiagonal() * result->covariance *
+      widening.cwiseInverse().asDiagonal();
+  Vector5d wider = widening;
+  for (int k = 0; k < 5; ++k) {
+    out.ratio[k] = std::sqrt(out.covariance(k, k) / model(k, k));
+    wider[k] = std::max(wider[k], out.ratio[k]);
+  }
+  result->covariance_widening = wider;
+  result->covariance = wider.asDiagonal() * model * wider.asDiagonal();
+  return out;
+}
+
+}  // namespace odomcal
