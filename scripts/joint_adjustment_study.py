@@ -13,7 +13,8 @@ Prints one line per seed and a summary (RMS of the errors and z-scores,
 the share of components within 3 sigma).
 
   scripts/joint_adjustment_study.py [--preset small] [--seeds 1-6]
-      [--odomcal build/plugin/odomcal] [--work /tmp/joint_study] [-- FLAGS]
+      [--odomcal build/plugin/odomcal] [--work /tmp/joint_study]
+      [--reuse OUTPUT] [-- FLAGS]
 """
 import argparse
 import json
@@ -76,14 +77,24 @@ def run_seed(args, seed, extra):
         subprocess.run([args.odomcal, "render", "--preset", args.preset, "--seed", str(seed),
                         "--output_path", data], check=True, stdout=subprocess.DEVNULL)
     truth = json.load(open(os.path.join(data, "ground_truth.json")))
-    shutil.rmtree(workspace, ignore_errors=True)
-    params = ",".join(repr(v) for v in truth["camera"]["params"])
-    subprocess.run([args.odomcal, "run", "--image_path", os.path.join(data, "images"),
-                    "--odometry", os.path.join(data, "odometry.csv"),
-                    "--image_timestamps", os.path.join(data, "image_timestamps.csv"),
-                    "--camera_model", truth["camera"]["model"], "--camera_params", params,
-                    "--workspace_path", workspace, "--joint_adjustment", "on"] + extra,
-                   check=True, stdout=subprocess.DEVNULL)
+    timing = ["--odometry", os.path.join(data, "odometry.csv"),
+              "--image_timestamps", os.path.join(data, "image_timestamps.csv")]
+    if args.reuse:
+        # The COLMAP model of an earlier run of this seed, calibrated again.
+        model = os.path.join(workspace, "sparse")
+        output = os.path.join(args.reuse, "%s_%d" % (args.preset, seed))
+        shutil.rmtree(output, ignore_errors=True)
+        subprocess.run([args.odomcal, "colmap", "--model_path", model, "--output_path", output,
+                        "--joint_adjustment", "on"] + timing + extra,
+                       check=True, stdout=subprocess.DEVNULL)
+        workspace = output
+    else:
+        shutil.rmtree(workspace, ignore_errors=True)
+        params = ",".join(repr(v) for v in truth["camera"]["params"])
+        subprocess.run([args.odomcal, "run", "--image_path", os.path.join(data, "images"),
+                        "--camera_model", truth["camera"]["model"], "--camera_params", params,
+                        "--workspace_path", workspace, "--joint_adjustment", "on"] + timing
+                       + extra, check=True, stdout=subprocess.DEVNULL)
     result = json.load(open(os.path.join(workspace, "calibration.json")))
     joint_rot, joint_xy = errors(result["odom_from_cam"], truth)
     sd = result["stddev"]
@@ -119,6 +130,9 @@ def main():
     parser.add_argument("--seeds", default="1-6")
     parser.add_argument("--odomcal", default="build/plugin/odomcal")
     parser.add_argument("--work", default="/tmp/joint_study")
+    parser.add_argument("--reuse", metavar="OUTPUT",
+                        help="calibrate the COLMAP models of an earlier run in --work again "
+                             "(odomcal colmap, results in OUTPUT) instead of mapping anew")
     args, extra = parser.parse_known_args()
     extra = [e for e in extra if e != "--"]
     first, _, last = args.seeds.partition("-")

@@ -444,6 +444,7 @@ class FlagEcho : public ScratchFolderTest {
     values["--joint_adjustment"] = {"on", "on"};
     values["--joint_intrinsics"] = {"refined", "refined"};
     values["--joint_max_reprojection_sigmas"] = {"4", 4};
+    values["--joint_jackknife_blocks"] = {"5", 5};
     return values;
   }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "odomcal/solver/joint_adjustment.h"
+#include "odomcal/solver/joint_adjustment_jackknife.h"
 #include "odomcal/solver/joint_extrinsic.h"
 #include "odomcal/solver/rigid3.h"
 
@@ -23,7 +24,11 @@ JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name);
 struct JointAdjustmentSettings {
   JointAdjustmentUse use = JointAdjustmentUse::kOff;
   JointAdjustmentOptions options;
-  void Check() const { options.Check(); }
+  JointJackknifeOptions jackknife;
+  void Check() const {
+    options.Check();
+    jackknife.Check();
+  }
 };
 
 // A stretch of the drive: the metric scale the two-step model gave it and
@@ -45,6 +50,9 @@ struct JointAdjustmentRun {
   bool ran = false;        // the adjustment was attempted
   std::string skipped;     // why it was not (empty when it ran or was off)
   JointAdjustmentResult result;
+  // The jackknife over stretches of the drive that widened result's
+  // covariance where its spread was larger.
+  JointJackknife jackknife;
   // The two-step estimate it started from ([rx, ry, rz, tx, ty] covariance).
   Rigid3d two_step_odom_from_cam;
   Eigen::Matrix<double, 5, 5> two_step_covariance =

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -512,6 +513,16 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
                               "; the two-step result stands");
     return;
   }
+  std::vector<int> image_order(input.problem.images.size());
+  std::iota(image_order.begin(), image_order.end(), 0);
+  std::sort(image_order.begin(), image_order.end(), [&](int a, int b) {
+    return input.image_stamps_ns[a] < input.image_stamps_ns[b];
+  });
+  joint.jackknife = JackknifeJointExtrinsic(input.problem,
+                                            options,
+                                            image_order,
+                                            inputs.joint_adjustment.jackknife,
+                                            &joint.result);
   joint.disagreements = ExtrinsicDisagreements(joint.result.odom_from_cam,
                                                joint.two_step_odom_from_cam,
                                                joint.two_step_covariance);

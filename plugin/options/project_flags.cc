@@ -2,6 +2,9 @@
 
 #include "odomcal/adapters/timestamp.h"
 
+#include <cstdlib>
+#include <string>
+
 namespace odomcal {
 namespace {
 
@@ -166,6 +169,22 @@ const OptionTable<JointAdjustmentSettings>& JointAdjustmentFlags() {
           "joint adjustment",
           [](auto& o) -> auto& { return o.options.max_reprojection_sigmas; },
           FlagCheck::AtLeast(1.0)),
+      NumberRow<J>(
+          "joint_jackknife_blocks",
+          "the joint adjustment solved again without each of this many "
+          "stretches of the drive's images; their spread widens the stated "
+          "sigma where the noise model understates it (0: off)",
+          [](auto& o) -> auto& { return o.jackknife.num_blocks; },
+          // 0 or at least 3 (JointJackknifeOptions::Check).
+          FlagCheck::Custom([](const std::string& text) {
+            char* end = nullptr;
+            const long value = std::strtol(text.c_str(), &end, 10);
+            // Not an integer: the integer flag's own error says so.
+            if (end == text.c_str() || *end != '\0') return std::string();
+            return value == 0 || value >= 3
+                       ? std::string()
+                       : "must be 0 (off) or >= 3, got " + text;
+          })),
   };
   return table;
 }

@@ -97,12 +97,25 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   } else {
     out["systematics"] = nullptr;
   }
+  const JointJackknife& jackknife = joint.jackknife;
+  out["jackknife"] = {
+      {"ran", jackknife.ran},
+      {"reason", jackknife.ran ? json(nullptr) : json(jackknife.reason)},
+      {"num_blocks", jackknife.num_blocks},
+      {"stddev_ratio",
+       jackknife.ran ? json{jackknife.ratio[0],
+                            jackknife.ratio[1],
+                            jackknife.ratio[2],
+                            jackknife.ratio[3],
+                            jackknife.ratio[4]}
+                     : json(nullptr)},
+      {"time_s", jackknife.time_s}};
   out["reprojection_rms_px"] = {{"before", r.reprojection_rms_px_before},
                                 {"after", r.reprojection_rms_px_after}};
   out["odometry_rms_sigma"] = {{"before", r.odometry_rms_sigma_before},
                                {"after", r.odometry_rms_sigma_after}};
   out["num_iterations"] = r.num_iterations;
-  out["time_s"] = r.solve_time_s + r.covariance_time_s;
+  out["time_s"] = r.solve_time_s + r.covariance_time_s + jackknife.time_s;
   out["covariance_time_s"] = r.covariance_time_s;
   out["disagreements"] = disagreements;
   out["stretches"] = stretches;
@@ -148,7 +161,10 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
       << FormatPrintf("%.2f px", r.reprojection_rms_px_after)
       << ", odometry rms " << FormatPrintf("%.2f", r.odometry_rms_sigma_before)
       << " -> " << FormatPrintf("%.2f sigma", r.odometry_rms_sigma_after)
-      << "; " << FormatPrintf("%.1f s", r.solve_time_s + r.covariance_time_s)
+      << "; "
+      << FormatPrintf(
+             "%.1f s",
+             r.solve_time_s + r.covariance_time_s + joint.jackknife.time_s)
       << "\n";
   const bool at_bound = r.odometry_sigma_ratio <= 0.1 + 1e-9 ||
                         r.odometry_sigma_ratio >= 10.0 - 1e-9;
@@ -156,6 +172,13 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
       << ", odometry " << FormatPrintf("x%.2g", r.odometry_sigma_ratio)
       << " the two-step's noise model" << (at_bound ? " (at its bound)" : "")
       << "\n";
+  if (joint.jackknife.ran) {
+    const auto& w = r.covariance_widening;
+    out << "  joint sigma widening (roll/pitch/yaw, x/y), from the tracks and "
+        << "a jackknife over " << joint.jackknife.num_blocks
+        << " stretches: " << Joined("%.2f", {w[0], w[1], w[2], w[3], w[4]})
+        << "\n";
+  }
   if (joint.refined_systematics) {
     out << "  joint systematics (3 sigma): clock offset changed by "
         << FormatPrintf("%+.2f", 1e3 * r.time_offset_change_s) << " +- "
@@ -209,6 +232,18 @@ std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
        << "</td></tr>\n<tr><td>odometry rms [sigma]</td><td>"
        << FormatPrintf("%.2f", r.odometry_rms_sigma_before) << "</td><td>"
        << FormatPrintf("%.2f", r.odometry_rms_sigma_after)
+       << "</td></tr>\n<tr><td>stated sigma over the noise model's "
+          "(roll, pitch, yaw, x, y)</td><td></td><td>"
+       << Joined("%.2f",
+                 {r.covariance_widening[0],
+                  r.covariance_widening[1],
+                  r.covariance_widening[2],
+                  r.covariance_widening[3],
+                  r.covariance_widening[4]})
+       << (joint.jackknife.ran
+               ? " (tracks; jackknife over " +
+                     std::to_string(joint.jackknife.num_blocks) + " stretches)"
+               : std::string(" (tracks)"))
        << "</td></tr>\n</table>\n";
   if (joint.stretches.empty()) return html.str();
   PlotFigure figure;
