@@ -112,6 +112,44 @@ ceres::CostFunction* ReprojectionCostFor(ProjectionModel model,
   return nullptr;
 }
 
+// The reprojection residual in pixels at doubles, without a cost object.
+template <ProjectionModel kModel>
+bool ReprojectionResidualOf(const Eigen::Vector2d& pixel,
+                            const double* const* parameters,
+                            double* residual) {
+  return ReprojectionCost<kModel>(pixel, 1.0)(parameters[0],
+                                              parameters[1],
+                                              parameters[2],
+                                              parameters[3],
+                                              parameters[4],
+                                              parameters[5],
+                                              residual);
+}
+
+bool ReprojectionResidualFor(ProjectionModel model,
+                             const Eigen::Vector2d& pixel,
+                             const double* const* parameters,
+                             double* residual) {
+  switch (model) {
+    case ProjectionModel::kSimplePinhole:
+      return ReprojectionResidualOf<ProjectionModel::kSimplePinhole>(
+          pixel, parameters, residual);
+    case ProjectionModel::kPinhole:
+      return ReprojectionResidualOf<ProjectionModel::kPinhole>(
+          pixel, parameters, residual);
+    case ProjectionModel::kSimpleRadial:
+      return ReprojectionResidualOf<ProjectionModel::kSimpleRadial>(
+          pixel, parameters, residual);
+    case ProjectionModel::kRadial:
+      return ReprojectionResidualOf<ProjectionModel::kRadial>(
+          pixel, parameters, residual);
+    case ProjectionModel::kOpenCV:
+      return ReprojectionResidualOf<ProjectionModel::kOpenCV>(
+          pixel, parameters, residual);
+  }
+  return false;
+}
+
 // The planar motion from pose i to pose j, in pose i's frame.
 template <typename T>
 void PlanarMotionBetween(const T* pose_i, const T* pose_j, T* motion) {
@@ -490,9 +528,10 @@ class JointProblem {
                                   &t_z_,
                                   points_[observation.point].data(),
                                   params_[camera].data()};
-    std::unique_ptr<ceres::CostFunction> cost(ReprojectionCostFor(
-        input_.cameras[camera].model, observation.pixel, 1.0));
-    return cost->Evaluate(parameters, residual->data(), nullptr);
+    return ReprojectionResidualFor(input_.cameras[camera].model,
+                                   observation.pixel,
+                                   parameters,
+                                   residual->data());
   }
 
   // Estimates the pixel sigma from the observations in use (a robust scale,
