@@ -2,7 +2,7 @@
 """The joint adjustment against the truth on rendered scenes.
 
 For each seed: `odomcal render --preset PRESET`, then `odomcal run` with the
-true intrinsics and --joint_adjustment on, and compares with the scene's
+true intrinsics and wheel track and --joint_adjustment on, and compares with the scene's
 ground_truth.json:
   - the extrinsic's rotation error per odometry axis (deg) and x/y error (mm),
     for the joint estimate and the two-step one (diagnostics.two_step), and
@@ -14,7 +14,7 @@ the share of components within 3 sigma).
 
   scripts/joint_adjustment_study.py [--preset small] [--seeds 1-6]
       [--odomcal build/plugin/odomcal] [--work /tmp/joint_study]
-      [--reuse OUTPUT] [-- FLAGS]
+      [--repeat N] [--reuse OUTPUT] [-- FLAGS]
 """
 import argparse
 import json
@@ -70,15 +70,18 @@ def errors(result_transform, truth):
     return np.degrees(rot), 1e3 * t
 
 
-def run_seed(args, seed, extra):
+def run_seed(args, seed, extra, repetition=0):
     data = os.path.join(args.work, "%s_%d" % (args.preset, seed))
-    workspace = data + "_ws"
+    workspace = data + ("_ws" if not repetition else "_ws_run%d" % repetition)
     if not os.path.isdir(data):
         subprocess.run([args.odomcal, "render", "--preset", args.preset, "--seed", str(seed),
                         "--output_path", data], check=True, stdout=subprocess.DEVNULL)
     truth = json.load(open(os.path.join(data, "ground_truth.json")))
+    # The robot's wheel track, as its owner knows it: with unequal wheels
+    # it determines the lever arm's y (docs/systematics.md).
     timing = ["--odometry", os.path.join(data, "odometry.csv"),
-              "--image_timestamps", os.path.join(data, "image_timestamps.csv")]
+              "--image_timestamps", os.path.join(data, "image_timestamps.csv"),
+              "--wheel_track_m", repr(truth["odometry_noise"]["wheel_base_m"])]
     if args.reuse:
         # The COLMAP model of an earlier run of this seed, calibrated again.
         model = os.path.join(workspace, "sparse")
@@ -113,14 +116,17 @@ def run_seed(args, seed, extra):
     names = sorted(truth_centres)
     path = sum(np.linalg.norm(truth_centres[b] - truth_centres[a]) for a, b in zip(names, names[1:]))
     joint = result["joint_adjustment"]
-    print("seed %d: %s; joint rot [%s] deg x/y [%s] mm, z [%s]; two-step rot [%s] deg x/y [%s] mm; "
-          "centres rms %.2f mm, worst %.2f mm (%.3f %% of %.1f m); %.1f s"
-          % (seed, joint["status"], " ".join("%+.4f" % v for v in joint_rot),
+    print("seed %d%s: %s; joint rot [%s] deg x/y [%s] mm, z [%s]; two-step rot [%s] deg x/y [%s] mm; "
+          "centres rms %.2f mm, worst %.2f mm (%.3f %% of %.1f m); %.1f s; %d warnings"
+          % (seed, " run %d" % repetition if repetition else "", joint["status"], " ".join("%+.4f" % v for v in joint_rot),
              " ".join("%+.2f" % v for v in joint_xy), " ".join("%+.2f" % v for v in z),
              " ".join("%+.4f" % v for v in two_rot) if two_step else "-",
              " ".join("%+.2f" % v for v in two_xy) if two_step else "-",
              1e3 * math.sqrt(np.mean(np.square(distances))), 1e3 * max(distances),
-             100 * max(distances) / path, path, joint.get("time_s", 0.0)), flush=True)
+             100 * max(distances) / path, path, joint.get("time_s", 0.0),
+             len(result["warnings"])), flush=True)
+    for warning in result["warnings"]:
+        print("  warning: " + warning, flush=True)
     return joint_rot, joint_xy, z, two_rot, two_xy
 
 
@@ -130,6 +136,9 @@ def main():
     parser.add_argument("--seeds", default="1-6")
     parser.add_argument("--odomcal", default="build/plugin/odomcal")
     parser.add_argument("--work", default="/tmp/joint_study")
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="map and calibrate each seed this many times (COLMAP's run-to-run "
+                             "spread), each in its own workspace")
     parser.add_argument("--reuse", metavar="OUTPUT",
                         help="calibrate the COLMAP models of an earlier run in --work again "
                              "(odomcal colmap, results in OUTPUT) instead of mapping anew")
@@ -137,7 +146,9 @@ def main():
     extra = [e for e in extra if e != "--"]
     first, _, last = args.seeds.partition("-")
     os.makedirs(args.work, exist_ok=True)
-    rows = [run_seed(args, seed, extra) for seed in range(int(first), int(last or first) + 1)]
+    seeds = range(int(first), int(last or first) + 1)
+    rows = [run_seed(args, seed, extra, repetition) for seed in seeds
+            for repetition in (range(1, args.repeat + 1) if args.repeat > 1 else [0])]
     z = np.array([row[2] for row in rows])
     joint = np.array([np.concatenate([row[0], row[1]]) for row in rows])
     two = np.array([np.concatenate([row[3], row[4]]) for row in rows if row[3] is not None])

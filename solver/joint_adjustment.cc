@@ -150,6 +150,34 @@ bool ReprojectionResidualFor(ProjectionModel model,
   return false;
 }
 
+// Hands each Ceres iteration to JointAdjustmentOptions::progress.
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  ProgressCallback(
+      const std::function<void(const JointAdjustmentProgress&)>& callback,
+      int pass,
+      std::chrono::steady_clock::time_point start)
+      : callback_(callback), pass_(pass), start_(start) {}
+
+  ceres::CallbackReturnType operator()(
+      const ceres::IterationSummary& summary) override {
+    JointAdjustmentProgress progress;
+    progress.pass = pass_;
+    progress.iteration = summary.iteration;
+    progress.cost = summary.cost;
+    progress.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
+            .count();
+    callback_(progress);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(const JointAdjustmentProgress&)>& callback_;
+  int pass_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 // The planar motion from pose i to pose j, in pose i's frame.
 template <typename T>
 void PlanarMotionBetween(const T* pose_i, const T* pose_j, T* motion) {
@@ -500,8 +528,11 @@ class JointProblem {
     }
   }
 
-  ceres::Solver::Summary Solve() {
+  ceres::Solver::Summary Solve(int pass,
+                               std::chrono::steady_clock::time_point start) {
     ceres::Solver::Options solver_options;
+    ProgressCallback progress(options_.progress, pass, start);
+    if (options_.progress) solver_options.callbacks.push_back(&progress);
     solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
     std::string error;
     if (!solver_options.IsValid(&error)) {
@@ -880,7 +911,7 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
   constexpr double kSigmaTolerance = 0.05;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     joint.Build(pixel_sigma);
-    const ceres::Solver::Summary summary = joint.Solve();
+    const ceres::Solver::Summary summary = joint.Solve(pass + 1, start);
     result.num_iterations += static_cast<int>(summary.iterations.size());
     if (summary.termination_type != ceres::CONVERGENCE) {
       result.status = JointAdjustmentStatus::kNoConvergence;

@@ -48,6 +48,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -110,6 +111,18 @@ struct JointAdjustmentProblem {
   std::optional<JointSystematics> systematics;
 };
 
+// Where the adjustment is, for a caller's progress display.
+struct JointAdjustmentProgress {
+  int pass = 0;          // 1-based solve pass (of at most 4)
+  int iteration = 0;     // Ceres iteration within the pass
+  double cost = 0.0;     // Ceres' cost after it
+  double seconds = 0.0;  // since the adjustment (or jackknife) started
+  // The jackknife's re-solves (joint_adjustment_jackknife.h): which one of
+  // how many; 0 of 0 for the adjustment itself.
+  int replicate = 0;
+  int num_replicates = 0;
+};
+
 struct JointAdjustmentOptions {
   // Starting pixel sigma; the adjustment estimates it (see the top).
   double pixel_sigma = 1.0;
@@ -129,6 +142,9 @@ struct JointAdjustmentOptions {
   // The extrinsic's covariance at the solution (off for re-solves whose
   // point estimate alone is wanted, as the jackknife's).
   bool compute_covariance = true;
+  // Called after every solver iteration (on the calling thread), when set.
+  // It must not throw.
+  std::function<void(const JointAdjustmentProgress&)> progress;
   // Throws std::invalid_argument naming the option.
   void Check() const;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -22,33 +23,44 @@ Vector5d DeviationFrom(const Rigid3d& reference, const Rigid3d& estimate) {
   return deviation;
 }
 
-// The problem started at the full solution, without the feature
-// observations of the images in [begin, end) of image_order, nor the
-// observations the full solve left out; the links at the estimated level.
+// The problem without the images in [begin, end) of image_order (their
+// feature observations and the links that touch them), nor the
+// observations the full solve left out; started at the full solution, the
+// links at the estimated level.
 JointAdjustmentProblem WithoutBlock(const JointAdjustmentProblem& problem,
                                     const JointAdjustmentResult& full,
                                     const std::vector<int>& image_order,
                                     size_t begin,
                                     size_t end) {
+  std::vector<int> new_index(problem.images.size(), 0);
+  for (size_t n = begin; n < end; ++n) new_index[image_order[n]] = -1;
   JointAdjustmentProblem reduced;
-  reduced.cameras = full.cameras;
-  reduced.images = problem.images;
-  for (size_t i = 0; i < reduced.images.size(); ++i) {
-    reduced.images[i].origin_from_odom = full.origin_from_odom[i];
+  for (size_t i = 0; i < problem.images.size(); ++i) {
+    if (new_index[i] < 0) continue;
+    new_index[i] = static_cast<int>(reduced.images.size());
+    JointImage image = problem.images[i];
+    image.origin_from_odom = full.origin_from_odom[i];
+    reduced.images.push_back(image);
   }
+  reduced.cameras = full.cameras;
   reduced.points = full.points;
-  std::vector<char> left_out(problem.images.size(), 0);
-  for (size_t n = begin; n < end; ++n) left_out[image_order[n]] = 1;
   for (size_t k = 0; k < problem.observations.size(); ++k) {
-    const JointObservation& observation = problem.observations[k];
-    if (left_out[observation.image] || full.observation_error_px[k] < 0.0) {
+    JointObservation observation = problem.observations[k];
+    if (new_index[observation.image] < 0 ||
+        full.observation_error_px[k] < 0.0) {
       continue;
     }
+    observation.image = new_index[observation.image];
     reduced.observations.push_back(observation);
   }
-  reduced.links = problem.links;
   const double factor = full.odometry_sigma_ratio * full.odometry_sigma_ratio;
-  for (OdometryLink& link : reduced.links) link.covariance *= factor;
+  for (OdometryLink link : problem.links) {
+    if (new_index[link.image_i] < 0 || new_index[link.image_j] < 0) continue;
+    link.image_i = new_index[link.image_i];
+    link.image_j = new_index[link.image_j];
+    link.covariance *= factor;
+    reduced.links.push_back(std::move(link));
+  }
   reduced.odom_from_cam = full.odom_from_cam;
   reduced.systematics = problem.systematics;
   if (reduced.systematics) {
@@ -100,12 +112,31 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
   // The full solve's outliers are already out; the rest stays in.
   resolve.max_reprojection_sigmas = std::numeric_limits<double>::max();
   std::vector<Vector5d> deviations;
+  std::string first_failure;
   for (size_t b = 0; b < num_blocks; ++b) {
     const size_t begin = b * num_images / num_blocks;
     const size_t end = (b + 1) * num_images / num_blocks;
+    if (options.progress) {
+      resolve.progress = [&options, &start, b, num_blocks](
+                             const JointAdjustmentProgress& inner) {
+        JointAdjustmentProgress progress = inner;
+        progress.replicate = static_cast<int>(b) + 1;
+        progress.num_replicates = static_cast<int>(num_blocks);
+        progress.seconds = std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - start)
+                               .count();
+        options.progress(progress);
+      };
+    }
     const JointAdjustmentResult replicate = AdjustJointly(
         WithoutBlock(problem, *result, image_order, begin, end), resolve);
-    if (!replicate.IsSuccess()) continue;
+    if (!replicate.IsSuccess()) {
+      if (first_failure.empty()) {
+        first_failure =
+            std::string(ToString(replicate.status)) + ": " + replicate.message;
+      }
+      continue;
+    }
     deviations.push_back(
         DeviationFrom(result->odom_from_cam, replicate.odom_from_cam));
   }
@@ -116,7 +147,7 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
   if (deviations.size() < 3) {
     out.reason = std::to_string(deviations.size()) + " of " +
                  std::to_string(num_blocks) +
-                 " re-solves succeeded: fewer than 3";
+                 " re-solves succeeded: fewer than 3 (" + first_failure + ")";
     return out;
   }
   const double g = static_cast<double>(deviations.size());

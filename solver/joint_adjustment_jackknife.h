@@ -1,9 +1,10 @@
 // A delete-a-group jackknife of the joint adjustment's extrinsic: the drive
 // is cut into contiguous blocks of images, the adjustment solved again
-// without each block's feature observations (its poses stay, tied by the
-// odometry), and the spread of the re-solved extrinsics gives a covariance
-// that does not rest on the noise model (Efron & Stein; Shao & Tu, "The
-// Jackknife and Bootstrap", 1995, ch. 5.3 for groups):
+// without each block (its images, their feature observations and the
+// odometry links that touch them), and the spread of the re-solved
+// extrinsics gives a covariance that does not rest on the noise model
+// (Efron & Stein; Shao & Tu, "The Jackknife and Bootstrap", 1995, ch. 5.3
+// for groups):
 //
 //   V = (g - 1) / g * sum_b (theta_b - mean)(theta_b - mean)^T
 //

@@ -7,8 +7,10 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -286,14 +288,31 @@ std::vector<int> InOrder(const JointAdjustmentProblem& problem) {
 
 TEST(JackknifeJointExtrinsic, AgreesWithTheModelWhereItsNoiseIsRight) {
   const Scene scene = MakeScene(2, 0.5, 0.05);
-  const JointAdjustmentOptions options;
+  JointAdjustmentOptions options;
+  int num_calls = 0;
+  int last_pass = 0;
+  std::vector<int> replicates_heard;
+  options.progress = [&](const JointAdjustmentProgress& where) {
+    ++num_calls;
+    last_pass = std::max(last_pass, where.pass);
+    if (where.num_replicates > 0 &&
+        (replicates_heard.empty() ||
+         replicates_heard.back() != where.replicate)) {
+      EXPECT_EQ(where.num_replicates, 8);
+      replicates_heard.push_back(where.replicate);
+    }
+  };
   JointAdjustmentResult result = AdjustJointly(scene.problem, options);
+  EXPECT_GT(num_calls, 2);
+  EXPECT_GE(last_pass, 2);  // the pixel sigma is estimated, then solved at
+  EXPECT_TRUE(replicates_heard.empty());
   ASSERT_TRUE(result.IsSuccess()) << result.message;
   const Eigen::Matrix<double, 5, 5> before = result.covariance;
   const JointJackknife jackknife = JackknifeJointExtrinsic(
       scene.problem, options, InOrder(scene.problem), {}, &result);
   ASSERT_TRUE(jackknife.ran) << jackknife.reason;
   EXPECT_EQ(jackknife.num_blocks, 8);
+  EXPECT_EQ(replicates_heard, std::vector<int>({1, 2, 3, 4, 5, 6, 7, 8}));
   for (int k = 0; k < 5; ++k) {
     // 7 degrees of freedom, and the jackknife errs wide (Efron & Stein):
     // a standard deviation within about -60 % / +150 %.

@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -53,7 +54,16 @@ int RunColmap(int argc, char** argv) {
                         ColmapCalibrationOutputEntries(),
                         overwrite ? ExistingOutputs::kReplaceOwn
                                   : ExistingOutputs::kRefuseNonEmptyFolder);
-    const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+    // A long step (the joint adjustment) says where it is every 10 s.
+    const auto start = std::chrono::steady_clock::now();
+    auto last_line = start;
+    const ColmapCalibrationRun run =
+        CalibrateColmapProject(inputs, [&](const std::string& message) {
+          const auto now = std::chrono::steady_clock::now();
+          if (quiet || now - last_line < std::chrono::seconds(10)) return;
+          last_line = now;
+          std::cout << "  " << message << "\n" << std::flush;
+        });
     const ReportContext context = ProjectReportContext(
         inputs, run, "odomcal colmap", ProjectFlagsEcho(inputs));
     const std::vector<std::string> written =

@@ -226,7 +226,8 @@ bool ContradictedBetweenKeyframes(
 }  // namespace
 
 ColmapCalibrationRun CalibrateColmapProject(
-    const ColmapCalibrationInputs& inputs) {
+    const ColmapCalibrationInputs& inputs,
+    const CalibrationProgress& progress) {
   inputs.association.Check();
   inputs.calibration.Check();
   inputs.robot_frames.Check();
@@ -507,7 +508,7 @@ ColmapCalibrationRun CalibrateColmapProject(
     }
   }
   // Before the floor: the floor is fitted in the adjusted model.
-  ApplyJointAdjustment(inputs, stamp_of_image, &run);
+  ApplyJointAdjustment(inputs, stamp_of_image, progress, &run);
   ApplyFloorPlane(inputs.floor,
                   inputs.calibration.max_translation_stddev_m,
                   stamp_of_image,

@@ -27,6 +27,7 @@
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -100,9 +101,14 @@ struct ColmapCalibrationRun {
   JointAdjustmentRun joint;
 };
 
+// What a long step is doing (the joint adjustment's passes and re-solves),
+// for a progress display: a short line, called on the calling thread.
+using CalibrationProgress = std::function<void(const std::string& message)>;
+
 // Throws FormatError (unreadable inputs) or std::invalid_argument (options).
 // Reads only; the outputs are written by colmap_calibration_outputs.h.
 ColmapCalibrationRun CalibrateColmapProject(
-    const ColmapCalibrationInputs& inputs);
+    const ColmapCalibrationInputs& inputs,
+    const CalibrationProgress& progress = {});
 
 }  // namespace odomcal

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -450,6 +451,20 @@ ColmapModel AdjustedModel(const JointInput& input,
 
 std::string Degrees(double value) { return FormatNumber(value) + " deg"; }
 
+// One progress line.
+std::string JointProgressLine(const JointAdjustmentProgress& where,
+                              double seconds) {
+  std::string line = "joint adjustment: ";
+  if (where.num_replicates > 0) {
+    line += "jackknife re-solve " + std::to_string(where.replicate) + " of " +
+            std::to_string(where.num_replicates);
+  } else {
+    line += "pass " + std::to_string(where.pass);
+  }
+  return line + ", iteration " + std::to_string(where.iteration) + ", " +
+         FormatPrintf("%.0f s", seconds);
+}
+
 }  // namespace
 
 std::string ToString(JointAdjustmentUse use) {
@@ -465,6 +480,7 @@ JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name) {
 
 void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
                           const std::map<std::string, int64_t>& stamp_of_image,
+                          const CalibrationProgress& progress,
                           ColmapCalibrationRun* run) {
   JointAdjustmentRun& joint = run->joint;
   CalibrationResult& result = run->check.result;
@@ -497,6 +513,18 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   JointAdjustmentOptions options = inputs.joint_adjustment.options;
   options.num_threads =
       std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (progress) {
+    // Seconds since the stage started (the solver's count restarts with
+    // the jackknife).
+    const auto start = std::chrono::steady_clock::now();
+    options.progress = [&progress,
+                        start](const JointAdjustmentProgress& where) {
+      progress(JointProgressLine(where,
+                                 std::chrono::duration<double>(
+                                     std::chrono::steady_clock::now() - start)
+                                     .count()));
+    };
+  }
   joint.ran = true;
   joint.num_images = static_cast<int>(input.problem.images.size());
   joint.num_points = static_cast<int>(input.problem.points.size());

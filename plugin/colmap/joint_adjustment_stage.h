@@ -34,9 +34,12 @@ namespace odomcal {
 // the one adjusted model ("0"). Where it cannot run (a camera model it does
 // not know, SE(3) odometry with z estimated) or does not succeed, the
 // two-step result stays, with a warning naming the reason.
-// `stamp_of_image`: image name to time (camera clock).
+// `stamp_of_image`: image name to time (camera clock). `progress`, when
+// set, hears where the adjustment is ("joint adjustment: pass 2, iteration
+// 14, 12 s").
 void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
                           const std::map<std::string, int64_t>& stamp_of_image,
+                          const CalibrationProgress& progress,
                           ColmapCalibrationRun* run);
 
 }  // namespace odomcal

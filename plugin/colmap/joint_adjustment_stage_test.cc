@@ -52,10 +52,21 @@ TEST_F(JointAdjustmentStageTest, TakesTheDriftOutOfTheMetricModel) {
   ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
       (dir_ / "project").string(), DriftingProject(TestSeed(7)), &drive);
   inputs.joint_adjustment.use = JointAdjustmentUse::kOn;
-  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  std::vector<std::string> progress;
+  const ColmapCalibrationRun run = CalibrateColmapProject(
+      inputs,
+      [&progress](const std::string& line) { progress.push_back(line); });
   const CalibrationResult& result = run.check.result;
   ASSERT_TRUE(result.has_estimate) << result.message;
   ASSERT_TRUE(run.joint.ran) << run.joint.skipped;
+  // Every solver iteration is heard, the adjustment's and the jackknife's.
+  ASSERT_FALSE(progress.empty());
+  EXPECT_EQ(
+      progress.front().rfind("joint adjustment: pass 1, iteration 0, ", 0), 0u)
+      << progress.front();
+  EXPECT_NE(progress.back().find("jackknife re-solve 8 of 8"),
+            std::string::npos)
+      << progress.back() << "; " << run.joint.jackknife.reason;
   const JointAdjustmentResult& joint = run.joint.result;
   ASSERT_TRUE(joint.IsSuccess()) << joint.message;
   // The two-step cut the drifting model into parts; the adjustment joins

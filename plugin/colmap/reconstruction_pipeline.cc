@@ -326,7 +326,13 @@ void CalibrateChosenModel(const ReconstructionOptions& run,
   final_inputs.database_path = mapping.rounds.at(best.matching_round).database;
   result->model_path = final_inputs.model_path;
   result->database_path = final_inputs.database_path;
-  result->calibration = CalibrateColmapProject(final_inputs);
+  result->calibration = CalibrateColmapProject(
+      final_inputs, [progress, &clock](const std::string& message) {
+        progress->Send(PipelineProgress::Event::kStageProgress,
+                       5,
+                       message,
+                       clock.Seconds());
+      });
   result->calibration.mapper_attempts = mapping.attempts;
   result->calibration.chosen_mapper_attempt = mapping.chosen;
   result->calibration.colmap_version = colmap_version.ToString();
