@@ -33,11 +33,14 @@ function(odomcal_add_library name)
   install(FILES ${ARG_HEADERS} DESTINATION include/odomcal/${folder})
 endfunction()
 
-# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [FIXTURES_REQUIRED ...])
+# odomcal_add_test(NAME SOURCES ... LIBS ... [LABELS ...] [FIXTURES_REQUIRED ...]
+#                  [COST seconds])
 # One gtest binary per module; tests are discovered individually by ctest.
 # FIXTURES_REQUIRED: ctest fixtures (FIXTURES_SETUP tests) every test needs.
+# COST: ctest starts costlier tests first, so on a fresh checkout (no
+# recorded times) the minutes-long ones do not start last under -j.
 function(odomcal_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS;LABELS;FIXTURES_REQUIRED" ${ARGN})
+  cmake_parse_arguments(ARG "" "COST" "SOURCES;LIBS;LABELS;FIXTURES_REQUIRED" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   odomcal_target_warnings(${name})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
@@ -47,6 +50,9 @@ function(odomcal_add_test name)
   set(properties LABELS "${ARG_LABELS}")
   if(ARG_FIXTURES_REQUIRED)
     list(APPEND properties FIXTURES_REQUIRED "${ARG_FIXTURES_REQUIRED}")
+  endif()
+  if(ARG_COST)
+    list(APPEND properties COST "${ARG_COST}")
   endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
