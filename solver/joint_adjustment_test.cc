@@ -1,5 +1,6 @@
 #include "odomcal/solver/joint_adjustment.h"
 
+#include "odomcal/datasets/simulation/joint_scene.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/joint_adjustment_jackknife.h"
 
@@ -35,133 +36,19 @@ TEST(Project, FollowsColmapsModels) {
       simple_radial, behind, pixel));
 }
 
-// A planar drive past random points, observed by a forward camera, with
-// wheel odometry between consecutive images, and starting values with a
-// COLMAP-like scale drift (the model's size grows along the drive).
-struct Scene {
-  JointAdjustmentProblem problem;
-  Rigid3d odom_from_cam;
-  std::vector<PlanarPose> poses;
-  std::vector<Eigen::Vector3d> points;
-};
-
-Scene MakeScene(int seed,
-                double pixel_sigma,
-                double drift,
-                double outlier_fraction = 0.0,
-                double image_shift_px = 0.0) {
-  std::mt19937 random(seed);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  Scene scene;
-  scene.odom_from_cam.rotation =
-      Eigen::AngleAxisd(3.0 * kDegToRad, Eigen::Vector3d::UnitZ()) *
-      Eigen::AngleAxisd(-2.0 * kDegToRad, Eigen::Vector3d::UnitY()) *
-      Eigen::AngleAxisd(1.0 * kDegToRad, Eigen::Vector3d::UnitX()) *
-      Eigen::Quaterniond(
-          (Eigen::Matrix3d() << 0, 0, 1, -1, 0, 0, 0, -1, 0).finished());
-  scene.odom_from_cam.translation = Eigen::Vector3d(0.3, -0.05, 0.5);
-  // 80 images, 0.25 m apart, turning both ways.
-  constexpr int kNumImages = 80;
-  PlanarPose pose;
-  for (int i = 0; i < kNumImages; ++i) {
-    scene.poses.push_back(pose);
-    const double turn = 0.25 * std::sin(0.12 * i);
-    pose.x += 0.25 * std::cos(pose.yaw_rad + 0.5 * turn);
-    pose.y += 0.25 * std::sin(pose.yaw_rad + 0.5 * turn);
-    pose.yaw_rad += turn;
-  }
-  // Points 2-8 m to the sides and ahead of the path.
-  for (const PlanarPose& p : scene.poses) {
-    for (int k = 0; k < 12; ++k) {
-      const double ahead = 1.0 + 6.0 * uniform(random);
-      const double side = (uniform(random) - 0.5) * 10.0;
-      const double height = -0.3 + 2.5 * uniform(random);
-      const Eigen::Vector3d in_odom(ahead, side, height);
-      scene.points.push_back(p.ToRigid3d() * in_odom);
-    }
-  }
-  JointAdjustmentProblem& problem = scene.problem;
-  problem.cameras.push_back(
-      {ProjectionModel::kSimpleRadial, {500.0, 320.5, 240.5, -0.05}});
-  // Starting values: the drive's size grows by `drift` from its start to
-  // its end, as COLMAP's scale drifts; the extrinsic 0.5 deg and 2 cm off.
-  const auto drifted = [&](const Eigen::Vector3d& x, double fraction) {
-    return Eigen::Vector3d(x.x() * (1.0 + drift * fraction),
-                           x.y() * (1.0 + drift * fraction),
-                           x.z());
-  };
-  for (int i = 0; i < kNumImages; ++i) {
-    const double fraction = static_cast<double>(i) / kNumImages;
-    const Eigen::Vector3d xy = drifted(
-        Eigen::Vector3d(scene.poses[i].x, scene.poses[i].y, 0.0), fraction);
-    problem.images.push_back(
-        {0, {xy.x(), xy.y(), scene.poses[i].yaw_rad + 0.002 * normal(random)}});
-  }
-  for (size_t k = 0; k < scene.points.size(); ++k) {
-    const double fraction =
-        static_cast<double>(k / 12) / static_cast<double>(kNumImages);
-    problem.points.push_back(
-        drifted(scene.points[k], fraction) +
-        0.01 * Eigen::Vector3d(normal(random), normal(random), normal(random)));
-  }
-  problem.odom_from_cam.rotation =
-      Eigen::AngleAxisd(0.5 * kDegToRad,
-                        Eigen::Vector3d(1.0, -1.0, 1.0).normalized()) *
-      scene.odom_from_cam.rotation;
-  problem.odom_from_cam.translation =
-      scene.odom_from_cam.translation + Eigen::Vector3d(0.02, -0.01, 0.0);
-  // Observations within the 640 x 480 image, 0.5 to 12 m ahead.
-  const std::vector<double>& params = problem.cameras[0].params;
-  for (int i = 0; i < kNumImages; ++i) {
-    const Rigid3d cam_from_origin =
-        Inverse(scene.poses[i].ToRigid3d() * scene.odom_from_cam);
-    // One error common to the image's features (as a timing or rolling
-    // shutter error moves them together), which no per-track model sees.
-    const Eigen::Vector2d image_shift =
-        image_shift_px * Eigen::Vector2d(normal(random), normal(random));
-    for (size_t k = 0; k < scene.points.size(); ++k) {
-      const Eigen::Vector3d in_cam = cam_from_origin * scene.points[k];
-      if (in_cam.z() < 0.5 || in_cam.z() > 12.0) continue;
-      Eigen::Vector2d pixel;
-      if (!ProjectToPixel<ProjectionModel::kSimpleRadial>(
-              params.data(), in_cam.data(), pixel.data()) ||
-          pixel.x() < 0.0 || pixel.x() > 640.0 || pixel.y() < 0.0 ||
-          pixel.y() > 480.0) {
-        continue;
-      }
-      pixel += image_shift +
-               pixel_sigma * Eigen::Vector2d(normal(random), normal(random));
-      if (uniform(random) < outlier_fraction) {
-        pixel += Eigen::Vector2d(40.0 * normal(random), 40.0 * normal(random));
-      }
-      problem.observations.push_back({i, static_cast<int>(k), pixel});
-    }
-  }
-  // Odometry between consecutive images: 2 mm + 1 % per axis, 0.2 deg + 1 %.
-  for (int i = 0; i + 1 < kNumImages; ++i) {
-    const Rigid3d truth =
-        Inverse(scene.poses[i].ToRigid3d()) * scene.poses[i + 1].ToRigid3d();
-    const PlanarPose motion = PlanarFromRigid(truth);
-    const double length = std::hypot(motion.x, motion.y);
-    const double xy_sigma = 0.002 + 0.01 * length;
-    const double yaw_sigma = 0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
-    OdometryLink link;
-    link.image_i = i;
-    link.image_j = i + 1;
-    link.covariance =
-        Eigen::Vector3d(
-            xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
-            .asDiagonal();
-    link.odom_i_from_odom_j = {motion.x + xy_sigma * normal(random),
-                               motion.y + xy_sigma * normal(random),
-                               motion.yaw_rad + yaw_sigma * normal(random)};
-    problem.links.push_back(link);
-  }
-  // The gauge image starts at its true pose, as the caller's first image
-  // starts at its odometry pose.
-  problem.images[0].origin_from_odom = scene.poses[0];
-  return scene;
+// The scenes of datasets/simulation/joint_scene.h: 80 images.
+JointScene MakeScene(unsigned seed,
+                     double pixel_sigma,
+                     double drift,
+                     double outlier_fraction = 0.0,
+                     double image_shift_px = 0.0) {
+  JointSceneOptions options;
+  options.seed = seed;
+  options.pixel_sigma = pixel_sigma;
+  options.drift = drift;
+  options.outlier_fraction = outlier_fraction;
+  options.image_shift_px = image_shift_px;
+  return SimulateJointScene(options);
 }
 
 // Rotation error (rad, about the odometry axes) and x/y error (m) of the
@@ -177,7 +64,7 @@ Eigen::Matrix<double, 5, 1> ExtrinsicError(const JointAdjustmentResult& result,
 }
 
 TEST(AdjustJointly, RemovesTheModelsScaleDriftAndStatesItsUncertainty) {
-  const Scene scene = MakeScene(1, 0.5, 0.05);
+  const JointScene scene = MakeScene(1, 0.5, 0.05);
   const JointAdjustmentResult result =
       AdjustJointly(scene.problem, JointAdjustmentOptions());
   ASSERT_TRUE(result.IsSuccess()) << result.message;
@@ -210,7 +97,7 @@ TEST(AdjustJointly, RemovesTheModelsScaleDriftAndStatesItsUncertainty) {
 }
 
 TEST(AdjustJointly, LeavesOutGrossOutliers) {
-  const Scene scene = MakeScene(2, 0.5, 0.02, 0.02);
+  const JointScene scene = MakeScene(2, 0.5, 0.02, 0.02);
   const JointAdjustmentResult result =
       AdjustJointly(scene.problem, JointAdjustmentOptions());
   ASSERT_TRUE(result.IsSuccess()) << result.message;
@@ -226,7 +113,7 @@ TEST(AdjustJointly, LeavesOutGrossOutliers) {
 }
 
 TEST(AdjustJointly, LeavesOutAPointBehindItsCameras) {
-  Scene scene = MakeScene(5, 0.5, 0.0);
+  JointScene scene = MakeScene(5, 0.5, 0.0);
   JointAdjustmentProblem& problem = scene.problem;
   // 3 m behind the first camera, "seen" by the first two images.
   const Rigid3d origin_from_cam =
@@ -243,7 +130,7 @@ TEST(AdjustJointly, LeavesOutAPointBehindItsCameras) {
 }
 
 TEST(AdjustJointly, RefusesImagesWithoutAnOdometryLink) {
-  Scene scene = MakeScene(3, 0.5, 0.0);
+  JointScene scene = MakeScene(3, 0.5, 0.0);
   // Cut the drive in two: no link between the halves, and no point seen
   // from both: the second half's scale is free, and the adjustment must say
   // so rather than return it.
@@ -269,7 +156,7 @@ TEST(AdjustJointly, RefusesImagesWithoutAnOdometryLink) {
 }
 
 TEST(AdjustJointly, RefusesInvalidInput) {
-  Scene scene = MakeScene(4, 0.5, 0.0);
+  JointScene scene = MakeScene(4, 0.5, 0.0);
   scene.problem.links[3].covariance.setZero();
   EXPECT_EQ(AdjustJointly(scene.problem, JointAdjustmentOptions()).status,
             JointAdjustmentStatus::kInvalidInput);
@@ -287,7 +174,7 @@ std::vector<int> InOrder(const JointAdjustmentProblem& problem) {
 }
 
 TEST(JackknifeJointExtrinsic, AgreesWithTheModelWhereItsNoiseIsRight) {
-  const Scene scene = MakeScene(2, 0.5, 0.05);
+  const JointScene scene = MakeScene(2, 0.5, 0.05);
   JointAdjustmentOptions options;
   int num_calls = 0;
   int last_pass = 0;
@@ -326,7 +213,7 @@ TEST(JackknifeJointExtrinsic, WidensWhatErrorsCommonToAnImageHide) {
   // Each image's features move together by 0.6 px besides their own
   // 0.3 px: the model (and the per-track sandwich) count 0.3 px
   // independent errors and understate the extrinsic's spread.
-  const Scene scene = MakeScene(3, 0.3, 0.05, 0.0, 0.6);
+  const JointScene scene = MakeScene(3, 0.3, 0.05, 0.0, 0.6);
   const JointAdjustmentOptions options;
   JointAdjustmentResult result = AdjustJointly(scene.problem, options);
   ASSERT_TRUE(result.IsSuccess()) << result.message;
@@ -349,7 +236,7 @@ TEST(JackknifeJointExtrinsic, WidensWhatErrorsCommonToAnImageHide) {
 }
 
 TEST(JackknifeJointExtrinsic, NeedsTwoImagesPerBlock) {
-  const Scene scene = MakeScene(4, 0.5, 0.0);
+  const JointScene scene = MakeScene(4, 0.5, 0.0);
   JointAdjustmentResult result =
       AdjustJointly(scene.problem, JointAdjustmentOptions());
   ASSERT_TRUE(result.IsSuccess()) << result.message;

@@ -1,0 +1,44 @@
+// A planar drive past random points for the joint adjustment
+// (solver/joint_adjustment.h): a forward camera sees the points, wheel
+// odometry links consecutive images, and the starting values carry a
+// COLMAP-like scale drift (the model's size grows along the drive). Used by
+// the solver's tests and benchmarks/joint_adjustment_benchmark.cc.
+#pragma once
+
+#include "odomcal/solver/joint_adjustment.h"
+#include "odomcal/solver/planar_pose.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace odomcal {
+
+struct JointSceneOptions {
+  int num_images = 80;        // 0.25 m apart, turning both ways
+  int points_per_image = 12;  // 2-8 m to the sides and ahead of each pose
+  double pixel_sigma = 0.5;   // independent per observation
+  // Common to every feature of one image (as a timing or rolling shutter
+  // error moves them together), per axis.
+  double image_shift_px = 0.0;
+  double outlier_fraction = 0.0;  // observations moved by 40 px sigma
+  // The starting values' size grows by this much from the drive's start to
+  // its end; the extrinsic starts 0.5 deg and 2 cm off.
+  double drift = 0.05;
+  unsigned seed = 1;
+};
+
+struct JointScene {
+  JointAdjustmentProblem problem;
+  Rigid3d odom_from_cam;                // the truth
+  std::vector<PlanarPose> poses;        // the truth, per image
+  std::vector<Eigen::Vector3d> points;  // the truth
+};
+
+// A 640 x 480 SIMPLE_RADIAL camera (COLMAP's pixel convention) sees points
+// 0.5-12 m ahead; the odometry between consecutive images has 2 mm + 1 %
+// per axis and 0.2 deg + 1 % of the turn, as its link covariance says.
+JointScene SimulateJointScene(const JointSceneOptions& options);
+
+}  // namespace odomcal
