@@ -168,7 +168,9 @@ struct JointAdjustmentResult {
   Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();
   // Per [rx, ry, rz, tx, ty], the factor (>= 1) on the model's standard
   // deviation that `covariance` holds: the cluster-robust one over the
-  // model's where larger (joint_adjustment_covariance.h).
+  // model's where larger (joint_adjustment_covariance.h); the jackknife
+  // (joint_adjustment_jackknife.h) widens both further where its spread is
+  // larger.
   Eigen::Matrix<double, 5, 1> covariance_widening =
       Eigen::Matrix<double, 5, 1>::Ones();
   std::vector<PlanarPose> origin_from_odom;  // per image
