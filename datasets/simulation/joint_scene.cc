@@ -58,8 +58,10 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
         {0, {xy.x(), xy.y(), scene.poses[i].yaw_rad + 0.002 * normal(random)}});
   }
   for (size_t k = 0; k < scene.points.size(); ++k) {
+    // The drift of the image the point was placed ahead of.
+    const size_t image = k / static_cast<size_t>(per_image);
     const double fraction =
-        static_cast<double>(k / per_image) / static_cast<double>(num_images);
+        static_cast<double>(image) / static_cast<double>(num_images);
     problem.points.push_back(
         drifted(scene.points[k], fraction) +
         0.01 * Eigen::Vector3d(normal(random), normal(random), normal(random)));
