@@ -18,6 +18,7 @@
 #pragma once
 
 #include <array>
+#include <type_traits>
 
 namespace odomcal {
 
@@ -94,30 +95,26 @@ bool ProjectToPixel(const T* params, const T* point_in_cam, T* pixel) {
   return true;
 }
 
-// ProjectToPixel() for a model known only at run time.
-template <typename T>
-bool ProjectWith(ProjectionModel model,
-                 const T* params,
-                 const T* point_in_cam,
-                 T* pixel) {
+// Calls visitor(std::integral_constant<ProjectionModel, kModel>()) for a
+// model known only at run time, so that one switch serves every templated
+// use (ProjectToPixel<kModel>, cost functions of kModel). A value outside
+// the enum gives the visitor's result type value-initialised.
+template <typename Visitor>
+auto VisitProjectionModel(ProjectionModel model, Visitor&& visitor) {
+  using M = ProjectionModel;
   switch (model) {
-    case ProjectionModel::kSimplePinhole:
-      return ProjectToPixel<ProjectionModel::kSimplePinhole>(
-          params, point_in_cam, pixel);
-    case ProjectionModel::kPinhole:
-      return ProjectToPixel<ProjectionModel::kPinhole>(
-          params, point_in_cam, pixel);
-    case ProjectionModel::kSimpleRadial:
-      return ProjectToPixel<ProjectionModel::kSimpleRadial>(
-          params, point_in_cam, pixel);
-    case ProjectionModel::kRadial:
-      return ProjectToPixel<ProjectionModel::kRadial>(
-          params, point_in_cam, pixel);
-    case ProjectionModel::kOpenCV:
-      return ProjectToPixel<ProjectionModel::kOpenCV>(
-          params, point_in_cam, pixel);
+    case M::kSimplePinhole:
+      return visitor(std::integral_constant<M, M::kSimplePinhole>());
+    case M::kPinhole:
+      return visitor(std::integral_constant<M, M::kPinhole>());
+    case M::kSimpleRadial:
+      return visitor(std::integral_constant<M, M::kSimpleRadial>());
+    case M::kRadial:
+      return visitor(std::integral_constant<M, M::kRadial>());
+    case M::kOpenCV:
+      return visitor(std::integral_constant<M, M::kOpenCV>());
   }
-  return false;
+  return decltype(visitor(std::integral_constant<M, M::kPinhole>())){};
 }
 
 }  // namespace odomcal

@@ -92,62 +92,27 @@ ceres::CostFunction* CreateReprojectionCost(const Eigen::Vector2d& pixel,
 ceres::CostFunction* ReprojectionCostFor(ProjectionModel model,
                                          const Eigen::Vector2d& pixel,
                                          double pixel_sigma) {
-  switch (model) {
-    case ProjectionModel::kSimplePinhole:
-      return CreateReprojectionCost<ProjectionModel::kSimplePinhole>(
-          pixel, pixel_sigma);
-    case ProjectionModel::kPinhole:
-      return CreateReprojectionCost<ProjectionModel::kPinhole>(pixel,
-                                                               pixel_sigma);
-    case ProjectionModel::kSimpleRadial:
-      return CreateReprojectionCost<ProjectionModel::kSimpleRadial>(
-          pixel, pixel_sigma);
-    case ProjectionModel::kRadial:
-      return CreateReprojectionCost<ProjectionModel::kRadial>(pixel,
-                                                              pixel_sigma);
-    case ProjectionModel::kOpenCV:
-      return CreateReprojectionCost<ProjectionModel::kOpenCV>(pixel,
-                                                              pixel_sigma);
-  }
-  return nullptr;
+  return VisitProjectionModel(model, [&](auto constant) {
+    return CreateReprojectionCost<decltype(constant)::value>(pixel,
+                                                             pixel_sigma);
+  });
 }
 
 // The reprojection residual in pixels at doubles, without a cost object.
-template <ProjectionModel kModel>
-bool ReprojectionResidualOf(const Eigen::Vector2d& pixel,
-                            const double* const* parameters,
-                            double* residual) {
-  return ReprojectionCost<kModel>(pixel, 1.0)(parameters[0],
-                                              parameters[1],
-                                              parameters[2],
-                                              parameters[3],
-                                              parameters[4],
-                                              parameters[5],
-                                              residual);
-}
-
 bool ReprojectionResidualFor(ProjectionModel model,
                              const Eigen::Vector2d& pixel,
                              const double* const* parameters,
                              double* residual) {
-  switch (model) {
-    case ProjectionModel::kSimplePinhole:
-      return ReprojectionResidualOf<ProjectionModel::kSimplePinhole>(
-          pixel, parameters, residual);
-    case ProjectionModel::kPinhole:
-      return ReprojectionResidualOf<ProjectionModel::kPinhole>(
-          pixel, parameters, residual);
-    case ProjectionModel::kSimpleRadial:
-      return ReprojectionResidualOf<ProjectionModel::kSimpleRadial>(
-          pixel, parameters, residual);
-    case ProjectionModel::kRadial:
-      return ReprojectionResidualOf<ProjectionModel::kRadial>(
-          pixel, parameters, residual);
-    case ProjectionModel::kOpenCV:
-      return ReprojectionResidualOf<ProjectionModel::kOpenCV>(
-          pixel, parameters, residual);
-  }
-  return false;
+  return VisitProjectionModel(model, [&](auto constant) {
+    return ReprojectionCost<decltype(constant)::value>(pixel, 1.0)(
+        parameters[0],
+        parameters[1],
+        parameters[2],
+        parameters[3],
+        parameters[4],
+        parameters[5],
+        residual);
+  });
 }
 
 // Hands each Ceres iteration to JointAdjustmentOptions::progress.
