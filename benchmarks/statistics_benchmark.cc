@@ -8,6 +8,7 @@
 //   statistics_benchmark drive [seeds] [odometry_hz] [camera_hz] [noise_factor]
 //                              [vo] [odometry_keep_every] [wheel_scale_errors]
 //                              [odometry_resample_hz] [yaw_scale]
+//                              [duration_s]
 //   statistics_benchmark cost [motions] [estimate_noise]
 //
 // paper: the paper protocol with parametric camera noise (odometry 0.01 rad
@@ -26,7 +27,11 @@
 // and a 7 Hz camera). odometry_resample_hz keeps the odometry samples
 // nearest to a grid at that rate (e.g. 3.8 Hz from 266 Hz, with a 7 Hz
 // camera); yaw_scale divides the odometry's yaw increments (1.05: the
-// sensors' yaw increments disagree by 5 %). The drive mode also prints the
+// sensors' yaw increments disagree by 5 %); duration_s: the drive's length
+// (120 s). The drive mode also prints, for the default and the default +
+// systematics, the runs with a noise level at a bound (noise_estimation.h)
+// and the runs whose result lies within its own 3 sigma of the same
+// calibration with the given noise (--estimate_noise off), and the
 // plain batch over all consecutive frames (no keyframes, no RANSAC), the
 // issue's rotation reference, without and with the clock offset and the
 // odometry intrinsics estimated (the like-for-like reference of the CLI's
@@ -356,6 +361,36 @@ void Resample(double rate_hz, Trajectory* odometry) {
   odometry->poses = kept;
 }
 
+// Whether `other` lies within `result`'s stated 3 sigma in rotation (each
+// axis), x, y and the first scale.
+bool WithinOwnThreeSigma(const CalibrationResult& result,
+                         const CalibrationResult& other) {
+  if (!result.covariance || result.covariance->rows() < 6 ||
+      !other.has_estimate || other.metric_scales.empty()) {
+    return false;
+  }
+  const Eigen::MatrixXd& c = *result.covariance;
+  Eigen::VectorXd difference(6);
+  difference.head<3>() = LogRotation(other.odom_from_cam.rotation *
+                                     result.odom_from_cam.rotation.conjugate());
+  difference.segment<2>(3) =
+      (other.odom_from_cam.translation - result.odom_from_cam.translation)
+          .head<2>();
+  difference(5) = other.metric_scales[0] - result.metric_scales[0];
+  for (int k = 0; k < 6; ++k) {
+    if (std::abs(difference(k)) > 3.0 * std::sqrt(c(k, k))) return false;
+  }
+  return true;
+}
+
+bool NoiseAtBound(const CalibrationResult& result) {
+  if (!result.noise_estimate) return false;
+  for (const NoiseBound bound : result.noise_estimate->component_bound) {
+    if (bound != NoiseBound::kNone) return true;
+  }
+  return false;
+}
+
 int RunDrive(int seeds,
              double odometry_hz,
              double camera_hz,
@@ -364,16 +399,20 @@ int RunDrive(int seeds,
              int keep_every,
              bool wheel_scale_errors,
              double resample_hz,
-             double yaw_scale) {
+             double yaw_scale,
+             double duration_s) {
   Tally estimated, given, batch, cli, batch_systematics;
   int cli_failures = 0;
   double yaw_scale_error2 = 0.0;
   int yaw_scale_estimated = 0, yaw_scale_covered = 0;
   int num_drifting = 0;  // runs whose camera poses the association saw drift
+  // Per default / default + systematics: runs with a noise level at a bound,
+  // and runs within their own 3 sigma of the given noise's result.
+  int at_bound[2] = {0, 0}, agrees_with_given[2] = {0, 0};
   for (int seed = 0; seed < seeds; ++seed) {
     DriveSimulatorOptions options;
     options.seed = 2000 + seed;
-    options.duration_s = 120.0;
+    options.duration_s = duration_s;
     options.odometry_rate_hz = odometry_hz;
     options.camera_rate_hz = camera_hz;
     if (vo) {
@@ -401,13 +440,15 @@ int RunDrive(int seeds,
     num_drifting += association.camera_pose_drift.drifting;
     CalibrationOptions calibration;
     calibration.fixed_translation_z_m = drive.odom_from_cam.translation.z();
-    estimated.Add(CalibrateOdomCam(association.pairs, calibration),
-                  drive.odom_from_cam,
-                  drive.metric_scale);
+    const CalibrationResult default_result =
+        CalibrateOdomCam(association.pairs, calibration);
+    estimated.Add(default_result, drive.odom_from_cam, drive.metric_scale);
     calibration.estimate_noise = false;
-    given.Add(CalibrateOdomCam(association.pairs, calibration),
-              drive.odom_from_cam,
-              drive.metric_scale);
+    const CalibrationResult given_result =
+        CalibrateOdomCam(association.pairs, calibration);
+    given.Add(given_result, drive.odom_from_cam, drive.metric_scale);
+    at_bound[0] += NoiseAtBound(default_result);
+    agrees_with_given[0] += WithinOwnThreeSigma(default_result, given_result);
     // The clock offset and the odometry intrinsics estimated with the
     // extrinsic (EstimateSystematics, as the CLI does), for the given
     // association and calibration options.
@@ -448,6 +489,12 @@ int RunDrive(int seeds,
         yaw_scale_covered +=
             std::abs(error) <= 3.0 * systematics.intrinsics_stddev[0];
       }
+      defaults.estimate_noise = false;
+      SystematicsEstimate given_systematics;
+      const CalibrationResult given_noise_result = with_systematics(
+          AssociationOptions(), defaults, &given_systematics);
+      at_bound[1] += NoiseAtBound(result);
+      agrees_with_given[1] += WithinOwnThreeSigma(result, given_noise_result);
     }
     // The reference: every consecutive camera frame, no RANSAC; without and
     // with the systematics (the like-for-like reference of the CLI's
@@ -470,9 +517,10 @@ int RunDrive(int seeds,
                           drive.metric_scale);
   }
   std::printf(
-      "drives: %d seeds, 120 s, odometry %g Hz, camera %g Hz, noise %g x "
+      "drives: %d seeds, %g s, odometry %g Hz, camera %g Hz, noise %g x "
       "(%s)%s\n",
       seeds,
+      duration_s,
       resample_hz > 0.0 ? resample_hz : odometry_hz / keep_every,
       camera_hz,
       noise_factor,
@@ -521,6 +569,17 @@ int RunDrive(int seeds,
       yaw_scale_estimated,
       std::sqrt(yaw_scale_error2 / std::max(1, yaw_scale_estimated)),
       yaw_scale_covered);
+  const char* names[2] = {"default", "default + systematics"};
+  for (int k = 0; k < 2; ++k) {
+    std::printf(
+        "%-22s %s: a noise level at a bound in %d of %d runs; within its own "
+        "3 sigma of the given noise's result in %d\n",
+        "",
+        names[k],
+        at_bound[k],
+        seeds,
+        agrees_with_given[k]);
+  }
   return 0;
 }
 
@@ -593,7 +652,8 @@ int main(int argc, char** argv) {
                              std::max(1, static_cast<int>(arg(7, 1))),
                              arg(8, 0.0) != 0.0,
                              arg(9, 0.0),
-                             arg(10, 1.0));
+                             arg(10, 1.0),
+                             arg(11, 120.0));
   }
   if (mode == "cost") {
     return odomcal::RunCost(static_cast<int>(arg(2, 10000)),
@@ -603,7 +663,8 @@ int main(int argc, char** argv) {
                "usage: statistics_benchmark paper [seeds] [motions] "
                "[outlier_fraction] | drive [seeds] [odometry_hz] "
                "[camera_hz] [noise_factor] [vo] [odometry_keep_every] "
-               "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale] | "
+               "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale] "
+               "[duration_s] | "
                "cost [motions] [estimate_noise]\n");
   return 2;
 }

@@ -532,6 +532,8 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                                information_segments,
                                *result.noise_estimate,
                                &result.noise_estimate->stddev_widening);
+    const double misfit = result.noise_estimate->misfit_widening;
+    information /= misfit * misfit;
   }
 
   ComputeResiduals(weighted_pairs, used, weighted, &result);

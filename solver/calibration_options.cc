@@ -92,6 +92,7 @@ void CalibrationOptions::Check() const {
   CheckPositive(max_scale_stddev_rel, "max_scale_stddev_rel");
   CheckPositive(max_relative_translation_residual,
                 "max_relative_translation_residual");
+  CheckNonNegative(noise_prior_weight, "noise_prior_weight");
 }
 
 std::string ToString(LinearMethod method) {

@@ -102,6 +102,11 @@ struct CalibrationOptions {
   // the final inlier test (chi-square on the whitened residual) use them.
   // Off: the given noise is trusted and the pairs RANSAC chose are kept.
   bool estimate_noise = true;
+  // Weight of the given noise in that estimation, in pseudo-observations per
+  // estimated noise level: a scaled inverse chi-square prior centred on the
+  // given noise, so that a short log or a component few pairs see stays near
+  // it, while hundreds of pairs overrule it. 0: the data alone.
+  double noise_prior_weight = 4.0;
 
   // Throws std::invalid_argument whose message starts with the field's name
   // ("ransac_min_inlier_ratio must be in [0, 1], got 1.5"); the field names

@@ -35,12 +35,19 @@ using internal::WithFixedParameter;
 
 constexpr int kMaxIterations = 100;
 constexpr double kConvergence = 1e-5;
-// The given noise is a prior, not only a start: an estimate at most 10x below
-// it (in standard deviation). Exact or over-fitted data (simulations, a
-// handful of pairs) would otherwise claim a near-zero noise, a covariance of
-// zero and a gate that rejects every pair off by rounding.
-constexpr double kMinMultiplier = 0.01;
-constexpr double kMaxMultiplier = 1e6;
+// The bounds of the estimated standard deviations (noise_estimation.h), as
+// multipliers of the variances. Exact data would otherwise claim a near-zero
+// noise, a covariance of zero and a gate that rejects every pair off by
+// rounding; a systematic error, a noise without bound.
+constexpr double kMinMultiplier =
+    kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
+constexpr double kMaxMultiplier =
+    kNoiseSigmaRatioCeiling * kNoiseSigmaRatioCeiling;
+// Relative distance to a bound within which a multiplier counts as at it.
+constexpr double kAtBound = 1e-3;
+// The largest change of a multiplier, as a ratio, that a Fisher step may
+// make.
+constexpr double kMaxFisherRatio = 4.0;
 // Fisher steps before an unseparable parameter is tied without converging.
 constexpr int kIterationsBeforeTieCheck = 3;
 
@@ -49,7 +56,23 @@ struct Pass {
   Eigen::VectorXd weighted_sum;     // q_p = sum e^T P D_p P e
   Eigen::VectorXd redundancy_part;  // t_p = sum tr(D_p M)
   Eigen::MatrixXd helmert;          // H_pq = sum tr(M D_p M D_q)
+  double chi_square = 0.0;          // sum e^T P e
 };
+
+// The prior (noise_estimation.h): w pseudo-observations of each parameter's
+// starting level (multiplier 1), log p(mu) = -w/2 (log mu + 1 / mu). In the
+// units of the score q - t (twice the log-likelihood's derivative) it adds
+// w / mu^2 to q, w / mu to t and w / mu^2 to H (the information of w
+// observations, as a linear component's redundancy r adds r / mu^2):
+// Helmert's step for one linear component then gives (S + w) / (r + w).
+Pass WithPrior(Pass pass, const Eigen::VectorXd& mu, double weight) {
+  for (int p = 0; p < mu.size(); ++p) {
+    pass.weighted_sum(p) += weight / (mu(p) * mu(p));
+    pass.redundancy_part(p) += weight / mu(p);
+    pass.helmert(p, p) += weight / (mu(p) * mu(p));
+  }
+  return pass;
+}
 
 // mu: one multiplier per free parameter. Two passes over the pairs (the
 // normal matrix first, then the sums that need its inverse), each pair's
@@ -92,6 +115,7 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
     Matrix6d m = p;
     m.noalias() -= pj_normal_inverse * pj.transpose();
     const Vector6d pe = p * terms[i].residual;
+    pass.chi_square += terms[i].residual.dot(pe);
     for (int c = 0; c < num_free; ++c) {
       const Matrix6d& d = derivatives[c];
       pass.weighted_sum(c) += pe.dot(d * pe);
@@ -280,7 +304,12 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   }
 
   Eigen::VectorXd mu;
-  Pass pass;
+  Pass data_pass;  // the pairs' sums alone
+  Pass pass;       // with the prior: the scoring's
+  const auto evaluate = [&](const ParameterOf& parameter_of) {
+    data_pass = Evaluate(terms, parameter_of, mu);
+    pass = WithPrior(data_pass, mu, options.noise_prior_weight);
+  };
   std::array<double, kNumNoiseComponents> last_multiplier;
   for (int c = 0; c < kNumNoiseComponents; ++c) {
     last_multiplier[c] =
@@ -302,7 +331,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     bool converged = false;
     std::vector<bool> held(num_free, false);
     for (; iteration < kMaxIterations; ++iteration) {
-      pass = Evaluate(terms, parameter_of, mu);
+      evaluate(parameter_of);
       const Eigen::VectorXd score = pass.weighted_sum - pass.redundancy_part;
       // Active set: a parameter at the floor whose score points below it
       // (the data ask for a smaller, even negative, variance) is held there
@@ -317,7 +346,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
       // A parameter the data cannot separate makes the iteration creep
       // along a ridge: tie it as soon as that shows, not after 100 steps.
       if (iteration >= kIterationsBeforeTieCheck &&
-          Uncertainty(pass, mu, parameters, held).worst_relative >
+          Uncertainty(data_pass, mu, parameters, held).worst_relative >
               kMaxRelativeStddev) {
         break;
       }
@@ -326,20 +355,32 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
         break;
       }
       // Fisher scoring (Helmert's step where Cov is linear in mu) converges
-      // in a few iterations; where it fails, Foerstner's multiplicative step.
+      // in a few iterations. Where it would move a multiplier by more than
+      // kMaxFisherRatio (or fails), Foerstner's multiplicative step for all:
+      // the prior's 1 / mu^2 is far from linear near the floor, where the
+      // linearised step overshoots from the floor to the start and back.
       const Eigen::MatrixXd helmert = pass.helmert(free, free);
       const Eigen::VectorXd step =
           helmert.completeOrthogonalDecomposition().solve(
               Eigen::VectorXd(score(free)));
+      bool fisher = true;
+      for (size_t k = 0; k < free.size(); ++k) {
+        const double ratio = (mu(free[k]) + step(k)) / mu(free[k]);
+        if (!std::isfinite(ratio) || ratio > kMaxFisherRatio ||
+            ratio < 1.0 / kMaxFisherRatio) {
+          fisher = false;
+        }
+      }
       double change = 0.0;
       for (size_t k = 0; k < free.size(); ++k) {
         const int p = free[k];
         double next = mu(p) + step(k);
-        if (!std::isfinite(next)) {
+        if (!fisher) {
           next = pass.redundancy_part(p) > 0.0
                      ? mu(p) * pass.weighted_sum(p) / pass.redundancy_part(p)
                      : mu(p);
         }
+        if (!std::isfinite(next)) next = mu(p);
         next = std::clamp(next, kMinMultiplier, kMaxMultiplier);
         change = std::max(change, std::abs(next / mu(p) - 1.0));
         mu(p) = next;
@@ -351,7 +392,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     }
     estimate.num_iterations += iteration + 1;
     if (converged || iteration == kMaxIterations) {
-      pass = Evaluate(terms, parameter_of, mu);
+      evaluate(parameter_of);
       const Eigen::VectorXd score = pass.weighted_sum - pass.redundancy_part;
       for (int p = 0; p < num_free; ++p) {
         held[p] = mu(p) <= kMinMultiplier && score(p) <= 0.0;
@@ -361,15 +402,35 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
       for (const int c : parameters[p]) last_multiplier[c] = mu(p);
     }
     const MultiplierUncertainty uncertainty =
-        Uncertainty(pass, mu, parameters, held);
+        Uncertainty(data_pass, mu, parameters, held);
+    // What the pairs determine decides the ties (the prior would determine
+    // every level); the estimate's own uncertainty includes the prior.
     const Eigen::MatrixXd& covariance = uncertainty.covariance;
+    const Eigen::MatrixXd posterior_covariance =
+        Uncertainty(pass, mu, parameters, held).covariance;
     const Eigen::VectorXd& relative = uncertainty.relative;
     const int worst = uncertainty.worst;
     if (uncertainty.worst_relative <= kMaxRelativeStddev) {
+      // A level at a bound is a finding: kept at the start, the others
+      // estimated again without it.
+      bool any_at_bound = false;
+      for (int p = num_free - 1; p >= 0; --p) {
+        NoiseBound bound = NoiseBound::kNone;
+        if (mu(p) <= kMinMultiplier * (1.0 + kAtBound)) {
+          bound = NoiseBound::kFloor;
+        } else if (mu(p) >= kMaxMultiplier * (1.0 - kAtBound)) {
+          bound = NoiseBound::kCeiling;
+        }
+        if (bound == NoiseBound::kNone) continue;
+        for (const int c : parameters[p]) estimate.component_bound[c] = bound;
+        parameters.erase(parameters.begin() + p);
+        any_at_bound = true;
+      }
+      if (any_at_bound) continue;
       // In the refinement's columns, which hold z (WidenForEstimatedNoise).
       if (!estimate_z) {
         estimate.kenward_roger_term =
-            KenwardRogerTerm(terms, parameter_of, mu, covariance);
+            KenwardRogerTerm(terms, parameter_of, mu, posterior_covariance);
         for (const auto& [segment, column] : scale_columns) {
           estimate.kenward_roger_segments.push_back(segment);
         }
@@ -384,7 +445,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
           estimate.component_relative_stddev[c] = relative(p);
           const int g = Index(GroupOf(static_cast<NoiseComponent>(c)));
           estimate.redundancy[g] +=
-              mu(p) * pass.redundancy_part(p) / parameters[p].size();
+              mu(p) * data_pass.redundancy_part(p) / parameters[p].size();
           estimate.factor_relative_stddev[g] =
               std::max(estimate.factor_relative_stddev[g], relative(p));
         }
@@ -434,6 +495,32 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   }
   estimate.noise =
       ScaleNoiseComponents(options.noise, estimate.component_factors);
+
+  // A level kept at a bound leaves the fit's chi-square off its redundancy;
+  // above it (a noise the model cannot take up), the covariance is widened.
+  const bool any_at_bound =
+      std::any_of(estimate.component_bound.begin(),
+                  estimate.component_bound.end(),
+                  [](NoiseBound b) { return b != NoiseBound::kNone; });
+  if (any_at_bound) {
+    double chi_square = data_pass.chi_square;
+    if (parameters.empty()) {
+      ParameterOf all_fixed;
+      all_fixed.fill(0);
+      const Eigen::VectorXd start_multiplier = Eigen::VectorXd::Ones(1);
+      chi_square = 0.0;
+      for (const PairTerms& term : terms) {
+        const Matrix6d covariance =
+            PairCovariance(term, all_fixed, start_multiplier, nullptr);
+        chi_square += term.residual.dot(covariance.ldlt().solve(term.residual));
+      }
+    }
+    const double redundancy =
+        6.0 * static_cast<double>(terms.size()) - num_columns;
+    if (redundancy > 0.0 && chi_square > redundancy) {
+      estimate.misfit_widening = std::sqrt(chi_square / redundancy);
+    }
+  }
 
   // Per group: the level (estimated over given contribution) and the ties.
   std::array<double, kNumNoiseGroups> given = {}, estimated = {};

@@ -21,14 +21,34 @@ std::string Ratio(double value) {
 
 }  // namespace
 
+std::string ToString(NoiseBound bound) {
+  switch (bound) {
+    case NoiseBound::kNone:
+      return "none";
+    case NoiseBound::kFloor:
+      return "floor";
+    case NoiseBound::kCeiling:
+      return "ceiling";
+  }
+  return "none";
+}
+
 std::string NoiseSummary(const NoiseEstimate& estimate) {
   std::ostringstream text;
   text << "noise estimated from " << estimate.num_pairs
        << " pairs (standard deviations relative to the given noise): ";
   bool first = true;
-  std::vector<std::string> kept;
+  std::vector<std::string> kept, floor, ceiling;
   for (int c = 0; c < kNumNoiseComponents; ++c) {
     if (!estimate.component_present[c]) continue;
+    if (estimate.component_bound[c] == NoiseBound::kFloor) {
+      floor.push_back(ToString(static_cast<NoiseComponent>(c)));
+      continue;
+    }
+    if (estimate.component_bound[c] == NoiseBound::kCeiling) {
+      ceiling.push_back(ToString(static_cast<NoiseComponent>(c)));
+      continue;
+    }
     if (!estimate.component_estimated[c]) {
       if (c != Index(NoiseComponent::kOdometryTilt)) {
         kept.push_back(ToString(static_cast<NoiseComponent>(c)));
@@ -57,6 +77,27 @@ std::string NoiseSummary(const NoiseEstimate& estimate) {
       text << (k == 0 ? "" : ", ") << kept[k];
     }
     text << " (not determined by these pairs)";
+  }
+  const auto list = [&](const std::vector<std::string>& names) {
+    for (size_t k = 0; k < names.size(); ++k) {
+      text << (k == 0 ? "" : ", ") << names[k];
+    }
+  };
+  if (!ceiling.empty()) {
+    text << "; kept as given, the data ask for over "
+         << Ratio(kNoiseSigmaRatioCeiling) << "x: ";
+    list(ceiling);
+    text << " (an error the noise model does not describe, e.g. a "
+            "systematic one)";
+  }
+  if (!floor.empty()) {
+    text << "; kept as given, the data ask for under "
+         << Ratio(kNoiseSigmaRatioFloor) << "x: ";
+    list(floor);
+  }
+  if (estimate.misfit_widening >= 1.005) {
+    text << "; standard deviations widened x" << Ratio(estimate.misfit_widening)
+         << " for the misfit";
   }
   if (estimate.stddev_widening >= 1.005) {
     std::ostringstream percent;

@@ -418,6 +418,7 @@ class FlagEcho : public ScratchFolderTest {
         {"--max_translation_stddev_m", {"0.06", 0.06}},
         {"--max_scale_stddev_rel", {"0.06", 0.06}},
         {"--estimate_noise", {"off", false}},
+        {"--noise_prior_weight", {"2.5", 2.5}},
         {"--estimate_time_offset", {"off", false}},
         {"--time_offset_search_s", {"0.5", 0.5}},
         {"--estimate_odometry_intrinsics", {"off", false}},

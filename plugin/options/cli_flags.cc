@@ -264,6 +264,11 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
         row.echo = [](const C& o) { return nlohmann::json(o.estimate_noise); };
         return row;
       }(),
+      NumberRow<C>(
+          "noise_prior_weight",
+          "weight of the noise flags in the noise estimation, in "
+          "pseudo-observations per noise level (0: the data alone)",
+          [](auto& o) -> auto& { return o.noise_prior_weight; }),
   };
   return table;
 }

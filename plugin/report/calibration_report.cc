@@ -152,6 +152,7 @@ json NoiseToJson(const NoiseEstimate& estimate) {
         {"estimated", estimate.component_estimated[c]},
         {"sigma_ratio", estimate.SigmaRatio(static_cast<NoiseComponent>(c))},
         {"tied_with", tied},
+        {"bound", ToString(estimate.component_bound[c])},
     });
   }
   return {
@@ -167,6 +168,7 @@ json NoiseToJson(const NoiseEstimate& estimate) {
       {"cam_translation_along_sigma_rel", n.CamTranslationAlongSigmaRel()},
       {"components", components},
       {"stddev_widening", estimate.stddev_widening},
+      {"misfit_widening", estimate.misfit_widening},
   };
 }
 
