@@ -113,4 +113,30 @@ void AttachOdometrySamples(const Trajectory& odometry, MotionPairs* pairs) {
   }
 }
 
+void AttachOdometryTwists(const Trajectory& odometry, MotionPairs* pairs) {
+  if (odometry.poses.size() < 2) return;
+  const auto twist_at = [&](int64_t stamp_ns) {
+    const size_t k = PeriodOf(odometry, stamp_ns);
+    const StampedPose& a = odometry.poses[k];
+    const StampedPose& b = odometry.poses[k + 1];
+    const double dt_s = ElapsedSeconds(a.stamp_ns, b.stamp_ns);
+    const Eigen::Quaterniond& r_a = a.world_from_sensor.rotation;
+    const Eigen::Vector3d phi =
+        LogRotation(r_a.conjugate() * b.world_from_sensor.rotation);
+    const double tau = ElapsedSeconds(a.stamp_ns, stamp_ns) / dt_s;
+    const Eigen::Quaterniond r_at = r_a * ExpRotation(tau * phi);
+    Eigen::Matrix<double, 6, 1> twist;
+    twist.head<3>() = phi / dt_s;
+    twist.tail<3>() =
+        r_at.conjugate() *
+        (b.world_from_sensor.translation - a.world_from_sensor.translation) /
+        dt_s;
+    return twist;
+  };
+  for (MotionPair& pair : *pairs) {
+    pair.odometry_twists = OdometryEndpointTwists{twist_at(pair.stamp_i_ns),
+                                                  twist_at(pair.stamp_j_ns)};
+  }
+}
+
 }  // namespace odomcal

@@ -1,7 +1,8 @@
 // Planar wheel odometry as sample increments (solver/odometry_intrinsics.h):
 // what a pair's odometry motion is re-integrated from when the clock offset
 // and the odometry intrinsics are estimated, and the corrected odometry the
-// metric export uses.
+// metric export uses; for 3-D odometry, the endpoint twists that move a
+// pair's motion to another clock offset.
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
@@ -30,5 +31,13 @@ Trajectory CorrectOdometry(const Trajectory& odometry,
 // per second of the sample period holding each endpoint. Needs planar
 // odometry with >= 2 samples.
 void AttachOdometrySamples(const Trajectory& odometry, MotionPairs* pairs);
+
+// Sets every pair's odometry_twists from 3-D odometry (>= 2 samples): at
+// each stamp, the velocity of InterpolateOdometry's interpolation of the
+// sample period holding it (slerp: the rotation vector of the period over
+// its duration; linear: the translation over its duration, turned into the
+// odometry frame at the stamp), so that origin_from_odom(t + h) =
+// origin_from_odom(t) Exp(h xi) to first order in h.
+void AttachOdometryTwists(const Trajectory& odometry, MotionPairs* pairs);
 
 }  // namespace odomcal

@@ -136,6 +136,11 @@ SystematicsEstimate EstimateSystematics(
   estimate.camera_time_offset_ns = association_options.camera_time_offset_ns;
   estimate.corrected_odometry = odometry;
   const bool planar = odometry.planar && odometry.poses.size() >= 2;
+  // 3-D odometry (TUM): the clock offset through the endpoint twists; the
+  // intrinsics re-integrate planar samples and are held.
+  const bool three_d = !odometry.planar && odometry.poses.size() >= 2;
+  const bool estimate_intrinsics =
+      options.estimate_odometry_intrinsics && planar;
 
   const auto run = [&](int64_t offset_ns,
                        const OdometryIntrinsics& intrinsics) {
@@ -147,6 +152,7 @@ SystematicsEstimate EstimateSystematics(
     *association = AssociateCameraWithOdometry(
         cameras, estimate.corrected_odometry, shifted);
     if (planar) AttachOdometrySamples(odometry, &association->pairs);
+    if (three_d) AttachOdometryTwists(odometry, &association->pairs);
     estimate.camera_time_offset_ns = offset_ns;
     estimate.intrinsics = intrinsics;
     return calibrate(*association);
@@ -170,40 +176,18 @@ SystematicsEstimate EstimateSystematics(
     estimate.coarse_search_ran = true;
     estimate.search_range_s = options.time_offset_search_s;
   };
-  if (!any || !planar) {
-    if (any && odometry.planar) {
-      // A planar log of fewer than 2 samples: nothing to estimate from.
+  if (three_d && options.estimate_odometry_intrinsics) {
+    estimate.intrinsics_reasons.push_back(
+        "3-D odometry (a TUM log, not x, y, yaw): only a planar log's "
+        "odometry intrinsics are estimated");
+  }
+  if (!any || !(planar || (three_d && options.estimate_time_offset))) {
+    if (any && odometry.poses.size() < 2) {
+      // Nothing to estimate from.
       const std::string why = "fewer than 2 odometry samples: not estimated";
       if (options.estimate_time_offset) estimate.time_offset_reason = why;
       if (options.estimate_odometry_intrinsics) {
-        estimate.intrinsics_reasons.push_back(why);
-      }
-    } else if (any) {
-      // The refinement re-integrates SE(2) increments, so 3-D odometry keeps
-      // the given values. The coarse search compares rotation angles, which
-      // 3-D odometry has too: where it finds a peak the reason names it, so a
-      // wrong given offset does not pass unnoticed.
-      const std::string what = "3-D odometry (a TUM log, not x, y, yaw): ";
-      estimate.time_offset_refinable = false;
-      if (options.estimate_time_offset) {
-        estimate.time_offset_reason =
-            what + "only a planar log's clock offset is estimated";
-        if (odometry.poses.size() >= 2) {
-          coarse_search();
-          estimate.time_offset_reason +=
-              estimate.coarse.resolved
-                  ? "; the rotation angles of camera and odometry match "
-                    "best at " +
-                        FormatRounded(NsToSeconds(estimate.coarse.peak_ns)) +
-                        " s (coarse search)"
-                  : "; the coarse search of rotation angles found no "
-                    "offset either: " +
-                        estimate.coarse.reason;
-        }
-      }
-      if (options.estimate_odometry_intrinsics) {
-        estimate.intrinsics_reasons.push_back(
-            what + "only a planar log's odometry intrinsics are estimated");
+        estimate.intrinsics_reasons = {why};
       }
     }
     run(estimate.camera_time_offset_ns, OdometryIntrinsics());
@@ -223,7 +207,7 @@ SystematicsEstimate EstimateSystematics(
     Outcome outcome;
     SystematicsOptions limits = options.limits;
     limits.estimate_time_offset = refine_offset;
-    limits.estimate_intrinsics = options.estimate_odometry_intrinsics;
+    limits.estimate_intrinsics = estimate_intrinsics;
     OdometryIntrinsics intrinsics;
     intrinsics.wheel_track_m = options.wheel_track_m;
     int64_t offset_ns = start_ns;
@@ -383,9 +367,7 @@ SystematicsEstimate EstimateSystematics(
     if (estimate.time_offset_reason.empty() && options.estimate_time_offset) {
       estimate.time_offset_reason = why;
     }
-    if (options.estimate_odometry_intrinsics) {
-      estimate.intrinsics_reasons.push_back(why);
-    }
+    if (estimate_intrinsics) estimate.intrinsics_reasons.push_back(why);
     // Nothing estimated: what the caller gets must be the calibration at
     // the given values, which the outputs name, not at a coarse peak or at
     // the values of an unfinished round.
@@ -401,7 +383,7 @@ SystematicsEstimate EstimateSystematics(
   for (int k = 0; k < 3; ++k) {
     estimate.intrinsics_estimated[k] = last->estimated[1 + k];
     estimate.intrinsics_stddev[k] = last->stddev[1 + k];
-    if (options.estimate_odometry_intrinsics && !last->estimated[1 + k]) {
+    if (estimate_intrinsics && !last->estimated[1 + k]) {
       estimate.intrinsics_reasons.push_back(last->held_reason[1 + k]);
     }
   }

@@ -16,11 +16,10 @@
 //      the last calibration, at the final values, is the caller's result.
 // Its covariance is then replaced by the joint one marginalised over the
 // estimated systematics, so the stated uncertainty includes theirs.
-// Planar odometry only (the refinement re-integrates SE(2) increments). 3-D
-// odometry (a TUM log) keeps the given offset and identity intrinsics, and
-// the reasons say so; the coarse search still runs (rotation angles are 3-D
-// too) and time_offset_reason names its peak, so that a wrong given offset
-// shows, but the peak is not used: it has no stated uncertainty.
+// 3-D odometry (a TUM log): the clock offset alone, each pair's motion moved
+// to the refined offset through its endpoint twists (AttachOdometryTwists)
+// instead of re-integrated; the intrinsics, which re-integrate planar
+// samples, keep identity and the reasons say so.
 #pragma once
 
 #include "odomcal/adapters/association.h"
@@ -67,9 +66,6 @@ struct SystematicsEstimate {
   bool time_offset_estimated = false;
   double camera_time_offset_stddev_s = 0.0;
   std::string time_offset_reason;  // why held at the given value
-  // False for 3-D odometry: only the coarse search ran, so a warning is
-  // due only where its peak lies away from the given offset.
-  bool time_offset_refinable = true;
   bool coarse_search_ran = false;
   double search_range_s = 0.0;
   TimeOffsetSearch coarse;

@@ -8,28 +8,11 @@
 #include <cstdint>
 
 namespace odomcal {
-namespace {
-
-// Below this the coarse search's peak agrees with a given offset (its grid
-// and the camera's exposure blur the peak by a few milliseconds).
-constexpr int64_t kOffsetPeakToleranceNs = 10000000;  // 10 ms
-
-}  // namespace
 
 void AddSystematicsWarnings(const SystematicsEstimate& estimate,
                             CalibrationResult* result) {
-  // 3-D odometry: the coarse search alone, whose resolved peak away from
-  // the given offset is what a warning can carry; a synchronised log, or
-  // one the search cannot resolve, gets none (the summary and the JSON
-  // still say the offset was given).
-  const bool peak_away =
-      estimate.coarse_search_ran && estimate.coarse.resolved &&
-      std::abs(estimate.coarse.peak_ns - estimate.camera_time_offset_ns) >
-          std::max<int64_t>(kOffsetPeakToleranceNs,
-                            static_cast<int64_t>(3e9 * estimate.coarse.step_s));
   if (!estimate.time_offset_estimated &&
-      estimate.time_offset_reason != "--estimate_time_offset off" &&
-      (estimate.time_offset_refinable || peak_away)) {
+      estimate.time_offset_reason != "--estimate_time_offset off") {
     result->warnings.push_back(
         "camera_time_offset_s not estimated (" + estimate.time_offset_reason +
         "): kept at " +

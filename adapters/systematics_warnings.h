@@ -13,9 +13,7 @@
 namespace odomcal {
 
 // A warning when the clock offset was to be estimated and could not be
-// (with why); for 3-D odometry, whose offset only the coarse search sees,
-// only when its peak lies more than 10 ms from the given offset. Held
-// intrinsics are listed in the JSON and the summary.
+// (with why). Held intrinsics are listed in the JSON and the summary.
 void AddSystematicsWarnings(const SystematicsEstimate& estimate,
                             CalibrationResult* result);
 

@@ -74,30 +74,9 @@ TEST(WheelTrackWarning, NoneWhenTheTrackIsGivenOrTheShiftIsWithinTheNoise) {
   }
 }
 
-// 3-D odometry: only a coarse peak away from the given offset is a warning.
-TEST(SystematicsWarnings, ThreeDimensionalOdometryWarnsOnlyOfAPeakAway) {
-  SystematicsEstimate estimate;
-  estimate.time_offset_refinable = false;
-  estimate.time_offset_reason = "3-D odometry (a TUM log, not x, y, yaw): ...";
-  estimate.coarse_search_ran = true;
-  estimate.coarse.step_s = 0.0005;
-  CalibrationResult result;
-  estimate.coarse.resolved = false;  // smooth motion: nothing to say
-  AddSystematicsWarnings(estimate, &result);
-  EXPECT_TRUE(result.warnings.empty());
-  estimate.coarse.resolved = true;  // synchronised: the peak at 0
-  estimate.coarse.peak_ns = 3000000;
-  AddSystematicsWarnings(estimate, &result);
-  EXPECT_TRUE(result.warnings.empty());
-  estimate.coarse.peak_ns = 50000000;  // 50 ms away
-  AddSystematicsWarnings(estimate, &result);
-  ASSERT_EQ(result.warnings.size(), 1u);
-  EXPECT_EQ(result.warnings[0].rfind("camera_time_offset_s not estimated", 0),
-            0u);
-}
-
-// A planar log whose offset was to be estimated and was not: a warning.
-TEST(SystematicsWarnings, PlanarOdometryWarnsWhenTheOffsetIsNotEstimated) {
+// A log whose offset was to be estimated and was not (planar or 3-D): a
+// warning.
+TEST(SystematicsWarnings, WarnsWhenTheOffsetIsNotEstimated) {
   SystematicsEstimate estimate;
   estimate.time_offset_reason = "not determined by the motion";
   CalibrationResult result;

@@ -491,8 +491,8 @@ int RunDrive(int seeds,
       }
       defaults.estimate_noise = false;
       SystematicsEstimate given_systematics;
-      const CalibrationResult given_noise_result = with_systematics(
-          AssociationOptions(), defaults, &given_systematics);
+      const CalibrationResult given_noise_result =
+          with_systematics(AssociationOptions(), defaults, &given_systematics);
       at_bound[1] += NoiseAtBound(result);
       agrees_with_given[1] += WithinOwnThreeSigma(result, given_noise_result);
     }

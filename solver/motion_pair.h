@@ -23,6 +23,14 @@ namespace odomcal {
 // units for the camera).
 using MotionCovariance = Eigen::Matrix<double, 6, 6>;
 
+// The body twists of 3-D odometry at a pair's endpoints, per second:
+// [rotation (rad/s), translation (m/s)] of the odometry frame at the endpoint,
+// in that frame (origin_from_odom(t + h) = origin_from_odom(t) Exp(h xi)).
+struct OdometryEndpointTwists {
+  Eigen::Matrix<double, 6, 1> at_i = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> at_j = Eigen::Matrix<double, 6, 1>::Zero();
+};
+
 struct MotionPair {
   Rigid3d odom_i_from_odom_j;  // metric, from the wheel odometry
   Rigid3d cam_i_from_cam_j;    // from SfM, translation in reconstruction units
@@ -41,6 +49,9 @@ struct MotionPair {
   // estimating the clock offset and the odometry intrinsics with the
   // extrinsic (solver/systematics_refine.h).
   std::optional<OdometrySamples> odometry_samples;
+  // Optional, 3-D odometry: the endpoint twists, for estimating the clock
+  // offset with the extrinsic (solver/systematics_refine.h).
+  std::optional<OdometryEndpointTwists> odometry_twists;
 };
 
 using MotionPairs = std::vector<MotionPair>;

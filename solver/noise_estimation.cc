@@ -39,8 +39,7 @@ constexpr double kConvergence = 1e-5;
 // multipliers of the variances. Exact data would otherwise claim a near-zero
 // noise, a covariance of zero and a gate that rejects every pair off by
 // rounding; a systematic error, a noise without bound.
-constexpr double kMinMultiplier =
-    kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
+constexpr double kMinMultiplier = kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
 constexpr double kMaxMultiplier =
     kNoiseSigmaRatioCeiling * kNoiseSigmaRatioCeiling;
 // Relative distance to a bound within which a multiplier counts as at it.

@@ -180,11 +180,8 @@ TEST(NoiseEstimation, ExactDataStayAboveTheFloorWithThePriorOrAreNamed) {
   std::vector<int> used(truth.pairs.size());
   for (size_t i = 0; i < used.size(); ++i) used[i] = static_cast<int>(i);
   CalibrationOptions options = OptionsFor(truth, prior);
-  const NoiseEstimate with_prior = EstimateNoise(truth.pairs,
-                                                 used,
-                                                 truth.odom_from_cam,
-                                                 truth.metric_scales,
-                                                 options);
+  const NoiseEstimate with_prior = EstimateNoise(
+      truth.pairs, used, truth.odom_from_cam, truth.metric_scales, options);
   SCOPED_TRACE(NoiseSummary(with_prior));
   for (int c = 0; c < kNumNoiseComponents; ++c) {
     if (!with_prior.component_present[c] || !IsEstimable(c)) continue;
@@ -197,11 +194,8 @@ TEST(NoiseEstimation, ExactDataStayAboveTheFloorWithThePriorOrAreNamed) {
   }
 
   options.noise_prior_weight = 0.0;
-  const NoiseEstimate alone = EstimateNoise(truth.pairs,
-                                            used,
-                                            truth.odom_from_cam,
-                                            truth.metric_scales,
-                                            options);
+  const NoiseEstimate alone = EstimateNoise(
+      truth.pairs, used, truth.odom_from_cam, truth.metric_scales, options);
   const std::string summary = NoiseSummary(alone);
   SCOPED_TRACE(summary);
   for (int c = 0; c < kNumNoiseComponents; ++c) {
@@ -228,8 +222,8 @@ TEST(NoiseEstimation, ALevelAtTheCeilingIsKeptNamedAndWidensTheCovariance) {
   const uint64_t seed = TestSeed(148);
   SCOPED_TRACE("seed " + std::to_string(seed));
   const NoiseModel prior = OneComponentPerGroup();
-  const SimulatedMotions truth = Simulate(prior, {400.0, 1.0, 1.0, 1.0}, 500,
-                                          seed);
+  const SimulatedMotions truth =
+      Simulate(prior, {400.0, 1.0, 1.0, 1.0}, 500, seed);
   std::vector<int> used(truth.pairs.size());
   for (size_t i = 0; i < used.size(); ++i) used[i] = static_cast<int>(i);
   const NoiseEstimate noise = EstimateNoise(truth.pairs,

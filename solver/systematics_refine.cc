@@ -1,8 +1,9 @@
 // Ceres problem over [q (4, EigenQuaternionManifold), p_xy (2), log s_k (1),
 // p_z (1, constant), d (1), intrinsics (3, SubsetManifold for held ones)]; one
 // 6-dimensional residual per pair as in hand_eye_cost.h, with the odometry
-// motion computed from the pair's samples. The information is mapped from
-// Ceres' tangent coordinates like hand_eye_refine.cc does.
+// motion computed from the pair's samples (planar odometry) or shifted by its
+// endpoint twists (3-D odometry, whose intrinsics are held). The information
+// is mapped from Ceres' tangent coordinates like hand_eye_refine.cc does.
 
 #include "odomcal/solver/systematics_refine.h"
 
@@ -27,6 +28,114 @@ const std::array<const char*, kNumSystematics> kSystematicsNames = {
     "yaw_rate_bias_rad_s"};
 
 namespace {
+
+// The whitened hand-eye residual (hand_eye_cost.h) of odometry motion
+// (q_a, t_a) at the extrinsic (q, p) and scale.
+template <typename T>
+void WhitenedResidual(const Eigen::Quaternion<T>& q_a,
+                      const Eigen::Matrix<T, 3, 1>& t_a,
+                      const Eigen::Quaternion<T>& q,
+                      const Eigen::Matrix<T, 3, 1>& p,
+                      const T& scale,
+                      const Eigen::Quaterniond& q_b,
+                      const Eigen::Vector3d& t_b,
+                      const Matrix6d& sqrt_information,
+                      T* residuals) {
+  const Eigen::Quaternion<T> error =
+      q_a.conjugate() * q * q_b.cast<T>() * q.conjugate();
+  const T error_wxyz[4] = {error.w(), error.x(), error.y(), error.z()};
+  Eigen::Matrix<T, 6, 1> raw;
+  ceres::QuaternionToAngleAxis(error_wxyz, raw.data());
+  raw.template tail<3>() = q_a * p + t_a - scale * (q * t_b.cast<T>()) - p;
+  Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
+  out = sqrt_information.cast<T>() * raw;
+}
+
+// Exp of the twist d xi (SE(3)): the rotation from its angle-axis, the
+// translation V(w) v with V = I + b [w]x + c [w]x^2, b = (1 - cos th) / th^2,
+// c = (th - sin th) / th^3 (their series below th^2 = 1e-8, which also keeps
+// the derivative at d = 0 finite).
+template <typename T>
+void TwistExp(const Eigen::Matrix<double, 6, 1>& xi,
+              const T& d,
+              Eigen::Quaternion<T>* rotation,
+              Eigen::Matrix<T, 3, 1>* translation) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const Eigen::Matrix<T, 3, 1> w = xi.head<3>().cast<T>() * d;
+  const Eigen::Matrix<T, 3, 1> v = xi.tail<3>().cast<T>() * d;
+  const T angle_axis[3] = {w(0), w(1), w(2)};
+  T wxyz[4];
+  ceres::AngleAxisToQuaternion(angle_axis, wxyz);
+  *rotation = Eigen::Quaternion<T>(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
+  const T theta2 = w.squaredNorm();
+  T b, c;
+  if (theta2 < 1e-8) {
+    b = T(0.5) - theta2 / 24.0;
+    c = T(1.0 / 6.0) - theta2 / 120.0;
+  } else {
+    const T theta = sqrt(theta2);
+    b = (T(1.0) - cos(theta)) / theta2;
+    c = (theta - sin(theta)) / (theta2 * theta);
+  }
+  const Eigen::Matrix<T, 3, 1> wv = w.cross(v);
+  *translation = v + b * wv + c * w.cross(wv);
+}
+
+// 3-D odometry: the logged motion A moved to a clock offset changed by d
+// through its endpoint twists, Exp(-d xi_i) A Exp(d xi_j) (first order in
+// d, as the planar re-integration). The intrinsics block is unused: they are
+// held for 3-D odometry.
+class Se3OffsetCost {
+ public:
+  Se3OffsetCost(const MotionPair& pair, const Matrix6d& sqrt_information)
+      : q_a_(pair.odom_i_from_odom_j.rotation),
+        t_a_(pair.odom_i_from_odom_j.translation),
+        twists_(*pair.odometry_twists),
+        q_b_(pair.cam_i_from_cam_j.rotation),
+        t_b_(pair.cam_i_from_cam_j.translation),
+        sqrt_information_(sqrt_information) {}
+
+  template <typename T>
+  bool operator()(const T* q_xyzw,
+                  const T* p_xy,
+                  const T* log_scale,
+                  const T* p_z,
+                  const T* offset_change,
+                  const T* /*intrinsics*/,
+                  T* residuals) const {
+    using std::exp;
+    Eigen::Quaternion<T> q_i, q_j;
+    Eigen::Matrix<T, 3, 1> t_i, t_j;
+    TwistExp(twists_.at_i, T(-offset_change[0]), &q_i, &t_i);
+    TwistExp(twists_.at_j, offset_change[0], &q_j, &t_j);
+    const Eigen::Quaternion<T> q_logged = q_a_.cast<T>();
+    const Eigen::Quaternion<T> q_a = q_i * q_logged * q_j;
+    const Eigen::Matrix<T, 3, 1> t_a =
+        t_i + q_i * (t_a_.cast<T>() + q_logged * t_j);
+    const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
+    const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], p_z[0]);
+    WhitenedResidual(q_a,
+                     t_a,
+                     Eigen::Quaternion<T>(q),
+                     p,
+                     T(exp(log_scale[0])),
+                     q_b_,
+                     t_b_,
+                     sqrt_information_,
+                     residuals);
+    return true;
+  }
+
+ private:
+  Eigen::Quaterniond q_a_;
+  Eigen::Vector3d t_a_;
+  OdometryEndpointTwists twists_;
+  Eigen::Quaterniond q_b_;
+  Eigen::Vector3d t_b_;
+  Matrix6d sqrt_information_;
+};
 
 class SystematicsCost {
  public:
@@ -58,15 +167,15 @@ class SystematicsCost {
     const Eigen::Matrix<T, 3, 1> t_a(a.x, a.y, T(z_a_));
     const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
     const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], p_z[0]);
-    const T scale = exp(log_scale[0]);
-    const Eigen::Quaternion<T> error =
-        q_a.conjugate() * q * q_b_.cast<T>() * q.conjugate();
-    const T error_wxyz[4] = {error.w(), error.x(), error.y(), error.z()};
-    Eigen::Matrix<T, 6, 1> raw;
-    ceres::QuaternionToAngleAxis(error_wxyz, raw.data());
-    raw.template tail<3>() = q_a * p + t_a - scale * (q * t_b_.cast<T>()) - p;
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
-    out = sqrt_information_.cast<T>() * raw;
+    WhitenedResidual(q_a,
+                     t_a,
+                     Eigen::Quaternion<T>(q),
+                     p,
+                     T(exp(log_scale[0])),
+                     q_b_,
+                     t_b_,
+                     sqrt_information_,
+                     residuals);
     return true;
   }
 
@@ -118,17 +227,29 @@ class SystematicsProblem {
       const MotionPair& pair = pairs[index];
       const Matrix6d sqrt_information = HandEyeSqrtInformation(
           pair, initial, initial_scales.at(pair.segment), options.noise);
-      problem_->AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SystematicsCost, 6, 4, 2, 1, 1, 1, 3>(
-              new SystematicsCost(
-                  pair, sqrt_information, intrinsics.wheel_track_m)),
-          nullptr,
-          quaternion_,
-          p_xy_,
-          &log_scales_.at(pair.segment),
-          &p_z_,
-          &offset_,
-          intrinsics_);
+      ceres::CostFunction* cost =
+          pair.odometry_samples
+              ? static_cast<ceres::CostFunction*>(
+                    new ceres::AutoDiffCostFunction<SystematicsCost,
+                                                    6,
+                                                    4,
+                                                    2,
+                                                    1,
+                                                    1,
+                                                    1,
+                                                    3>(new SystematicsCost(
+                        pair, sqrt_information, intrinsics.wheel_track_m)))
+              : new ceres::
+                    AutoDiffCostFunction<Se3OffsetCost, 6, 4, 2, 1, 1, 1, 3>(
+                        new Se3OffsetCost(pair, sqrt_information));
+      problem_->AddResidualBlock(cost,
+                                 nullptr,
+                                 quaternion_,
+                                 p_xy_,
+                                 &log_scales_.at(pair.segment),
+                                 &p_z_,
+                                 &offset_,
+                                 intrinsics_);
     }
     problem_->SetManifold(quaternion_, &quaternion_manifold_);
     problem_->SetParameterBlockConstant(&p_z_);
@@ -280,25 +401,31 @@ SystematicsRefinement RefineSystematics(
   result.odom_from_cam = initial;
   result.metric_scales = initial_scales;
   result.intrinsics = initial_intrinsics;
+  bool any_twists = false;
   for (const int index : indices) {
-    const int segment = pairs[index].segment;
-    if (!pairs[index].odometry_samples || segment < 0 ||
+    const MotionPair& pair = pairs[index];
+    const int segment = pair.segment;
+    if (!(pair.odometry_samples || pair.odometry_twists) || segment < 0 ||
         static_cast<size_t>(segment) >= initial_scales.size() ||
         !(initial_scales[segment] > 0.0)) {
       result.report = "a pair without odometry samples or scale";
       return result;
     }
+    any_twists = any_twists || !pair.odometry_samples;
   }
   if (indices.empty()) {
     result.report = "no pairs";
     return result;
   }
-  std::array<bool, kNumSystematics> free = {systematics.estimate_time_offset,
-                                            systematics.estimate_intrinsics,
-                                            systematics.estimate_intrinsics,
-                                            systematics.estimate_intrinsics};
+  // The intrinsics re-integrate planar samples: held for 3-D odometry.
+  const bool intrinsics = systematics.estimate_intrinsics && !any_twists;
+  std::array<bool, kNumSystematics> free = {
+      systematics.estimate_time_offset, intrinsics, intrinsics, intrinsics};
   for (int k = 0; k < kNumSystematics; ++k) {
-    if (!free[k]) result.held_reason[k] = Held(k, "not estimated (option off)");
+    if (free[k]) continue;
+    result.held_reason[k] = k > 0 && systematics.estimate_intrinsics
+                                ? Held(k, "not estimated (3-D odometry)")
+                                : Held(k, "not estimated (option off)");
   }
   const std::array<double, kNumSystematics> limits = {
       systematics.max_time_offset_stddev_s,

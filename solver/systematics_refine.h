@@ -1,6 +1,8 @@
 // Joint refinement of the extrinsic, the metric scales, the clock offset and
 // the odometry intrinsics (solver/odometry_intrinsics.h) over motion pairs that
-// carry their logged odometry (MotionPair::odometry_samples, planar odometry).
+// carry their logged odometry (MotionPair::odometry_samples, planar odometry)
+// or, for 3-D odometry, its endpoint twists (MotionPair::odometry_twists:
+// the clock offset only; the intrinsics are held).
 //
 // Each pair's odometry motion is re-integrated from its samples with the
 // intrinsics, and moved to a slightly different clock offset through the
@@ -74,10 +76,10 @@ struct SystematicsRefinement {
 
 // Refines from `initial` / `initial_scales` (by segment) and
 // `initial_intrinsics`, offset change 0, over pairs[indices]; every used pair
-// must carry odometry_samples (else usable is false). Translation z is held at
-// initial's. The pairs are weighted by options.noise and their own
-// covariances as given: with noise estimated from the data, pass both scaled
-// (ScaleNoise, ScaleCovariances of noise_estimation.h).
+// must carry odometry_samples or odometry_twists (else usable is false).
+// Translation z is held at initial's. The pairs are weighted by options.noise
+// and their own covariances as given: with noise estimated from the data, pass
+// both scaled (ScaleNoise, ScaleCovariances of noise_estimation.h).
 SystematicsRefinement RefineSystematics(
     const MotionPairs& pairs,
     const std::vector<int>& indices,
