@@ -5,6 +5,7 @@
 // the commands and the numbers.
 //
 //   statistics_benchmark paper [seeds] [motions] [outlier_fraction]
+//                              [noise_prior_weight]
 //   statistics_benchmark drive [seeds] [odometry_hz] [camera_hz] [noise_factor]
 //                              [vo] [odometry_keep_every] [wheel_scale_errors]
 //                              [odometry_resample_hz] [yaw_scale]
@@ -29,7 +30,8 @@
 // camera); yaw_scale divides the odometry's yaw increments (1.05: the
 // sensors' yaw increments disagree by 5 %); duration_s: the drive's length
 // (120 s). The drive mode also prints, for the default and the default +
-// systematics, the runs with a noise level at a bound (noise_estimation.h)
+// systematics, the runs with a noise level at the floor and at the ceiling
+// (noise_estimation.h)
 // and the runs whose result lies within its own 3 sigma of the same
 // calibration with the given noise (--estimate_noise off), and the
 // plain batch over all consecutive frames (no keyframes, no RANSAC), the
@@ -247,7 +249,10 @@ PaperSimulationOptions PaperProtocol(int motions) {
   return simulation;
 }
 
-int RunPaper(int seeds, int motions, double outlier_fraction) {
+int RunPaper(int seeds,
+             int motions,
+             double outlier_fraction,
+             double noise_prior_weight) {
   PaperSimulationOptions simulation = PaperProtocol(motions);
   simulation.outlier_fraction = outlier_fraction;
   Tally estimated, given, gt_b;
@@ -261,6 +266,7 @@ int RunPaper(int seeds, int motions, double outlier_fraction) {
     // GT-B on the inliers, with the true covariances.
     CalibrationOptions options;
     options.fixed_translation_z_m = truth.translation.z();
+    options.noise_prior_weight = noise_prior_weight;
     std::vector<int> inliers;
     for (size_t i = 0; i < sim.pairs.size(); ++i) {
       if (!sim.is_outlier[i]) inliers.push_back(static_cast<int>(i));
@@ -383,10 +389,10 @@ bool WithinOwnThreeSigma(const CalibrationResult& result,
   return true;
 }
 
-bool NoiseAtBound(const CalibrationResult& result) {
+bool NoiseAt(NoiseBound which, const CalibrationResult& result) {
   if (!result.noise_estimate) return false;
   for (const NoiseBound bound : result.noise_estimate->component_bound) {
-    if (bound != NoiseBound::kNone) return true;
+    if (bound == which) return true;
   }
   return false;
 }
@@ -406,9 +412,11 @@ int RunDrive(int seeds,
   double yaw_scale_error2 = 0.0;
   int yaw_scale_estimated = 0, yaw_scale_covered = 0;
   int num_drifting = 0;  // runs whose camera poses the association saw drift
-  // Per default / default + systematics: runs with a noise level at a bound,
-  // and runs within their own 3 sigma of the given noise's result.
-  int at_bound[2] = {0, 0}, agrees_with_given[2] = {0, 0};
+  // Per default / default + systematics: runs with a noise level at the
+  // floor, at the ceiling, and runs within their own 3 sigma of the given
+  // noise's result.
+  int at_floor[2] = {0, 0}, at_ceiling[2] = {0, 0};
+  int agrees_with_given[2] = {0, 0};
   for (int seed = 0; seed < seeds; ++seed) {
     DriveSimulatorOptions options;
     options.seed = 2000 + seed;
@@ -447,7 +455,8 @@ int RunDrive(int seeds,
     const CalibrationResult given_result =
         CalibrateOdomCam(association.pairs, calibration);
     given.Add(given_result, drive.odom_from_cam, drive.metric_scale);
-    at_bound[0] += NoiseAtBound(default_result);
+    at_floor[0] += NoiseAt(NoiseBound::kFloor, default_result);
+    at_ceiling[0] += NoiseAt(NoiseBound::kCeiling, default_result);
     agrees_with_given[0] += WithinOwnThreeSigma(default_result, given_result);
     // The clock offset and the odometry intrinsics estimated with the
     // extrinsic (EstimateSystematics, as the CLI does), for the given
@@ -493,7 +502,8 @@ int RunDrive(int seeds,
       SystematicsEstimate given_systematics;
       const CalibrationResult given_noise_result =
           with_systematics(AssociationOptions(), defaults, &given_systematics);
-      at_bound[1] += NoiseAtBound(result);
+      at_floor[1] += NoiseAt(NoiseBound::kFloor, result);
+      at_ceiling[1] += NoiseAt(NoiseBound::kCeiling, result);
       agrees_with_given[1] += WithinOwnThreeSigma(result, given_noise_result);
     }
     // The reference: every consecutive camera frame, no RANSAC; without and
@@ -572,12 +582,14 @@ int RunDrive(int seeds,
   const char* names[2] = {"default", "default + systematics"};
   for (int k = 0; k < 2; ++k) {
     std::printf(
-        "%-22s %s: a noise level at a bound in %d of %d runs; within its own "
-        "3 sigma of the given noise's result in %d\n",
+        "%-22s %s: of %d runs, a noise level at the floor in %d, at the "
+        "ceiling in %d; within its own 3 sigma of the given noise's result "
+        "in %d\n",
         "",
         names[k],
-        at_bound[k],
         seeds,
+        at_floor[k],
+        at_ceiling[k],
         agrees_with_given[k]);
   }
   return 0;
@@ -641,7 +653,8 @@ int main(int argc, char** argv) {
   if (mode == "paper") {
     return odomcal::RunPaper(static_cast<int>(arg(2, 30)),
                              static_cast<int>(arg(3, 20)),
-                             arg(4, 0.0));
+                             arg(4, 0.0),
+                             arg(5, 0.0));
   }
   if (mode == "drive") {
     return odomcal::RunDrive(static_cast<int>(arg(2, 30)),
@@ -661,7 +674,7 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr,
                "usage: statistics_benchmark paper [seeds] [motions] "
-               "[outlier_fraction] | drive [seeds] [odometry_hz] "
+               "[outlier_fraction] [noise_prior_weight] | drive [seeds] [odometry_hz] "
                "[camera_hz] [noise_factor] [vo] [odometry_keep_every] "
                "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale] "
                "[duration_s] | "

@@ -105,8 +105,9 @@ struct CalibrationOptions {
   // Weight of the given noise in that estimation, in pseudo-observations per
   // estimated noise level: a scaled inverse chi-square prior centred on the
   // given noise, so that a short log or a component few pairs see stays near
-  // it, while hundreds of pairs overrule it. 0: the data alone.
-  double noise_prior_weight = 4.0;
+  // it, while hundreds of pairs overrule it. 0 (the default): the data alone,
+  // within the bounds of noise_estimation.h.
+  double noise_prior_weight = 0.0;
 
   // Throws std::invalid_argument whose message starts with the field's name
   // ("ransac_min_inlier_ratio must be in [0, 1], got 1.5"); the field names

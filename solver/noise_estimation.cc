@@ -36,10 +36,12 @@ using internal::WithFixedParameter;
 constexpr int kMaxIterations = 100;
 constexpr double kConvergence = 1e-5;
 // The bounds of the estimated standard deviations (noise_estimation.h), as
-// multipliers of the variances. Exact data would otherwise claim a near-zero
-// noise, a covariance of zero and a gate that rejects every pair off by
-// rounding; a systematic error, a noise without bound.
-constexpr double kMinMultiplier = kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
+// multipliers of the variances. Exact or over-fitted data (simulations, a
+// handful of pairs) would otherwise claim a near-zero noise, a covariance of
+// zero and a gate that rejects every pair off by rounding; a systematic
+// error, a noise without bound.
+constexpr double kMinMultiplier =
+    kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
 constexpr double kMaxMultiplier =
     kNoiseSigmaRatioCeiling * kNoiseSigmaRatioCeiling;
 // Relative distance to a bound within which a multiplier counts as at it.
@@ -354,10 +356,11 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
         break;
       }
       // Fisher scoring (Helmert's step where Cov is linear in mu) converges
-      // in a few iterations. Where it would move a multiplier by more than
-      // kMaxFisherRatio (or fails), Foerstner's multiplicative step for all:
-      // the prior's 1 / mu^2 is far from linear near the floor, where the
-      // linearised step overshoots from the floor to the start and back.
+      // in a few iterations; where it fails, Foerstner's multiplicative step.
+      // With a prior, also where it would move a multiplier by more than
+      // kMaxFisherRatio, for all: the prior's 1 / mu^2 is far from linear
+      // near the floor, where the linearised step overshoots from the floor
+      // to the start and back.
       const Eigen::MatrixXd helmert = pass.helmert(free, free);
       const Eigen::VectorXd step =
           helmert.completeOrthogonalDecomposition().solve(
@@ -365,8 +368,10 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
       bool fisher = true;
       for (size_t k = 0; k < free.size(); ++k) {
         const double ratio = (mu(free[k]) + step(k)) / mu(free[k]);
-        if (!std::isfinite(ratio) || ratio > kMaxFisherRatio ||
-            ratio < 1.0 / kMaxFisherRatio) {
+        const bool far = ratio > kMaxFisherRatio ||
+                         (ratio > 0.0 && ratio < 1.0 / kMaxFisherRatio);
+        if (!std::isfinite(ratio) ||
+            (options.noise_prior_weight > 0.0 && far)) {
           fisher = false;
         }
       }
@@ -410,22 +415,31 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     const Eigen::VectorXd& relative = uncertainty.relative;
     const int worst = uncertainty.worst;
     if (uncertainty.worst_relative <= kMaxRelativeStddev) {
-      // A level at a bound is a finding: kept at the start, the others
-      // estimated again without it.
-      bool any_at_bound = false;
+      // A level at the ceiling is a finding, not an estimate: kept at the
+      // start, the others estimated again without it. One at the floor is
+      // held there (the pairs fit better than the given noise allows) and
+      // reported.
+      bool any_at_ceiling = false;
       for (int p = num_free - 1; p >= 0; --p) {
-        NoiseBound bound = NoiseBound::kNone;
         if (mu(p) <= kMinMultiplier * (1.0 + kAtBound)) {
-          bound = NoiseBound::kFloor;
+          for (const int c : parameters[p]) {
+            estimate.component_bound[c] = NoiseBound::kFloor;
+          }
         } else if (mu(p) >= kMaxMultiplier * (1.0 - kAtBound)) {
-          bound = NoiseBound::kCeiling;
+          for (const int c : parameters[p]) {
+            estimate.component_bound[c] = NoiseBound::kCeiling;
+          }
+          parameters.erase(parameters.begin() + p);
+          any_at_ceiling = true;
         }
-        if (bound == NoiseBound::kNone) continue;
-        for (const int c : parameters[p]) estimate.component_bound[c] = bound;
-        parameters.erase(parameters.begin() + p);
-        any_at_bound = true;
       }
-      if (any_at_bound) continue;
+      if (any_at_ceiling) {
+        // Floors are decided again with the ceiling's level kept.
+        for (NoiseBound& bound : estimate.component_bound) {
+          if (bound == NoiseBound::kFloor) bound = NoiseBound::kNone;
+        }
+        continue;
+      }
       // In the refinement's columns, which hold z (WidenForEstimatedNoise).
       if (!estimate_z) {
         estimate.kenward_roger_term =
@@ -495,13 +509,13 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   estimate.noise =
       ScaleNoiseComponents(options.noise, estimate.component_factors);
 
-  // A level kept at a bound leaves the fit's chi-square off its redundancy;
-  // above it (a noise the model cannot take up), the covariance is widened.
-  const bool any_at_bound =
+  // A level kept at the ceiling leaves the fit's chi-square above its
+  // redundancy (a noise the model cannot take up): the covariance is widened.
+  const bool any_at_ceiling =
       std::any_of(estimate.component_bound.begin(),
                   estimate.component_bound.end(),
-                  [](NoiseBound b) { return b != NoiseBound::kNone; });
-  if (any_at_bound) {
+                  [](NoiseBound b) { return b == NoiseBound::kCeiling; });
+  if (any_at_ceiling) {
     double chi_square = data_pass.chi_square;
     if (parameters.empty()) {
       ParameterOf all_fixed;

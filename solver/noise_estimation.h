@@ -37,20 +37,24 @@
 // on its own, or has almost no redundancy (few pairs), keeps the given noise
 // (factor 1).
 //
-// The given noise is a prior as well as a start (options.noise_prior_weight):
-// each estimated level carries that many pseudo-observations of the given
-// noise (a scaled inverse chi-square prior; for one linear component the
-// estimate is (S + w) / (r + w), S the weighted residual sum and r the
-// redundancy), so a short log cannot run a level to an extreme.
-// A standard deviation is estimated within [0.01x, 10x] the given one
-// (kNoiseSigmaRatioFloor, kNoiseSigmaRatioCeiling). A level that ends at a
-// bound is a finding, not an estimate: the data ask for a noise the model
-// cannot have (exact data, or a systematic error that one component absorbs
-// as noise). It keeps the given noise (component_bound), the others are
-// estimated again, and where the fit's chi-square then exceeds its
-// redundancy the covariance is widened by the excess (misfit_widening). A
-// factor at the floor whose data ask for less is held there, out of the
-// Fisher step and the tie decisions (an active set).
+// Optionally the given noise is a prior as well as a start
+// (options.noise_prior_weight > 0): each estimated level carries that many
+// pseudo-observations of the given noise (a scaled inverse chi-square prior;
+// for one linear component the estimate is (S + w) / (r + w), S the weighted
+// residual sum and r the redundancy). Off by default: with 20 pairs whose
+// given noise has the wrong shape it costs 5-9 % of accuracy
+// (docs/statistics.md).
+// A standard deviation is estimated within [0.1x, 10x] the given one
+// (kNoiseSigmaRatioFloor, kNoiseSigmaRatioCeiling); both bounds are
+// reported (component_bound). A level at the ceiling is a finding, not an
+// estimate: one component takes up an error the noise model does not
+// describe (a systematic error, a wrong unit). It keeps the given noise, the
+// others are estimated again, and where the fit's chi-square then exceeds
+// its redundancy the covariance is widened by the excess (misfit_widening).
+// A level at the floor is held there: exact or over-fitted data (simulations,
+// a handful of pairs) would otherwise claim zero noise. A factor at the
+// floor whose data ask for less is held out of the Fisher step and the tie
+// decisions (an active set).
 #pragma once
 
 #include "odomcal/solver/calibration_options.h"
@@ -68,7 +72,7 @@
 namespace odomcal {
 
 // The range of an estimated standard deviation, relative to the given one.
-inline constexpr double kNoiseSigmaRatioFloor = 0.01;
+inline constexpr double kNoiseSigmaRatioFloor = 0.1;
 inline constexpr double kNoiseSigmaRatioCeiling = 10.0;
 
 // Where a component's estimate ended: inside the range, or at a bound.
@@ -102,12 +106,12 @@ struct NoiseEstimate {
   std::array<int, kNumNoiseComponents> component_tie = {
       0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
   std::array<double, kNumNoiseComponents> component_relative_stddev = {};
-  // Components whose level ran to a bound (kept at the given noise, not
-  // estimated; see above).
+  // Components whose level ran to a bound: at the floor, held there; at the
+  // ceiling, kept at the given noise and not estimated (see above).
   std::array<NoiseBound, kNumNoiseComponents> component_bound = {};
   // sqrt(chi-square / redundancy) of the pairs under the final noise when a
-  // component was kept at a bound and the fit exceeds its redundancy, else
-  // 1. The calibration divides the information by its square.
+  // component was kept at the ceiling and the fit exceeds its redundancy,
+  // else 1. The calibration divides the information by its square.
   double misfit_widening = 1.0;
 
   // The estimate's covariance with this noise is Phi + 2 Phi A Phi (Kenward

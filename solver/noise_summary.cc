@@ -43,7 +43,6 @@ std::string NoiseSummary(const NoiseEstimate& estimate) {
     if (!estimate.component_present[c]) continue;
     if (estimate.component_bound[c] == NoiseBound::kFloor) {
       floor.push_back(ToString(static_cast<NoiseComponent>(c)));
-      continue;
     }
     if (estimate.component_bound[c] == NoiseBound::kCeiling) {
       ceiling.push_back(ToString(static_cast<NoiseComponent>(c)));
@@ -91,8 +90,8 @@ std::string NoiseSummary(const NoiseEstimate& estimate) {
             "systematic one)";
   }
   if (!floor.empty()) {
-    text << "; kept as given, the data ask for under "
-         << Ratio(kNoiseSigmaRatioFloor) << "x: ";
+    text << "; held at " << Ratio(kNoiseSigmaRatioFloor)
+         << "x, the data ask for less: ";
     list(floor);
   }
   if (estimate.misfit_widening >= 1.005) {
