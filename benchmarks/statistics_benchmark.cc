@@ -672,12 +672,13 @@ int main(int argc, char** argv) {
     return odomcal::RunCost(static_cast<int>(arg(2, 10000)),
                             arg(3, 1.0) != 0.0);
   }
-  std::fprintf(stderr,
-               "usage: statistics_benchmark paper [seeds] [motions] "
-               "[outlier_fraction] [noise_prior_weight] | drive [seeds] [odometry_hz] "
-               "[camera_hz] [noise_factor] [vo] [odometry_keep_every] "
-               "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale] "
-               "[duration_s] | "
-               "cost [motions] [estimate_noise]\n");
+  std::fprintf(
+      stderr,
+      "usage: statistics_benchmark paper [seeds] [motions] "
+      "[outlier_fraction] [noise_prior_weight] | drive [seeds] [odometry_hz] "
+      "[camera_hz] [noise_factor] [vo] [odometry_keep_every] "
+      "[wheel_scale_errors] [odometry_resample_hz] [yaw_scale] "
+      "[duration_s] | "
+      "cost [motions] [estimate_noise]\n");
   return 2;
 }

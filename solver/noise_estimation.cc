@@ -40,8 +40,7 @@ constexpr double kConvergence = 1e-5;
 // handful of pairs) would otherwise claim a near-zero noise, a covariance of
 // zero and a gate that rejects every pair off by rounding; a systematic
 // error, a noise without bound.
-constexpr double kMinMultiplier =
-    kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
+constexpr double kMinMultiplier = kNoiseSigmaRatioFloor * kNoiseSigmaRatioFloor;
 constexpr double kMaxMultiplier =
     kNoiseSigmaRatioCeiling * kNoiseSigmaRatioCeiling;
 // Relative distance to a bound within which a multiplier counts as at it.

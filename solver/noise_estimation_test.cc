@@ -181,11 +181,8 @@ TEST(NoiseEstimation, ExactDataStopAtTheFloorOrStayAboveItWithAPrior) {
   std::vector<int> used(truth.pairs.size());
   for (size_t i = 0; i < used.size(); ++i) used[i] = static_cast<int>(i);
   CalibrationOptions options = OptionsFor(truth, prior);
-  const NoiseEstimate alone = EstimateNoise(truth.pairs,
-                                            used,
-                                            truth.odom_from_cam,
-                                            truth.metric_scales,
-                                            options);
+  const NoiseEstimate alone = EstimateNoise(
+      truth.pairs, used, truth.odom_from_cam, truth.metric_scales, options);
   const std::string summary = NoiseSummary(alone);
   SCOPED_TRACE(summary);
   for (const NoiseGroup group : kGroups) {
@@ -202,11 +199,8 @@ TEST(NoiseEstimation, ExactDataStopAtTheFloorOrStayAboveItWithAPrior) {
             std::string::npos);
 
   options.noise_prior_weight = 4.0;
-  const NoiseEstimate with_prior = EstimateNoise(truth.pairs,
-                                                 used,
-                                                 truth.odom_from_cam,
-                                                 truth.metric_scales,
-                                                 options);
+  const NoiseEstimate with_prior = EstimateNoise(
+      truth.pairs, used, truth.odom_from_cam, truth.metric_scales, options);
   SCOPED_TRACE(NoiseSummary(with_prior));
   for (int c = 0; c < kNumNoiseComponents; ++c) {
     if (!with_prior.component_present[c] || !IsEstimable(c)) continue;
