@@ -30,17 +30,22 @@ const std::array<const char*, kNumSystematics> kSystematicsNames = {
 namespace {
 
 // The whitened hand-eye residual (hand_eye_cost.h) of odometry motion
-// (q_a, t_a) at the extrinsic (q, p) and scale.
+// (q_a, t_a) at the problem's extrinsic and scale parameters.
 template <typename T>
 void WhitenedResidual(const Eigen::Quaternion<T>& q_a,
                       const Eigen::Matrix<T, 3, 1>& t_a,
-                      const Eigen::Quaternion<T>& q,
-                      const Eigen::Matrix<T, 3, 1>& p,
-                      const T& scale,
+                      const T* q_xyzw,
+                      const T* p_xy,
+                      const T* log_scale,
+                      const T* p_z,
                       const Eigen::Quaterniond& q_b,
                       const Eigen::Vector3d& t_b,
                       const Matrix6d& sqrt_information,
                       T* residuals) {
+  using std::exp;
+  const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
+  const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], p_z[0]);
+  const T scale = exp(log_scale[0]);
   const Eigen::Quaternion<T> error =
       q_a.conjugate() * q * q_b.cast<T>() * q.conjugate();
   const T error_wxyz[4] = {error.w(), error.x(), error.y(), error.z()};
@@ -105,7 +110,6 @@ class Se3OffsetCost {
                   const T* offset_change,
                   const T* /*intrinsics*/,
                   T* residuals) const {
-    using std::exp;
     Eigen::Quaternion<T> q_i, q_j;
     Eigen::Matrix<T, 3, 1> t_i, t_j;
     TwistExp(twists_.at_i, T(-offset_change[0]), &q_i, &t_i);
@@ -114,13 +118,12 @@ class Se3OffsetCost {
     const Eigen::Quaternion<T> q_a = q_i * q_logged * q_j;
     const Eigen::Matrix<T, 3, 1> t_a =
         t_i + q_i * (t_a_.cast<T>() + q_logged * t_j);
-    const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
-    const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], p_z[0]);
     WhitenedResidual(q_a,
                      t_a,
-                     Eigen::Quaternion<T>(q),
-                     p,
-                     T(exp(log_scale[0])),
+                     q_xyzw,
+                     p_xy,
+                     log_scale,
+                     p_z,
                      q_b_,
                      t_b_,
                      sqrt_information_,
@@ -158,20 +161,18 @@ class SystematicsCost {
                   const T* intrinsics,
                   T* residuals) const {
     using std::cos;
-    using std::exp;
     using std::sin;
     const PlanarMotion<T> a = CorrectedOdometryMotion(
         samples_, intrinsics, offset_change[0], wheel_track_m_);
     const Eigen::Quaternion<T> q_a(
         cos(0.5 * a.yaw), T(0.0), T(0.0), sin(0.5 * a.yaw));
     const Eigen::Matrix<T, 3, 1> t_a(a.x, a.y, T(z_a_));
-    const Eigen::Map<const Eigen::Quaternion<T>> q(q_xyzw);
-    const Eigen::Matrix<T, 3, 1> p(p_xy[0], p_xy[1], p_z[0]);
     WhitenedResidual(q_a,
                      t_a,
-                     Eigen::Quaternion<T>(q),
-                     p,
-                     T(exp(log_scale[0])),
+                     q_xyzw,
+                     p_xy,
+                     log_scale,
+                     p_z,
                      q_b_,
                      t_b_,
                      sqrt_information_,
