@@ -410,7 +410,9 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     // every level); the estimate's own uncertainty includes the prior.
     const Eigen::MatrixXd& covariance = uncertainty.covariance;
     const Eigen::MatrixXd posterior_covariance =
-        Uncertainty(pass, mu, parameters, held).covariance;
+        options.noise_prior_weight > 0.0
+            ? Uncertainty(pass, mu, parameters, held).covariance
+            : covariance;
     const Eigen::VectorXd& relative = uncertainty.relative;
     const int worst = uncertainty.worst;
     if (uncertainty.worst_relative <= kMaxRelativeStddev) {
