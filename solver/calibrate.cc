@@ -457,8 +457,9 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   std::vector<int> information_segments;
   Eigen::MatrixXd information;
   // With the noise estimated from the data, everything below weighs the
-  // pairs with it: `weighted_pairs` / `weighted` (covariances scaled).
-  MotionPairs weighted_pairs = pairs;
+  // pairs with it: `weighted_pairs` / `weighted` (covariances scaled). The
+  // scaled copy is made only then: at 10 000 pairs a copy is 12 MB.
+  std::optional<MotionPairs> scaled_pairs;
   CalibrationOptions weighted = options;
   if (options.refine) {
     RefinementResult refined;
@@ -470,7 +471,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
         used = noise_refinement.used;
         result.noise_estimate = noise_refinement.noise;
         weighted.noise = noise_refinement.noise.noise;
-        weighted_pairs = ScaleCovariances(pairs, noise_refinement.noise);
+        scaled_pairs = ScaleCovariances(pairs, noise_refinement.noise);
         CountPairsPerSegment(pairs, used, &result);
       }
       if (used.size() < options.ransac_min_inlier_ratio * num_pairs) {
@@ -503,6 +504,7 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
       information_segments = refined.information_segments;
     }
   }
+  const MotionPairs& weighted_pairs = scaled_pairs ? *scaled_pairs : pairs;
   if (information.size() == 0) {
     information = HandEyeInformation(weighted_pairs,
                                      used,

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <limits>
 #include <map>
+#include <type_traits>
 #include <vector>
 
 namespace odomcal {
@@ -85,18 +86,45 @@ class HandEyeCost {
       return true;
     }
     const T ratio = scale / covariance_.scale;
-    Eigen::Matrix<T, 6, 6> covariance =
-        covariance_.fixed.cast<T>() + ratio * covariance_.cross.cast<T>() +
-        ratio * ratio * covariance_.quadratic.cast<T>();
-    covariance.diagonal().array() += T(load_);
     // Cov = L L^T: W = L^-1, so W r = L^-1 r.
-    const Eigen::LLT<Eigen::Matrix<T, 6, 6>> llt(covariance);
-    if (llt.info() != Eigen::Success) return false;
-    out = llt.matrixL().solve(raw);
+    if constexpr (std::is_same_v<T, double>) {
+      Eigen::Matrix<double, 6, 6> l;
+      if (!CholeskyAt(ratio, &l)) return false;
+      out = l.triangularView<Eigen::Lower>().solve(raw);
+    } else {
+      // Cov(r) depends on the scale alone: its factor is taken on a dual
+      // number in the ratio and carried into the Jet's parameters by the
+      // chain rule. A Cholesky on Jets of all eight parameters took most of
+      // the refinement's time.
+      using Dual = ceres::Jet<double, 1>;
+      Eigen::Matrix<Dual, 6, 6> l_dual;
+      if (!CholeskyAt(Dual(ratio.a, 0), &l_dual)) return false;
+      Eigen::Matrix<T, 6, 6> l = Eigen::Matrix<T, 6, 6>::Zero();
+      for (int i = 0; i < 6; ++i) {
+        for (int k = 0; k <= i; ++k) {
+          l(i, k) = T(l_dual(i, k).a, l_dual(i, k).v[0] * ratio.v);
+        }
+      }
+      out = l.template triangularView<Eigen::Lower>().solve(raw);
+    }
     return true;
   }
 
  private:
+  // The lower Cholesky factor of Cov(r) at `ratio` = s / covariance_.scale
+  // (a double or a dual number in it).
+  template <typename S>
+  bool CholeskyAt(const S& ratio, Eigen::Matrix<S, 6, 6>* l) const {
+    Eigen::Matrix<S, 6, 6> covariance =
+        covariance_.fixed.cast<S>() + ratio * covariance_.cross.cast<S>() +
+        ratio * ratio * covariance_.quadratic.cast<S>();
+    covariance.diagonal().array() += S(load_);
+    const Eigen::LLT<Eigen::Matrix<S, 6, 6>> llt(covariance);
+    if (llt.info() != Eigen::Success) return false;
+    *l = llt.matrixL();
+    return true;
+  }
+
   Eigen::Quaterniond q_a_inverse_;
   Eigen::Matrix3d r_a_;
   Eigen::Vector3d t_a_;

@@ -83,15 +83,20 @@ double NormalizedError(const MotionPair& pair,
   return std::max(rotation, translation);
 }
 
-// MSAC score (lower is better) and inliers of a hypothesis.
+// MSAC score (lower is better) and inliers of a hypothesis. The score only
+// grows over the pairs: once it reaches `bound` (a score to beat), the
+// hypothesis is lost and the rest is not evaluated (score and inliers then
+// partial).
 double Score(const MotionPairs& pairs,
              const std::vector<int>& indices,
              const Hypothesis& hypothesis,
              const CalibrationOptions& options,
-             std::vector<int>* inliers) {
+             std::vector<int>* inliers,
+             double bound = std::numeric_limits<double>::infinity()) {
   inliers->clear();
   double score = 0.0;
   for (const int index : indices) {
+    if (score >= bound) break;
     const MotionPair& pair = pairs[index];
     const double scale = hypothesis.metric_scales[pair.segment];
     if (!(scale > 0.0)) {
@@ -239,7 +244,8 @@ RansacResult RansacOdomFromCam(const MotionPairs& pairs,
                        &hypothesis)) {
       continue;
     }
-    double score = Score(pairs, indices, hypothesis, options, &inliers);
+    double score =
+        Score(pairs, indices, hypothesis, options, &inliers, best_score);
     if (score >= best_score) continue;
 
     // Local optimisation: the closed form on all inliers, while it helps.
@@ -253,7 +259,7 @@ RansacResult RansacOdomFromCam(const MotionPairs& pairs,
         break;
       }
       const double refit_score =
-          Score(pairs, indices, refit, options, &refit_inliers);
+          Score(pairs, indices, refit, options, &refit_inliers, score);
       if (refit_score >= score) break;
       hypothesis = refit;
       score = refit_score;

@@ -33,8 +33,6 @@ Vector6d HandEyeResidual(const MotionPair& pair,
   return residual;
 }
 
-namespace {
-
 MotionCovariance OdometryNoiseCovariance(const MotionPair& pair,
                                          const NoiseModel& noise,
                                          const StepSize& step) {
@@ -64,6 +62,8 @@ MotionCovariance OdometryNoiseCovariance(const MotionPair& pair,
       yaw_sigma * yaw_sigma, t_sigma * t_sigma, t_sigma * t_sigma, z_variance;
   return covariance;
 }
+
+namespace {
 
 // The inverse-variance mean of a measurement and a prediction of it; the
 // measurement where neither has a variance.
@@ -214,21 +214,31 @@ ResidualCovarianceParts PartsOfResidualCovariance(const MotionPair& pair,
                                                   double metric_scale,
                                                   const NoiseModel& noise,
                                                   const StepSize& step) {
-  const Eigen::Matrix3d r_a =
-      pair.odom_i_from_odom_j.rotation.toRotationMatrix();
-  const Eigen::Matrix3d r = odom_from_cam.rotation.toRotationMatrix();
-  Matrix6d f_a = Matrix6d::Zero();
-  f_a.topLeftCorner<3, 3>() = -r_a.transpose();
-  f_a.bottomLeftCorner<3, 3>() = -Skew(r_a * odom_from_cam.translation);
-  f_a.bottomRightCorner<3, 3>().setIdentity();
-  Matrix6d f_b = Matrix6d::Zero();
-  f_b.topLeftCorner<3, 3>() = r_a.transpose() * r;
-  f_b.bottomRightCorner<3, 3>() = -metric_scale * r;
-  return {f_a * OdometryCovariance(pair, noise, step) * f_a.transpose(),
-          f_b * CameraCovariance(pair, noise, step) * f_b.transpose()};
+  const ResidualNoiseJacobians f =
+      HandEyeResidualNoiseJacobians(pair, odom_from_cam, metric_scale);
+  return {
+      f.odometry * OdometryCovariance(pair, noise, step) *
+          f.odometry.transpose(),
+      f.camera * CameraCovariance(pair, noise, step) * f.camera.transpose()};
 }
 
 }  // namespace
+
+ResidualNoiseJacobians HandEyeResidualNoiseJacobians(
+    const MotionPair& pair, const Rigid3d& odom_from_cam, double metric_scale) {
+  const Eigen::Matrix3d r_a =
+      pair.odom_i_from_odom_j.rotation.toRotationMatrix();
+  const Eigen::Matrix3d r = odom_from_cam.rotation.toRotationMatrix();
+  ResidualNoiseJacobians f;
+  f.odometry.setZero();
+  f.odometry.topLeftCorner<3, 3>() = -r_a.transpose();
+  f.odometry.bottomLeftCorner<3, 3>() = -Skew(r_a * odom_from_cam.translation);
+  f.odometry.bottomRightCorner<3, 3>().setIdentity();
+  f.camera.setZero();
+  f.camera.topLeftCorner<3, 3>() = r_a.transpose() * r;
+  f.camera.bottomRightCorner<3, 3>() = -metric_scale * r;
+  return f;
+}
 
 Matrix6d HandEyeResidualCovariance(const MotionPair& pair,
                                    const Rigid3d& odom_from_cam,

@@ -54,7 +54,11 @@ StepSize ModelledStep(const MotionPair& pair,
                       const NoiseModel& noise);
 
 // The pair's odometry covariance, or the one NoiseModel implies at the
-// step, plus the pair's odom_interpolation_covariance.
+// step: the odometry's own noise.
+MotionCovariance OdometryNoiseCovariance(const MotionPair& pair,
+                                         const NoiseModel& noise,
+                                         const StepSize& step);
+// OdometryNoiseCovariance plus the pair's odom_interpolation_covariance.
 MotionCovariance OdometryCovariance(const MotionPair& pair,
                                     const NoiseModel& noise,
                                     const StepSize& step);
@@ -63,6 +67,15 @@ MotionCovariance OdometryCovariance(const MotionPair& pair,
 MotionCovariance CameraCovariance(const MotionPair& pair,
                                   const NoiseModel& noise,
                                   const StepSize& step);
+
+// F_A and F_B of the file comment at the estimate: Cov(r) = F_A Sigma_A
+// F_A^T + F_B Sigma_B F_B^T.
+struct ResidualNoiseJacobians {
+  Matrix6d odometry;  // F_A
+  Matrix6d camera;    // F_B
+};
+ResidualNoiseJacobians HandEyeResidualNoiseJacobians(
+    const MotionPair& pair, const Rigid3d& odom_from_cam, double metric_scale);
 
 // Cov(r) at the given estimate, NoiseModel's parts sized by ModelledStep.
 Matrix6d HandEyeResidualCovariance(const MotionPair& pair,

@@ -28,6 +28,7 @@ using internal::KenwardRogerTerm;
 using internal::kNumCoupled;
 using internal::Matrix6X;
 using internal::PairCovariance;
+using internal::PairCovarianceDerivatives;
 using internal::PairTerms;
 using internal::ParameterOf;
 using internal::ResidualJacobian;
@@ -76,8 +77,8 @@ Pass WithPrior(Pass pass, const Eigen::VectorXd& mu, double weight) {
 
 // mu: one multiplier per free parameter. Two passes over the pairs (the
 // normal matrix first, then the sums that need its inverse), each pair's
-// covariance derivatives evaluated again in the second: kept for all pairs,
-// they would take num_free * 288 bytes per pair.
+// covariance derivatives evaluated in the second: kept for all pairs, they
+// would take num_free * 288 bytes per pair.
 Pass Evaluate(const std::vector<PairTerms>& terms,
               const ParameterOf& parameter_of,
               const Eigen::VectorXd& mu) {
@@ -90,7 +91,7 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   Matrix6X pj(6, num_columns);
   for (size_t i = 0; i < terms.size(); ++i) {
     const Matrix6d covariance =
-        PairCovariance(terms[i], parameter_of, all, derivatives.data());
+        PairCovariance(terms[i], parameter_of, all, nullptr);
     precisions[i] = covariance.ldlt().solve(Matrix6d::Identity());
     pj.noalias() = precisions[i] * terms[i].jacobian;
     normal.noalias() += terms[i].jacobian.transpose() * pj;
@@ -108,7 +109,7 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   std::vector<Matrix6d> md(num_free);
   Matrix6X pj_normal_inverse(6, num_columns);
   for (size_t i = 0; i < terms.size(); ++i) {
-    PairCovariance(terms[i], parameter_of, all, derivatives.data());
+    PairCovarianceDerivatives(terms[i], parameter_of, all, derivatives.data());
     const Matrix6d& p = precisions[i];
     pj.noalias() = p * terms[i].jacobian;
     pj_normal_inverse.noalias() = pj * normal_inverse;
@@ -248,12 +249,19 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
 
   std::vector<PairTerms> terms;
   terms.reserve(used.size());
+  // A pair's parts are gathered here and copied at their exact count: grown
+  // by push_back, each pair's vector would hold room for 16 (2 KiB unused).
+  std::vector<CovariancePart> parts;
+  parts.reserve(kNumNoiseComponents + kNumCoupled);
   std::array<double, kNumNoiseComponents> trace = {};
   std::array<double, kNumCoupled> coupled_trace = {};
   for (const int i : used) {
-    const MotionPair pair = ScaleCovariances({pairs[i]}, start_covariance)[0];
+    const MotionPair pair = ScaleCovariancesOfPair(pairs[i], start_covariance);
     const double scale = metric_scales.at(pair.segment);
+    const ResidualNoiseJacobians jacobians =
+        HandEyeResidualNoiseJacobians(pair, odom_from_cam, scale);
     PairTerms term;
+    parts.clear();
     term.residual = HandEyeResidual(pair, odom_from_cam, scale);
     term.jacobian = ResidualJacobian(pair,
                                      odom_from_cam,
@@ -264,11 +272,10 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
     const StepSize step = ModelledStep(pair, odom_from_cam, scale, start_noise);
     std::array<Matrix6d, kNumNoiseComponents> contributions;
     for (int c = 0; c < kNumNoiseComponents; ++c) {
-      contributions[c] =
-          Contribution(pair, odom_from_cam, scale, start_noise, step, {c});
+      contributions[c] = Contribution(pair, jacobians, start_noise, step, {c});
       trace[c] += contributions[c].trace();
       if (!contributions[c].isZero(0.0)) {
-        term.parts.push_back({c, c, contributions[c]});
+        parts.push_back({c, c, contributions[c]});
       }
     }
     for (int k = 0; k < kNumCoupled; ++k) {
@@ -277,11 +284,12 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
         continue;
       }
       const Matrix6d coupled =
-          Contribution(pair, odom_from_cam, scale, start_noise, step, {a, b}) -
+          Contribution(pair, jacobians, start_noise, step, {a, b}) -
           contributions[a] - contributions[b];
       coupled_trace[k] += coupled.trace();
-      if (!coupled.isZero(0.0)) term.parts.push_back({a, b, coupled});
+      if (!coupled.isZero(0.0)) parts.push_back({a, b, coupled});
     }
+    term.parts.assign(parts.begin(), parts.end());
     term.interpolation =
         InterpolationContribution(pair, odom_from_cam, scale, options.noise);
     terms.push_back(std::move(term));

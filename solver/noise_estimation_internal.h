@@ -48,10 +48,9 @@ inline constexpr int kNumCoupled = 4;
 // or camera) at the starting noise; zero where the pair's own covariance
 // replaces the model or the other way round. `step`: the pair's
 // ModelledStep under the full starting noise, which sizes every part as it
-// sizes their sum.
+// sizes their sum; `jacobians`: the pair's HandEyeResidualNoiseJacobians.
 Matrix6d Contribution(const MotionPair& pair,
-                      const Rigid3d& odom_from_cam,
-                      double scale,
+                      const ResidualNoiseJacobians& jacobians,
                       const NoiseModel& start_noise,
                       const StepSize& step,
                       std::initializer_list<int> components);
@@ -63,7 +62,8 @@ Matrix6d InterpolationContribution(const MotionPair& pair,
                                    double scale,
                                    const NoiseModel& noise);
 
-// d r / d [phi(3), p_x, p_y, (p_z), s_k...] by central differences.
+// d r / d [phi(3), p_x, p_y, (p_z), s_k...]: the rotation columns by
+// central differences, the others exactly (r is linear in p and s).
 Matrix6X ResidualJacobian(const MotionPair& pair,
                           const Rigid3d& odom_from_cam,
                           double scale,
@@ -99,11 +99,17 @@ using ParameterOf = std::array<int, kNumNoiseComponents>;
 Eigen::VectorXd WithFixedParameter(const Eigen::VectorXd& mu);
 
 // One pair's Cov(r) at the multipliers `all` (the free parameters', then
-// the fixed one's 1) and its derivatives D_p by the free multipliers.
+// the fixed one's 1) and, where `derivatives` is given, its derivatives D_p
+// by the free multipliers.
 Matrix6d PairCovariance(const PairTerms& term,
                         const ParameterOf& parameter_of,
                         const Eigen::VectorXd& all,
                         Matrix6d* derivatives);
+// The derivatives D_p alone.
+void PairCovarianceDerivatives(const PairTerms& term,
+                               const ParameterOf& parameter_of,
+                               const Eigen::VectorXd& all,
+                               Matrix6d* derivatives);
 
 // The Kenward-Roger term A of the estimate's covariance with estimated noise
 // (Kenward & Roger 1997, eq. 3 and 4 without the second derivatives, which

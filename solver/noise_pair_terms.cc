@@ -72,8 +72,7 @@ NoiseModel OnlyComponents(const NoiseModel& noise,
 }  // namespace
 
 Matrix6d Contribution(const MotionPair& pair,
-                      const Rigid3d& odom_from_cam,
-                      double scale,
+                      const ResidualNoiseJacobians& jacobians,
                       const NoiseModel& start_noise,
                       const StepSize& step,
                       std::initializer_list<int> components) {
@@ -83,14 +82,9 @@ Matrix6d Contribution(const MotionPair& pair,
   const std::optional<MotionCovariance>& given =
       odometry ? pair.odom_covariance : pair.cam_covariance;
   if (own != given.has_value()) return Matrix6d::Zero();
-  MotionPair masked = pair;
-  masked.odom_interpolation_covariance.reset();
-  (odometry ? masked.cam_covariance : masked.odom_covariance) =
-      MotionCovariance::Zero();
-  NoiseModel noise = start_noise;
+  MotionCovariance covariance = MotionCovariance::Zero();
   if (own) {
     std::vector<int> blocks;
-    MotionCovariance covariance = MotionCovariance::Zero();
     for (const int c : components) {
       const int block = GroupOf(static_cast<NoiseComponent>(c)) ==
                                     NoiseGroup::kOdometryRotation ||
@@ -107,11 +101,14 @@ Matrix6d Contribution(const MotionPair& pair,
       const Eigen::Index first = 3 * static_cast<Eigen::Index>(blocks[0]);
       covariance.block<3, 3>(first, first) = full.block<3, 3>(first, first);
     }
-    (odometry ? masked.odom_covariance : masked.cam_covariance) = covariance;
   } else {
-    noise = OnlyComponents(start_noise, components);
+    // Without the interpolation error, which no factor scales.
+    const NoiseModel noise = OnlyComponents(start_noise, components);
+    covariance = odometry ? OdometryNoiseCovariance(pair, noise, step)
+                          : CameraCovariance(pair, noise, step);
   }
-  return HandEyeResidualCovariance(masked, odom_from_cam, scale, noise, step);
+  const Matrix6d& f = odometry ? jacobians.odometry : jacobians.camera;
+  return f * covariance * f.transpose();
 }
 
 // Contribution of the odometry's interpolation error to Cov(r), which no
@@ -145,20 +142,17 @@ Matrix6X ResidualJacobian(const MotionPair& pair,
                        HandEyeResidual(pair, minus, scale)) /
                       (2.0 * kStep);
   }
+  // r_t = R_A p + t_A - s R t_B - p is linear in p and s, and r_rot depends
+  // on neither.
   const int num_translations = estimate_z ? 3 : 2;
+  const Eigen::Matrix3d r_a_minus_identity =
+      pair.odom_i_from_odom_j.rotation.toRotationMatrix() -
+      Eigen::Matrix3d::Identity();
   for (int k = 0; k < num_translations; ++k) {
-    Rigid3d plus = odom_from_cam, minus = odom_from_cam;
-    plus.translation(k) += kStep;
-    minus.translation(k) -= kStep;
-    jacobian.col(3 + k) = (HandEyeResidual(pair, plus, scale) -
-                           HandEyeResidual(pair, minus, scale)) /
-                          (2.0 * kStep);
+    jacobian.col(3 + k).tail<3>() = r_a_minus_identity.col(k);
   }
-  const double h = kStep * std::max(1.0, std::abs(scale));
-  jacobian.col(scale_column) =
-      (HandEyeResidual(pair, odom_from_cam, scale + h) -
-       HandEyeResidual(pair, odom_from_cam, scale - h)) /
-      (2.0 * h);
+  jacobian.col(scale_column).tail<3>() =
+      -(odom_from_cam.rotation * pair.cam_i_from_cam_j.translation);
   return jacobian;
 }
 
@@ -172,19 +166,33 @@ Matrix6d PairCovariance(const PairTerms& term,
                         const ParameterOf& parameter_of,
                         const Eigen::VectorXd& all,
                         Matrix6d* derivatives) {
-  const int num_free = static_cast<int>(all.size()) - 1;
   Matrix6d covariance = term.interpolation;
+  for (const CovariancePart& part : term.parts) {
+    const int p = parameter_of[part.a];
+    const int q = parameter_of[part.b];
+    covariance += (p == q ? all(p) : std::sqrt(all(p) * all(q))) * part.x;
+  }
+  covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
+  if (derivatives != nullptr) {
+    PairCovarianceDerivatives(term, parameter_of, all, derivatives);
+  }
+  return covariance;
+}
+
+void PairCovarianceDerivatives(const PairTerms& term,
+                               const ParameterOf& parameter_of,
+                               const Eigen::VectorXd& all,
+                               Matrix6d* derivatives) {
+  const int num_free = static_cast<int>(all.size()) - 1;
   for (int p = 0; p < num_free; ++p) derivatives[p].setZero();
   for (const CovariancePart& part : term.parts) {
     const int p = parameter_of[part.a];
     const int q = parameter_of[part.b];
     if (p == q) {
-      covariance += all(p) * part.x;
       if (p < num_free) derivatives[p] += part.x;
       continue;
     }
     // d sqrt(mu_p mu_q) / d mu_p = sqrt(mu_q / mu_p) / 2.
-    covariance += std::sqrt(all(p) * all(q)) * part.x;
     if (p < num_free) {
       derivatives[p] += 0.5 * std::sqrt(all(q) / all(p)) * part.x;
     }
@@ -192,8 +200,6 @@ Matrix6d PairCovariance(const PairTerms& term,
       derivatives[q] += 0.5 * std::sqrt(all(p) / all(q)) * part.x;
     }
   }
-  covariance.diagonal().array() += 1e-12 * covariance.trace() + 1e-300;
-  return covariance;
 }
 
 }  // namespace odomcal::internal

@@ -6,6 +6,8 @@
 // those whose whitened residual W r (hand_eye_residual.h) has a squared norm
 // below the 99.9 % point of chi-square with 6 degrees of freedom under the
 // estimated noise; until neither the pairs nor the factors (1 %) change.
+// Once the factors have settled they are kept, and the rounds that follow
+// only refine and test again until the pairs settle too.
 // RANSAC's first choice is made under the given noise (and its fixed
 // thresholds) and can reject good pairs when the given noise is too small;
 // this test brings them back, and removes pairs the estimated noise cannot

@@ -68,8 +68,8 @@ NoiseFactors CovarianceFactors(const ComponentFactors& factors) {
           factors[Index(NoiseComponent::kCameraTranslationCovariance)]};
 }
 
-MotionPairs ScaleCovariances(const MotionPairs& pairs,
-                             const NoiseFactors& factors) {
+MotionPair ScaleCovariancesOfPair(const MotionPair& pair,
+                                  const NoiseFactors& factors) {
   auto scale =
       [](MotionCovariance* covariance, double rotation, double translation) {
         Vector6d sigma;
@@ -77,18 +77,26 @@ MotionPairs ScaleCovariances(const MotionPairs& pairs,
             Eigen::Vector3d::Constant(std::sqrt(translation));
         *covariance = sigma.asDiagonal() * *covariance * sigma.asDiagonal();
       };
-  MotionPairs scaled = pairs;
-  for (MotionPair& pair : scaled) {
-    if (pair.odom_covariance) {
-      scale(&*pair.odom_covariance,
-            factors[Index(NoiseGroup::kOdometryRotation)],
-            factors[Index(NoiseGroup::kOdometryTranslation)]);
-    }
-    if (pair.cam_covariance) {
-      scale(&*pair.cam_covariance,
-            factors[Index(NoiseGroup::kCameraRotation)],
-            factors[Index(NoiseGroup::kCameraTranslation)]);
-    }
+  MotionPair scaled = pair;
+  if (scaled.odom_covariance) {
+    scale(&*scaled.odom_covariance,
+          factors[Index(NoiseGroup::kOdometryRotation)],
+          factors[Index(NoiseGroup::kOdometryTranslation)]);
+  }
+  if (scaled.cam_covariance) {
+    scale(&*scaled.cam_covariance,
+          factors[Index(NoiseGroup::kCameraRotation)],
+          factors[Index(NoiseGroup::kCameraTranslation)]);
+  }
+  return scaled;
+}
+
+MotionPairs ScaleCovariances(const MotionPairs& pairs,
+                             const NoiseFactors& factors) {
+  MotionPairs scaled;
+  scaled.reserve(pairs.size());
+  for (const MotionPair& pair : pairs) {
+    scaled.push_back(ScaleCovariancesOfPair(pair, factors));
   }
   return scaled;
 }

@@ -24,5 +24,8 @@ NoiseModel ScaleNoise(const NoiseModel& noise, const NoiseFactors& factors);
 // geometric mean.
 MotionPairs ScaleCovariances(const MotionPairs& pairs,
                              const NoiseFactors& factors);
+// The same for one pair.
+MotionPair ScaleCovariancesOfPair(const MotionPair& pair,
+                                  const NoiseFactors& factors);
 
 }  // namespace odomcal

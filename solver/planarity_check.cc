@@ -52,9 +52,14 @@ double CorrelationLength(const std::vector<Eigen::Vector3d>& whitened) {
 }  // namespace
 
 bool IsPlanarMotion(const Rigid3d& odom_i_from_odom_j) {
-  const Eigen::Vector3d rotation = LogRotation(odom_i_from_odom_j.rotation);
-  return rotation.head<2>().norm() <= kPlanarTolerance &&
-         std::abs(odom_i_from_odom_j.translation.z()) <= kPlanarTolerance;
+  if (!(std::abs(odom_i_from_odom_j.translation.z()) <= kPlanarTolerance)) {
+    return false;
+  }
+  // A rotation about z alone, as a planar log's: no logarithm needed (the
+  // noise model asks this of every pair in every round).
+  const Eigen::Quaterniond& q = odom_i_from_odom_j.rotation;
+  if (q.x() == 0.0 && q.y() == 0.0) return true;
+  return LogRotation(q).head<2>().norm() <= kPlanarTolerance;
 }
 
 bool IsPlanarOdometry(const MotionPairs& pairs) {
