@@ -93,6 +93,11 @@ void CalibrationOptions::Check() const {
   CheckPositive(max_relative_translation_residual,
                 "max_relative_translation_residual");
   CheckNonNegative(noise_prior_weight, "noise_prior_weight");
+  if (num_threads != -1 && num_threads < 1) {
+    throw std::invalid_argument(
+        "num_threads must be -1 (the hardware's) or >= 1, got " +
+        std::to_string(num_threads));
+  }
 }
 
 std::string ToString(LinearMethod method) {

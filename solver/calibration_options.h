@@ -109,6 +109,11 @@ struct CalibrationOptions {
   // within the bounds of noise_estimation.h.
   double noise_prior_weight = 0.0;
 
+  // Threads for the noise estimation's passes over the pairs; -1: the
+  // hardware's. The result does not depend on it (fixed chunks of pairs,
+  // added in order: solver/parallel_chunks.h).
+  int num_threads = -1;
+
   // Throws std::invalid_argument whose message starts with the field's name
   // ("ransac_min_inlier_ratio must be in [0, 1], got 1.5"); the field names
   // of the noise model and of this struct are the CLI's flag names without

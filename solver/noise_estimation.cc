@@ -8,6 +8,7 @@
 
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/solver/noise_estimation_internal.h"
+#include "odomcal/solver/parallel_chunks.h"
 
 #include <Eigen/Dense>
 
@@ -21,12 +22,14 @@ namespace {
 
 using internal::Contribution;
 using internal::CovariancePart;
+using internal::ForEachChunk;
 using internal::Index;
 using internal::InterpolationContribution;
 using internal::kCoupled;
 using internal::KenwardRogerTerm;
 using internal::kNumCoupled;
 using internal::Matrix6X;
+using internal::NumChunks;
 using internal::PairCovariance;
 using internal::PairCovarianceDerivatives;
 using internal::PairTerms;
@@ -78,23 +81,33 @@ Pass WithPrior(Pass pass, const Eigen::VectorXd& mu, double weight) {
 // mu: one multiplier per free parameter. Two passes over the pairs (the
 // normal matrix first, then the sums that need its inverse), each pair's
 // covariance derivatives evaluated in the second: kept for all pairs, they
-// would take num_free * 288 bytes per pair.
+// would take num_free * 288 bytes per pair. Each pass sums per chunk of
+// pairs, the chunks in order (parallel_chunks.h).
 Pass Evaluate(const std::vector<PairTerms>& terms,
               const ParameterOf& parameter_of,
-              const Eigen::VectorXd& mu) {
+              const Eigen::VectorXd& mu,
+              int num_threads) {
   const int num_free = static_cast<int>(mu.size());
   const Eigen::VectorXd all = WithFixedParameter(mu);
+  const int num_pairs = static_cast<int>(terms.size());
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  const int num_chunks = NumChunks(num_pairs);
   std::vector<Matrix6d> precisions(terms.size());
-  std::vector<Matrix6d> derivatives(num_free);
-  Matrix6X pj(6, num_columns);
-  for (size_t i = 0; i < terms.size(); ++i) {
-    const Matrix6d covariance =
-        PairCovariance(terms[i], parameter_of, all, nullptr);
-    precisions[i] = covariance.ldlt().solve(Matrix6d::Identity());
-    pj.noalias() = precisions[i] * terms[i].jacobian;
-    normal.noalias() += terms[i].jacobian.transpose() * pj;
+  std::vector<Eigen::MatrixXd> chunk_normals(
+      num_chunks, Eigen::MatrixXd::Zero(num_columns, num_columns));
+  ForEachChunk(num_pairs, num_threads, [&](int chunk, int begin, int end) {
+    Matrix6X pj(6, num_columns);
+    for (int i = begin; i < end; ++i) {
+      const Matrix6d covariance =
+          PairCovariance(terms[i], parameter_of, all, nullptr);
+      precisions[i] = covariance.ldlt().solve(Matrix6d::Identity());
+      pj.noalias() = precisions[i] * terms[i].jacobian;
+      chunk_normals[chunk].noalias() += terms[i].jacobian.transpose() * pj;
+    }
+  });
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(num_columns, num_columns);
+  for (const Eigen::MatrixXd& chunk_normal : chunk_normals) {
+    normal += chunk_normal;
   }
   const Eigen::MatrixXd normal_inverse =
       normal.completeOrthogonalDecomposition().pseudoInverse();
@@ -102,35 +115,49 @@ Pass Evaluate(const std::vector<PairTerms>& terms,
   const auto trace_of_product = [](const Matrix6d& a, const Matrix6d& b) {
     return a.cwiseProduct(b.transpose()).sum();
   };
-  Pass pass;
-  pass.weighted_sum = Eigen::VectorXd::Zero(num_free);
-  pass.redundancy_part = Eigen::VectorXd::Zero(num_free);
-  pass.helmert = Eigen::MatrixXd::Zero(num_free, num_free);
-  std::vector<Matrix6d> md(num_free);
-  Matrix6X pj_normal_inverse(6, num_columns);
-  for (size_t i = 0; i < terms.size(); ++i) {
-    PairCovarianceDerivatives(terms[i], parameter_of, all, derivatives.data());
-    const Matrix6d& p = precisions[i];
-    pj.noalias() = p * terms[i].jacobian;
-    pj_normal_inverse.noalias() = pj * normal_inverse;
-    Matrix6d m = p;
-    m.noalias() -= pj_normal_inverse * pj.transpose();
-    const Vector6d pe = p * terms[i].residual;
-    pass.chi_square += terms[i].residual.dot(pe);
-    for (int c = 0; c < num_free; ++c) {
-      const Matrix6d& d = derivatives[c];
-      pass.weighted_sum(c) += pe.dot(d * pe);
-      pass.redundancy_part(c) += trace_of_product(d, m);
-      md[c].noalias() = m * d;
-    }
-    // H is symmetric: tr(M D_c M D_d) = tr(M D_d M D_c).
-    for (int c = 0; c < num_free; ++c) {
-      for (int d = c; d < num_free; ++d) {
-        const double trace = trace_of_product(md[c], md[d]);
-        pass.helmert(c, d) += trace;
-        if (d != c) pass.helmert(d, c) += trace;
+  Pass zero;
+  zero.weighted_sum = Eigen::VectorXd::Zero(num_free);
+  zero.redundancy_part = Eigen::VectorXd::Zero(num_free);
+  zero.helmert = Eigen::MatrixXd::Zero(num_free, num_free);
+  std::vector<Pass> chunk_passes(num_chunks, zero);
+  ForEachChunk(num_pairs, num_threads, [&](int chunk, int begin, int end) {
+    Pass& pass = chunk_passes[chunk];
+    std::vector<Matrix6d> derivatives(num_free);
+    std::vector<Matrix6d> md(num_free);
+    Matrix6X pj(6, num_columns);
+    Matrix6X pj_normal_inverse(6, num_columns);
+    for (int i = begin; i < end; ++i) {
+      PairCovarianceDerivatives(
+          terms[i], parameter_of, all, derivatives.data());
+      const Matrix6d& p = precisions[i];
+      pj.noalias() = p * terms[i].jacobian;
+      pj_normal_inverse.noalias() = pj * normal_inverse;
+      Matrix6d m = p;
+      m.noalias() -= pj_normal_inverse * pj.transpose();
+      const Vector6d pe = p * terms[i].residual;
+      pass.chi_square += terms[i].residual.dot(pe);
+      for (int c = 0; c < num_free; ++c) {
+        const Matrix6d& d = derivatives[c];
+        pass.weighted_sum(c) += pe.dot(d * pe);
+        pass.redundancy_part(c) += trace_of_product(d, m);
+        md[c].noalias() = m * d;
+      }
+      // H is symmetric: tr(M D_c M D_d) = tr(M D_d M D_c).
+      for (int c = 0; c < num_free; ++c) {
+        for (int d = c; d < num_free; ++d) {
+          const double trace = trace_of_product(md[c], md[d]);
+          pass.helmert(c, d) += trace;
+          if (d != c) pass.helmert(d, c) += trace;
+        }
       }
     }
+  });
+  Pass pass = zero;
+  for (const Pass& chunk_pass : chunk_passes) {
+    pass.weighted_sum += chunk_pass.weighted_sum;
+    pass.redundancy_part += chunk_pass.redundancy_part;
+    pass.helmert += chunk_pass.helmert;
+    pass.chi_square += chunk_pass.chi_square;
   }
   return pass;
 }
@@ -247,52 +274,72 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   int num_columns = first_scale_column;
   for (auto& [segment, column] : scale_columns) column = num_columns++;
 
-  std::vector<PairTerms> terms;
-  terms.reserve(used.size());
-  // A pair's parts are gathered here and copied at their exact count: grown
-  // by push_back, each pair's vector would hold room for 16 (2 KiB unused).
-  std::vector<CovariancePart> parts;
-  parts.reserve(kNumNoiseComponents + kNumCoupled);
+  const int num_used = static_cast<int>(used.size());
+  std::vector<PairTerms> terms(used.size());
+  // The components' traces, per chunk of pairs (parallel_chunks.h).
+  struct Traces {
+    std::array<double, kNumNoiseComponents> component = {};
+    std::array<double, kNumCoupled> coupled = {};
+  };
+  std::vector<Traces> chunk_traces(NumChunks(num_used));
+  ForEachChunk(
+      num_used, options.num_threads, [&](int chunk, int begin, int end) {
+        Traces& traces = chunk_traces[chunk];
+        // A pair's parts are gathered here and copied at their exact count:
+        // grown by push_back, each pair's vector would hold room for 16 (2 KiB
+        // unused).
+        std::vector<CovariancePart> parts;
+        parts.reserve(kNumNoiseComponents + kNumCoupled);
+        for (int k = begin; k < end; ++k) {
+          const MotionPair pair =
+              ScaleCovariancesOfPair(pairs[used[k]], start_covariance);
+          const double scale = metric_scales.at(pair.segment);
+          const ResidualNoiseJacobians jacobians =
+              HandEyeResidualNoiseJacobians(pair, odom_from_cam, scale);
+          PairTerms& term = terms[k];
+          parts.clear();
+          term.residual = HandEyeResidual(pair, odom_from_cam, scale);
+          term.jacobian = ResidualJacobian(pair,
+                                           odom_from_cam,
+                                           scale,
+                                           scale_columns.at(pair.segment),
+                                           num_columns,
+                                           estimate_z);
+          const StepSize step =
+              ModelledStep(pair, odom_from_cam, scale, start_noise);
+          std::array<Matrix6d, kNumNoiseComponents> contributions;
+          for (int c = 0; c < kNumNoiseComponents; ++c) {
+            contributions[c] =
+                Contribution(pair, jacobians, start_noise, step, {c});
+            traces.component[c] += contributions[c].trace();
+            if (!contributions[c].isZero(0.0)) {
+              parts.push_back({c, c, contributions[c]});
+            }
+          }
+          for (int q = 0; q < kNumCoupled; ++q) {
+            const int a = Index(kCoupled[q].first),
+                      b = Index(kCoupled[q].second);
+            if (contributions[a].isZero(0.0) || contributions[b].isZero(0.0)) {
+              continue;
+            }
+            const Matrix6d coupled =
+                Contribution(pair, jacobians, start_noise, step, {a, b}) -
+                contributions[a] - contributions[b];
+            traces.coupled[q] += coupled.trace();
+            if (!coupled.isZero(0.0)) parts.push_back({a, b, coupled});
+          }
+          term.parts.assign(parts.begin(), parts.end());
+          term.interpolation = InterpolationContribution(
+              pair, odom_from_cam, scale, options.noise);
+        }
+      });
   std::array<double, kNumNoiseComponents> trace = {};
   std::array<double, kNumCoupled> coupled_trace = {};
-  for (const int i : used) {
-    const MotionPair pair = ScaleCovariancesOfPair(pairs[i], start_covariance);
-    const double scale = metric_scales.at(pair.segment);
-    const ResidualNoiseJacobians jacobians =
-        HandEyeResidualNoiseJacobians(pair, odom_from_cam, scale);
-    PairTerms term;
-    parts.clear();
-    term.residual = HandEyeResidual(pair, odom_from_cam, scale);
-    term.jacobian = ResidualJacobian(pair,
-                                     odom_from_cam,
-                                     scale,
-                                     scale_columns.at(pair.segment),
-                                     num_columns,
-                                     estimate_z);
-    const StepSize step = ModelledStep(pair, odom_from_cam, scale, start_noise);
-    std::array<Matrix6d, kNumNoiseComponents> contributions;
+  for (const Traces& traces : chunk_traces) {
     for (int c = 0; c < kNumNoiseComponents; ++c) {
-      contributions[c] = Contribution(pair, jacobians, start_noise, step, {c});
-      trace[c] += contributions[c].trace();
-      if (!contributions[c].isZero(0.0)) {
-        parts.push_back({c, c, contributions[c]});
-      }
+      trace[c] += traces.component[c];
     }
-    for (int k = 0; k < kNumCoupled; ++k) {
-      const int a = Index(kCoupled[k].first), b = Index(kCoupled[k].second);
-      if (contributions[a].isZero(0.0) || contributions[b].isZero(0.0)) {
-        continue;
-      }
-      const Matrix6d coupled =
-          Contribution(pair, jacobians, start_noise, step, {a, b}) -
-          contributions[a] - contributions[b];
-      coupled_trace[k] += coupled.trace();
-      if (!coupled.isZero(0.0)) parts.push_back({a, b, coupled});
-    }
-    term.parts.assign(parts.begin(), parts.end());
-    term.interpolation =
-        InterpolationContribution(pair, odom_from_cam, scale, options.noise);
-    terms.push_back(std::move(term));
+    for (int q = 0; q < kNumCoupled; ++q) coupled_trace[q] += traces.coupled[q];
   }
   double total_trace = 0.0;
   for (const double t : trace) total_trace += t;
@@ -315,7 +362,7 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
   Pass data_pass;  // the pairs' sums alone
   Pass pass;       // with the prior: the scoring's
   const auto evaluate = [&](const ParameterOf& parameter_of) {
-    data_pass = Evaluate(terms, parameter_of, mu);
+    data_pass = Evaluate(terms, parameter_of, mu, options.num_threads);
     pass = WithPrior(data_pass, mu, options.noise_prior_weight);
   };
   std::array<double, kNumNoiseComponents> last_multiplier;
@@ -451,8 +498,8 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
       }
       // In the refinement's columns, which hold z (WidenForEstimatedNoise).
       if (!estimate_z) {
-        estimate.kenward_roger_term =
-            KenwardRogerTerm(terms, parameter_of, mu, posterior_covariance);
+        estimate.kenward_roger_term = KenwardRogerTerm(
+            terms, parameter_of, mu, posterior_covariance, options.num_threads);
         for (const auto& [segment, column] : scale_columns) {
           estimate.kenward_roger_segments.push_back(segment);
         }

@@ -121,6 +121,7 @@ void PairCovarianceDerivatives(const PairTerms& term,
 Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
                                  const ParameterOf& parameter_of,
                                  const Eigen::VectorXd& mu,
-                                 const Eigen::MatrixXd& multiplier_covariance);
+                                 const Eigen::MatrixXd& multiplier_covariance,
+                                 int num_threads);
 
 }  // namespace odomcal::internal

@@ -4,6 +4,7 @@
 
 #include "odomcal/solver/noise_estimation.h"
 #include "odomcal/solver/noise_estimation_internal.h"
+#include "odomcal/solver/parallel_chunks.h"
 
 #include <Eigen/Dense>
 
@@ -17,41 +18,62 @@ namespace internal {
 Eigen::MatrixXd KenwardRogerTerm(const std::vector<PairTerms>& terms,
                                  const ParameterOf& parameter_of,
                                  const Eigen::VectorXd& mu,
-                                 const Eigen::MatrixXd& multiplier_covariance) {
+                                 const Eigen::MatrixXd& multiplier_covariance,
+                                 int num_threads) {
   const int num_free = static_cast<int>(mu.size());
   const Eigen::VectorXd all = WithFixedParameter(mu);
+  const int num_pairs = static_cast<int>(terms.size());
   const int num_columns = static_cast<int>(terms.front().jacobian.cols());
   const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(num_columns, num_columns);
-  Eigen::MatrixXd normal = zero;
-  std::vector<Eigen::MatrixXd> first(num_free, zero);  // P_p
-  // sum_pq W_pq Q_pq, summed per pair as sum_p (D_p P J)^T (sum_q W_pq P D_q
-  // P J): num_free products per pair instead of num_free^2.
-  Eigen::MatrixXd weighted_second = zero;
-  std::vector<Matrix6d> derivatives(num_free);
-  std::vector<Matrix6X> pdpj(num_free, Matrix6X(6, num_columns));
-  std::vector<Matrix6X> ppdpj(num_free, Matrix6X(6, num_columns));
-  Matrix6X pj(6, num_columns);
-  Matrix6X weighted(6, num_columns);
-  for (const PairTerms& term : terms) {
-    const Matrix6d covariance =
-        PairCovariance(term, parameter_of, all, derivatives.data());
-    const Matrix6d precision = covariance.ldlt().solve(Matrix6d::Identity());
-    pj.noalias() = precision * term.jacobian;
-    normal.noalias() += term.jacobian.transpose() * pj;
-    for (int p = 0; p < num_free; ++p) {
-      pdpj[p].noalias() = derivatives[p] * pj;
-      ppdpj[p].noalias() = precision * pdpj[p];
-      first[p].noalias() += pj.transpose() * pdpj[p];
-    }
-    for (int p = 0; p < num_free; ++p) {
-      weighted.setZero();
-      for (int q = 0; q < num_free; ++q) {
-        const double w = multiplier_covariance(p, q);
-        if (w != 0.0) weighted += w * ppdpj[q];
+  // Per chunk of pairs (parallel_chunks.h): the normal matrix, P_p and
+  // sum_pq W_pq Q_pq, the last summed per pair as sum_p (D_p P J)^T (sum_q
+  // W_pq P D_q P J): num_free products per pair instead of num_free^2.
+  struct Sums {
+    Eigen::MatrixXd normal;
+    std::vector<Eigen::MatrixXd> first;  // P_p
+    Eigen::MatrixXd weighted_second;
+  };
+  const Sums zero_sums{
+      zero, std::vector<Eigen::MatrixXd>(num_free, zero), zero};
+  std::vector<Sums> chunk_sums(NumChunks(num_pairs), zero_sums);
+  ForEachChunk(num_pairs, num_threads, [&](int chunk, int begin, int end) {
+    Sums& sums = chunk_sums[chunk];
+    std::vector<Matrix6d> derivatives(num_free);
+    std::vector<Matrix6X> pdpj(num_free, Matrix6X(6, num_columns));
+    std::vector<Matrix6X> ppdpj(num_free, Matrix6X(6, num_columns));
+    Matrix6X pj(6, num_columns);
+    Matrix6X weighted(6, num_columns);
+    for (int i = begin; i < end; ++i) {
+      const PairTerms& term = terms[i];
+      const Matrix6d covariance =
+          PairCovariance(term, parameter_of, all, derivatives.data());
+      const Matrix6d precision = covariance.ldlt().solve(Matrix6d::Identity());
+      pj.noalias() = precision * term.jacobian;
+      sums.normal.noalias() += term.jacobian.transpose() * pj;
+      for (int p = 0; p < num_free; ++p) {
+        pdpj[p].noalias() = derivatives[p] * pj;
+        ppdpj[p].noalias() = precision * pdpj[p];
+        sums.first[p].noalias() += pj.transpose() * pdpj[p];
       }
-      weighted_second.noalias() += pdpj[p].transpose() * weighted;
+      for (int p = 0; p < num_free; ++p) {
+        weighted.setZero();
+        for (int q = 0; q < num_free; ++q) {
+          const double w = multiplier_covariance(p, q);
+          if (w != 0.0) weighted += w * ppdpj[q];
+        }
+        sums.weighted_second.noalias() += pdpj[p].transpose() * weighted;
+      }
     }
+  });
+  Sums total = zero_sums;
+  for (const Sums& sums : chunk_sums) {
+    total.normal += sums.normal;
+    for (int p = 0; p < num_free; ++p) total.first[p] += sums.first[p];
+    total.weighted_second += sums.weighted_second;
   }
+  const Eigen::MatrixXd& normal = total.normal;
+  const std::vector<Eigen::MatrixXd>& first = total.first;
+  const Eigen::MatrixXd& weighted_second = total.weighted_second;
   const Eigen::MatrixXd phi =
       normal.completeOrthogonalDecomposition().pseudoInverse();
   Eigen::MatrixXd term = weighted_second;

@@ -2,6 +2,7 @@
 
 #include "odomcal/solver/chi_square.h"
 #include "odomcal/solver/hand_eye_residual.h"
+#include "odomcal/solver/parallel_chunks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,14 +62,24 @@ bool IsWithinNoise(const MotionPair& pair,
 std::vector<int> PairsWithinNoise(const MotionPairs& pairs,
                                   const Rigid3d& odom_from_cam,
                                   const std::vector<double>& metric_scales,
-                                  const NoiseModel& noise) {
+                                  const NoiseModel& noise,
+                                  int num_threads) {
+  const int num_pairs = static_cast<int>(pairs.size());
+  std::vector<std::vector<int>> chunk_within(internal::NumChunks(num_pairs));
+  internal::ForEachChunk(
+      num_pairs, num_threads, [&](int chunk, int begin, int end) {
+        for (int i = begin; i < end; ++i) {
+          const size_t segment = static_cast<size_t>(pairs[i].segment);
+          if (segment < metric_scales.size() && metric_scales[segment] > 0.0 &&
+              IsWithinNoise(
+                  pairs[i], odom_from_cam, metric_scales[segment], noise)) {
+            chunk_within[chunk].push_back(i);
+          }
+        }
+      });
   std::vector<int> within;
-  for (size_t i = 0; i < pairs.size(); ++i) {
-    const size_t segment = static_cast<size_t>(pairs[i].segment);
-    if (segment < metric_scales.size() && metric_scales[segment] > 0.0 &&
-        IsWithinNoise(pairs[i], odom_from_cam, metric_scales[segment], noise)) {
-      within.push_back(static_cast<int>(i));
-    }
+  for (const std::vector<int>& indices : chunk_within) {
+    within.insert(within.end(), indices.begin(), indices.end());
   }
   return within;
 }
@@ -128,7 +139,8 @@ NoiseRefinement RefineWithNoiseEstimation(
           PairsWithinNoise(ScaleCovariances(pairs, CovarianceFactors(next)),
                            estimate,
                            scales,
-                           result.noise.noise);
+                           result.noise.noise,
+                           options.num_threads);
       if (static_cast<int>(inliers.size()) < options.min_num_pairs) {
         inliers = result.used;
       }

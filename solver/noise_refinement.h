@@ -40,10 +40,13 @@ bool IsWithinNoise(const MotionPair& pair,
 // The indices of the pairs that pass IsWithinNoise at odom_from_cam and the
 // metric scale of their segment; a pair whose segment has no positive scale
 // in `metric_scales` fails.
+// `num_threads`: as CalibrationOptions::num_threads (the result does not
+// depend on it).
 std::vector<int> PairsWithinNoise(const MotionPairs& pairs,
                                   const Rigid3d& odom_from_cam,
                                   const std::vector<double>& metric_scales,
-                                  const NoiseModel& noise);
+                                  const NoiseModel& noise,
+                                  int num_threads = 1);
 
 struct NoiseRefinement {
   RefinementResult refinement;  // the last one; usable: see its field

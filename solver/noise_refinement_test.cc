@@ -65,6 +65,40 @@ TEST(NoiseRefinement, RejectsFewGoodPairsUnderTheEstimatedNoise) {
       5 * rejected + 40);
 }
 
+// The noise estimation's passes run on several threads over fixed chunks of
+// pairs, added in order: the same result, to the bit, on any number.
+TEST(NoiseRefinement, TheResultDoesNotDependOnTheNumberOfThreads) {
+  std::mt19937_64 rng(TestSeed(147));
+  MotionSimulatorOptions simulation;
+  simulation.num_pairs = 1500;  // 6 chunks
+  simulation.add_noise = true;
+  simulation.noise = ScaleNoise(NoiseModel(), {4.0, 4.0, 4.0, 4.0});
+  const SimulatedMotions truth = SimulateMotions(simulation, &rng);
+  CalibrationOptions options;
+  options.fixed_translation_z_m = truth.odom_from_cam.translation.z();
+  options.num_threads = 1;
+  const CalibrationResult one = CalibrateOdomCam(truth.pairs, options);
+  ASSERT_EQ(one.status, CalibrationStatus::kSuccess) << one.message;
+  ASSERT_TRUE(one.noise_estimate.has_value());
+  for (const int threads : {2, 3}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    options.num_threads = threads;
+    const CalibrationResult many = CalibrateOdomCam(truth.pairs, options);
+    ASSERT_EQ(many.status, CalibrationStatus::kSuccess) << many.message;
+    EXPECT_EQ(many.odom_from_cam.rotation.coeffs(),
+              one.odom_from_cam.rotation.coeffs());
+    EXPECT_EQ(many.odom_from_cam.translation, one.odom_from_cam.translation);
+    EXPECT_EQ(many.metric_scales, one.metric_scales);
+    ASSERT_TRUE(many.covariance.has_value() && one.covariance.has_value());
+    EXPECT_TRUE(*many.covariance == *one.covariance);
+    EXPECT_EQ(many.noise_estimate->component_factors,
+              one.noise_estimate->component_factors);
+    EXPECT_EQ(many.diagnostics.num_pairs_used, one.diagnostics.num_pairs_used);
+  }
+  options.num_threads = 0;
+  EXPECT_THROW(CalibrateOdomCam(truth.pairs, options), std::invalid_argument);
+}
+
 // 20 % outliers among noisy pairs: the final test removes them all and keeps
 // at least 98 % of the good ones.
 TEST(NoiseRefinement, RemovesOutliersAndKeepsGoodPairs) {
