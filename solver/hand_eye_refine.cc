@@ -15,6 +15,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -79,6 +80,29 @@ class HandEyeProblem {
     return ScalesFromLogScales(log_scales_, num_segments);
   }
 
+  RefinementParameters Parameters() const {
+    RefinementParameters parameters;
+    std::copy(quaternion_, quaternion_ + 4, parameters.quaternion);
+    std::copy(p_xy_, p_xy_ + 2, parameters.p_xy);
+    parameters.p_z = p_z_;
+    parameters.log_scales.assign(log_scales_.begin(), log_scales_.end());
+    return parameters;
+  }
+
+  // False where `parameters` has other segments than this problem.
+  bool SetParameters(const RefinementParameters& parameters) {
+    if (parameters.log_scales.size() != log_scales_.size()) return false;
+    for (const auto& [segment, log_scale] : parameters.log_scales) {
+      const auto it = log_scales_.find(segment);
+      if (it == log_scales_.end()) return false;
+      it->second = log_scale;
+    }
+    std::copy(parameters.quaternion, parameters.quaternion + 4, quaternion_);
+    std::copy(parameters.p_xy, parameters.p_xy + 2, p_xy_);
+    p_z_ = parameters.p_z;
+    return true;
+  }
+
   // J^T J in the reported coordinates, see the file comment.
   Eigen::MatrixXd Information(std::vector<int>* segments) {
     ceres::Problem::EvaluateOptions evaluate_options;
@@ -140,7 +164,8 @@ RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
                                    const Rigid3d& initial,
                                    const std::vector<double>& initial_scales,
                                    const CalibrationOptions& options,
-                                   TranslationZ z) {
+                                   TranslationZ z,
+                                   InformationAtSolution information) {
   RefinementResult result;
   result.odom_from_cam = initial;
   result.metric_scales = initial_scales;
@@ -173,8 +198,30 @@ RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
   }
   result.odom_from_cam = problem.OdomFromCam();
   result.metric_scales = problem.Scales(initial_scales.size());
-  result.information = problem.Information(&result.information_segments);
+  result.parameters = problem.Parameters();
+  if (information == InformationAtSolution::kCompute) {
+    result.information = problem.Information(&result.information_segments);
+  }
   return result;
+}
+
+Eigen::MatrixXd RefinementInformation(const MotionPairs& pairs,
+                                      const std::vector<int>& indices,
+                                      const Rigid3d& initial,
+                                      const std::vector<double>& initial_scales,
+                                      const CalibrationOptions& options,
+                                      TranslationZ z,
+                                      const RefinementResult& refined,
+                                      std::vector<int>* information_segments) {
+  information_segments->clear();
+  if (!refined.usable || indices.empty() ||
+      !ValidStart(indices, pairs, initial_scales) || !IsFinite(initial)) {
+    return Eigen::MatrixXd();
+  }
+  HandEyeProblem problem(
+      pairs, indices, initial, initial_scales, options, z, /*with_loss=*/true);
+  if (!problem.SetParameters(refined.parameters)) return Eigen::MatrixXd();
+  return problem.Information(information_segments);
 }
 
 Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,

@@ -18,6 +18,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace odomcal {
@@ -25,6 +26,21 @@ namespace odomcal {
 // Translation z: held at options.fixed_translation_z_m, or a free parameter
 // starting from the initial estimate's z.
 enum class TranslationZ { kHold, kEstimate };
+
+// Whether RefineOdomFromCam evaluates the information at its solution; a
+// caller that refines in rounds and keeps one of them asks for it later
+// (RefinementInformation), at the cost of one Jacobian evaluation instead of
+// one per round.
+enum class InformationAtSolution { kCompute, kSkip };
+
+// The solver's parameter blocks at the solution, as they are (Rigid3d and the
+// scales are their normalised / exponentiated images).
+struct RefinementParameters {
+  double quaternion[4] = {0.0, 0.0, 0.0, 1.0};  // x, y, z, w
+  double p_xy[2] = {0.0, 0.0};
+  double p_z = 0.0;
+  std::vector<std::pair<int, double>> log_scales;  // (segment, log s)
+};
 
 struct RefinementResult {
   bool usable = false;  // Ceres' IsSolutionUsable()
@@ -40,18 +56,34 @@ struct RefinementResult {
   // TranslationZ::kEstimate only, tz last: rotation as a left perturbation in
   // radians (Ceres' quaternion tangent is half of it), translation in metres,
   // scales in metres per reconstruction unit.
-  Eigen::MatrixXd information;
+  Eigen::MatrixXd information;  // empty with InformationAtSolution::kSkip
   std::vector<int> information_segments;  // segment of each scale column
+  RefinementParameters parameters;
 };
 
 // Refines from `initial` / `initial_scales` (indexed by segment) using
 // pairs[indices]. Segments without pairs among `indices` are left out.
-RefinementResult RefineOdomFromCam(const MotionPairs& pairs,
-                                   const std::vector<int>& indices,
-                                   const Rigid3d& initial,
-                                   const std::vector<double>& initial_scales,
-                                   const CalibrationOptions& options,
-                                   TranslationZ z = TranslationZ::kHold);
+RefinementResult RefineOdomFromCam(
+    const MotionPairs& pairs,
+    const std::vector<int>& indices,
+    const Rigid3d& initial,
+    const std::vector<double>& initial_scales,
+    const CalibrationOptions& options,
+    TranslationZ z = TranslationZ::kHold,
+    InformationAtSolution information = InformationAtSolution::kCompute);
+
+// The information RefineOdomFromCam would have computed for `refined`, the
+// result of a call with the same pairs, indices, starting point, options and
+// z: the same weights (evaluated at the starting point) at the same
+// parameters, so the same bits.
+Eigen::MatrixXd RefinementInformation(const MotionPairs& pairs,
+                                      const std::vector<int>& indices,
+                                      const Rigid3d& initial,
+                                      const std::vector<double>& initial_scales,
+                                      const CalibrationOptions& options,
+                                      TranslationZ z,
+                                      const RefinementResult& refined,
+                                      std::vector<int>* information_segments);
 
 // Information matrix only, at a fixed estimate (no optimisation); same order
 // and conventions as RefinementResult::information.

@@ -289,6 +289,62 @@ TEST(RefineOdomFromCam, ConvergesFromAPerturbedStart) {
   }
 }
 
+// A refinement that skips its information gets the same bits from
+// RefinementInformation later; a result of other segments gets none.
+TEST(RefinementInformation, IsTheRefinementsOwnComputedLater) {
+  auto rng = SeededRng(25);
+  MotionSimulatorOptions options;
+  options.num_segments = 2;
+  options.add_noise = true;
+  const SimulatedMotions truth = SimulateMotions(options, &rng);
+  CalibrationOptions calibration;
+  calibration.fixed_translation_z_m = truth.odom_from_cam.translation.z();
+  Rigid3d start = truth.odom_from_cam;
+  start.rotation =
+      ExpRotation(Eigen::Vector3d(0.02, -0.01, 0.03)) * start.rotation;
+  const std::vector<int> all = AllIndices(truth.pairs);
+  const RefinementResult computed = RefineOdomFromCam(
+      truth.pairs, all, start, truth.metric_scales, calibration);
+  const RefinementResult skipped =
+      RefineOdomFromCam(truth.pairs,
+                        all,
+                        start,
+                        truth.metric_scales,
+                        calibration,
+                        TranslationZ::kHold,
+                        InformationAtSolution::kSkip);
+  ASSERT_TRUE(computed.usable && skipped.usable);
+  ASSERT_GT(computed.information.size(), 0);
+  EXPECT_EQ(skipped.information.size(), 0);
+  std::vector<int> segments;
+  const Eigen::MatrixXd later = RefinementInformation(truth.pairs,
+                                                      all,
+                                                      start,
+                                                      truth.metric_scales,
+                                                      calibration,
+                                                      TranslationZ::kHold,
+                                                      skipped,
+                                                      &segments);
+  EXPECT_TRUE(later == computed.information);
+  EXPECT_EQ(segments, computed.information_segments);
+
+  // Only segment 0's pairs: the solution's two scales do not fit.
+  std::vector<int> first_segment;
+  for (const int i : all) {
+    if (truth.pairs[i].segment == 0) first_segment.push_back(i);
+  }
+  EXPECT_EQ(RefinementInformation(truth.pairs,
+                                  first_segment,
+                                  start,
+                                  truth.metric_scales,
+                                  calibration,
+                                  TranslationZ::kHold,
+                                  skipped,
+                                  &segments)
+                .size(),
+            0);
+}
+
 // Information in reported coordinates: a left rotation perturbation of phi
 // radians and scales in metres per unit. Checked against finite differences
 // of the whitened cost: J^T J must equal the Gauss-Newton Hessian.

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -21,22 +22,58 @@ double LargestChange(const ComponentFactors& a, const ComponentFactors& b) {
   return change;
 }
 
-// The refinement under the noise scaled by `factors`. The scaled copy of the
-// pairs lives only for it: at 10 000 pairs it is 12 MB, which would otherwise
-// add to the noise estimation's peak.
-RefinementResult RefineUnderFactors(const MotionPairs& pairs,
-                                    const std::vector<int>& used,
-                                    const Rigid3d& estimate,
-                                    const std::vector<double>& scales,
-                                    const CalibrationOptions& options,
-                                    const ComponentFactors& factors) {
+CalibrationOptions UnderFactors(const CalibrationOptions& options,
+                                const ComponentFactors& factors) {
   CalibrationOptions weighted = options;
   weighted.noise = ScaleNoiseComponents(options.noise, factors);
-  return RefineOdomFromCam(ScaleCovariances(pairs, CovarianceFactors(factors)),
-                           used,
-                           estimate,
-                           scales,
-                           weighted);
+  return weighted;
+}
+
+// A refinement of the rounds under the noise scaled by `factors`, without
+// its information (only the kept round's is computed, RefinementAtFactors).
+// The scaled copy of the pairs lives only for it: at 10 000 pairs it is
+// 12 MB, which would otherwise add to the noise estimation's peak.
+struct RefinementAtFactors {
+  Rigid3d start;
+  std::vector<double> start_scales;
+  ComponentFactors factors;
+  std::vector<int> used;
+  RefinementResult result;
+};
+
+RefinementAtFactors RefineUnderFactors(const MotionPairs& pairs,
+                                       const std::vector<int>& used,
+                                       const Rigid3d& start,
+                                       const std::vector<double>& start_scales,
+                                       const CalibrationOptions& options,
+                                       const ComponentFactors& factors) {
+  RefinementAtFactors refinement{start, start_scales, factors, used, {}};
+  refinement.result =
+      RefineOdomFromCam(ScaleCovariances(pairs, CovarianceFactors(factors)),
+                        used,
+                        start,
+                        start_scales,
+                        UnderFactors(options, factors),
+                        TranslationZ::kHold,
+                        InformationAtSolution::kSkip);
+  return refinement;
+}
+
+// The information of a refinement of the rounds, as RefineOdomFromCam would
+// have computed it.
+void AddInformation(const MotionPairs& pairs,
+                    const CalibrationOptions& options,
+                    RefinementAtFactors* refinement) {
+  RefinementResult& result = refinement->result;
+  result.information = RefinementInformation(
+      ScaleCovariances(pairs, CovarianceFactors(refinement->factors)),
+      refinement->used,
+      refinement->start,
+      refinement->start_scales,
+      UnderFactors(options, refinement->factors),
+      TranslationZ::kHold,
+      result,
+      &result.information_segments);
 }
 
 }  // namespace
@@ -103,23 +140,25 @@ NoiseRefinement RefineWithNoiseEstimation(
   // at the threshold cannot move them (at 10 000 pairs an estimation costs
   // as much as a refinement).
   bool settled = false;
+  RefinementAtFactors kept;
   for (int round = 0;; ++round) {
-    RefinementResult refined = RefineUnderFactors(
+    RefinementAtFactors refinement = RefineUnderFactors(
         pairs, result.used, estimate, scales, options, factors);
+    const RefinementResult& refined = refinement.result;
     if (!refined.usable) {
       // Keep the last usable refinement (the caller reports a failure when
       // the first one fails).
-      if (round == 0) result.refinement = refined;
+      if (round == 0) kept = std::move(refinement);
       result.used = refined_used;
       result.noise = refined_noise;
       break;
     }
-    result.refinement = refined;
+    kept = std::move(refinement);
     refined_used = result.used;
     refined_noise = result.noise;
     result.num_rounds = round + 1;
-    estimate = refined.odom_from_cam;
-    scales = refined.metric_scales;
+    estimate = kept.result.odom_from_cam;
+    scales = kept.result.metric_scales;
     if (round == kMaxRounds) break;
 
     if (!settled) {
@@ -151,6 +190,8 @@ NoiseRefinement RefineWithNoiseEstimation(
     result.used = inliers;
     if (converged) break;
   }
+  if (kept.result.usable) AddInformation(pairs, options, &kept);
+  result.refinement = std::move(kept.result);
   return result;
 }
 
