@@ -29,10 +29,9 @@ CalibrationOptions UnderFactors(const CalibrationOptions& options,
   return weighted;
 }
 
-// A refinement of the rounds under the noise scaled by `factors`, without
-// its information (only the kept round's is computed, RefinementAtFactors).
-// The scaled copy of the pairs lives only for it: at 10 000 pairs it is
-// 12 MB, which would otherwise add to the noise estimation's peak.
+// One refinement of the rounds: its start, noise factors and pairs, and its
+// result without the information (only the kept round's is computed, by
+// AddInformation).
 struct RefinementAtFactors {
   Rigid3d start;
   std::vector<double> start_scales;
@@ -41,6 +40,9 @@ struct RefinementAtFactors {
   RefinementResult result;
 };
 
+// The refinement under the noise scaled by `factors`. The scaled copy of the
+// pairs lives only for it: at 10 000 pairs it is 12 MB, which would
+// otherwise add to the noise estimation's peak.
 RefinementAtFactors RefineUnderFactors(const MotionPairs& pairs,
                                        const std::vector<int>& used,
                                        const Rigid3d& start,
