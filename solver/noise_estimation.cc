@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <utility>
 
 namespace odomcal {
@@ -291,8 +292,14 @@ NoiseEstimate EstimateNoise(const MotionPairs& pairs,
         std::vector<CovariancePart> parts;
         parts.reserve(kNumNoiseComponents + kNumCoupled);
         for (int k = begin; k < end; ++k) {
-          const MotionPair pair =
-              ScaleCovariancesOfPair(pairs[used[k]], start_covariance);
+          // Only a pair with its own covariances is copied to scale them
+          // (a copy carries the pair's odometry samples too).
+          const MotionPair& given = pairs[used[k]];
+          std::optional<MotionPair> scaled;
+          if (given.odom_covariance || given.cam_covariance) {
+            scaled = ScaleCovariancesOfPair(given, start_covariance);
+          }
+          const MotionPair& pair = scaled ? *scaled : given;
           const double scale = metric_scales.at(pair.segment);
           const ResidualNoiseJacobians jacobians =
               HandEyeResidualNoiseJacobians(pair, odom_from_cam, scale);
