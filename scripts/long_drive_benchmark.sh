@@ -16,7 +16,10 @@
 # --plain_limit_s: stop plain COLMAP after this many seconds (0: never); its
 # wall time is then a lower bound (plain COLMAP on 1000 images takes hours).
 # --run_flags: more flags for `odomcal run` (e.g. to compare the matchers;
-# give each variant its own --out).
+# give each variant its own --out). With "--joint_adjustment on" it also
+# prints the joint and two-step errors per axis beside the stated sigma, and
+# the metric model's camera centres against the render's (nothing but the
+# calibration applied).
 set -euo pipefail
 export LC_ALL=C  # `time` prints decimal points, which the parser expects
 
@@ -73,6 +76,63 @@ if coverage:
         colmap["registered_fraction"], coverage["num_in_calibration"],
         coverage["num_selected_images"], coverage["duration_fraction"])
 print(line)
+joint = result.get("joint_adjustment")
+if estimate and joint:
+    # Per axis against the stated sigma, joint and two-step side by side.
+    def axes(transform):
+        q = transform["quaternion_wxyz"]; t = truth["quaternion_wxyz"]
+        d = quat_mul(q, [t[0], -t[1], -t[2], -t[3]])  # R_estimate R_true^T
+        angle = 2 * math.atan2(math.sqrt(sum(c * c for c in d[1:])), d[0])
+        norm = math.sqrt(sum(c * c for c in d[1:])) or 1.0
+        rotation = [math.degrees(angle * c / norm) for c in d[1:]]
+        return rotation + [1000 * (a - b) for a, b in
+                           zip(transform["translation_m"][:2], truth["translation_m"][:2])]
+    sd = result["stddev"]
+    stated = sd["rotation_axes_deg"] + [1000 * sd["translation_x_m"], 1000 * sd["translation_y_m"]]
+    errors = axes(estimate)
+    print("  joint %s in %.0f s (jackknife %.0f s): error rx ry rz %s deg, x y %s mm; stated sigma %s deg, %s mm" % (
+        joint["status"], joint.get("time_s", 0.0), (joint.get("jackknife") or {}).get("time_s") or 0.0,
+        " ".join("%+.4f" % e for e in errors[:3]), " ".join("%+.2f" % e for e in errors[3:]),
+        " ".join("%.4f" % s for s in stated[:3]), " ".join("%.2f" % s for s in stated[3:])))
+    two_step = result.get("diagnostics", {}).get("two_step")
+    if two_step:
+        errors = axes(two_step["odom_from_cam"])
+        print("  two-step: error rx ry rz %s deg, x y %s mm" % (
+            " ".join("%+.4f" % e for e in errors[:3]), " ".join("%+.2f" % e for e in errors[3:])))
+    print("  largest scale change per stretch %s" % joint.get("max_scale_change"))
+# The metric model's camera centres against the render's, nothing but the
+# calibration applied (images.bin layout: adapters/colmap_model.h).
+import struct
+def rotation(q):
+    w, x, y, z = q
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+truth_centres = {i["name"]: i["world_from_cam"]["translation_m"]
+                 for i in json.load(open(sys.argv[2]))["images"]}
+metric = os.path.join(os.path.dirname(sys.argv[1]), "sparse_metric")
+distances = []
+for model in sorted(os.listdir(metric)) if os.path.isdir(metric) else []:
+    with open(os.path.join(metric, model, "images.bin"), "rb") as f:
+        (count,) = struct.unpack("<Q", f.read(8))
+        for _ in range(count):
+            f.read(4)
+            q = struct.unpack("<4d", f.read(32)); t = struct.unpack("<3d", f.read(24))
+            f.read(4)
+            name = b""
+            while (c := f.read(1)) != b"\0":
+                name += c
+            (num_points,) = struct.unpack("<Q", f.read(8))
+            f.read(24 * num_points)
+            r = rotation(q)
+            centre = [-sum(r[k][j] * t[k] for k in range(3)) for j in range(3)]
+            distances.append(math.dist(centre, truth_centres[name.decode()]))
+if distances:
+    names = sorted(truth_centres)
+    path = sum(math.dist(truth_centres[a], truth_centres[b]) for a, b in zip(names, names[1:]))
+    print("  metric model (%d models, %d images): camera centres against the truth rms %.1f mm, worst %.1f mm (%.3f %% of the %.1f m path)" % (
+        len(os.listdir(metric)), len(distances), 1000 * math.sqrt(sum(d * d for d in distances) / len(distances)),
+        1000 * max(distances), 100 * max(distances) / path, path))
 PY
 }
 
