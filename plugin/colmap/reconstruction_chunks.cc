@@ -198,11 +198,10 @@ ChunkCombination CombineChunkModels(
 ColmapCalibrationRun CalibrateCombination(const ReconstructionOptions& run,
                                           const MatchingRound& round,
                                           const ChunkCombination& combination) {
-  ColmapCalibrationInputs inputs = run.project;
-  inputs.model_path =
-      (fs::path(run.workspace_path) / combination.entry).string();
-  inputs.database_path = round.database;
-  return CalibrateColmapProject(inputs);
+  return CalibrateColmapProject(CheckCalibrationInputs(
+      run,
+      (fs::path(run.workspace_path) / combination.entry).string(),
+      round.database));
 }
 
 // Per chunk, the motion pairs its sub-models lost to stretches left out as

@@ -1,6 +1,7 @@
 // [4] mapper runs of the reconstruction pipeline (reconstruction_stages.h):
 // arguments, output folders, extra runs beside the main model, and a run
 // with one random seed checked against the odometry.
+#include "odomcal/plugin/colmap/joint_adjustment_run.h"
 #include "odomcal/plugin/colmap/reconstruction_stages.h"
 #include "odomcal/plugin/output/output_folder.h"
 
@@ -59,6 +60,16 @@ std::string OdometryVerdict(const MapperAttempt& attempt) {
 }
 
 }  // namespace
+
+ColmapCalibrationInputs CheckCalibrationInputs(const ReconstructionOptions& run,
+                                               const std::string& model_path,
+                                               const std::string& database) {
+  ColmapCalibrationInputs inputs = run.project;
+  inputs.model_path = model_path;
+  inputs.database_path = database;
+  inputs.joint_adjustment.use = JointAdjustmentUse::kOff;
+  return inputs;
+}
 
 // Where `colmap mapper` run as stage "mapper_<entry>" writes its
 // sub-models: mapper_attempts/<entry> in the workspace.
@@ -269,10 +280,8 @@ void MapWithSeed(ColmapRunner* colmap,
     clock.Done("no model, log " + stage.log_path);
     return;
   }
-  ColmapCalibrationInputs inputs = run.project;
-  inputs.model_path = output.string();
-  inputs.database_path = round.database;
-  const ColmapCalibrationRun calibration = CalibrateColmapProject(inputs);
+  const ColmapCalibrationRun calibration = CalibrateColmapProject(
+      CheckCalibrationInputs(run, output.string(), round.database));
   attempt = SummarizeMapperAttempt(
       seed, output.string(), calibration.segments, calibration.check);
   attempt.matching_round = round.index;

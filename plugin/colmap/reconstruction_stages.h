@@ -31,6 +31,15 @@ struct MatchingRound {
   std::string database;
 };
 
+// The inputs of a calibration that checks a model between the stages
+// (mapper attempts, chunk combinations, stretches left out): run.project on
+// `model_path` and `database`, without the joint adjustment. The checks read
+// the two-step result; the adjustment, whose cost grows with the drive, runs
+// once, in the final calibration.
+ColmapCalibrationInputs CheckCalibrationInputs(const ReconstructionOptions& run,
+                                               const std::string& model_path,
+                                               const std::string& database);
+
 // --matcher odometry: the pairs chosen from the odometry
 // (OdometryCandidatePairs), one "name1 name2" per line.
 inline constexpr const char* kOdometryPairsFile = "odometry_pairs.txt";

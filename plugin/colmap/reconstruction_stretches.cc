@@ -36,10 +36,8 @@ std::vector<fs::path> MapUnregisteredStretches(
     const std::string& database,
     Progress* progress) {
   const ColmapCalibrationInputs& inputs = run.project;
-  ColmapCalibrationInputs best_inputs = inputs;
-  best_inputs.model_path = best.model_path;
-  best_inputs.database_path = database;
-  const ColmapCalibrationRun calibrated = CalibrateColmapProject(best_inputs);
+  const ColmapCalibrationRun calibrated = CalibrateColmapProject(
+      CheckCalibrationInputs(run, best.model_path, database));
   const std::set<std::string> registered = RegisteredImages(calibrated);
   const ImageCoverage coverage = SummarizeImageCoverage(
       images,
