@@ -687,16 +687,14 @@ class JointProblem {
               ->num_residuals();
       cluster_of_row.insert(cluster_of_row.end(), size, cluster_of_block_[b]);
     }
-    Eigen::SparseMatrix<double, Eigen::RowMajor> sparse(jacobian.num_rows,
-                                                        jacobian.num_cols);
-    sparse.reserve(static_cast<Eigen::Index>(jacobian.values.size()));
-    for (int row = 0; row < jacobian.num_rows; ++row) {
-      sparse.startVec(row);
-      for (int k = jacobian.rows[row]; k < jacobian.rows[row + 1]; ++k) {
-        sparse.insertBack(row, jacobian.cols[k]) = jacobian.values[k];
-      }
-    }
-    sparse.finalize();
+    // Ceres' compressed rows (sorted columns) read in place.
+    const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> sparse(
+        jacobian.num_rows,
+        jacobian.num_cols,
+        static_cast<Eigen::Index>(jacobian.values.size()),
+        jacobian.rows.data(),
+        jacobian.cols.data(),
+        jacobian.values.data());
     LeadingCovariances covariances;
     if (!LeadingCovariancesOf(
             sparse,

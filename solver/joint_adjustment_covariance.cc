@@ -7,30 +7,48 @@
 
 namespace odomcal {
 
-bool LeadingCovariancesOf(
-    const Eigen::SparseMatrix<double, Eigen::RowMajor>& jacobian,
-    const Eigen::VectorXd& residuals,
-    const std::vector<int>& cluster_of_row,
-    int num_wanted,
-    LeadingCovariances* covariances) {
+bool LeadingCovariancesOf(const RowMajorJacobian& jacobian,
+                          const Eigen::VectorXd& residuals,
+                          const std::vector<int>& cluster_of_row,
+                          int num_wanted,
+                          LeadingCovariances* covariances) {
   const Eigen::Index num_unknowns = jacobian.cols();
   if (num_wanted < 1 || num_wanted > num_unknowns ||
       residuals.size() != jacobian.rows() ||
       cluster_of_row.size() != static_cast<size_t>(jacobian.rows())) {
     return false;
   }
-  Eigen::SparseMatrix<double> information =
-      Eigen::SparseMatrix<double>(jacobian.transpose()) * jacobian;
+  // H = J^T J from one column-major copy of J: the row-major J's arrays read
+  // as a column-major matrix are J^T, without a copy. Its peak memory is
+  // this copy and H, where a product of the row-major J with its transpose
+  // held two more copies of each.
+  Eigen::SparseMatrix<double> information;
+  {
+    const Eigen::SparseMatrix<double> jacobian_by_column = jacobian;
+    const Eigen::Map<const Eigen::SparseMatrix<double>> transposed(
+        jacobian.cols(),
+        jacobian.rows(),
+        jacobian.nonZeros(),
+        jacobian.outerIndexPtr(),
+        jacobian.innerIndexPtr(),
+        jacobian.valuePtr());
+    information = transposed * jacobian_by_column;
+  }
   // Scaled to a unit diagonal, so that the pivot test does not depend on the
   // unknowns' units (a pixel against a metre) or on how many observations
-  // each has: H = S^-1 H_s S^-1, so H^-1 = S H_s^-1 S.
+  // each has: H = S^-1 H_s S^-1, so H^-1 = S H_s^-1 S. In place.
   Eigen::VectorXd scale(num_unknowns);
   for (Eigen::Index k = 0; k < num_unknowns; ++k) {
     const double diagonal = information.coeff(k, k);
     if (!(diagonal > 0.0)) return false;  // an unknown nothing sees
     scale[k] = 1.0 / std::sqrt(diagonal);
   }
-  information = scale.asDiagonal() * information * scale.asDiagonal();
+  for (Eigen::Index k = 0; k < information.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(information, k); it;
+         ++it) {
+      it.valueRef() *= scale[it.row()] * scale[it.col()];
+    }
+  }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>,
                         Eigen::Lower,
                         Eigen::AMDOrdering<int>>
@@ -57,10 +75,7 @@ bool LeadingCovariancesOf(
   projected.setZero();
   for (Eigen::Index row = 0; row < jacobian.rows(); ++row) {
     const int cluster = cluster_of_row[row];
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(
-             jacobian, row);
-         it;
-         ++it) {
+    for (RowMajorJacobian::InnerIterator it(jacobian, row); it; ++it) {
       projected.col(cluster) +=
           columns.row(it.col()).transpose() * (it.value() * residuals[row]);
     }

@@ -26,15 +26,21 @@ struct LeadingCovariances {
   Eigen::MatrixXd robust;  // the sandwich, leading block
 };
 
+// A row-major sparse Jacobian in compressed form: a SparseMatrix, or a Map
+// over the arrays of another compressed row storage (ceres::CRSMatrix)
+// without a copy.
+using RowMajorJacobian =
+    Eigen::Ref<const Eigen::SparseMatrix<double, Eigen::RowMajor>,
+               Eigen::StandardCompressedFormat>;
+
 // `jacobian`: residuals x unknowns (whitened); `residuals`: the whitened
 // residuals; `cluster_of_row`: each residual's cluster (ids 0..n-1).
 // False when J^T J is singular (a pivot of its unit-diagonal scaling below
 // 1e-12), *covariances untouched.
-bool LeadingCovariancesOf(
-    const Eigen::SparseMatrix<double, Eigen::RowMajor>& jacobian,
-    const Eigen::VectorXd& residuals,
-    const std::vector<int>& cluster_of_row,
-    int num_wanted,
-    LeadingCovariances* covariances);
+bool LeadingCovariancesOf(const RowMajorJacobian& jacobian,
+                          const Eigen::VectorXd& residuals,
+                          const std::vector<int>& cluster_of_row,
+                          int num_wanted,
+                          LeadingCovariances* covariances);
 
 }  // namespace odomcal
