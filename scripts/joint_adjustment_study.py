@@ -21,11 +21,12 @@ import json
 import math
 import os
 import shutil
-import struct
 import subprocess
 import sys
 
 import numpy as np
+
+from colmap_images import camera_centres
 
 
 def rotation(q_wxyz):
@@ -41,25 +42,6 @@ def log_rotation(r):
         return np.zeros(3)
     return angle / (2.0 * math.sin(angle)) * np.array(
         [r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
-
-
-def camera_centres(images_bin):
-    """name -> centre from COLMAP's images.bin (layout: adapters/colmap_model.h)."""
-    centres = {}
-    with open(images_bin, "rb") as f:
-        (count,) = struct.unpack("<Q", f.read(8))
-        for _ in range(count):
-            f.read(4)
-            q = struct.unpack("<4d", f.read(32))
-            t = np.array(struct.unpack("<3d", f.read(24)))
-            f.read(4)
-            name = b""
-            while (c := f.read(1)) != b"\0":
-                name += c
-            (num_points,) = struct.unpack("<Q", f.read(8))
-            f.read(24 * num_points)
-            centres[name.decode()] = -rotation(q).T @ t
-    return centres
 
 
 def errors(result_transform, truth):
@@ -112,7 +94,7 @@ def run_seed(args, seed, extra, repetition=0):
     metric = os.path.join(workspace, "sparse_metric")
     for model in sorted(os.listdir(metric)):
         for name, centre in camera_centres(os.path.join(metric, model, "images.bin")).items():
-            distances.append(np.linalg.norm(centre - truth_centres[name]))
+            distances.append(np.linalg.norm(np.array(centre) - truth_centres[name]))
     names = sorted(truth_centres)
     path = sum(np.linalg.norm(truth_centres[b] - truth_centres[a]) for a, b in zip(names, names[1:]))
     joint = result["joint_adjustment"]

@@ -24,6 +24,7 @@ set -euo pipefail
 export LC_ALL=C  # `time` prints decimal points, which the parser expects
 
 odomcal=build/plugin/odomcal
+scripts=$(dirname "$(realpath "$0")")  # colmap_images.py
 out=/tmp/odomcal_long
 sizes="100 300 1000"
 plain=0
@@ -51,7 +52,7 @@ mkdir -p "$out"
 # odom_from_cam against the ground truth, the registered fraction and the
 # covered duration.
 summarize() {
-  python3 - "$1" "$2" <<'PY'
+  python3 - "$1" "$2" "$scripts" <<'PY'
 import json, math, os, sys
 if not os.path.exists(sys.argv[1]):
     sys.exit(print("no %s (see the log)" % sys.argv[1]))
@@ -101,32 +102,16 @@ if estimate and joint:
             " ".join("%+.4f" % e for e in errors[:3]), " ".join("%+.2f" % e for e in errors[3:])))
     print("  largest scale change per stretch %s" % joint.get("max_scale_change"))
 # The metric model's camera centres against the render's, nothing but the
-# calibration applied (images.bin layout: adapters/colmap_model.h).
-import struct
-def rotation(q):
-    w, x, y, z = q
-    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+# calibration applied.
+sys.path.insert(0, sys.argv[3])
+from colmap_images import camera_centres
 truth_centres = {i["name"]: i["world_from_cam"]["translation_m"]
                  for i in json.load(open(sys.argv[2]))["images"]}
 metric = os.path.join(os.path.dirname(sys.argv[1]), "sparse_metric")
 distances = []
 for model in sorted(os.listdir(metric)) if os.path.isdir(metric) else []:
-    with open(os.path.join(metric, model, "images.bin"), "rb") as f:
-        (count,) = struct.unpack("<Q", f.read(8))
-        for _ in range(count):
-            f.read(4)
-            q = struct.unpack("<4d", f.read(32)); t = struct.unpack("<3d", f.read(24))
-            f.read(4)
-            name = b""
-            while (c := f.read(1)) != b"\0":
-                name += c
-            (num_points,) = struct.unpack("<Q", f.read(8))
-            f.read(24 * num_points)
-            r = rotation(q)
-            centre = [-sum(r[k][j] * t[k] for k in range(3)) for j in range(3)]
-            distances.append(math.dist(centre, truth_centres[name.decode()]))
+    for name, centre in camera_centres(os.path.join(metric, model, "images.bin")).items():
+        distances.append(math.dist(centre, truth_centres[name]))
 if distances:
     names = sorted(truth_centres)
     path = sum(math.dist(truth_centres[a], truth_centres[b]) for a, b in zip(names, names[1:]))
