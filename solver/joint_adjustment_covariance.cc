@@ -18,10 +18,8 @@ bool LeadingCovariancesOf(const RowMajorJacobian& jacobian,
       cluster_of_row.size() != static_cast<size_t>(jacobian.rows())) {
     return false;
   }
-  // H = J^T J from one column-major copy of J: the row-major J's arrays read
-  // as a column-major matrix are J^T, without a copy. Its peak memory is
-  // this copy and H, where a product of the row-major J with its transpose
-  // held two more copies of each.
+  // H = J^T J with one column-major copy of J: the row-major J's arrays,
+  // read as a column-major matrix, are J^T.
   Eigen::SparseMatrix<double> information;
   {
     const Eigen::SparseMatrix<double> jacobian_by_column = jacobian;
