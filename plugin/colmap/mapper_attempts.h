@@ -37,6 +37,14 @@ struct MapperAttempt {
   // posed again from the odometry, triangulated and adjusted again
   // (fold_reposing.h).
   bool posed_from_odometry = false;
+  // How COLMAP's mapper started the model (mapper_initialization.h):
+  // "colmap_search", "odometry_pair", "relaxed_search",
+  // "relaxed_odometry_pair" or "neighbour_window"; the initial pair's image
+  // names when odomcal passed one; why a run gave no model, from COLMAP's
+  // log ("" when it gave one, or for a combination of chunk models).
+  std::string initialization = "colmap_search";
+  std::vector<std::string> initial_pair;
+  std::string failure_cause;
   // The mapper's output root (sub-models 0, 1, ...); a chunked drive's
   // combination of chunk models when it produced one.
   std::string model_path;

@@ -244,6 +244,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                            const ReconstructionOptions& run,
                            const MatchingRound& round,
                            const std::vector<TimedImage>& images,
+                           const Trajectory& odometry,
                            const std::vector<MapperChunk>& chunks,
                            Progress* progress) {
   const fs::path workspace(run.workspace_path);
@@ -259,14 +260,21 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
   const int at_once =
       std::clamp(run.num_threads, 1, static_cast<int>(chunks.size()));
   const int threads_each = std::max(1, run.num_threads / at_once);
+  // How each chunk's mapper starts: COLMAP's own search, or the rung of the
+  // initialisation ladder that gave the chunk its model.
+  std::vector<std::vector<std::string>> start_arguments(chunks.size());
   auto chunk_arguments = [&](size_t k, int seed, const std::string& name) {
-    return MapperArguments(run,
-                           colmap->Version(),
-                           round.database,
-                           MapperOutput(run, name),
-                           lists[k],
-                           seed,
-                           threads_each);
+    std::vector<std::string> arguments =
+        MapperArguments(run,
+                        colmap->Version(),
+                        round.database,
+                        MapperOutput(run, name),
+                        lists[k],
+                        seed,
+                        threads_each);
+    arguments.insert(
+        arguments.end(), start_arguments[k].begin(), start_arguments[k].end());
+    return arguments;
   };
   const OutputLineCallback live = [progress](const std::string& line) {
     progress->ColmapLine(line);
@@ -295,6 +303,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                              stage.seconds()}
                   : ChunkRun{fs::path(), std::string(), stage.seconds()};
   };
+  ChunkedMapping mapping;
   ChunkCombination chosen{"mapper_attempts/chunks", {}};
   const fs::path folder = StartCombination(run, &chosen);
   MapperQueue queue(colmap, run, at_once);
@@ -323,21 +332,64 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                      "COLMAP mapping chunk " + std::to_string(k + 1) + " of " +
                          std::to_string(chunks.size()) + " (" +
                          ImageRange(chunk.first, chunk.last) + ")");
-    const ChunkRun mapped =
+    ChunkRun mapped =
         take_chunk(&queue, in_queue[k], "chunk_" + std::to_string(k), &clock);
     mapper_seconds += mapped.seconds;
-    if (mapped.output.empty()) continue;
+    const bool climbed = mapped.output.empty();
+    if (climbed) {
+      // No model: the initialisation ladder (mapper_initialization.h), the
+      // last rung with the neighbouring chunks' images.
+      LadderImages ladder;
+      ladder.mapped.assign(images.begin() + chunk.first,
+                           images.begin() + chunk.last + 1);
+      ladder.image_list = lists[k];
+      const int window_first = k > 0 ? chunks[k - 1].first : chunk.first;
+      const int window_last =
+          k + 1 < chunks.size() ? chunks[k + 1].last : chunk.last;
+      if (window_first < chunk.first || window_last > chunk.last) {
+        ladder.window.assign(images.begin() + window_first,
+                             images.begin() + window_last + 1);
+      }
+      ladder.what = "chunk " + std::to_string(k + 1);
+      InitializationClimb climb =
+          ClimbInitializationLadder(colmap,
+                                    run,
+                                    round,
+                                    odometry,
+                                    ladder,
+                                    "chunk_" + std::to_string(k),
+                                    0,
+                                    static_cast<int>(k),
+                                    run.num_threads,
+                                    progress);
+      mapping.initialization_attempts.push_back(climb.first);
+      mapping.initialization_attempts.insert(
+          mapping.initialization_attempts.end(),
+          climb.rungs.begin(),
+          climb.rungs.end());
+      mapping.initialization_summaries.push_back(
+          "chunk " + std::to_string(k + 1) + ": " + DescribeClimb(climb) +
+          (climb.output.empty() ? "; no model: " + climb.first.failure_cause
+                                : "; mapped with " + climb.used->Describe()));
+      if (climb.output.empty()) continue;
+      mapped.output = climb.output;
+      mapped.note = "mapped with " + climb.used->Describe();
+      start_arguments[k] = climb.used->MapperArguments();
+    }
     outputs[k] = mapped.output;
     const ChunkCut cut = AddChunkModel(
         folder, static_cast<int>(k), mapped.output, own[k], &chosen);
-    clock.Done(mapped.note + "; " + std::to_string(cut.num_folders) +
-                   " sub-model(s), " + std::to_string(cut.num_registered) +
-                   " of " + std::to_string(chunk.last - chunk.first + 1) +
-                   " images registered, " + std::to_string(cut.num_kept) +
-                   " of the chunk's own " +
-                   std::to_string(chunk.own_last - chunk.own_first + 1) +
-                   " kept",
-               mapped.seconds);
+    const std::string kept =
+        mapped.note + "; " + std::to_string(cut.num_folders) +
+        " sub-model(s), " + std::to_string(cut.num_registered) + " of " +
+        std::to_string(chunk.last - chunk.first + 1) + " images registered, " +
+        std::to_string(cut.num_kept) + " of the chunk's own " +
+        std::to_string(chunk.own_last - chunk.own_first + 1) + " kept";
+    if (climbed) {
+      progress->Note(4, "    chunk " + std::to_string(k + 1) + ": " + kept);
+    } else {
+      clock.Done(kept, mapped.seconds);
+    }
   }
   if (at_once > 1) {
     progress->Note(
@@ -351,7 +403,6 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
             " s (their runs: " + FormatRounded(mapper_seconds) + " s)");
   }
 
-  ChunkedMapping mapping;
   if (chosen.chunk_of_sub_model.empty()) {
     progress->SetNumImages(static_cast<int>(images.size()));
     return mapping;

@@ -234,8 +234,11 @@ std::optional<ColmapStageResult> RunExtraMapper(
 void MapWithSeed(ColmapRunner* colmap,
                  const ReconstructionOptions& run,
                  const MatchingRound& round,
+                 const std::vector<TimedImage>& images,
+                 const Trajectory& odometry,
                  int seed,
                  Progress* progress,
+                 MapperStart* start,
                  MapperPolicy* policy) {
   const fs::path workspace(run.workspace_path);
   const std::string prefix = round.index == 0 ? "" : "rematch_";
@@ -264,6 +267,18 @@ void MapWithSeed(ColmapRunner* colmap,
                                         image_list,
                                         seed,
                                         run.num_threads);
+    if (start->initialization) {
+      const std::vector<std::string> initialization =
+          start->initialization->MapperArguments();
+      command.arguments.insert(command.arguments.end(),
+                               initialization.begin(),
+                               initialization.end());
+      attempt.initialization = ToString(start->initialization->kind);
+      if (start->initialization->pair) {
+        attempt.initial_pair = {start->initialization->pair->name1,
+                                start->initialization->pair->name2};
+      }
+    }
   }
   const std::string what = glomap   ? "GLOMAP global mapping"
                            : global ? "COLMAP global mapping"
@@ -275,24 +290,73 @@ void MapWithSeed(ColmapRunner* colmap,
           (glomap ? "" : ", --random_seed " + std::to_string(seed)));
   const ColmapStageResult stage = RunMapper(colmap, run, entry, command);
   attempt.model_path = output.string();
-  if (!HasModel(output)) {
+  fs::path model = output;
+  if (!HasModel(output) && !global && !start->climbed) {
+    clock.Done("no model, log " + stage.log_path);
+    start->climbed = true;
+    LadderImages ladder;
+    ladder.mapped = images;
+    ladder.image_list = image_list;
+    ladder.what = "the drive";
+    const InitializationClimb climb = ClimbInitializationLadder(colmap,
+                                                                run,
+                                                                round,
+                                                                odometry,
+                                                                ladder,
+                                                                entry,
+                                                                seed,
+                                                                -1,
+                                                                run.num_threads,
+                                                                progress);
+    start->summary = DescribeClimb(climb);
+    if (climb.output.empty()) {
+      // This run's record (the policy's) and the rungs'.
+      start->attempts = climb.rungs;
+      start->summary += "; no model: " + climb.first.failure_cause;
+      attempt.failure_cause = climb.first.failure_cause;
+      policy->Record(attempt);
+      return;
+    }
+    // This run's record is the rung's model, calibrated below; the run
+    // that gave none and the rungs before are recorded beside it.
+    start->attempts = {climb.first};
+    start->attempts.insert(
+        start->attempts.end(), climb.rungs.begin(), climb.rungs.end() - 1);
+    start->summary += "; mapped with " + climb.used->Describe();
+    start->initialization = climb.used;
+    model = climb.output;
+    attempt.initialization = ToString(climb.used->kind);
+    if (climb.used->pair) {
+      attempt.initial_pair = {climb.used->pair->name1, climb.used->pair->name2};
+    }
+  } else if (!HasModel(output)) {
+    attempt.failure_cause = MapperFailureCause(stage.log_path);
     policy->Record(attempt);
     clock.Done("no model, log " + stage.log_path);
     return;
   }
   const ColmapCalibrationRun calibration = CalibrateColmapProject(
-      CheckCalibrationInputs(run, output.string(), round.database));
+      CheckCalibrationInputs(run, model.string(), round.database));
+  const MapperAttempt started = attempt;
   attempt = SummarizeMapperAttempt(
-      seed, output.string(), calibration.segments, calibration.check);
+      seed, model.string(), calibration.segments, calibration.check);
+  attempt.initialization = started.initialization;
+  attempt.initial_pair = started.initial_pair;
   attempt.matching_round = round.index;
   policy->Record(attempt);
-  std::string note = Note(stage) + "; " + OdometryVerdict(attempt);
+  const bool climbed = model != output;
+  std::string note = (climbed ? "    its model: " : Note(stage) + "; ") +
+                     OdometryVerdict(attempt);
   if (policy->repeated()) {
     note += ", the same as with " + MapperAttemptName(*policy->repeated());
   } else if (policy->Next().kind == MapperStep::Kind::kMap) {
     note += ": mapping again";
   }
-  clock.Done(note);
+  if (climbed) {
+    progress->Note(4, note);  // the first run's clock said "no model"
+  } else {
+    clock.Done(note);
+  }
 }
 
 // `workspace`/`entry` becomes a copy of folder `source`; a failure leaves no

@@ -1,7 +1,9 @@
 // [2] feature extraction and [3] matching of the reconstruction pipeline
 // (reconstruction_stages.h).
 #include "odomcal/adapters/colmap_database.h"
+#include "odomcal/adapters/colmap_database_order.h"
 #include "odomcal/adapters/colmap_database_priors.h"
+#include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/text_reader.h"
 #include "odomcal/plugin/colmap/mapper_stretches.h"
@@ -181,7 +183,17 @@ void ExtractFeatures(ColmapRunner* colmap,
                       run.image_path,
                       stage.log_path,
                       workspace / "stages" / "feature_extractor.done");
-  clock.Done(Note(stage));
+  // The same images get the same ids on every run (colmap_database_order.h).
+  std::string order;
+  try {
+    if (RenumberColmapImagesByName(database)) {
+      order = "; image ids set in name order";
+    }
+  } catch (const FormatError& failure) {
+    order =
+        std::string("; image ids left in extraction order: ") + failure.what();
+  }
+  clock.Done(Note(stage) + order);
 }
 
 // The pairs chosen from the odometry look at most half the camera's

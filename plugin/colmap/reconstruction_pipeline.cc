@@ -226,6 +226,7 @@ Mapping MapImages(ColmapRunner* colmap,
                   const std::string& matcher,
                   const reconstruction::MatchingRound& first_round,
                   const std::vector<TimedImage>& images,
+                  const Trajectory& odometry,
                   MapperPolicy* policy,
                   Progress* progress) {
   const fs::path workspace(run.workspace_path);
@@ -236,6 +237,9 @@ Mapping MapImages(ColmapRunner* colmap,
       SplitIntoChunks(static_cast<int>(images.size()), run.chunks);
   std::string mapper_log = (workspace / "logs" / "mapper_seed_0.log").string();
   std::string mapper_runs;  // "3 runs", "any of the 2 chunks"
+  // What the initialisation ladder tried, where a run gave no model.
+  std::string tried;
+  reconstruction::MapperStart start;
   if (chunks.size() > 1) {
     progress->Note(3,
                    std::to_string(images.size()) + " images: mapped in " +
@@ -244,12 +248,18 @@ Mapping MapImages(ColmapRunner* colmap,
                        " sharing at least " +
                        std::to_string(run.chunks.overlap) + " images");
     const reconstruction::ChunkedMapping chunked = reconstruction::MapInChunks(
-        colmap, run, first_round, images, chunks, progress);
+        colmap, run, first_round, images, odometry, chunks, progress);
     mapping.num_chunks = static_cast<int>(chunks.size());
     mapper_log = (workspace / "logs" / "mapper_chunk_0.log").string();
     mapper_runs = "any of the " + std::to_string(chunks.size()) + " chunks";
     mapping.attempts = chunked.attempts;
     mapping.chosen = chunked.chosen;
+    mapping.attempts.insert(mapping.attempts.end(),
+                            chunked.initialization_attempts.begin(),
+                            chunked.initialization_attempts.end());
+    for (const std::string& summary : chunked.initialization_summaries) {
+      tried += (tried.empty() ? "" : "; ") + summary;
+    }
   } else {
     for (MapperStep step = policy->Next(); step.kind != MapperStep::Kind::kDone;
          step = policy->Next()) {
@@ -266,20 +276,33 @@ Mapping MapImages(ColmapRunner* colmap,
       reconstruction::MapWithSeed(colmap,
                                   run,
                                   mapping.rounds.at(step.matching_round),
+                                  images,
+                                  odometry,
                                   step.random_seed,
                                   progress,
+                                  &start,
                                   policy);
     }
     mapping.attempts = policy->attempts();
+    mapping.attempts.insert(
+        mapping.attempts.end(), start.attempts.begin(), start.attempts.end());
+    tried = start.summary;
     mapping.chosen = policy->Best();
     mapping.contradiction_warning = policy->ContradictionWarning();
     mapper_runs = std::to_string(mapping.attempts.size()) +
                   (mapping.attempts.size() == 1 ? " run" : " runs");
   }
   if (mapping.chosen < 0) {
-    throw ColmapError("COLMAP mapper produced no model in " + mapper_runs +
-                      " (see " + mapper_log +
-                      "): too little texture or overlap, or wrong intrinsics");
+    // The cause COLMAP's log gives: an initialisation that no pair passed
+    // points at the images' overlap and motion, not at the intrinsics.
+    const std::string cause = MapperFailureCause(mapper_log);
+    throw ColmapError(
+        "COLMAP mapper produced no model in " + mapper_runs +
+        (tried.empty() ? "" : " (tried: " + tried + ")") + " (see " +
+        mapper_log + ")" + (cause.empty() ? "" : ": " + cause) +
+        (cause.find("initial") != std::string::npos
+             ? ""
+             : "; too little texture or overlap, or wrong intrinsics"));
   }
   return mapping;
 }
@@ -489,8 +512,14 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
       reconstruction::TuneCandidatePairs(mapped, first_round.database);
   const std::string matcher = reconstruction::MatchImages(
       &colmap, mapped, tuned, images, odometry, first_round, &progress);
-  const Mapping mapping = MapImages(
-      &colmap, mapped, matcher, first_round, images, &policy, &progress);
+  const Mapping mapping = MapImages(&colmap,
+                                    mapped,
+                                    matcher,
+                                    first_round,
+                                    images,
+                                    odometry,
+                                    &policy,
+                                    &progress);
   result.num_chunks = mapping.num_chunks;
 
   std::vector<fs::path> stretch_models;

@@ -13,6 +13,7 @@
 #include "odomcal/plugin/colmap/colmap_runner.h"
 #include "odomcal/plugin/colmap/mapper_attempts.h"
 #include "odomcal/plugin/colmap/mapper_chunks.h"
+#include "odomcal/plugin/colmap/mapper_initialization.h"
 #include "odomcal/plugin/colmap/mapper_policy.h"
 #include "odomcal/plugin/colmap/reconstruction_pipeline.h"
 #include "odomcal/plugin/colmap/reconstruction_progress.h"
@@ -151,14 +152,68 @@ std::optional<ColmapStageResult> RunExtraMapper(
     const std::vector<std::string>& arguments,
     StageClock* clock);
 
+// How the mapper of a drive of one model starts, and what the ladder tried.
+struct MapperStart {
+  // The ladder's rung that gave a model: later seeds start the same way.
+  std::optional<MapperInitialization> initialization;
+  bool climbed = false;                 // the ladder ran (once per drive)
+  std::vector<MapperAttempt> attempts;  // InitializationClimb::tried
+  std::string summary;                  // DescribeClimb, and its outcome
+};
+
 // [4]: `colmap mapper` with `seed` on the round's matches, its model
-// calibrated and recorded in `policy`.
+// calibrated and recorded in `policy`. The first incremental run that gives
+// no model climbs the initialisation ladder (ClimbInitializationLadder);
+// `start` keeps what it found.
 void MapWithSeed(ColmapRunner* colmap,
                  const ReconstructionOptions& run,
                  const MatchingRound& round,
+                 const std::vector<TimedImage>& images,
+                 const Trajectory& odometry,
                  int seed,
                  Progress* progress,
+                 MapperStart* start,
                  MapperPolicy* policy);
+
+// The images of a mapper run that gave no model, for the ladder below:
+// those it mapped (listed in `image_list`), and, for a chunk, the chunk
+// with its neighbours' images (empty: not a chunk); `what` names them in
+// progress lines ("the drive", "chunk 2").
+struct LadderImages {
+  std::vector<TimedImage> mapped;
+  std::filesystem::path image_list;
+  std::vector<TimedImage> window;
+  std::string what;
+};
+
+// What the ladder tried and found.
+struct InitializationClimb {
+  // The run that gave no model (COLMAP's own search), with its cause.
+  MapperAttempt first;
+  std::vector<MapperAttempt> rungs;          // each rung run, in order
+  std::optional<MapperInitialization> used;  // the rung that gave a model
+  std::filesystem::path output;  // its mapper output; empty: none did
+};
+
+// [4] after `colmap mapper` as stage "mapper_<entry>" gave no model (an
+// incremental mapper run): InitializationLadder's rungs
+// (mapper_initialization.h), each a mapper run with `seed` into
+// mapper_attempts/<entry>_init_<k>, until one gives a model. `chunk`: the
+// chunk's index for the records, -1 for a drive of one model.
+InitializationClimb ClimbInitializationLadder(ColmapRunner* colmap,
+                                              const ReconstructionOptions& run,
+                                              const MatchingRound& round,
+                                              const Trajectory& odometry,
+                                              const LadderImages& images,
+                                              const std::string& entry,
+                                              int seed,
+                                              int chunk,
+                                              int num_threads,
+                                              Progress* progress);
+
+// "COLMAP's initial pair search, 3 initial pair(s) chosen from the
+// odometry, relaxed initialisation tests, ..." for an error message.
+std::string DescribeClimb(const InitializationClimb& climb);
 
 // `workspace`/`entry` becomes a copy of folder `source`; a failure leaves no
 // half copy under that name.
@@ -208,6 +263,10 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
 struct ChunkedMapping {
   std::vector<MapperAttempt> attempts;  // all chunks, then each chunk again
   int chosen = -1;                      // -1: no chunk gave a model
+  // The runs of chunks that gave no model at first, and what each chunk's
+  // ladder tried (ClimbInitializationLadder), for the records and messages.
+  std::vector<MapperAttempt> initialization_attempts;
+  std::vector<std::string> initialization_summaries;
 };
 
 // [4] for a drive longer than one chunk (mapper_chunks.h), each chunk mapped
@@ -217,6 +276,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                            const ReconstructionOptions& run,
                            const MatchingRound& round,
                            const std::vector<TimedImage>& images,
+                           const Trajectory& odometry,
                            const std::vector<MapperChunk>& chunks,
                            Progress* progress);
 

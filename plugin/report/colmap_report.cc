@@ -159,8 +159,16 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
          {"num_sub_models", attempt.num_sub_models},
          {"num_registered_images", attempt.num_registered_images},
          {"status",
-          attempt.produced_model ? json(ToString(attempt.status))
-                                 : json(nullptr)},
+          attempt.produced_model && attempt.status != CalibrationStatus::kNotRun
+              ? json(ToString(attempt.status))
+              : json(nullptr)},
+         {"initialization", attempt.initialization},
+         {"initial_pair",
+          attempt.initial_pair.empty() ? json(nullptr)
+                                       : json(attempt.initial_pair)},
+         {"failure_cause",
+          attempt.failure_cause.empty() ? json(nullptr)
+                                        : json(attempt.failure_cause)},
          {"num_motion_pairs", attempt.num_pairs},
          {"num_pairs_used", attempt.num_pairs_used},
          {"num_contradicting_pairs", attempt.num_contradicting_pairs},
@@ -553,10 +561,15 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
            "left out as folded (chunk: WS/chunks/chunk_&lt;k&gt;_images.txt; "
            "the other chunks as chosen before), after first posing the "
            "fold from the odometry and letting COLMAP triangulate and adjust "
-           "it again (&quot;folds posed from the odometry&quot;)."
+           "it again (&quot;folds posed from the odometry&quot;). A run "
+           "that gives no model is followed by other ways to start the "
+           "model: initial pairs chosen from the odometry and the verified "
+           "matches, COLMAP's initialisation tests relaxed, and for a chunk "
+           "its neighbours' images (docs/cli.md)."
            "</p>\n<table>"
            "<tr><th>matching "
-           "round</th><th>chunk</th><th>--random_seed</th><th>sub-models</th>"
+           "round</th><th>chunk</th><th>--random_seed</th><th>start</th>"
+           "<th>sub-models</th>"
            "<th>registered images</th><th>calibration status</th><th>pairs "
            "used</th>"
            "<th>contradicting pairs</th><th>calibrated in this "
@@ -569,10 +582,21 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
            << "</td><td>" << attempt.random_seed
            << (attempt.posed_from_odometry ? ", folds posed from the odometry"
                                            : "")
+           << "</td><td>" << EscapeMarkup(attempt.initialization)
+           << (attempt.initial_pair.size() == 2
+                   ? " " + EscapeMarkup(attempt.initial_pair[0]) + " + " +
+                         EscapeMarkup(attempt.initial_pair[1])
+                   : std::string())
            << "</td><td>" << attempt.num_sub_models << "</td><td>"
            << attempt.num_registered_images << "</td><td>"
-           << (attempt.produced_model ? EscapeMarkup(ToString(attempt.status))
-                                      : "no model")
+           << (!attempt.produced_model
+                   ? "no model" +
+                         (attempt.failure_cause.empty()
+                              ? std::string()
+                              : ": " + EscapeMarkup(attempt.failure_cause))
+               : attempt.status == CalibrationStatus::kNotRun
+                   ? std::string("not calibrated alone")
+                   : EscapeMarkup(ToString(attempt.status)))
            << "</td><td>" << attempt.num_pairs_used << " of "
            << attempt.num_pairs << "</td><td>"
            << attempt.num_contradicting_pairs << "</td><td>"
