@@ -69,7 +69,7 @@ struct FloorPlaneOptions {
   // deviation per axis added to the floor's roll/pitch correction (errors
   // common to the whole model, which the jackknife does not see). Measured
   // on rendered scenes: corrections of 0.020 deg RMS per axis against the
-  // motion's 0.006-0.012 deg (docs/method.md, scripts/floor_plane_study.sh).
+  // motion's 0.006-0.012 deg (docs/floor_plane.md, scripts/floor_plane_study.sh).
   double orientation_model_sigma_deg = 0.02;
   // A floor tilted against the plane the robot drives in (the origin
   // frame's x-y plane) by more than this, beyond the tilt's chi-square

@@ -1,0 +1,104 @@
+// The joint adjustment's checks of its options and of its problem, and its
+// status names (joint_adjustment.h).
+#include "odomcal/solver/joint_adjustment.h"
+#include "odomcal/solver/joint_adjustment_cost.h"
+#include "odomcal/solver/joint_adjustment_internal.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace odomcal {
+namespace internal {
+
+std::string CheckProblem(const JointAdjustmentProblem& problem) {
+  if (problem.images.empty()) return "no images";
+  if (problem.links.empty()) return "no odometry links";
+  for (size_t c = 0; c < problem.cameras.size(); ++c) {
+    const JointCamera& camera = problem.cameras[c];
+    if (static_cast<int>(camera.params.size()) !=
+        ProjectionNumParams(camera.model)) {
+      return "camera " + std::to_string(c) + ": " +
+             std::to_string(camera.params.size()) + " parameters for " +
+             ProjectionModelName(camera.model);
+    }
+    for (const double value : camera.params) {
+      if (!std::isfinite(value)) {
+        return "camera " + std::to_string(c) + ": a non-finite parameter";
+      }
+    }
+  }
+  for (size_t i = 0; i < problem.images.size(); ++i) {
+    const JointImage& image = problem.images[i];
+    if (image.camera < 0 ||
+        image.camera >= static_cast<int>(problem.cameras.size())) {
+      return "image " + std::to_string(i) + ": no camera " +
+             std::to_string(image.camera);
+    }
+  }
+  const int num_images = static_cast<int>(problem.images.size());
+  const int num_points = static_cast<int>(problem.points.size());
+  for (const JointObservation& observation : problem.observations) {
+    if (observation.image < 0 || observation.image >= num_images ||
+        observation.point < 0 || observation.point >= num_points ||
+        !observation.pixel.allFinite()) {
+      return "an observation names a missing image or point, or a "
+             "non-finite pixel";
+    }
+  }
+  for (const OdometryLink& link : problem.links) {
+    Eigen::Matrix3d unused;
+    if (link.image_i < 0 || link.image_i >= num_images || link.image_j < 0 ||
+        link.image_j >= num_images || link.image_i == link.image_j) {
+      return "an odometry link names a missing image or one image twice";
+    }
+    if (!SqrtInformation(link.covariance, &unused)) {
+      return "an odometry link's covariance is not positive definite";
+    }
+  }
+  if (!IsFinite(problem.odom_from_cam)) return "a non-finite extrinsic";
+  if (problem.systematics) {
+    for (const OdometryLink& link : problem.links) {
+      if (!link.samples) {
+        return "an odometry link without the logged odometry, which the "
+               "refinement of the odometry's systematics needs";
+      }
+    }
+  }
+  return "";
+}
+
+}  // namespace internal
+
+void JointAdjustmentOptions::Check() const {
+  const auto positive = [](double value, const char* name) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw std::invalid_argument(std::string(name) + " must be positive");
+    }
+  };
+  positive(pixel_sigma, "pixel_sigma");
+  positive(loss_scale, "loss_scale");
+  positive(max_reprojection_sigmas, "max_reprojection_sigmas");
+  if (max_num_iterations < 1) {
+    throw std::invalid_argument("max_num_iterations must be at least 1");
+  }
+  if (num_threads < 1) {
+    throw std::invalid_argument("num_threads must be at least 1");
+  }
+}
+
+const char* ToString(JointAdjustmentStatus status) {
+  switch (status) {
+    case JointAdjustmentStatus::kSuccess:
+      return "success";
+    case JointAdjustmentStatus::kInvalidInput:
+      return "invalid_input";
+    case JointAdjustmentStatus::kNoConvergence:
+      return "no_convergence";
+    case JointAdjustmentStatus::kSingular:
+      return "singular";
+  }
+  return "unknown";
+}
+
+}  // namespace odomcal

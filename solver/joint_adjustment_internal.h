@@ -1,0 +1,129 @@
+// The joint adjustment's problem (internal: not installed; Ceres types stay
+// out of the public headers). The model: joint_adjustment.h. Ceres problem:
+// per image a pose block (3), the extrinsic as [q (4,
+// EigenQuaternionManifold), t_xy (2), t_z (1, constant)], per point a block
+// (3), per camera an intrinsics block (held unless refined). Solved with the
+// sparse Schur complement (points eliminated first), two or three times:
+// each pass estimates the pixel sigma from its residuals and leaves out the
+// observations beyond max_reprojection_sigmas for the next (AdjustJointly,
+// joint_adjustment.cc).
+//
+// JointProblem's parts, one concept per file:
+//   - joint_adjustment_problem.cc: the parameters, the gauge, the Ceres
+//     problem and its solve, the result;
+//   - joint_adjustment_noise_levels.cc: the pixel sigma and the odometry's
+//     level from the residuals;
+//   - joint_adjustment_extrinsic_covariance.cc: the extrinsic's covariance.
+#pragma once
+
+#include "odomcal/solver/joint_adjustment.h"
+
+#include <Eigen/Core>
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace odomcal::internal {
+
+// Empty string, or why the problem is invalid (kInvalidInput;
+// joint_adjustment_checks.cc).
+std::string CheckProblem(const JointAdjustmentProblem& problem);
+
+// Parameter storage, the Ceres problem over it and the residual statistics.
+class JointProblem {
+ public:
+  JointProblem(const JointAdjustmentProblem& input,
+               const JointAdjustmentOptions& options);
+
+  // The images that keep their starting pose: the first of each component.
+  // Empty string, or why the problem has no determined scale.
+  std::string FindGauge();
+
+  // A point seen in fewer than two images is not determined by them: it
+  // and its observation stay out of the problem.
+  void FindPointsSeenTwice();
+
+  // Builds the Ceres problem over the observations in use.
+  void Build(double pixel_sigma);
+
+  ceres::Solver::Summary Solve(int pass,
+                               std::chrono::steady_clock::time_point start);
+
+  // Reprojection residual of observation k at the current values, pixels;
+  // false when the point is behind the camera.
+  bool ReprojectionResidual(size_t k, Eigen::Vector2d* residual) const;
+
+  // Estimates the pixel sigma from the observations in use (a robust scale,
+  // then the inliers' mean square over their degrees of freedom), marks
+  // those beyond max_sigmas unused, and returns the RMS of the inliers.
+  struct PixelStatistics {
+    double sigma = 0.0;
+    double rms = 0.0;
+    int num_inliers = 0;
+    int num_marked = 0;  // observations newly left out
+  };
+  PixelStatistics UpdatePixelSigma(double max_sigmas, bool mark_outliers);
+
+  // The odometry's variance factor against the links' covariances: their
+  // whitened sum of squares over its degrees of freedom, 3 per link less
+  // what the odometry alone determines (the metric scale, and the
+  // extrinsic's yaw and x/y in part: 3 in all). Held (1) below 30 degrees
+  // of freedom, within [kMinOdometryFactor, kMaxOdometryFactor].
+  static constexpr double kMinOdometryFactor = 0.01;
+  static constexpr double kMaxOdometryFactor = 100.0;
+  double EstimateOdometryFactor();
+
+  double OdometryFactor() const { return odometry_factor_; }
+
+  // Root mean square of the odometry residuals whitened by the links'
+  // given covariances, at the current values.
+  double OdometryRms() const;
+
+  // Marginal covariance of [rotation (3), t_xy (2)] (joint_adjustment.h), and
+  // the standard deviations of the refined systematics.
+  bool ExtrinsicCovariance(JointAdjustmentResult* result);
+
+  void WriteResult(JointAdjustmentResult* result) const;
+
+  int NumPointsSeenTwice() const {
+    return static_cast<int>(
+        std::count(seen_twice_.begin(), seen_twice_.end(), 1));
+  }
+
+  int NumUnused() const {
+    return static_cast<int>(std::count(used_.begin(), used_.end(), 0));
+  }
+
+ private:
+  const JointAdjustmentProblem& input_;
+  const JointAdjustmentOptions& options_;
+  std::vector<std::array<double, 3>> poses_;
+  std::vector<Eigen::Vector3d> points_;
+  std::vector<std::vector<double>> params_;
+  double quaternion_[4] = {0.0, 0.0, 0.0, 1.0};
+  double t_xy_[2] = {0.0, 0.0};
+  double t_z_ = 0.0;
+  double odometry_factor_ = 1.0;  // variance factor on the links
+  // The odometry's systematics (JointAdjustmentProblem::systematics).
+  double intrinsics_[3] = {1.0, 0.0, 0.0};
+  double offset_change_s_ = 0.0;
+  std::unique_ptr<ceres::SubsetManifold> intrinsics_manifold_;
+  std::vector<char> used_;
+  std::vector<char> seen_twice_;  // per point, among the used observations
+  // The residual blocks of the built problem and their clusters (the
+  // observations of a point, or one link), for the robust covariance.
+  std::vector<ceres::ResidualBlockId> residual_blocks_;
+  std::vector<int> cluster_of_block_;
+  std::vector<char> held_;
+  int num_components_ = 0;
+  std::unique_ptr<ceres::Problem> problem_;
+  ceres::EigenQuaternionManifold quaternion_manifold_;
+};
+
+}  // namespace odomcal::internal

@@ -1,0 +1,100 @@
+// The joint adjustment's noise levels from its residuals: the pixel sigma
+// and the odometry's variance factor (joint_adjustment_internal.h).
+#include "odomcal/solver/joint_adjustment_cost.h"
+#include "odomcal/solver/joint_adjustment_internal.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace odomcal::internal {
+
+JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
+    double max_sigmas, bool mark_outliers) {
+  std::vector<double> norms(input_.observations.size(), -1.0);
+  std::vector<double> used_norms;
+  for (size_t k = 0; k < input_.observations.size(); ++k) {
+    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    Eigen::Vector2d residual;
+    if (!ReprojectionResidual(k, &residual)) continue;
+    norms[k] = residual.norm();
+    used_norms.push_back(norms[k]);
+  }
+  PixelStatistics statistics;
+  if (used_norms.empty()) return statistics;
+  std::nth_element(used_norms.begin(),
+                   used_norms.begin() + used_norms.size() / 2,
+                   used_norms.end());
+  // The median of a 2D Gaussian residual's norm is sigma sqrt(2 ln 2).
+  const double robust_sigma =
+      used_norms[used_norms.size() / 2] / std::sqrt(2.0 * std::log(2.0));
+  const double threshold = max_sigmas * robust_sigma;
+  double sum_squares = 0.0;
+  std::vector<char> point_seen(input_.points.size(), 0);
+  int num_points = 0;
+  for (size_t k = 0; k < norms.size(); ++k) {
+    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    if (norms[k] < 0.0 || norms[k] > threshold) {
+      if (mark_outliers) {
+        used_[k] = 0;
+        ++statistics.num_marked;
+      }
+      continue;
+    }
+    sum_squares += norms[k] * norms[k];
+    ++statistics.num_inliers;
+    const int point = input_.observations[k].point;
+    if (!point_seen[point]) {
+      point_seen[point] = 1;
+      ++num_points;
+    }
+  }
+  if (statistics.num_inliers == 0) return statistics;
+  statistics.rms = std::sqrt(sum_squares / (2.0 * statistics.num_inliers));
+  // Each point takes 3 of its observations' degrees of freedom, each free
+  // pose 3 (the odometry's share of the poses is small beside the
+  // images').
+  int num_free_poses = 0;
+  for (const char held : held_) num_free_poses += held ? 0 : 1;
+  const double dof = 2.0 * statistics.num_inliers - 3.0 * num_points -
+                     3.0 * num_free_poses - 5.0;
+  statistics.sigma = dof > 0.0 ? std::sqrt(sum_squares / dof) : statistics.rms;
+  return statistics;
+}
+
+double JointProblem::EstimateOdometryFactor() {
+  const double dof = 3.0 * static_cast<double>(input_.links.size()) - 3.0;
+  constexpr double kMinDof = 30.0;
+  if (dof < kMinDof) return odometry_factor_;
+  const double rms = OdometryRms();
+  const double sum = rms * rms * 3.0 * static_cast<double>(input_.links.size());
+  odometry_factor_ =
+      std::clamp(sum / dof, kMinOdometryFactor, kMaxOdometryFactor);
+  return odometry_factor_;
+}
+
+double JointProblem::OdometryRms() const {
+  double sum = 0.0;
+  for (const OdometryLink& link : input_.links) {
+    Eigen::Matrix3d w;
+    SqrtInformation(link.covariance, &w);
+    Eigen::Vector3d residual;
+    if (input_.systematics) {
+      const SystematicOdometryLinkCost cost(
+          *link.samples, w, input_.systematics->intrinsics.wheel_track_m);
+      cost(poses_[link.image_i].data(),
+           poses_[link.image_j].data(),
+           intrinsics_,
+           &offset_change_s_,
+           residual.data());
+    } else {
+      const OdometryLinkCost cost(link.odom_i_from_odom_j, w);
+      cost(poses_[link.image_i].data(),
+           poses_[link.image_j].data(),
+           residual.data());
+    }
+    sum += residual.squaredNorm();
+  }
+  return std::sqrt(sum / (3.0 * input_.links.size()));
+}
+
+}  // namespace odomcal::internal

@@ -1,0 +1,310 @@
+// JointProblem's parameters, gauge, Ceres problem, solve and result
+// (joint_adjustment_internal.h).
+#include "odomcal/solver/joint_adjustment_cost.h"
+#include "odomcal/solver/joint_adjustment_internal.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace odomcal::internal {
+namespace {
+
+// Hands each Ceres iteration to JointAdjustmentOptions::progress.
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  ProgressCallback(
+      const std::function<void(const JointAdjustmentProgress&)>& callback,
+      int pass,
+      std::chrono::steady_clock::time_point start)
+      : callback_(callback), pass_(pass), start_(start) {}
+
+  ceres::CallbackReturnType operator()(
+      const ceres::IterationSummary& summary) override {
+    JointAdjustmentProgress progress;
+    progress.pass = pass_;
+    progress.iteration = summary.iteration;
+    progress.cost = summary.cost;
+    progress.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
+            .count();
+    callback_(progress);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(const JointAdjustmentProgress&)>& callback_;
+  int pass_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Union-find over the images: joined by links and by shared points.
+class ImageComponents {
+ public:
+  explicit ImageComponents(int size) : parent_(size) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  int Find(int i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  }
+  void Join(int a, int b) { parent_[Find(a)] = Find(b); }
+
+ private:
+  std::vector<int> parent_;
+};
+
+}  // namespace
+
+JointProblem::JointProblem(const JointAdjustmentProblem& input,
+                           const JointAdjustmentOptions& options)
+    : input_(input), options_(options) {
+  poses_.reserve(input.images.size());
+  for (const JointImage& image : input.images) {
+    poses_.push_back({image.origin_from_odom.x,
+                      image.origin_from_odom.y,
+                      image.origin_from_odom.yaw_rad});
+  }
+  points_ = input.points;
+  for (const JointCamera& camera : input.cameras) {
+    params_.push_back(camera.params);
+  }
+  const Eigen::Quaterniond q = input.odom_from_cam.rotation.normalized();
+  for (int k = 0; k < 4; ++k) quaternion_[k] = q.coeffs()[k];
+  t_xy_[0] = input.odom_from_cam.translation.x();
+  t_xy_[1] = input.odom_from_cam.translation.y();
+  t_z_ = input.odom_from_cam.translation.z();
+  used_.assign(input.observations.size(), 1);
+  // A point on or behind a camera that sees it cannot be projected: the
+  // observation is left out from the start (Ceres would stop at it).
+  for (size_t k = 0; k < input.observations.size(); ++k) {
+    Eigen::Vector2d residual;
+    if (!ReprojectionResidual(k, &residual)) used_[k] = 0;
+  }
+  FindPointsSeenTwice();
+  if (input.systematics) {
+    const OdometryIntrinsics& start = input.systematics->intrinsics;
+    intrinsics_[0] = start.yaw_scale;
+    intrinsics_[1] = start.yaw_per_metre_rad;
+    intrinsics_[2] = start.yaw_rate_bias_rad_s;
+    offset_change_s_ = input.systematics->time_offset_change_s;
+  }
+}
+
+std::string JointProblem::FindGauge() {
+  const int num_images = static_cast<int>(input_.images.size());
+  ImageComponents components(num_images);
+  for (const OdometryLink& link : input_.links) {
+    components.Join(link.image_i, link.image_j);
+  }
+  std::vector<int> first_image_of_point(input_.points.size(), -1);
+  for (const JointObservation& observation : input_.observations) {
+    int& first = first_image_of_point[observation.point];
+    if (first < 0) {
+      first = observation.image;
+    } else {
+      components.Join(first, observation.image);
+    }
+  }
+  std::vector<char> linked(num_images, 0);
+  for (const OdometryLink& link : input_.links) {
+    linked[components.Find(link.image_i)] = 1;
+  }
+  held_.assign(num_images, 0);
+  std::vector<char> seen(num_images, 0);
+  num_components_ = 0;
+  for (int i = 0; i < num_images; ++i) {
+    const int root = components.Find(i);
+    if (seen[root]) continue;
+    seen[root] = 1;
+    ++num_components_;
+    if (!linked[root]) {
+      return "image " + std::to_string(i) +
+             " and the images it shares points with have no odometry "
+             "link: their metric scale is not determined";
+    }
+    held_[i] = 1;
+  }
+  return "";
+}
+
+void JointProblem::FindPointsSeenTwice() {
+  std::vector<int> first_image(input_.points.size(), -1);
+  seen_twice_.assign(input_.points.size(), 0);
+  for (size_t k = 0; k < input_.observations.size(); ++k) {
+    if (!used_[k]) continue;
+    const JointObservation& observation = input_.observations[k];
+    int& first = first_image[observation.point];
+    if (first < 0) {
+      first = observation.image;
+    } else if (first != observation.image) {
+      seen_twice_[observation.point] = 1;
+    }
+  }
+}
+
+void JointProblem::Build(double pixel_sigma) {
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_ = std::make_unique<ceres::Problem>(problem_options);
+  residual_blocks_.clear();
+  cluster_of_block_.clear();
+  FindPointsSeenTwice();
+  for (size_t k = 0; k < input_.observations.size(); ++k) {
+    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    const JointObservation& observation = input_.observations[k];
+    const int camera = input_.images[observation.image].camera;
+    ceres::LossFunction* loss = nullptr;
+    if (options_.loss == RobustLoss::kHuber) {
+      loss = new ceres::HuberLoss(options_.loss_scale);
+    } else if (options_.loss == RobustLoss::kCauchy) {
+      loss = new ceres::CauchyLoss(options_.loss_scale);
+    }
+    const ceres::ResidualBlockId id = problem_->AddResidualBlock(
+        ReprojectionCostFor(
+            input_.cameras[camera].model, observation.pixel, pixel_sigma),
+        loss,
+        poses_[observation.image].data(),
+        quaternion_,
+        t_xy_,
+        &t_z_,
+        points_[observation.point].data(),
+        params_[camera].data());
+    residual_blocks_.push_back(id);
+    cluster_of_block_.push_back(observation.point);
+  }
+  for (size_t l = 0; l < input_.links.size(); ++l) {
+    const OdometryLink& link = input_.links[l];
+    Eigen::Matrix3d w;
+    SqrtInformation(link.covariance, &w);
+    w /= std::sqrt(odometry_factor_);
+    ceres::ResidualBlockId id = nullptr;
+    if (input_.systematics) {
+      id = problem_->AddResidualBlock(
+          new ceres::
+              AutoDiffCostFunction<SystematicOdometryLinkCost, 3, 3, 3, 3, 1>(
+                  new SystematicOdometryLinkCost(
+                      *link.samples,
+                      w,
+                      input_.systematics->intrinsics.wheel_track_m)),
+          nullptr,
+          poses_[link.image_i].data(),
+          poses_[link.image_j].data(),
+          intrinsics_,
+          &offset_change_s_);
+    } else {
+      id = problem_->AddResidualBlock(
+          new ceres::AutoDiffCostFunction<OdometryLinkCost, 3, 3, 3>(
+              new OdometryLinkCost(link.odom_i_from_odom_j, w)),
+          nullptr,
+          poses_[link.image_i].data(),
+          poses_[link.image_j].data());
+    }
+    // Each link a cluster of its own.
+    residual_blocks_.push_back(id);
+    cluster_of_block_.push_back(static_cast<int>(input_.points.size() + l));
+  }
+  if (input_.systematics) {
+    const JointSystematics& systematics = *input_.systematics;
+    std::vector<int> held;
+    for (int k = 0; k < 3; ++k) {
+      if (!systematics.refine_intrinsics[k]) held.push_back(k);
+    }
+    if (held.size() == 3) {
+      problem_->SetParameterBlockConstant(intrinsics_);
+    } else if (!held.empty()) {
+      intrinsics_manifold_ = std::make_unique<ceres::SubsetManifold>(3, held);
+      problem_->SetManifold(intrinsics_, intrinsics_manifold_.get());
+    }
+    if (!systematics.refine_time_offset) {
+      problem_->SetParameterBlockConstant(&offset_change_s_);
+    }
+  }
+  if (problem_->HasParameterBlock(quaternion_)) {
+    problem_->SetManifold(quaternion_, &quaternion_manifold_);
+    problem_->SetParameterBlockConstant(&t_z_);
+  }
+  for (size_t i = 0; i < poses_.size(); ++i) {
+    if (held_[i] && problem_->HasParameterBlock(poses_[i].data())) {
+      problem_->SetParameterBlockConstant(poses_[i].data());
+    }
+  }
+  for (auto& params : params_) {
+    if (!options_.refine_intrinsics &&
+        problem_->HasParameterBlock(params.data())) {
+      problem_->SetParameterBlockConstant(params.data());
+    }
+  }
+}
+
+ceres::Solver::Summary JointProblem::Solve(
+    int pass, std::chrono::steady_clock::time_point start) {
+  ceres::Solver::Options solver_options;
+  ProgressCallback progress(options_.progress, pass, start);
+  if (options_.progress) solver_options.callbacks.push_back(&progress);
+  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  std::string error;
+  if (!solver_options.IsValid(&error)) {
+    solver_options.linear_solver_type = ceres::ITERATIVE_SCHUR;
+    solver_options.preconditioner_type = ceres::SCHUR_JACOBI;
+  }
+  solver_options.max_num_iterations = options_.max_num_iterations;
+  solver_options.num_threads = options_.num_threads;
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, problem_.get(), &summary);
+  return summary;
+}
+
+bool JointProblem::ReprojectionResidual(size_t k,
+                                        Eigen::Vector2d* residual) const {
+  const JointObservation& observation = input_.observations[k];
+  const int camera = input_.images[observation.image].camera;
+  const double* parameters[] = {poses_[observation.image].data(),
+                                quaternion_,
+                                t_xy_,
+                                &t_z_,
+                                points_[observation.point].data(),
+                                params_[camera].data()};
+  return ReprojectionResidualFor(input_.cameras[camera].model,
+                                 observation.pixel,
+                                 parameters,
+                                 residual->data());
+}
+
+void JointProblem::WriteResult(JointAdjustmentResult* result) const {
+  Eigen::Quaterniond q;
+  q.coeffs() << quaternion_[0], quaternion_[1], quaternion_[2], quaternion_[3];
+  result->odom_from_cam.rotation = q.normalized();
+  result->odom_from_cam.translation = Eigen::Vector3d(t_xy_[0], t_xy_[1], t_z_);
+  result->origin_from_odom.clear();
+  for (const auto& pose : poses_) {
+    result->origin_from_odom.push_back({pose[0], pose[1], pose[2]});
+  }
+  result->points = points_;
+  result->cameras = input_.cameras;
+  for (size_t c = 0; c < params_.size(); ++c) {
+    result->cameras[c].params = params_[c];
+  }
+  result->num_components = num_components_;
+  if (input_.systematics) {
+    result->intrinsics = input_.systematics->intrinsics;
+    result->intrinsics.yaw_scale = intrinsics_[0];
+    result->intrinsics.yaw_per_metre_rad = intrinsics_[1];
+    result->intrinsics.yaw_rate_bias_rad_s = intrinsics_[2];
+    result->time_offset_change_s = offset_change_s_;
+  }
+  result->observation_error_px.assign(input_.observations.size(), -1.0);
+  for (size_t k = 0; k < input_.observations.size(); ++k) {
+    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    Eigen::Vector2d residual;
+    if (ReprojectionResidual(k, &residual)) {
+      result->observation_error_px[k] = residual.norm();
+    }
+  }
+}
+
+}  // namespace odomcal::internal
