@@ -235,9 +235,10 @@ double MarginalInformationOfLast(const Eigen::MatrixXd& information) {
 // free) is more than TranslationZPrior::kMovedInformationRatio of the
 // prior's; then `information` is the data's with z last (the prior's is
 // added after the widening for the estimated noise, which concerns the data
-// alone). Otherwise nothing changes: the data cannot move z by more than a
-// tenth of their own standard deviation of z, nor x and y through it by more
-// than a tenth of theirs. Records the data's standard deviation of z.
+// alone). Otherwise nothing changes: the data's standard deviation of z is
+// then above ten prior sigmas, and a held z wrong by one prior sigma moves x
+// and y by under a tenth of their standard deviations with z free. Records
+// the data's standard deviation of z.
 void EstimateTranslationZUnderPrior(const MotionPairs& pairs,
                                     std::vector<int>* used_pairs,
                                     const CalibrationOptions& options,

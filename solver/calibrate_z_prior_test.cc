@@ -7,6 +7,7 @@
 #include "odomcal/datasets/simulation/climbing_road.h"
 #include "odomcal/datasets/simulation/motion_simulator.h"
 #include "odomcal/solver/calibrate.h"
+#include "odomcal/solver/floor_translation_z.h"
 #include "odomcal/tests/test_seed.h"
 
 #include <gtest/gtest.h>
@@ -113,6 +114,89 @@ TEST(CalibrateZPrior, PlanarDriveIsUnchanged) {
   EXPECT_EQ(z.estimate_m, 0.3);
   EXPECT_EQ(z.stddev_m, 1.0);
   EXPECT_EQ(z.data_stddev_m, std::numeric_limits<double>::infinity());
+}
+
+// A fitted floor, 1.70 m under the camera, known to 1 mm; its height grows
+// with the scale by 0.2 m per (m / unit).
+FloorPlane FloorUnderTheCamera() {
+  FloorPlane floor;
+  floor.status = FloorPlaneStatus::kFitted;
+  floor.camera_height_m = 1.70;
+  floor.camera_height_stddev_m = 0.001;
+  floor.height_per_scale = {0.2};
+  return floor;
+}
+
+// A held z (6 x 6 covariance: rx, ry, rz, tx, ty, s_0).
+CalibrationResult HeldZResult() {
+  CalibrationResult result;
+  result.has_estimate = true;
+  result.odom_from_cam.translation = Eigen::Vector3d(1.2, 0.05, 0.0);
+  result.metric_scales = {0.7};
+  result.observability.metric_scales = {Determination::kEstimated};
+  result.covariance_segments = {0};
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Identity(6, 6) * 1e-6;
+  covariance(5, 5) = 1e-4;
+  covariance(5, 3) = covariance(3, 5) = 2e-6;
+  result.covariance = covariance;
+  result.stddev_metric_scales_rel = {0.01 / 0.7};
+  return result;
+}
+
+// With a prior that tells nothing (uncorrelated, 100 m), the floor's update
+// of a prior-moved z is the floor's z of a held one.
+TEST(CalibrateZPrior, FloorUpdateOfAnUninformativePriorIsTheFloorsZ) {
+  const FloorPlane floor = FloorUnderTheCamera();
+  FloorPlaneOptions options;
+  options.odometry_height_m = 0.05;
+  CalibrationResult held = HeldZResult();
+  ASSERT_EQ(SetTranslationZFromFloor(floor, options, 0.05, &held), "");
+  CalibrationResult prior = HeldZResult();
+  prior.translation_z_prior.used = true;
+  prior.translation_z_prior.moved_by_data = true;
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(7, 7);
+  covariance.topLeftCorner(6, 6) = *prior.covariance;
+  covariance(6, 6) = 1e4;
+  prior.covariance = covariance;
+  ASSERT_EQ(SetTranslationZFromFloor(floor, options, 0.05, &prior), "");
+  EXPECT_EQ(prior.observability.translation_z, Determination::kEstimated);
+  EXPECT_EQ(prior.observability.translation_z_source,
+            TranslationZSource::kFloorPlane);
+  EXPECT_FALSE(prior.translation_z_prior.used);
+  EXPECT_NEAR(prior.odom_from_cam.translation.z(), 1.65, 1e-6);
+  ASSERT_EQ(prior.covariance->rows(), 7);
+  EXPECT_LT((*prior.covariance - *held.covariance).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_NEAR(prior.stddev_translation_z_m, held.stddev_translation_z_m, 1e-9);
+  EXPECT_NEAR(prior.odom_from_cam.translation.x(), 1.2, 1e-9);
+}
+
+// Correlated with z, x moves with it: z under its prior at 1.50 +- 0.10 m,
+// x correlated with it (x = x_true + 0.02 (z - z_true)); the floor puts z at
+// 1.65 m, and x moves by 0.02 * 0.15 = 3 mm, its variance from z gone.
+TEST(CalibrateZPrior, FloorUpdateMovesXWithZ) {
+  const FloorPlane floor = FloorUnderTheCamera();
+  FloorPlaneOptions options;
+  options.odometry_height_m = 0.05;
+  CalibrationResult result = HeldZResult();
+  result.translation_z_prior.used = true;
+  result.translation_z_prior.moved_by_data = true;
+  result.odom_from_cam.translation.z() = 1.50;
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(7, 7);
+  covariance.topLeftCorner(6, 6) = *result.covariance;
+  covariance(5, 3) = covariance(3, 5) = 0.0;
+  const double z_variance = 0.01;
+  covariance(6, 6) = z_variance;
+  covariance(3, 6) = covariance(6, 3) = 0.02 * z_variance;
+  covariance(3, 3) += 0.02 * 0.02 * z_variance;
+  result.covariance = covariance;
+  ASSERT_EQ(SetTranslationZFromFloor(floor, options, 0.05, &result), "");
+  // The floor's z is 1.65 + 0.2 (s - 0.7) with s uncorrelated with z: the
+  // update leaves s and moves z to the floor's within its 1 mm.
+  EXPECT_NEAR(result.odom_from_cam.translation.z(), 1.65, 1e-3);
+  EXPECT_NEAR(result.odom_from_cam.translation.x(),
+              1.2 + 0.02 * (result.odom_from_cam.translation.z() - 1.50),
+              1e-9);
+  EXPECT_NEAR(result.stddev_translation_xy_m.x(), 1e-3, 1e-5);
 }
 
 }  // namespace
