@@ -3,7 +3,9 @@
 // with z held exactly at 0 (--translation_z_prior_sigma_m 0) and with the
 // held z as a prior (the default 1 m), over seeds 1..N. Prints a markdown
 // table (docs/z_prior_note.md).
-//   <build>/benchmarks/z_prior_study 50 [max_grade_deg]
+//   <build>/benchmarks/z_prior_study 50 [max_grade_deg] [given]
+// "given": the noise model as given (--estimate_noise off), which is the
+// noise the data are drawn from.
 
 #include "odomcal/datasets/simulation/climbing_road.h"
 #include "odomcal/solver/angles.h"
@@ -101,6 +103,7 @@ int main(int argc, char** argv) {
   if (argc > 2) road.max_grade_deg = std::atof(argv[2]);
   CalibrationOptions prior;
   prior.noise.odom_tilt_sigma_deg = 0.05;  // an INS's relative tilt
+  if (argc > 3 && std::string(argv[3]) == "given") prior.estimate_noise = false;
   CalibrationOptions hold = prior;
   hold.translation_z_prior_sigma_m = 0.0;
   Tally held_tally, prior_tally;
