@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -134,11 +135,11 @@ bool OdometryTilts(const MotionPairs& pairs, const std::vector<int>& used) {
 // translation step at the current rotation, then the refinement with z as a
 // parameter (or its information alone without refinement). Accepted only
 // when the information determines z within options.max_translation_stddev_m;
-// otherwise the result keeps z held (nothing changes). RANSAC chose `used`
-// with z held: it left out pairs whose tilt shows a wrong z, and the ones it
-// kept lean toward the held value, so the pairs are chosen again under the
-// estimate with z (and `used` updated).
-void EstimateTranslationZ(const MotionPairs& pairs,
+// otherwise the result keeps z held (nothing changes) and this returns
+// false. RANSAC chose `used` with z held: it left out pairs whose tilt shows
+// a wrong z, and the ones it kept lean toward the held value, so the pairs
+// are chosen again under the estimate with z (and `used` updated).
+bool EstimateTranslationZ(const MotionPairs& pairs,
                           std::vector<int>* used_pairs,
                           const CalibrationOptions& options,
                           CalibrationResult* result,
@@ -147,11 +148,11 @@ void EstimateTranslationZ(const MotionPairs& pairs,
   std::vector<int> used = *used_pairs;
   const LinearEstimate linear =
       SolveTranslationScale3d(pairs, used, result->odom_from_cam.rotation);
-  if (!linear.success) return;
+  if (!linear.success) return false;
   std::vector<double> scales = linear.metric_scales;
   scales.resize(result->metric_scales.size(), std::nan(""));
   for (const int i : used) {
-    if (!(scales[pairs[i].segment] > 0.0)) return;
+    if (!(scales[pairs[i].segment] > 0.0)) return false;
   }
   Rigid3d odom_from_cam = linear.odom_from_cam;
   Eigen::MatrixXd z_information;
@@ -159,7 +160,7 @@ void EstimateTranslationZ(const MotionPairs& pairs,
   if (options.refine) {
     const RefinementResult refined = RefineOdomFromCam(
         pairs, used, odom_from_cam, scales, options, TranslationZ::kEstimate);
-    if (!refined.usable || !IsFinite(refined.odom_from_cam)) return;
+    if (!refined.usable || !IsFinite(refined.odom_from_cam)) return false;
     odom_from_cam = refined.odom_from_cam;
     scales = refined.metric_scales;
     z_information = refined.information;
@@ -181,7 +182,7 @@ void EstimateTranslationZ(const MotionPairs& pairs,
                                                        scales,
                                                        options,
                                                        TranslationZ::kEstimate);
-      if (!again.usable || !IsFinite(again.odom_from_cam)) return;
+      if (!again.usable || !IsFinite(again.odom_from_cam)) return false;
       odom_from_cam = again.odom_from_cam;
       scales = again.metric_scales;
       z_information = again.information;
@@ -199,10 +200,10 @@ void EstimateTranslationZ(const MotionPairs& pairs,
   }
   const std::optional<Eigen::MatrixXd> covariance =
       InvertInformation(z_information);
-  if (!covariance) return;
+  if (!covariance) return false;
   const Eigen::Index z = covariance->rows() - 1;
   if (!(std::sqrt((*covariance)(z, z)) <= options.max_translation_stddev_m)) {
-    return;
+    return false;
   }
   result->odom_from_cam = odom_from_cam;
   result->metric_scales = scales;
@@ -211,6 +212,87 @@ void EstimateTranslationZ(const MotionPairs& pairs,
   *used_pairs = used;
   *information = z_information;
   *information_segments = z_segments;
+  return true;
+}
+
+// The data's information on z with every other parameter free: the Schur
+// complement of the last row and column. 0 where the others are singular.
+double MarginalInformationOfLast(const Eigen::MatrixXd& information) {
+  const Eigen::Index n = information.rows();
+  if (n < 2 || !information.allFinite()) return 0.0;
+  const std::optional<Eigen::MatrixXd> others_covariance =
+      InvertInformation(information.topLeftCorner(n - 1, n - 1));
+  if (!others_covariance) return 0.0;
+  const Eigen::VectorXd cross = information.col(n - 1).head(n - 1);
+  return std::max(
+      0.0, information(n - 1, n - 1) - cross.dot(*others_covariance * cross));
+}
+
+// SE(3) odometry that does not determine z: z estimated under its prior
+// N(fixed_translation_z_m, translation_z_prior_sigma_m^2) from the result
+// with z held, the pairs chosen again under that estimate as in
+// EstimateTranslationZ. Kept when the data's information on z (the others
+// free) is more than TranslationZPrior::kMovedInformationRatio of the
+// prior's; then `information` is the data's with z last (the prior's is
+// added after the widening for the estimated noise, which concerns the data
+// alone). Otherwise nothing changes: the data's standard deviation of z is
+// then above ten prior sigmas, and a held z wrong by one prior sigma moves x
+// and y by under a tenth of their standard deviations with z free. Records
+// the data's standard deviation of z.
+void EstimateTranslationZUnderPrior(const MotionPairs& pairs,
+                                    std::vector<int>* used_pairs,
+                                    const CalibrationOptions& options,
+                                    CalibrationResult* result,
+                                    Eigen::MatrixXd* information,
+                                    std::vector<int>* information_segments) {
+  if (!options.refine || !(options.translation_z_prior_sigma_m > 0.0)) return;
+  std::vector<int> used = *used_pairs;
+  Rigid3d start = result->odom_from_cam;
+  start.translation.z() = options.fixed_translation_z_m;
+  RefinementResult refined = RefineOdomFromCam(
+      pairs, used, start, result->metric_scales, options, TranslationZ::kPrior);
+  if (!refined.usable || !IsFinite(refined.odom_from_cam)) return;
+  std::vector<int> inliers;
+  for (int i = 0; options.use_ransac && i < static_cast<int>(pairs.size());
+       ++i) {
+    const double scale = refined.metric_scales[pairs[i].segment];
+    if (std::isfinite(scale) &&
+        IsInlier(pairs[i], refined.odom_from_cam, scale, options)) {
+      inliers.push_back(i);
+    }
+  }
+  if (static_cast<int>(inliers.size()) >= options.min_num_pairs &&
+      inliers != used) {
+    refined = RefineOdomFromCam(pairs,
+                                inliers,
+                                refined.odom_from_cam,
+                                refined.metric_scales,
+                                options,
+                                TranslationZ::kPrior);
+    if (!refined.usable || !IsFinite(refined.odom_from_cam)) return;
+    used = inliers;
+  }
+  for (const int i : used) {
+    if (!(refined.metric_scales[pairs[i].segment] > 0.0)) return;
+  }
+  const double data_information =
+      MarginalInformationOfLast(refined.information);
+  TranslationZPrior& prior = result->translation_z_prior;
+  prior.data_stddev_m = data_information > 0.0
+                            ? 1.0 / std::sqrt(data_information)
+                            : std::numeric_limits<double>::infinity();
+  const double prior_information = 1.0 / (options.translation_z_prior_sigma_m *
+                                          options.translation_z_prior_sigma_m);
+  if (!(data_information >
+        TranslationZPrior::kMovedInformationRatio * prior_information)) {
+    return;
+  }
+  prior.moved_by_data = true;
+  result->odom_from_cam = refined.odom_from_cam;
+  result->metric_scales = refined.metric_scales;
+  *used_pairs = used;
+  *information = refined.information;
+  *information_segments = refined.information_segments;
 }
 
 void ComputeResiduals(const MotionPairs& pairs,
@@ -249,10 +331,11 @@ void ComputeResiduals(const MotionPairs& pairs,
   d.rms_translation_residual_m = std::sqrt(sum_t2 / count);
   d.relative_translation_residual =
       sum_step2 > 0.0 ? std::sqrt(sum_t2 / sum_step2) : 0.0;
-  const bool z_estimated =
-      result->observability.translation_z == Determination::kEstimated;
+  const bool z_free =
+      result->observability.translation_z == Determination::kEstimated ||
+      result->translation_z_prior.moved_by_data;
   const double dof =
-      6.0 * used.size() - (5.0 + d.num_pairs_per_segment.size() + z_estimated);
+      6.0 * used.size() - (5.0 + d.num_pairs_per_segment.size() + z_free);
   d.reduced_chi_square = dof > 0.0 ? chi2 / dof : 0.0;
 }
 
@@ -306,6 +389,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                                             Determination::kEstimated);
   d.num_pairs_in = num_pairs;
   d.inlier_mask.assign(pairs.size(), 0);
+  TranslationZPrior& z_prior = result.translation_z_prior;
+  z_prior.used = options.translation_z_prior_sigma_m > 0.0;
+  z_prior.held_m = options.fixed_translation_z_m;
+  z_prior.prior_stddev_m = options.translation_z_prior_sigma_m;
+  z_prior.data_stddev_m = std::numeric_limits<double>::infinity();
+  z_prior.estimate_m = options.fixed_translation_z_m;
+  z_prior.stddev_m = options.translation_z_prior_sigma_m;
   MeasureExcitation(pairs, options, &d);
 
   if (num_pairs < options.min_num_pairs) {
@@ -516,12 +606,19 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   // SE(3) odometry: z may be determined as well.
   if (result.status != CalibrationStatus::kRefinementFailed &&
       OdometryTilts(pairs, used)) {
-    EstimateTranslationZ(weighted_pairs,
-                         &used,
-                         weighted,
-                         &result,
-                         &information,
-                         &information_segments);
+    if (!EstimateTranslationZ(weighted_pairs,
+                              &used,
+                              weighted,
+                              &result,
+                              &information,
+                              &information_segments)) {
+      EstimateTranslationZUnderPrior(weighted_pairs,
+                                     &used,
+                                     weighted,
+                                     &result,
+                                     &information,
+                                     &information_segments);
+    }
     CountPairsPerSegment(pairs, used, &result);
   }
   for (const int i : used) d.inlier_mask[i] = 1;
@@ -578,8 +675,22 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     }
     information /= d.planarity.covariance_inflation;
   }
+  // The held z's prior joins the data's information (z last).
+  if (z_prior.moved_by_data) {
+    const Eigen::Index z = information.rows() - 1;
+    z_prior.data_stddev_m =
+        1.0 / std::sqrt(MarginalInformationOfLast(information));
+    information(z, z) += 1.0 / (options.translation_z_prior_sigma_m *
+                                options.translation_z_prior_sigma_m);
+  }
   AnalyseInformation(
       information, information_segments, num_segments, options, &result);
+  if (result.observability.translation_z == Determination::kEstimated) {
+    z_prior.used = false;
+  } else if (z_prior.moved_by_data) {
+    z_prior.estimate_m = result.odom_from_cam.translation.z();
+    z_prior.stddev_m = result.stddev_translation_z_m;
+  }
 
   // Warnings a user should read even when the answer is usable.
   if (num_pairs - d.num_pairs_used > 0) {

@@ -55,6 +55,7 @@ void CalibrationOptions::Check() const {
     throw std::invalid_argument("fixed_translation_z_m must be finite, got " +
                                 FormatNumber(fixed_translation_z_m));
   }
+  CheckNonNegative(translation_z_prior_sigma_m, "translation_z_prior_sigma_m");
   CheckPositive(ransac_max_rotation_error_deg, "ransac_max_rotation_error_deg");
   CheckPositive(ransac_max_translation_error_m,
                 "ransac_max_translation_error_m");

@@ -65,6 +65,15 @@ struct CalibrationOptions {
   // Translation along the odometry z axis is unobservable under planar
   // motion; it is held at this value and reported as such.
   double fixed_translation_z_m = 0.0;
+  // The held z is a prior, not a constant: fixed_translation_z_m with this
+  // standard deviation (a plausible range of camera heights). Where SE(3)
+  // odometry carries some information on z but does not determine it, the
+  // refinement estimates z under this prior, and the covariance of the
+  // rotation, x, y and the scales is the one with z free under it: a wrong
+  // held z then no longer biases x and y beyond their stated uncertainty.
+  // Planar odometry carries no information on z and does not depend on it.
+  // 0: z is held exactly at fixed_translation_z_m.
+  double translation_z_prior_sigma_m = 1.0;
   NoiseModel noise;
 
   // RANSAC over motion pairs around the closed form.

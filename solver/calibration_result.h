@@ -82,6 +82,28 @@ struct CalibrationDiagnostics {
   std::string refinement_report;  // Ceres BriefReport()
 };
 
+// Translation z as a prior (options.translation_z_prior_sigma_m > 0): what
+// the calibration held and what the data made of it. Not used when z is
+// estimated (from SE(3) odometry or the floor) or held exactly (prior sigma
+// 0).
+struct TranslationZPrior {
+  bool used = false;
+  double held_m = 0.0;          // the prior's mean, fixed_translation_z_m
+  double prior_stddev_m = 0.0;  // translation_z_prior_sigma_m
+  // The data's own standard deviation of z (the others free); infinite
+  // where the data carry no information on z (planar odometry).
+  double data_stddev_m = 0.0;
+  // z and its standard deviation under the prior and the data: the held
+  // value and the prior's sigma where the data carry no information.
+  double estimate_m = 0.0;
+  double stddev_m = 0.0;
+  // The data's information on z is more than kMovedInformationRatio of the
+  // prior's: z (and x, y with it) were estimated under the prior, and z is
+  // the last row of the covariance.
+  bool moved_by_data = false;
+  static constexpr double kMovedInformationRatio = 0.01;
+};
+
 struct CalibrationResult {
   CalibrationStatus status = CalibrationStatus::kNotRun;
   std::string message = "CalibrateOdomCam() was not called.";
@@ -105,9 +127,11 @@ struct CalibrationResult {
 
   // Covariance, order [rx, ry, rz, tx, ty, one scale per segment with used
   // pairs (covariance_segments)] and, only when
-  // translation z is estimated, tz last: rotation as a left perturbation
-  // R = Exp(phi) R_hat in radians about the odometry axes, translation in
-  // metres, scales in metres per reconstruction unit. A held z is excluded.
+  // translation z is estimated or moved by the data under its prior
+  // (translation_z_prior.moved_by_data), tz last: rotation as a left
+  // perturbation R = Exp(phi) R_hat in radians about the odometry axes,
+  // translation in metres, scales in metres per reconstruction unit. A z
+  // held exactly, or under a prior the data do not move, is excluded.
   std::optional<Eigen::MatrixXd> covariance;
   // Standard deviations derived from it.
   Eigen::Vector3d stddev_roll_pitch_yaw_deg = Eigen::Vector3d::Zero();
@@ -131,6 +155,9 @@ struct CalibrationResult {
   // fitted, and why translation z is not taken from it (empty when it is).
   std::optional<FloorPlane> floor_plane;
   std::string floor_z_held_reason;
+
+  // The held z as a prior and what the data made of it.
+  TranslationZPrior translation_z_prior;
 
   bool IsSuccess() const { return status == CalibrationStatus::kSuccess; }
 };

@@ -82,7 +82,14 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
   }
   const bool z_estimated =
       observability.translation_z == Determination::kEstimated;
-  if (z_estimated) quantities.push_back(&observability.translation_z);
+  // z under its prior is no estimate of the data's: its row neither makes
+  // it undetermined nor estimated (the prior makes it regular).
+  Determination z_under_prior = Determination::kHeld;
+  const bool z_row = z_estimated || result->translation_z_prior.moved_by_data;
+  if (z_row) {
+    quantities.push_back(z_estimated ? &observability.translation_z
+                                     : &z_under_prior);
+  }
   auto undetermined = [](Determination* quantity) {
     *quantity = Determination::kUndetermined;
   };
@@ -131,9 +138,10 @@ void AnalyseInformation(const Eigen::MatrixXd& information,
     result->stddev_metric_scales_rel[segments[k]] =
         std::sqrt(covariance(5 + k, 5 + k)) / scale;
   }
-  if (z_estimated) {
+  if (z_row) {
     result->stddev_translation_z_m = std::sqrt(covariance(n - 1, n - 1));
-    if (result->stddev_translation_z_m > options.max_translation_stddev_m) {
+    if (z_estimated &&
+        result->stddev_translation_z_m > options.max_translation_stddev_m) {
       undetermined(&observability.translation_z);
     }
   }

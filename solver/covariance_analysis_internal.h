@@ -19,7 +19,8 @@ std::optional<Eigen::MatrixXd> InvertInformation(
     const Eigen::MatrixXd& information);
 
 // Covariance, standard deviations and the observability verdict from the
-// information matrix in [rx, ry, rz, tx, ty, s_k..., tz if estimated] order.
+// information matrix in [rx, ry, rz, tx, ty, s_k..., tz if estimated or under
+// its prior (result->translation_z_prior.moved_by_data)] order.
 // Quantities whose standard deviation exceeds the options' limits, or that
 // take part in a null direction of the information, become undetermined in
 // result->observability.

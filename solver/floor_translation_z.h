@@ -19,8 +19,12 @@ namespace odomcal {
 // g = floor.height_per_scale over the covariance's scale rows (the plane's
 // errors are independent of the motion's). A standard deviation of z above
 // max_stddev_m (the calibration's max_translation_stddev_m, the limit of x
-// and y) leaves z held. Returns the reason z stays held otherwise (empty
-// when z was set).
+// and y) leaves z held. Where z is under its prior with a row in the
+// covariance (result->translation_z_prior.moved_by_data: SE(3) odometry
+// that informs z without determining it), the floor's height is instead one
+// more measurement of z that updates every parameter and the covariance
+// (a Kalman update). Returns the reason z stays held otherwise (empty when
+// z was set).
 std::string SetTranslationZFromFloor(const FloorPlane& floor,
                                      const FloorPlaneOptions& options,
                                      double max_stddev_m,

@@ -1,6 +1,7 @@
 // Ceres problem: one 6-dimensional residual block per used motion pair over
 // the parameter blocks [q (4, EigenQuaternionManifold), p_xy (2),
-// log s_k (1), p_z (1, constant where z is held)]. The whitening W_i is
+// log s_k (1), p_z (1, constant where z is held)], plus, for z under its
+// prior, one residual block on p_z alone. The whitening W_i is
 // computed once at the starting point, which keeps the cost a fixed weighted
 // least-squares problem. After solving, the Jacobian is evaluated (without the
 // robust loss) to form the Fisher information; it is mapped from Ceres' tangent
@@ -24,6 +25,26 @@
 namespace odomcal {
 namespace {
 
+// (p_z - mean) / sigma: the held z as a prior.
+class TranslationZPriorCost {
+ public:
+  TranslationZPriorCost(double mean, double sigma)
+      : mean_(mean), sigma_(sigma) {}
+  template <typename T>
+  bool operator()(const T* p_z, T* residual) const {
+    residual[0] = (p_z[0] - mean_) / sigma_;
+    return true;
+  }
+  static ceres::CostFunction* Create(double mean, double sigma) {
+    return new ceres::AutoDiffCostFunction<TranslationZPriorCost, 1, 1>(
+        new TranslationZPriorCost(mean, sigma));
+  }
+
+ private:
+  double mean_;
+  double sigma_;
+};
+
 // Parameter storage and the Ceres problem built over it.
 class HandEyeProblem {
  public:
@@ -34,7 +55,7 @@ class HandEyeProblem {
                  const CalibrationOptions& options,
                  TranslationZ z,
                  bool with_loss)
-      : estimate_z_(z == TranslationZ::kEstimate) {
+      : estimate_z_(z != TranslationZ::kHold) {
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_ = std::make_unique<ceres::Problem>(problem_options);
@@ -59,12 +80,20 @@ class HandEyeProblem {
       } else if (with_loss && options.robust_loss == RobustLoss::kCauchy) {
         loss = new ceres::CauchyLoss(options.robust_loss_scale);
       }
-      problem_->AddResidualBlock(HandEyeCost::Create(pair, covariance),
-                                 loss,
-                                 quaternion_,
-                                 p_xy_,
-                                 &log_scales_.at(pair.segment),
-                                 &p_z_);
+      pair_blocks_.push_back(
+          problem_->AddResidualBlock(HandEyeCost::Create(pair, covariance),
+                                     loss,
+                                     quaternion_,
+                                     p_xy_,
+                                     &log_scales_.at(pair.segment),
+                                     &p_z_));
+    }
+    if (z == TranslationZ::kPrior) {
+      problem_->AddResidualBlock(
+          TranslationZPriorCost::Create(options.fixed_translation_z_m,
+                                        options.translation_z_prior_sigma_m),
+          nullptr,
+          &p_z_);
     }
     problem_->SetManifold(quaternion_, &quaternion_manifold_);
     if (!estimate_z_) problem_->SetParameterBlockConstant(&p_z_);
@@ -107,6 +136,7 @@ class HandEyeProblem {
   Eigen::MatrixXd Information(std::vector<int>* segments) {
     ceres::Problem::EvaluateOptions evaluate_options;
     evaluate_options.apply_loss_function = false;
+    evaluate_options.residual_blocks = pair_blocks_;  // not the prior
     evaluate_options.parameter_blocks = {quaternion_, p_xy_};
     segments->clear();
     for (auto& [segment, log_scale] : log_scales_) {
@@ -137,6 +167,7 @@ class HandEyeProblem {
  private:
   bool estimate_z_;
   std::unique_ptr<ceres::Problem> problem_;
+  std::vector<ceres::ResidualBlockId> pair_blocks_;
   ceres::EigenQuaternionManifold quaternion_manifold_;
   double quaternion_[4];  // x, y, z, w (Eigen's coeffs order)
   double p_xy_[2];

@@ -5,7 +5,10 @@
 // quaternion manifold), p_x, p_y and one log-scale per segment, with p_z held
 // at options.fixed_translation_z_m (unobservable under planar motion) or,
 // with TranslationZ::kEstimate, estimated too (SE(3) odometry whose
-// rotation axes are not all parallel).
+// rotation axes are not all parallel), or, with TranslationZ::kPrior,
+// estimated under the prior N(options.fixed_translation_z_m,
+// options.translation_z_prior_sigma_m^2) (SE(3) odometry that carries too
+// little information on z to determine it).
 // r_i and W_i are defined in hand_eye_residual.h; W_i is evaluated once at the
 // initial estimate. rho is the identity or the robust loss of the options.
 #pragma once
@@ -23,9 +26,12 @@
 
 namespace odomcal {
 
-// Translation z: held at options.fixed_translation_z_m, or a free parameter
-// starting from the initial estimate's z.
-enum class TranslationZ { kHold, kEstimate };
+// Translation z: held at options.fixed_translation_z_m, a free parameter
+// starting from the initial estimate's z, or a free parameter under its prior
+// (the cost gets ((p_z - fixed_translation_z_m) /
+// translation_z_prior_sigma_m)^2; the information stays the data's alone, the
+// caller adds the prior's).
+enum class TranslationZ { kHold, kEstimate, kPrior };
 
 // Whether RefineOdomFromCam evaluates the information at its solution; a
 // caller that refines in rounds and keeps one of them asks for it later
@@ -53,7 +59,8 @@ struct RefinementResult {
 
   // Fisher information J^T J at the solution in the order
   // [rx, ry, rz, tx, ty, s_k for each segment with pairs] and, with
-  // TranslationZ::kEstimate only, tz last: rotation as a left perturbation in
+  // TranslationZ::kEstimate or kPrior only, tz last (the data's information
+  // alone, without the prior's): rotation as a left perturbation in
   // radians (Ceres' quaternion tangent is half of it), translation in metres,
   // scales in metres per reconstruction unit.
   Eigen::MatrixXd information;  // empty with InformationAtSolution::kSkip

@@ -440,7 +440,7 @@ TEST_F(CommandLine, NoMessageLeaksCppNamesOrHugeNumbers) {
       EXPECT_FALSE(std::regex_search(run.err, huge_number)) << run.err;
     }
   }
-  EXPECT_EQ(num_flags, 26);
+  EXPECT_EQ(num_flags, 27);
 }
 
 }  // namespace

@@ -398,6 +398,7 @@ class FlagEcho : public ScratchFolderTest {
         {"--alsp_projection", {"length_preserving", "length_preserving"}},
         {"--no_refine", {"", false}},
         {"--fixed_translation_z_m", {"0.25", 0.25}},
+        {"--translation_z_prior_sigma_m", {"0.5", 0.5}},
         {"--ransac", {"off", false}},
         {"--ransac_max_rotation_error_deg", {"1.5", 1.5}},
         {"--ransac_max_translation_error_m", {"0.03", 0.03}},

@@ -136,6 +136,13 @@ const OptionTable<CalibrationOptions>& CalibrationOptionFlags() {
           "z of the camera in the odometry frame (unobservable under "
           "planar motion, held at this value)",
           [](auto& o) -> auto& { return o.fixed_translation_z_m; }),
+      NumberRow<C>(
+          "translation_z_prior_sigma_m",
+          "standard deviation of the held z as a prior: where SE(3) odometry "
+          "informs z without determining it, z is estimated under it and "
+          "its uncertainty enters the covariance of x, y and the rotation "
+          "(0: z held exactly)",
+          [](auto& o) -> auto& { return o.translation_z_prior_sigma_m; }),
       // Outliers. --ransac on|off is echoed as the boolean "ransac".
       [] {
         OptionRow<C> row = ChoiceRow<C>(

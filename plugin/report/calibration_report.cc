@@ -203,6 +203,21 @@ json TransformToJson(const Rigid3d& transform,
   return out;
 }
 
+// The held z as a prior; null when z is estimated or held exactly.
+json TranslationZPriorToJson(const CalibrationResult& result) {
+  const TranslationZPrior& prior = result.translation_z_prior;
+  if (!prior.used || !result.has_estimate) return nullptr;
+  return {
+      {"held_m", prior.held_m},
+      {"prior_stddev_m", prior.prior_stddev_m},
+      {"moved_by_data", prior.moved_by_data},
+      {"estimate_m", prior.estimate_m},
+      {"stddev_m", prior.stddev_m},
+      {"data_stddev_m",
+       NumberOrNull(prior.data_stddev_m, std::isfinite(prior.data_stddev_m))},
+  };
+}
+
 json CalibrationToJson(const CalibrationResult& result,
                        const ReportContext& context) {
   const Observability& observability = result.observability;
@@ -272,9 +287,10 @@ json CalibrationToJson(const CalibrationResult& result,
         {"translation_z_m", NumberOrNull(result.stddev_translation_z_m, z)},
         {"metric_scales_rel", stddev_scales},
     };
-    // tz, when estimated, is the last parameter.
+    // tz, when estimated or under its prior, is the last parameter.
     const bool tz =
-        result.observability.translation_z == Determination::kEstimated;
+        result.observability.translation_z == Determination::kEstimated ||
+        result.translation_z_prior.moved_by_data;
     json order = {"rx", "ry", "rz", "tx", "ty"};
     // Scale rows are labelled with their segment: a segment without used
     // pairs has none.
@@ -308,6 +324,7 @@ json CalibrationToJson(const CalibrationResult& result,
   if (result.noise_estimate)
     out["noise_estimated"] = NoiseToJson(*result.noise_estimate);
   out["translation_z_source"] = ToString(observability.translation_z_source);
+  out["translation_z_prior"] = TranslationZPriorToJson(result);
   out["floor_plane"] = FloorPlaneToJson(result);
   out["warnings"] = result.warnings;
   json diagnostics = DiagnosticsToJson(result.diagnostics);
@@ -435,7 +452,8 @@ std::string CalibrationToYaml(const CalibrationResult& result) {
     }
     fs << "covariance" << covariance;
     fs << "covariance_order"
-       << (Estimated(observability.translation_z)
+       << (Estimated(observability.translation_z) ||
+                   result.translation_z_prior.moved_by_data
                ? "rx ry rz (left perturbation, rad) tx ty (m) s_k tz (m)"
                : "rx ry rz (left perturbation, rad) tx ty (m) s_k");
   }
@@ -549,7 +567,9 @@ std::string CalibrationSummary(const CalibrationResult& result,
     out << "    z     "
         << FormatPrintf("%10.2f cm",
                         100.0 * result.odom_from_cam.translation.z());
-    if (Estimated(o.translation_z) && sigma) {
+    if ((Estimated(o.translation_z) ||
+         result.translation_z_prior.moved_by_data) &&
+        sigma) {
       out << FormatPrintf("   +- %.2f cm (3 sigma)",
                           300.0 * result.stddev_translation_z_m);
     }

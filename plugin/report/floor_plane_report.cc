@@ -94,8 +94,24 @@ std::string TranslationZOrigin(const CalibrationResult& result) {
     }
     return "estimated (SE(3) odometry, rotation axes not all parallel)";
   }
-  std::string text =
-      "fixed (unobservable under planar motion; --fixed_translation_z_m)";
+  const TranslationZPrior& prior = result.translation_z_prior;
+  std::string text;
+  if (prior.used && prior.moved_by_data) {
+    text = "under its prior " + FormatPrintf("%.2f cm", 100.0 * prior.held_m) +
+           " +- " + FormatPrintf("%.2f cm", 300.0 * prior.prior_stddev_m) +
+           " (3 sigma; --fixed_translation_z_m, --translation_z_prior_sigma_m)"
+           ", moved by the SE(3) odometry, which alone gives +- " +
+           FormatPrintf("%.2f cm", 300.0 * prior.data_stddev_m) +
+           "; x, y and the rotation include its uncertainty";
+  } else if (prior.used) {
+    text =
+        "fixed (unobservable under planar motion; --fixed_translation_z_m; "
+        "prior +- " +
+        FormatPrintf("%.2f cm", 300.0 * prior.prior_stddev_m) +
+        " (3 sigma) not moved by the data)";
+  } else {
+    text = "fixed (unobservable under planar motion; --fixed_translation_z_m)";
+  }
   if (!result.floor_z_held_reason.empty()) {
     text += "; not from the floor: " + result.floor_z_held_reason;
   }

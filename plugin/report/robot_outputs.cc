@@ -29,7 +29,8 @@ std::optional<RobotDescription> RobotDescriptionOf(
   }
   return MakeRobotDescription(result.odom_from_cam,
                               context.robot_frames,
-                              o.translation_z != kEstimated,
+                              o.translation_z != kEstimated &&
+                                  !result.translation_z_prior.moved_by_data,
                               diff_drive);
 }
 
