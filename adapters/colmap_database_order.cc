@@ -9,6 +9,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -122,6 +123,13 @@ bool RenumberColmapImagesByName(const std::string& database_path) {
           offset + ") WHERE " + c.column + " >= " + offset + and_where);
     }
   };
+  // A table COLMAP has not created (no features written yet) holds no ids.
+  images.erase(std::remove_if(images.begin(),
+                              images.end(),
+                              [&](const IdColumn& c) {
+                                return !HasTable(db.get(), c.table);
+                              }),
+               images.end());
   renumber(images, "odomcal_image_ids");
   if (version.has_rigs_and_frames) {
     // Frames in the order of their first image (frames without one last).

@@ -59,18 +59,23 @@ TEST_F(Robustness, ColmapProducesNoModel) {
                         WritePreparedDatabase() + " \"$3\"; fi\nexit 0\n");
   run = RunOdomcal(RunCommand({"--matcher", "sequential"}),
                    {{"PATH=" + bin + ":/usr/bin:/bin"}});
+  // Seed 0, the initialisation ladder's one rung here (the database has no
+  // verified pairs to choose an initial pair from), seeds 1 and 2.
   ExpectColmapFailure(
       run,
       std::string(kRunError) +
-          "COLMAP mapper produced no model in 3 runs (see " +
+          "COLMAP mapper produced no model in 4 runs (tried: COLMAP's "
+          "initial pair search, relaxed initialisation tests) (see " +
           Path("ws/logs/mapper_seed_0.log") +
-          "): too little texture or overlap, or wrong intrinsics");
+          "): COLMAP's log is empty; too little texture or overlap, or wrong "
+          "intrinsics");
 }
 
 // COLMAP's mapper returns, for one random seed, no model, for another a model
 // with two images registered 3 deg off (the odometry contradicts the motion
-// pairs around them), for a third a clean one: odomcal maps with seeds 0, 1,
-// 2 and calibrates the clean model, copied to sparse/.
+// pairs around them), for a third a clean one: odomcal maps with seed 0,
+// starts it again with relaxed initialisation tests (no model either), maps
+// with seeds 1 and 2 and calibrates the clean model, copied to sparse/.
 TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
   constexpr int kImages = 30;
   const SimulatedDrive drive = WriteImageFolder(kImages, "x");
@@ -97,8 +102,19 @@ TEST_F(Robustness, MapperRunsAgainWhileTheOdometryContradictsItsModel) {
               2.5 * std::tan(fov_deg / 16.0 * kDegToRad),
               1e-9);
   const json& attempts = result["colmap"]["mapper_attempts"];
-  ASSERT_EQ(attempts.size(), 3u) << attempts.dump(2);
+  ASSERT_EQ(attempts.size(), 4u) << attempts.dump(2);
   EXPECT_FALSE(attempts[0]["produced_model"]);
+  EXPECT_EQ(attempts[0]["failure_cause"], "COLMAP's log is empty");
+  EXPECT_EQ(attempts[0]["initialization"], "colmap_search");
+  // The ladder's run, recorded after the seeds.
+  EXPECT_FALSE(attempts[3]["produced_model"]);
+  EXPECT_EQ(attempts[3]["initialization"], "relaxed_search");
+  EXPECT_EQ(attempts[3]["random_seed"], 0);
+  EXPECT_NE(run.out.find("COLMAP mapping the drive again (1 of 1 ways to "
+                         "start): COLMAP's initial pair search, the initial "
+                         "pair's tests relaxed"),
+            std::string::npos)
+      << run.out;
   EXPECT_TRUE(attempts[1]["produced_model"]);
   EXPECT_GT(attempts[1]["num_contradicting_pairs"], 0) << attempts.dump(2);
   EXPECT_EQ(attempts[2]["num_contradicting_pairs"], 0) << attempts.dump(2);
@@ -144,9 +160,13 @@ class ColmapCommandLine : public Robustness {
     EXPECT_NE(commands.find(v4 ? "--default_random_seed 1" : "--random_seed 1"),
               std::string::npos)
         << commands;
-    // Seed 1 mapped (seed 0 has no model, seed 1's contradicts the
-    // odometry): the seeds reached the mapper.
-    EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 3u);
+    // Seed 1 mapped (seed 0 has no model, nor the initialisation ladder's
+    // run with relaxed tests, whose options the version took; seed 1's
+    // contradicts the odometry): the seeds reached the mapper.
+    EXPECT_EQ(result["colmap"]["mapper_attempts"].size(), 4u);
+    EXPECT_NE(commands.find("--Mapper.init_max_forward_motion 1"),
+              std::string::npos)
+        << commands;
     EXPECT_EQ(result["colmap"]["version"], v4 ? "4.1.1" : "3.8.0");
   }
 };

@@ -396,7 +396,8 @@ class Robustness : public ::testing::Test {
              " Mapper.num_threads Mapper.ba_refine_focal_length "
              "Mapper.ba_refine_principal_point Mapper.ba_refine_extra_params "
              "Mapper.init_min_tri_angle Mapper.init_max_forward_motion "
-             "Mapper.init_image_id1 Mapper.init_image_id2"},
+             "Mapper.init_image_id1 Mapper.init_image_id2 "
+             "Mapper.init_min_num_inliers"},
         {"point_triangulator",
          "database_path image_path input_path output_path clear_points"},
         {"bundle_adjuster",

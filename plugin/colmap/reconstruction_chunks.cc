@@ -367,11 +367,11 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
           mapping.initialization_attempts.end(),
           climb.rungs.begin(),
           climb.rungs.end());
-      mapping.initialization_summaries.push_back(
-          "chunk " + std::to_string(k + 1) + ": " + DescribeClimb(climb) +
-          (climb.output.empty() ? "; no model: " + climb.first.failure_cause
-                                : "; mapped with " + climb.used->Describe()));
-      if (climb.output.empty()) continue;
+      if (climb.output.empty()) {
+        mapping.initialization_summaries.push_back(
+            "chunk " + std::to_string(k + 1) + ": " + DescribeClimb(climb));
+        continue;
+      }
       mapped.output = climb.output;
       mapped.note = "mapped with " + climb.used->Describe();
       start_arguments[k] = climb.used->MapperArguments();

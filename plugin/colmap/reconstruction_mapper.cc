@@ -291,7 +291,8 @@ void MapWithSeed(ColmapRunner* colmap,
   const ColmapStageResult stage = RunMapper(colmap, run, entry, command);
   attempt.model_path = output.string();
   fs::path model = output;
-  if (!HasModel(output) && !global && !start->climbed) {
+  // The ladder is for a drive without any model yet, once.
+  if (!HasModel(output) && !global && !start->climbed && policy->Best() < 0) {
     clock.Done("no model, log " + stage.log_path);
     start->climbed = true;
     LadderImages ladder;
@@ -312,7 +313,6 @@ void MapWithSeed(ColmapRunner* colmap,
     if (climb.output.empty()) {
       // This run's record (the policy's) and the rungs'.
       start->attempts = climb.rungs;
-      start->summary += "; no model: " + climb.first.failure_cause;
       attempt.failure_cause = climb.first.failure_cause;
       policy->Record(attempt);
       return;
@@ -322,7 +322,6 @@ void MapWithSeed(ColmapRunner* colmap,
     start->attempts = {climb.first};
     start->attempts.insert(
         start->attempts.end(), climb.rungs.begin(), climb.rungs.end() - 1);
-    start->summary += "; mapped with " + climb.used->Describe();
     start->initialization = climb.used;
     model = climb.output;
     attempt.initialization = ToString(climb.used->kind);

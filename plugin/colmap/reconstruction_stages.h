@@ -158,13 +158,13 @@ struct MapperStart {
   std::optional<MapperInitialization> initialization;
   bool climbed = false;                 // the ladder ran (once per drive)
   std::vector<MapperAttempt> attempts;  // InitializationClimb::tried
-  std::string summary;                  // DescribeClimb, and its outcome
+  std::string summary;                  // DescribeClimb
 };
 
 // [4]: `colmap mapper` with `seed` on the round's matches, its model
 // calibrated and recorded in `policy`. The first incremental run that gives
-// no model climbs the initialisation ladder (ClimbInitializationLadder);
-// `start` keeps what it found.
+// no model while no earlier run gave one climbs the initialisation ladder
+// (ClimbInitializationLadder); `start` keeps what it found.
 void MapWithSeed(ColmapRunner* colmap,
                  const ReconstructionOptions& run,
                  const MatchingRound& round,
@@ -263,8 +263,9 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
 struct ChunkedMapping {
   std::vector<MapperAttempt> attempts;  // all chunks, then each chunk again
   int chosen = -1;                      // -1: no chunk gave a model
-  // The runs of chunks that gave no model at first, and what each chunk's
-  // ladder tried (ClimbInitializationLadder), for the records and messages.
+  // The runs of chunks that gave no model at first and the ladder's runs
+  // (ClimbInitializationLadder), and what it tried on each chunk that still
+  // gave none, for the records and messages.
   std::vector<MapperAttempt> initialization_attempts;
   std::vector<std::string> initialization_summaries;
 };

@@ -71,6 +71,7 @@ def colmap_options(command, v):
             "Mapper.init_max_forward_motion": "Mapper.init_max_forward_motion",
             "Mapper.init_image_id1": "Mapper.init_image_id1",
             "Mapper.init_image_id2": "Mapper.init_image_id2",
+            "Mapper.init_min_num_inliers": "Mapper.init_min_num_inliers",
         },
         "point_triangulator": {
             "database_path": "database_path", "image_path": "image_path",
