@@ -16,7 +16,9 @@
 // all go one way) would pass. What the calibration refuses on these motions
 // under the given noise (kNotEnoughMotion, kUnobservable: too few pairs, no
 // or too few turns, a standard deviation above its limit), it refuses on a
-// reconstruction of the same images as noisy as the model says. The
+// reconstruction of the same images as noisy as the model says, with the
+// same reason; a reconstruction much quieter or noisier than the model can
+// part from it (benchmarks/precheck_agreement, docs/colmap_checks.md). The
 // excitation does not depend on the mount: the solver's thresholds are on
 // the odometry yaw, and the information is that of the motions.
 #pragma once
