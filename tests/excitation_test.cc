@@ -241,8 +241,8 @@ TEST_F(Excitation, StraightDriveIsRefusedBeforeColmap) {
 // turn at 0.6 rad/s with 0.5 s ramps, 10 Hz images, camera 1.65 m up), its
 // odometry and reconstruction as noisy as the default noise model says:
 // `calibrate` refuses it, and `run` refuses it before COLMAP with the same
-// reason (the pre-check once passed such a drive: "0 left and 28 right
-// turns above 2 deg: enough to calibrate").
+// reason (a check that estimated the noise from its exact poses would find
+// the noise at its floor and pass it).
 TEST_F(Excitation, OneDirectionRoadDriveIsRefusedBeforeColmapAsCalibrateIs) {
   Trajectory truth;
   truth.planar = true;
