@@ -22,7 +22,8 @@ ExcitationPrecheck PrecheckExcitation(
     const std::vector<int64_t>& image_stamps_ns,
     const Trajectory& odometry,
     const AssociationOptions& association,
-    const CalibrationOptions& calibration) {
+    const CalibrationOptions& calibration,
+    const SystematicsEstimationOptions& systematics) {
   association.Check();
   calibration.Check();
   std::vector<int64_t> stamps = image_stamps_ns;
@@ -48,11 +49,25 @@ ExcitationPrecheck PrecheckExcitation(
     camera.poses.push_back(pose);
   }
 
+  // The given noise: estimated from exact poses it would run to its floor
+  // and find determined what a real reconstruction leaves undetermined.
+  CalibrationOptions given_noise = calibration;
+  given_noise.estimate_noise = false;
   ExcitationPrecheck precheck;
-  precheck.association =
-      AssociateCameraWithOdometry({camera}, odometry, association);
-  const CalibrationResult ideal =
-      CalibrateOdomCam(precheck.association.pairs, calibration);
+  MotionPairs pairs;
+  CalibrationResult ideal;
+  EstimateSystematics(
+      {camera},
+      odometry,
+      association,
+      given_noise,
+      systematics,
+      [&](const AssociationResult& associated) {
+        pairs = associated.pairs;
+        ideal = CalibrateOdomCam(pairs, given_noise);
+        return std::make_pair(static_cast<const MotionPairs*>(&pairs), &ideal);
+      },
+      &precheck.association);
   CalibrationResult& verdict = precheck.verdict;
   verdict.status = ideal.status;
   verdict.message = ideal.message;

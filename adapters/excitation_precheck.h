@@ -3,19 +3,28 @@
 // the x/y lever arm are free), and that is visible in the odometry within a
 // second, where COLMAP would take minutes to find out.
 //
-// The rule is the solver's own: the images are given the camera poses a
+// The rule is the calibration's own: the images are given the camera poses a
 // perfect reconstruction would have (the odometry at each image time,
-// through a nominal camera mount, at scale 1), associated with the odometry
-// as `odomcal colmap` associates registered images (association.h), and
-// calibrated with CalibrateOdomCam. What it refuses on these ideal motions
-// (kNotEnoughMotion, kUnobservable: too few pairs, no or too few turns,
-// turns that do not separate the lever arm from the scale) no real
-// reconstruction of the same images can make determined. The excitation
-// does not depend on the mount: the solver's thresholds are on the odometry
-// yaw, and the information is that of the motions.
+// through a nominal camera mount, at scale 1) and calibrated as `odomcal
+// calibrate` and `odomcal colmap` calibrate (EstimateSystematics around
+// CalibrateOdomCam: the clock offset and odometry intrinsics estimated with
+// the extrinsic, whose uncertainty widens it), with one difference: the noise
+// is the given noise model (the defaults unless flags change it), not
+// estimated from the data. Exact poses would make the noise estimation claim
+// the least noise it allows (a tenth of the given), and a quantity the real
+// calibration finds undetermined (e.g. translation y of a drive whose turns
+// all go one way) would pass. What the calibration refuses on these motions
+// under the given noise (kNotEnoughMotion, kUnobservable: too few pairs, no
+// or too few turns, a standard deviation above its limit), it refuses on a
+// reconstruction of the same images as noisy as the model says, with the
+// same reason; a reconstruction much quieter or noisier than the model can
+// part from it (benchmarks/precheck_agreement, docs/colmap_checks.md). The
+// excitation does not depend on the mount: the solver's thresholds are on
+// the odometry yaw, and the information is that of the motions.
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
@@ -27,11 +36,13 @@ namespace odomcal {
 
 struct ExcitationPrecheck {
   // Of the ideal camera poses: keyframes and motion pairs, as the
-  // calibration after SfM would have them at best.
+  // calibration after SfM would have them at best (at the offset the
+  // systematics estimation ended at).
   AssociationResult association;
-  // The solver's verdict on the ideal motions, without its estimate (which
-  // would only echo the nominal mount): status, message, `observability`,
-  // warnings and the excitation diagnostics (pairs, turns, yaw increments).
+  // The calibration's verdict on the ideal motions, without its estimate
+  // (which would only echo the nominal mount): status, message (the
+  // calibration's reason), `observability`, warnings and the excitation
+  // diagnostics (pairs, turns, yaw increments).
   CalibrationResult verdict;
   // False when the verdict is kNotEnoughMotion or kUnobservable: the data
   // cannot determine the calibration, whatever SfM makes of the images.
@@ -41,11 +52,13 @@ struct ExcitationPrecheck {
 // `image_stamps_ns`: camera times of the images SfM would get (any order);
 // odometry time = camera time + association.camera_time_offset_ns. Images
 // outside the odometry or in its gaps take part in no pair, as after SfM.
-// Throws std::invalid_argument from the options' Check().
+// The options are the calibration's (calibration.estimate_noise is not
+// used). Throws std::invalid_argument from the options' Check().
 ExcitationPrecheck PrecheckExcitation(
     const std::vector<int64_t>& image_stamps_ns,
     const Trajectory& odometry,
     const AssociationOptions& association,
-    const CalibrationOptions& calibration);
+    const CalibrationOptions& calibration,
+    const SystematicsEstimationOptions& systematics);
 
 }  // namespace odomcal

@@ -11,6 +11,8 @@
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/datasets/simulation/model_noise.h"
+#include "odomcal/solver/angles.h"
 #include "odomcal/tests/odomcal_process.h"
 #include "odomcal/tests/scratch_folder_test.h"
 #include "odomcal/tests/test_files.h"
@@ -233,6 +235,89 @@ TEST_F(Excitation, StraightDriveIsRefusedBeforeColmap) {
           {"rotation", "translation_x", "translation_y", "translation_z"}));
   EXPECT_TRUE(result["odom_from_cam"].is_null());
   EXPECT_TRUE(result["colmap"]["mapper_attempts"].empty());
+}
+
+// A car's drive whose only turn goes right (52 m at 10 m/s, one 98 deg
+// turn at 0.6 rad/s with 0.5 s ramps, 10 Hz images, camera 1.65 m up), its
+// odometry and reconstruction as noisy as the default noise model says:
+// `calibrate` refuses it, and `run` refuses it before COLMAP with the same
+// reason (a check that estimated the noise from its exact poses would find
+// the noise at its floor and pass it).
+TEST_F(Excitation, OneDirectionRoadDriveIsRefusedBeforeColmapAsCalibrateIs) {
+  Trajectory truth;
+  truth.planar = true;
+  std::vector<int64_t> image_stamps;
+  const int64_t start_ns = 1700000000000000000;
+  double x = 0.0, y = 0.0, yaw = 0.0;
+  for (int k = 0; k <= 260; ++k) {  // 50 Hz, 5.2 s
+    const int64_t stamp = start_ns + k * 20000000LL;
+    truth.poses.push_back(
+        {stamp, Rigid3d(YawRotation(yaw), Eigen::Vector3d(x, y, 0.0))});
+    if (k % 5 == 0) image_stamps.push_back(stamp);
+    const double t = 0.02 * k, peak = 0.6, ramp = 0.5, begin = 0.925;
+    const double end = begin + 98.0 * kDegToRad / peak + ramp;
+    const double rate = t < begin || t >= end ? 0.0
+                        : t < begin + ramp    ? peak * (t - begin) / ramp
+                        : t >= end - ramp     ? peak * (end - t) / ramp
+                                              : peak;
+    const double mid_yaw = yaw - 0.5 * rate * 0.02;
+    x += 10.0 * 0.02 * std::cos(mid_yaw);
+    y += 10.0 * 0.02 * std::sin(mid_yaw);
+    yaw -= rate * 0.02;
+  }
+  const Rigid3d odom_from_cam(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5),
+                              Eigen::Vector3d(1.5, 0.0, 1.65));
+  WriteOdometryCsv(
+      WithModelOdometryNoise(truth, image_stamps, NoiseModel(), 1.0, 5),
+      Path("odometry.csv"));
+  WriteTumTrajectory(ModelNoisyReconstruction(truth,
+                                              image_stamps,
+                                              image_stamps,
+                                              odom_from_cam,
+                                              0.37,
+                                              NoiseModel(),
+                                              1.0,
+                                              6),
+                     Path("camera.tum"));
+  fs::create_directories(dir_ / "images");
+  std::string stamps;
+  for (size_t i = 0; i < image_stamps.size(); ++i) {
+    const std::string name = ImageName(static_cast<int>(i));
+    WriteFile(dir_ / "images" / name, "x");
+    stamps += name + "," + FormatTimestampSeconds(image_stamps[i]) + "\n";
+  }
+  WriteFile(Path("image_timestamps.csv"), stamps);
+
+  const CommandResult calibrate = RunOdomcal({"calibrate",
+                                              "--camera_poses",
+                                              Path("camera.tum"),
+                                              "--odometry",
+                                              Path("odometry.csv"),
+                                              "--output",
+                                              Path("result.json")});
+  EXPECT_EQ(calibrate.exit_code, 3) << calibrate.out << calibrate.err;
+  const json calibrated = json::parse(ReadFile(Path("result.json")));
+  EXPECT_EQ(calibrated["status"], "unobservable");
+  const std::string message = calibrated["message"];
+  EXPECT_NE(message.find("translation_y"), std::string::npos) << message;
+
+  const std::string path = WriteFakeColmap("exit 1\n");
+  const CommandResult run = RunOdomcal(RunCommand(), {{path}});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_FALSE(fs::exists(Path("colmap_calls.txt")))
+      << ReadFile(Path("colmap_calls.txt"));
+  EXPECT_NE(run.out.find("image times): 52 motion pairs, 0 left and 28 right "
+                         "turns above 2 deg: the calibration cannot be "
+                         "determined (unobservable); no COLMAP stage is run"),
+            std::string::npos)
+      << run.out;
+  const json refused = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_EQ(refused["status"], "unobservable");
+  EXPECT_EQ(refused["message"],
+            message +
+                " (seen in the odometry at the image times, before COLMAP; "
+                "--force runs it anyway)");
+  EXPECT_EQ(refused["unobservable"], calibrated["unobservable"]);
 }
 
 // --force: COLMAP runs anyway (here it fails at once: exit 4).

@@ -471,8 +471,11 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
   std::vector<int64_t> image_stamps;
   image_stamps.reserve(images.size());
   for (const TimedImage& image : images) image_stamps.push_back(image.stamp_ns);
-  const ExcitationPrecheck precheck = PrecheckExcitation(
-      image_stamps, odometry, inputs.association, inputs.calibration);
+  const ExcitationPrecheck precheck = PrecheckExcitation(image_stamps,
+                                                         odometry,
+                                                         inputs.association,
+                                                         inputs.calibration,
+                                                         inputs.systematics);
   progress.Note(1, ExcitationLine(precheck, inputs.calibration, run.force));
   ReconstructionResult result;
   result.frame_spacing = selection.spacing;
