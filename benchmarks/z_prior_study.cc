@@ -2,7 +2,7 @@
 // climbing road with SE(3) odometry (datasets/simulation/climbing_road.h),
 // with z held exactly at 0 (--translation_z_prior_sigma_m 0) and with the
 // held z as a prior (the default 1 m), over seeds 1..N. Prints a markdown
-// table (docs/z_prior_note.md).
+// table (docs/non_planar_motion.md).
 //   <build>/benchmarks/z_prior_study 50 [max_grade_deg] [given]
 // "given": the noise model as given (--estimate_noise off), which is the
 // noise the data are drawn from.
