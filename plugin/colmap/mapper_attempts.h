@@ -41,7 +41,8 @@ struct MapperAttempt {
   // "colmap_search", "odometry_pair", "relaxed_search",
   // "relaxed_odometry_pair" or "neighbour_window"; the initial pair's image
   // names when odomcal passed one; why a run gave no model, from COLMAP's
-  // log ("" when it gave one, or for a combination of chunk models).
+  // log ("" when it gave one). A combination of chunk models has no
+  // `initialization` (""): each chunk's own runs say how it started.
   std::string initialization = "colmap_search";
   std::vector<std::string> initial_pair;
   std::string failure_cause;

@@ -417,6 +417,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
                                    calibration.check);
         attempt.matching_round = round.index;
         attempt.chunk = chunk;
+        attempt.initialization.clear();  // chunks started each their own way
         return attempt;
       };
   mapping.attempts.push_back(summarize(0, chosen, -1));
@@ -466,6 +467,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     attempt.matching_round = round.index;
     attempt.chunk = static_cast<int>(k);
     attempt.posed_from_odometry = true;
+    attempt.initialization.clear();
     mapping.attempts.push_back(attempt);
     const MapperAttempt& best = mapping.attempts[mapping.chosen];
     const std::string pairs =

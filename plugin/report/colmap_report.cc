@@ -162,7 +162,9 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
           attempt.produced_model && attempt.status != CalibrationStatus::kNotRun
               ? json(ToString(attempt.status))
               : json(nullptr)},
-         {"initialization", attempt.initialization},
+         {"initialization",
+          attempt.initialization.empty() ? json(nullptr)
+                                         : json(attempt.initialization)},
          {"initial_pair",
           attempt.initial_pair.empty() ? json(nullptr)
                                        : json(attempt.initial_pair)},
