@@ -584,7 +584,10 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
            << "</td><td>" << attempt.random_seed
            << (attempt.posed_from_odometry ? ", folds posed from the odometry"
                                            : "")
-           << "</td><td>" << EscapeMarkup(attempt.initialization)
+           << "</td><td>"
+           << (attempt.initialization.empty()
+                   ? std::string("-")
+                   : EscapeMarkup(attempt.initialization))
            << (attempt.initial_pair.size() == 2
                    ? " " + EscapeMarkup(attempt.initial_pair[0]) + " + " +
                          EscapeMarkup(attempt.initial_pair[1])
