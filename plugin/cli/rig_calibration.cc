@@ -22,6 +22,16 @@ bool IsCameraName(const std::string& name) {
 
 }  // namespace
 
+void CheckCameraName(const std::string& name, const std::string& where) {
+  if (name.empty()) {
+    throw std::invalid_argument(where + ": the camera name is empty");
+  }
+  if (!IsCameraName(name)) {
+    throw std::invalid_argument(
+        where + ": a camera name is 1-100 characters of A-Z a-z 0-9 _ - .");
+  }
+}
+
 std::vector<NamedCameraPaths> ParseNamedCameras(
     const std::vector<std::string>& values) {
   std::vector<NamedCameraPaths> cameras;

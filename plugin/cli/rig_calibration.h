@@ -35,6 +35,10 @@ struct NamedCameraPaths {
 std::vector<NamedCameraPaths> ParseNamedCameras(
     const std::vector<std::string>& values);
 
+// Throws std::invalid_argument "<where>: a camera name is 1-100 characters
+// of A-Z a-z 0-9 _ - ." (or "... is empty") unless `name` is one.
+void CheckCameraName(const std::string& name, const std::string& where);
+
 // The index of `reference` among the cameras (0, the first, when empty).
 // Throws std::invalid_argument naming --reference_camera when no camera has
 // that name.

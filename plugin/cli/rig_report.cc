@@ -248,10 +248,11 @@ std::string RigCalibrationSummary(const RigCalibrationRun& rig) {
                t.odom_offset_z_held ? "; the heights' difference is held" : "");
   }
   if (const auto robot = RigRobotDescription(rig)) {
-    out << "  robot outputs: " << robot->frames.base_frame;
+    out << "  robot outputs:";
+    const char* separator = " ";
     for (const FrameTransform& transform : robot->transforms) {
-      out << (transform.parent == robot->frames.base_frame ? ", " : " -> ")
-          << transform.child;
+      out << separator << transform.parent << " -> " << transform.child;
+      separator = ", ";
     }
     out << "\n";
   }
