@@ -290,6 +290,29 @@ TEST_F(RigCli, CameraWithTooFewPosesIsNamedAndTheOthersAreWritten) {
   EXPECT_EQ(urdf.find("left_camera_optical_frame"), std::string::npos);
 }
 
+// Poses whose time stamps miss the odometry (another clock, 5000 s off):
+// that camera's input error, the other camera calibrated.
+TEST_F(RigCli, CameraOutsideTheOdometrysTimeIsAnInputErrorOfItsOwn) {
+  std::vector<SimulatedCamera> rig = ThreeCameraRig();
+  rig.resize(2);
+  rig[1].clock_offset_s = 5000.0;
+  WriteRig(TestSeed(35), rig);
+  const CommandResult run = Run(RigArguments(rig));
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  const json result = json::parse(ReadFile(Path("rig.json")));
+  EXPECT_EQ(result["cameras"][0]["status"], "success");
+  EXPECT_EQ(result["cameras"][1]["status"], "input_error");
+  EXPECT_NE(result["cameras"][1]["reason"].get<std::string>().find(
+                "no camera timestamp falls inside the odometry"),
+            std::string::npos)
+      << result["cameras"][1]["reason"];
+  EXPECT_TRUE(result["cameras"][1]["odom_from_cam"].is_null());
+  EXPECT_TRUE(result["camera_pairs"].empty());
+  EXPECT_NE(run.err.find("warning: camera rear not calibrated (input_error)"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST_F(RigCli, NoCameraCalibratedExitsThree) {
   std::vector<SimulatedCamera> rig = ThreeCameraRig();
   rig.resize(2);
