@@ -22,6 +22,8 @@
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/cli/rig_calibration.h"
+#include "odomcal/plugin/cli/rig_report.h"
 #include "odomcal/plugin/colmap/colmap_runner.h"
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/odomcal_plugin.h"
@@ -293,7 +295,12 @@ std::vector<Input> CameraInputs(const py::object& camera_poses) {
 struct CalibrateFlags {
   CLI::App app{"", "odomcal.calibrate"};
   CalibrateInputs inputs;
-  CalibrateFlags() { AddCalibrationFlags(&app, &inputs); }
+  CalibrateFlags() {
+    AddCalibrationFlags(&app, &inputs);
+    app.add_option("--reference_camera",
+                   inputs.reference_camera,
+                   "with camera_poses a dict: the camera of the top level");
+  }
   FlagParser Parser() { return {"odomcal.calibrate", &app}; }
 };
 
@@ -345,12 +352,70 @@ struct ExtractFlagSet {
   FlagParser Parser() { return {"odomcal.extract", &app}; }
 };
 
+// camera_poses as a dict {name: poses or a list of segments}: every camera
+// calibrated against the odometry, as `odomcal calibrate --camera`.
+py::object CalibrateRigCameras(const py::dict& camera_poses,
+                               const py::object& odometry,
+                               CalibrateFlags* flag_set) {
+  const CalibrateInputs& inputs = flag_set->inputs;
+  return DictFromJson(ReportingErrors([&] {
+    std::vector<std::pair<std::string, std::vector<Input>>> named_in;
+    std::vector<NamedCameraPaths> names;
+    for (const auto& [key, value] : camera_poses) {
+      if (!py::isinstance<py::str>(key)) {
+        throw std::invalid_argument("camera_poses: the keys are camera names");
+      }
+      const std::string name = py::str(key);
+      CheckCameraName(name, "camera_poses['" + name + "']");
+      named_in.emplace_back(
+          name, CameraInputs(py::reinterpret_borrow<py::object>(value)));
+      names.push_back({name, {}});
+    }
+    if (named_in.empty()) {
+      throw std::invalid_argument("camera_poses: the dict is empty");
+    }
+    const int reference = ReferenceCameraIndex(names, inputs.reference_camera);
+    const Input odometry_in = InputFrom(odometry, "odometry");
+    flag_set->inputs.odometry_path = odometry_in.path;
+    inputs.association.Check();
+    inputs.calibration.Check();
+    py::gil_scoped_release no_gil;
+    std::vector<NamedCamera> cameras;
+    for (const auto& [name, segments] : named_in) {
+      NamedCamera camera{name, {}};
+      for (const Input& in : segments) {
+        camera.segments.push_back(
+            in.rows ? CameraTrajectoryFromRows(
+                          *in.rows, inputs.camera_time_unit, in.name)
+                    : ReadTumTrajectory(in.path, inputs.camera_time_unit));
+      }
+      cameras.push_back(std::move(camera));
+    }
+    const Trajectory odometry_trajectory =
+        odometry_in.rows ? OdometryFromRows(*odometry_in.rows,
+                                            inputs.odometry_time_unit,
+                                            odometry_in.name)
+                         : ReadOdometryOf(inputs);
+    const RigCalibrationRun rig = CalibrateRig(
+        cameras, odometry_trajectory, inputs, reference, "odomcal calibrate");
+    return RigCalibrationToJson(rig).dump();
+  }));
+}
+
 py::object Calibrate(const py::object& camera_poses,
                      const py::object& odometry,
                      const py::kwargs& keywords) {
   CalibrateFlags flag_set;
   ParseKeywords(flag_set.Parser(), keywords);
   const CalibrateInputs& inputs = flag_set.inputs;
+  if (py::isinstance<py::dict>(camera_poses)) {
+    return CalibrateRigCameras(
+        py::reinterpret_borrow<py::dict>(camera_poses), odometry, &flag_set);
+  }
+  if (!inputs.reference_camera.empty()) {
+    throw py::value_error(
+        "reference_camera: given, but camera_poses is not a dict of cameras");
+  }
   return DictFromJson(ReportingErrors([&] {
     const std::vector<Input> cameras_in = CameraInputs(camera_poses);
     const Input odometry_in = InputFrom(odometry, "odometry");
@@ -561,7 +626,10 @@ PYBIND11_MODULE(odomcal, module) {
       "pair\n"
       "    (times, values) of int64 nanoseconds and an (N, 7) array, or a "
       "list\n"
-      "    of these, one per SfM segment with its own scale.\n"
+      "    of these, one per SfM segment with its own scale; or a dict\n"
+      "    {name: poses} of several cameras, each calibrated against the\n"
+      "    odometry (`--camera NAME=PATH`; reference_camera= names the top\n"
+      "    level's), adding 'cameras' and 'camera_pairs' to the result.\n"
       "odometry: origin_from_odom, a file path (CSV t,x,y,yaw or TUM), an\n"
       "    (M, 4) array [t, x, y, yaw] (m, rad) or (M, 8) TUM array, or a "
       "pair\n"

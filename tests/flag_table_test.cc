@@ -209,6 +209,7 @@ std::set<std::string> EchoOnlyKeys(const std::string& command) {
 // "--name" -> the echo key the flag's value is under.
 std::string EchoKey(const std::string& flag) {
   if (flag == "--no_refine") return "refine";
+  if (flag == "--camera") return "cameras";
   return flag.substr(2);
 }
 
@@ -240,16 +241,18 @@ struct FlagValue {
 
 // Every flag of `command` is given with `values` (a non-default value each,
 // but for kNotEchoed and `not_given`); the result JSON echoes each value, and
-// each echoed key is a flag.
+// each echoed key is a flag. `other_form`: flags of the command's other form
+// (calibrate's --camera_poses or --camera), neither given nor echoed.
 void ExpectEchoOfEveryFlag(const std::string& command,
                            const std::map<std::string, FlagValue>& values,
                            const std::set<std::string>& not_given,
-                           const json& result) {
+                           const json& result,
+                           const std::set<std::string>& other_form = {}) {
   SCOPED_TRACE(command);
   const std::map<std::string, HelpFlag> flags = HelpFlags(command);
   const std::map<std::string, json> echoed = EchoedValues(result);
   for (const auto& [flag, listed] : flags) {
-    if (kNotEchoed.count(flag)) continue;
+    if (kNotEchoed.count(flag) || other_form.count(flag)) continue;
     const std::string key = EchoKey(flag);
     if (!echoed.count(key)) {
       ADD_FAILURE() << flag << " is not echoed (no key " << key << ")";
@@ -274,7 +277,9 @@ void ExpectEchoOfEveryFlag(const std::string& command,
   }
   for (const auto& [key, value] : echoed) {
     if (EchoOnlyKeys(command).count(key)) continue;
-    const std::string flag = key == "refine" ? "--no_refine" : "--" + key;
+    const std::string flag = key == "refine"    ? "--no_refine"
+                             : key == "cameras" ? "--camera"
+                                                : "--" + key;
     EXPECT_TRUE(flags.count(flag))
         << "echo key " << key << " is no flag of odomcal " << command;
   }
@@ -474,7 +479,28 @@ TEST_F(FlagEcho, CalibrateEchoesEveryFlag) {
   ASSERT_TRUE(fs::exists(Path("result.json"))) << run.out << run.err;
   const json result = json::parse(ReadFile(Path("result.json")));
   EXPECT_EQ(result["status"], "success") << run.out;
-  ExpectEchoOfEveryFlag("calibrate", values, kNoTickLog, result);
+  ExpectEchoOfEveryFlag("calibrate",
+                        values,
+                        kNoTickLog,
+                        result,
+                        {"--camera", "--reference_camera"});
+
+  // The same with the trajectory as a named camera of a rig.
+  values.erase("--camera_poses");
+  values["--camera"] = {
+      "main=" + Path("camera.tum"),
+      json::array({{{"name", "main"},
+                    {"camera_poses", json::array({Path("camera.tum")})}}})};
+  values["--reference_camera"] = {"main", "main"};
+  arguments = Arguments("calibrate", values);
+  arguments.insert(arguments.end(),
+                   {"--output", Path("rig.json"), "--overwrite"});
+  const CommandResult rig_run = RunOdomcal(arguments);
+  ASSERT_TRUE(fs::exists(Path("rig.json"))) << rig_run.out << rig_run.err;
+  const json rig = json::parse(ReadFile(Path("rig.json")));
+  EXPECT_EQ(rig["status"], "success") << rig_run.out;
+  ExpectEchoOfEveryFlag(
+      "calibrate", values, kNoTickLog, rig, {"--camera_poses"});
 }
 
 TEST_F(FlagEcho, ColmapEchoesEveryFlag) {

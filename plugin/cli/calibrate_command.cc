@@ -4,6 +4,8 @@
 #include "odomcal/adapters/input_plausibility.h"
 #include "odomcal/adapters/systematics_warnings.h"
 #include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/cli/rig_calibration.h"
+#include "odomcal/plugin/cli/rig_report.h"
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_guard.h"
@@ -128,6 +130,12 @@ void CheckCalibrationOutputs(const CalibrateInputs& inputs,
   for (const std::string& camera_path : inputs.camera_paths) {
     paths.inputs.push_back({camera_path, "--camera_poses"});
   }
+  for (const NamedCameraPaths& camera :
+       ParseNamedCameras(inputs.named_cameras)) {
+    for (const std::string& camera_path : camera.paths) {
+      paths.inputs.push_back({camera_path, "--camera"});
+    }
+  }
   paths.inputs.push_back({inputs.odometry_path, "--odometry"});
   paths.output_files = {{json_path, "--output"},
                         {yaml_path, "the YAML beside --output"}};
@@ -174,6 +182,60 @@ int ExitCodeFor(const CalibrationResult& result) {
                                                       : kExitNotCalibrated;
 }
 
+namespace {
+
+// `calibrate --camera NAME=PATH ...`: every camera against the odometry.
+int RunRigCalibration(const CalibrateInputs& inputs,
+                      const std::string& output_path,
+                      bool overwrite,
+                      bool quiet) {
+  const std::vector<NamedCameraPaths> named =
+      ParseNamedCameras(inputs.named_cameras);
+  const int reference = ReferenceCameraIndex(named, inputs.reference_camera);
+  inputs.association.Check();
+  inputs.calibration.Check();
+  inputs.robot_frames.Check();
+  for (const NamedCameraPaths& camera : named) {
+    RigCameraFrames(inputs.robot_frames, camera.name).Check();
+  }
+  std::vector<NamedCamera> cameras;
+  for (const NamedCameraPaths& camera : named) {
+    NamedCamera read{camera.name, {}};
+    for (const std::string& path : camera.paths) {
+      if (!std::filesystem::is_regular_file(path)) {
+        throw std::invalid_argument("--camera " + camera.name + "=" + path +
+                                    ": no such file");
+      }
+      read.segments.push_back(ReadTumTrajectory(path, inputs.camera_time_unit));
+    }
+    cameras.push_back(std::move(read));
+  }
+  const RigCalibrationRun rig = CalibrateRig(
+      cameras, ReadOdometryOf(inputs), inputs, reference, "odomcal calibrate");
+  WriteRigCalibrationOutputs(rig, output_path, overwrite);
+  if (!quiet) {
+    std::cout << RigCalibrationSummary(rig);
+    std::cout << "  wrote " << output_path << " and "
+              << ReplaceExtension(output_path, ".yaml");
+    if (const auto robot = RigRobotDescription(rig)) {
+      std::cout << "; for the robot";
+      for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
+        std::cout << " " << RobotOutputPath(output_path, file.suffix);
+      }
+    }
+    std::cout << "\n";
+  }
+  if (rig.NumCalibrated() > 0 && !rig.Warnings().empty()) {
+    std::cout << std::flush;
+    for (const std::string& warning : rig.Warnings()) {
+      std::cerr << "odomcal calibrate: warning: " << warning << "\n";
+    }
+  }
+  return RigExitCode(rig);
+}
+
+}  // namespace
+
 int RunCalibrate(int argc, char** argv) {
   CLI::App app{
       "Calibrates the camera-to-odometry extrinsic (odom_from_cam) and the "
@@ -183,13 +245,26 @@ int RunCalibrate(int argc, char** argv) {
   std::string output_path;
   bool overwrite = false;
   bool quiet = false;
-  app.add_option("--camera_poses",
-                 inputs.camera_paths,
-                 "camera trajectory, TUM 'timestamp tx ty tz qx qy qz qw', "
-                 "world_from_cam; repeat for SfM segments with their own "
-                 "scale")
-      ->required()
-      ->check(CLI::ExistingFile);
+  CLI::Option* camera_poses =
+      app.add_option("--camera_poses",
+                     inputs.camera_paths,
+                     "camera trajectory, TUM 'timestamp tx ty tz qx qy qz "
+                     "qw', world_from_cam; repeat for SfM segments with their "
+                     "own scale")
+          ->check(CLI::ExistingFile);
+  CLI::Option* camera =
+      app.add_option("--camera",
+                     inputs.named_cameras,
+                     "NAME=PATH: a camera of a rig and its trajectory (as "
+                     "--camera_poses); repeat for every camera, each "
+                     "calibrated against the odometry; the same NAME again "
+                     "adds a segment")
+          ->excludes(camera_poses);
+  app.add_option("--reference_camera",
+                 inputs.reference_camera,
+                 "with --camera: the camera whose extrinsic is the result's "
+                 "top-level odom_from_cam (default: the first)")
+      ->needs(camera);
   app.add_option("--odometry",
                  inputs.odometry_path,
                  "wheel odometry: CSV 'timestamp,x,y,yaw' (m, rad) or TUM "
@@ -209,7 +284,13 @@ int RunCalibrate(int argc, char** argv) {
     return *exit_code;
   }
   return RunReportingErrors(app, [&]() -> int {
+    if (inputs.camera_paths.empty() && inputs.named_cameras.empty()) {
+      throw std::invalid_argument("--camera_poses or --camera is required");
+    }
     CheckCalibrationOutputs(inputs, output_path, overwrite);
+    if (!inputs.named_cameras.empty()) {
+      return RunRigCalibration(inputs, output_path, overwrite, quiet);
+    }
     const CalibrationRun run =
         RunCalibrationPipeline(inputs, "odomcal calibrate");
     WriteCalibrationOutputs(run, output_path, overwrite);

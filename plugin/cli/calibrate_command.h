@@ -19,6 +19,10 @@ namespace odomcal {
 
 struct CalibrateInputs {
   std::vector<std::string> camera_paths;
+  // --camera NAME=PATH values (rig_calibration.h): each named camera
+  // calibrated against the odometry; instead of camera_paths.
+  std::vector<std::string> named_cameras;
+  std::string reference_camera;  // --reference_camera; empty: the first
   std::string odometry_path;
   OdometryFormat odometry_format = OdometryFormat::kAuto;
   TimeUnit camera_time_unit = TimeUnit::kSeconds;

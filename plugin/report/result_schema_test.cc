@@ -8,6 +8,7 @@
 // cannot fall behind the writers.
 
 #include "odomcal/adapters/frame_selection.h"
+#include "odomcal/plugin/cli/rig_report.h"
 #include "odomcal/plugin/options/project_flags.h"
 #include "odomcal/plugin/options/run_flags.h"
 #include "odomcal/plugin/report/calibration_report.h"
@@ -182,6 +183,40 @@ TEST(ResultSchema, CalibrateOutputsConform) {
   EXPECT_EQ(Lines(checker.Check(
                 CalibrationToJson(straight.result, straight.context))),
             "");
+}
+
+// `calibrate --camera`: the reference camera's result with `cameras` and
+// `camera_pairs`, for cameras calibrated and not.
+TEST(ResultSchema, RigOutputConforms) {
+  const SchemaChecker checker(ReadSchema());
+  const CalibrationRun success =
+      SimulatedCalibrationRun(3, /*straight_only=*/false);
+  ASSERT_TRUE(success.result.IsSuccess());
+  const CalibrationRun straight =
+      SimulatedCalibrationRun(3, /*straight_only=*/true);
+  RigCalibrationRun rig;
+  for (const char* name : {"front", "rear", "left"}) {
+    RigCameraRun camera;
+    camera.name = name;
+    camera.run = camera.name == "left" ? straight : success;
+    camera.extrinsic = ExtrinsicOf(camera.run.result);
+    rig.cameras.push_back(camera);
+  }
+  rig.cameras[1].run.result.odom_from_cam.translation.x() -= 0.5;
+  rig.cameras[1].extrinsic = ExtrinsicOf(rig.cameras[1].run.result);
+  rig.pairs.push_back(
+      {0,
+       1,
+       CameraPairOf(*rig.cameras[0].extrinsic, *rig.cameras[1].extrinsic)});
+  const json out = RigCalibrationToJson(rig);
+  EXPECT_EQ(Lines(checker.Check(out)), "");
+  EXPECT_EQ(out["cameras"].size(), 3u);
+  EXPECT_EQ(out["camera_pairs"].size(), 1u);
+
+  // A camera whose input the pipeline refused.
+  rig.cameras[2].input_error = "no camera timestamp falls inside the odometry";
+  rig.reference = 2;
+  EXPECT_EQ(Lines(checker.Check(RigCalibrationToJson(rig))), "");
 }
 
 TEST(ResultSchema, ColmapOutputConforms) {

@@ -178,6 +178,27 @@ class CalibrateTest(unittest.TestCase):
         self.assertEqual(result["inputs"]["camera_poses"], [camera_path])
         self.assertEqual(result["inputs"]["odometry"], odometry_path)
 
+    def test_dict_of_cameras_calibrates_each_and_their_pair(self):
+        camera, odometry = simulated_drive()
+        straight, _ = simulated_drive(turning=False)
+        result = odomcal.calibrate(camera_poses={"front": camera, "copy": camera.copy(),
+                                                 "still": straight[:3]},
+                                   odometry=odometry, fixed_translation_z_m=0.40,
+                                   reference_camera="copy")
+        self.assertEqual(result["reference_camera"], "copy")
+        self.assert_recovered(result)
+        names = [camera["name"] for camera in result["cameras"]]
+        self.assertEqual(names, ["front", "copy", "still"])
+        self.assertEqual(result["cameras"][0]["status"], "success")
+        self.assertNotEqual(result["cameras"][2]["status"], "success")
+        self.assertEqual(len(result["camera_pairs"]), 1)
+        pair = np.array(result["camera_pairs"][0]["camb_from_cama"]["matrix"])
+        self.assertLess(np.max(np.abs(pair - np.eye(4))), 1e-6)
+        with self.assertRaises(ValueError) as raised:
+            odomcal.calibrate(camera_poses={"front": camera}, odometry=odometry,
+                              reference_camera="rear")
+        self.assertIn("reference_camera", str(raised.exception))
+
     def test_straight_drive_is_not_calibrated(self):
         # Not an error: the result says why (the CLI's exit code 3).
         camera, odometry = simulated_drive(turning=False)

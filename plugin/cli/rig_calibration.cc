@@ -1,0 +1,162 @@
+#include "odomcal/plugin/cli/rig_calibration.h"
+
+#include "odomcal/adapters/format_error.h"
+#include "odomcal/adapters/input_plausibility.h"
+
+#include <map>
+#include <set>
+#include <stdexcept>
+
+namespace odomcal {
+namespace {
+
+bool IsCameraName(const std::string& name) {
+  if (name.empty() || name.size() > 100) return false;
+  for (const char c : name) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') ||
+                    (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void CheckCameraName(const std::string& name, const std::string& where) {
+  if (name.empty()) {
+    throw std::invalid_argument(where + ": the camera name is empty");
+  }
+  if (!IsCameraName(name)) {
+    throw std::invalid_argument(
+        where + ": a camera name is 1-100 characters of A-Z a-z 0-9 _ - .");
+  }
+}
+
+std::vector<NamedCameraPaths> ParseNamedCameras(
+    const std::vector<std::string>& values) {
+  std::vector<NamedCameraPaths> cameras;
+  std::map<std::string, size_t> index;
+  std::set<std::string> paths;
+  for (const std::string& value : values) {
+    const size_t equals = value.find('=');
+    if (equals == std::string::npos) {
+      throw std::invalid_argument("--camera '" + value +
+                                  "': expected NAME=PATH");
+    }
+    const std::string name = value.substr(0, equals);
+    const std::string path = value.substr(equals + 1);
+    if (name.empty()) {
+      throw std::invalid_argument("--camera '" + value +
+                                  "': the camera name before '=' is empty");
+    }
+    if (!IsCameraName(name)) {
+      throw std::invalid_argument(
+          "--camera '" + value +
+          "': a camera name is 1-100 characters of A-Z a-z 0-9 _ - .");
+    }
+    if (path.empty()) {
+      throw std::invalid_argument("--camera '" + value +
+                                  "': the path after '=' is empty");
+    }
+    if (!paths.insert(path).second) {
+      throw std::invalid_argument("--camera '" + value + "': the file " + path +
+                                  " is given twice");
+    }
+    const auto found = index.find(name);
+    if (found == index.end()) {
+      index[name] = cameras.size();
+      cameras.push_back({name, {path}});
+    } else {
+      cameras[found->second].paths.push_back(path);
+    }
+  }
+  return cameras;
+}
+
+int ReferenceCameraIndex(const std::vector<NamedCameraPaths>& cameras,
+                         const std::string& reference) {
+  if (reference.empty()) return 0;
+  std::string names;
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    if (cameras[k].name == reference) return static_cast<int>(k);
+    names += (k == 0 ? "" : ", ") + cameras[k].name;
+  }
+  throw std::invalid_argument("--reference_camera '" + reference +
+                              "' names no camera given with --camera (" +
+                              names + ")");
+}
+
+std::string RigCameraRun::Status() const {
+  return input_error.empty() ? ToString(run.result.status) : "input_error";
+}
+
+std::string RigCameraRun::Reason() const {
+  return input_error.empty() ? run.result.message : input_error;
+}
+
+int RigCalibrationRun::NumCalibrated() const {
+  int count = 0;
+  for (const RigCameraRun& camera : cameras) count += camera.Calibrated();
+  return count;
+}
+
+std::vector<std::string> RigCalibrationRun::Warnings() const {
+  std::vector<std::string> warnings;
+  for (const RigCameraRun& camera : cameras) {
+    if (camera.Calibrated()) continue;
+    warnings.push_back("camera " + camera.name + " not calibrated (" +
+                       camera.Status() + "): " + camera.Reason());
+  }
+  return warnings;
+}
+
+RigCalibrationRun CalibrateRig(const std::vector<NamedCamera>& cameras,
+                               const Trajectory& odometry,
+                               const CalibrateInputs& inputs,
+                               int reference,
+                               const std::string& command) {
+  inputs.association.Check();
+  inputs.calibration.Check();
+  inputs.robot_frames.Check();
+  if (reference < 0 || reference >= static_cast<int>(cameras.size())) {
+    throw std::invalid_argument("reference camera index out of range");
+  }
+  // The odometry is every camera's: its errors stop the run.
+  CheckOdometrySpeed(odometry);
+  RigCalibrationRun rig;
+  rig.reference = reference;
+  for (const NamedCamera& camera : cameras) {
+    RigCameraRun camera_run;
+    camera_run.name = camera.name;
+    try {
+      camera_run.run =
+          CalibrateTrajectories(camera.segments, odometry, inputs, command);
+    } catch (const FormatError& error) {
+      // This camera's poses do not fit the odometry (time stamps, rotation
+      // units): the camera is named with the reason, the others go on.
+      camera_run.input_error = error.what();
+      camera_run.run.result.message = error.what();
+      camera_run.run.context.command = command;
+      for (const Trajectory& segment : camera.segments) {
+        camera_run.run.context.camera_paths.push_back(segment.source);
+      }
+      camera_run.run.context.odometry_path = odometry.source;
+    }
+    camera_run.extrinsic = ExtrinsicOf(camera_run.run.result);
+    rig.cameras.push_back(std::move(camera_run));
+  }
+  for (size_t a = 0; a < rig.cameras.size(); ++a) {
+    for (size_t b = a + 1; b < rig.cameras.size(); ++b) {
+      if (!rig.cameras[a].Calibrated() || !rig.cameras[b].Calibrated()) {
+        continue;
+      }
+      rig.pairs.push_back(
+          {static_cast<int>(a),
+           static_cast<int>(b),
+           CameraPairOf(*rig.cameras[a].extrinsic, *rig.cameras[b].extrinsic)});
+    }
+  }
+  return rig;
+}
+
+}  // namespace odomcal
