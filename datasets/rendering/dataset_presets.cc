@@ -68,6 +68,25 @@ RenderedDatasetOptions Small() {
   return o;
 }
 
+// A car's forward camera on a road (road_scene.h): 640x200 (KITTI's 1226x370
+// field of view, 82 x 30 deg, at half the size), 1.65 m above the ground,
+// 1.5 m ahead of the odometry's origin (the rear axle), turned 1.5 deg left,
+// pitched 2 deg down, rolled 0.5 deg; 80 images at 10 Hz.
+RenderedDatasetOptions Road() {
+  RenderedDatasetOptions o;
+  o.camera = {640, 200, 370.0, 370.0, 320.0, 100.0, 0.0};
+  o.odom_from_cam =
+      MakeCameraMount(1.5, 2.0, 0.5, Eigen::Vector3d(1.5, 0.1, 1.65));
+  o.layout = StandardRoom();  // unused: the road replaces it
+  o.road = RoadOptions();
+  o.num_images = 80;
+  o.camera_rate_hz = 10.0;
+  o.odometry_rate_hz = 50.0;
+  o.odometry_noise.wheel_base_m = 1.6;
+  o.render.background_rgb = Eigen::Vector3f(0.72f, 0.78f, 0.86f);  // sky
+  return o;
+}
+
 }  // namespace
 
 std::vector<DatasetPresetInfo> DatasetPresets() {
@@ -84,6 +103,13 @@ std::vector<DatasetPresetInfo> DatasetPresets() {
       {"long",
        "long drive: room, textured corridor, second room and back (a loop), "
        "1000 images 320x240 at 3.3 Hz (5 min)"},
+      {"road",
+       "a car on a road (straight, left turn, straight, right turn): "
+       "forward camera 1.65 m up, 80 images 640x200 at 10 Hz, sparse road "
+       "texture"},
+      {"road_sloped",
+       "road on ground that pitches and banks up to 2.5 deg: SE(3) poses, "
+       "planar wheel odometry (and the SE(3) one in odometry_se3.tum)"},
   };
 }
 
@@ -167,6 +193,12 @@ RenderedDatasetOptions MakeDatasetPreset(const std::string& name,
     o.num_images = 1000;
     o.camera_rate_hz = 10.0 / 3.0;
     o.odometry_noise = MildNoise();
+  } else if (name == "road") {
+    o = Road();
+  } else if (name == "road_sloped") {
+    o = Road();
+    o.road->slope_x_deg = 2.5;
+    o.road->slope_y_deg = 2.0;
   } else {
     std::string names;
     for (const DatasetPresetInfo& info : DatasetPresets()) {

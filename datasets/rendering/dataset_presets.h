@@ -11,8 +11,14 @@
 //   long      room A, textured corridor, room B and back into A (a loop),
 //             turns both ways, mild wheel noise; 1000 images 320x240 at
 //             3.3 Hz (5 minutes); `odomcal render --num_images` shortens it
+//   road      a car on a road (road_scene.h): straight, left turn, straight,
+//             right turn, straight at 7 m/s; forward camera 1.65 m up, 80
+//             images 640x200 at 10 Hz; exact odometry
+//   road_sloped  the same on ground sloped up to 2.5 deg along x and 2 deg
+//             along y: the car pitches and banks, its odometry is planar
 //
-// All share the 50 Hz odometry and the default texture density (6 mm texels).
+// All share the 50 Hz odometry; the rooms the default texture density (6 mm
+// texels).
 #pragma once
 
 #include "odomcal/datasets/rendering/rendered_dataset.h"

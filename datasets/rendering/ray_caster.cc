@@ -21,6 +21,10 @@ namespace {
 // Surface in the camera frame with precomputed plane terms.
 struct CameraSurface {
   Eigen::Vector3d origin, u_axis, v_axis, normal;
+  // The dual basis of (u_axis, v_axis) in their plane: a point q of the plane
+  // is a * u_axis + b * v_axis with a = q . u_dual, b = q . v_dual (the axes
+  // themselves for a rectangle).
+  Eigen::Vector3d u_dual, v_dual;
   double plane_offset;  // normal . origin
   double u_extent, v_extent, inv_texel;
   const Texture* texture;
@@ -69,6 +73,15 @@ Image RenderImage(const RoomScene& scene,
     c.u_axis = rotation * s.u_axis;
     c.v_axis = rotation * s.v_axis;
     c.normal = c.u_axis.cross(c.v_axis);
+    const double skew = c.u_axis.dot(c.v_axis);
+    c.u_dual = c.u_axis;
+    c.v_dual = c.v_axis;
+    if (std::abs(skew) > 1e-12) {  // a parallelogram; rectangles stay exact
+      c.normal.normalize();
+      const double inv = 1.0 / (1.0 - skew * skew);
+      c.u_dual = (c.u_axis - skew * c.v_axis) * inv;
+      c.v_dual = (c.v_axis - skew * c.u_axis) * inv;
+    }
     c.plane_offset = c.normal.dot(c.origin);
     c.u_extent = s.u_extent_m;
     c.v_extent = s.v_extent_m;
@@ -133,9 +146,9 @@ Image RenderImage(const RoomScene& scene,
       const double t = s.plane_offset / denom;
       if (!(t > kMinDepth) || t >= best_t) continue;
       const Eigen::Vector3d q = t * ray - s.origin;
-      const double a = q.dot(s.u_axis);
+      const double a = q.dot(s.u_dual);
       if (a < 0.0 || a > s.u_extent) continue;
-      const double b = q.dot(s.v_axis);
+      const double b = q.dot(s.v_dual);
       if (b < 0.0 || b > s.v_extent) continue;
       best_t = t;
       best = &s;

@@ -53,6 +53,7 @@ void RenderedDatasetOptions::Check() const {
   scene.Check();
   render.Check();
   odometry_noise.Check();
+  if (road) road->Check();
   if (num_images < 2) {
     throw std::invalid_argument(
         "RenderedDatasetOptions.num_images must be >= 2");
@@ -87,6 +88,20 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
   o.path.camera_axis_in_odom =
       o.odom_from_cam.rotation * Eigen::Vector3d::UnitZ();
 
+  if (o.road) {
+    // The scene reaches 30 m beyond the end of the drive.
+    const std::vector<RoutePiece> route = RoadRoute(*o.road);
+    double before_last = 0.0;
+    for (size_t i = 0; i + 1 < route.size(); ++i) {
+      before_last += route[i].length_m;
+    }
+    const double drive_m =
+        o.road->speed_mps *
+        (2.0 * o.lead_time_s + (o.num_images - 1) / o.camera_rate_hz);
+    o.road->last_straight_m =
+        std::max(o.road->last_straight_m, drive_m - before_last + 30.0);
+  }
+
   // Timeline in ns from the first odometry sample.
   std::vector<int64_t> captures;
   captures.reserve(o.num_images);
@@ -96,20 +111,61 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
   const int64_t odometry_end = captures.back() + SecondsToNs(o.lead_time_s);
   o.path.duration_s = 1e-9 * odometry_end;
 
-  dataset.path = PlanRoomPath(o.layout, o.path);
-
   std::vector<int64_t> samples;
   const double period_s = 1.0 / o.odometry_rate_hz;
   for (int64_t k = 0;; ++k) {
     samples.push_back(SecondsToNs(k * period_s));
     if (samples.back() >= odometry_end) break;
   }
-  dataset.odometry = SimulateWheelOdometry(
-      dataset.path, samples, o.start_stamp_ns, o.odometry_noise);
-  dataset.true_odometry =
-      TrueWheelOdometry(dataset.path, samples, o.start_stamp_ns);
-  dataset.room_from_origin = dataset.path.PoseAt(0).ToRigid3d();
+  // room_from_odom at path time t.
+  std::function<Rigid3d(int64_t)> body_pose;
+  if (o.road) {
+    dataset.path = MakeRoadPath(*o.road, o.path.duration_s);
+    const RoadGround ground = MakeRoadGround(*o.road);
+    const UnicyclePath& path = dataset.path;
+    body_pose = [ground, &path](int64_t t) {
+      return PoseOnGround(ground, path.PoseAt(t));
+    };
+    // The wheels' true steps: distance along the ground and turn about the
+    // car's up axis, summed over 8 sub-steps per period.
+    std::vector<Eigen::Vector2d> steps;
+    for (size_t k = 1; k < samples.size(); ++k) {
+      Eigen::Vector2d step = Eigen::Vector2d::Zero();
+      Rigid3d previous = body_pose(samples[k - 1]);
+      for (int j = 1; j <= 8; ++j) {
+        const Rigid3d next =
+            body_pose(samples[k - 1] + (samples[k] - samples[k - 1]) * j / 8);
+        const Eigen::Matrix3d relative =
+            (previous.rotation.conjugate() * next.rotation).toRotationMatrix();
+        step.x() += (next.translation - previous.translation).norm();
+        step.y() += std::atan2(relative(1, 0), relative(0, 0));
+        previous = next;
+      }
+      steps.push_back(step);
+    }
+    dataset.odometry = SimulateWheelOdometryFromSteps(
+        steps, samples, o.start_stamp_ns, o.odometry_noise);
+    dataset.true_odometry = SimulateWheelOdometryFromSteps(
+        steps, samples, o.start_stamp_ns, WheelOdometryNoise());
+    dataset.true_odometry.source = "true wheel odometry";
+  } else {
+    dataset.path = PlanRoomPath(o.layout, o.path);
+    dataset.odometry = SimulateWheelOdometry(
+        dataset.path, samples, o.start_stamp_ns, o.odometry_noise);
+    dataset.true_odometry =
+        TrueWheelOdometry(dataset.path, samples, o.start_stamp_ns);
+    const UnicyclePath& path = dataset.path;
+    body_pose = [&path](int64_t t) { return path.PoseAt(t).ToRigid3d(); };
+  }
+  dataset.room_from_origin = body_pose(0);
   const Rigid3d origin_from_room = Inverse(dataset.room_from_origin);
+  if (o.road) {
+    dataset.true_odometry_se3.source = "true SE(3) odometry";
+    for (const int64_t t : samples) {
+      dataset.true_odometry_se3.poses.push_back(
+          {t + o.start_stamp_ns, origin_from_room * body_pose(t)});
+    }
+  }
 
   std::mt19937_64 jitter_rng(DeriveSeed(o.seed, 4));
   std::normal_distribution<double> jitter(0.0, o.camera_time_jitter_s);
@@ -123,8 +179,7 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
         o.camera_time_jitter_s > 0.0 ? jitter(jitter_rng) : 0.0;
     frame.stamp_ns =
         frame.capture_ns + SecondsToNs(o.camera_time_offset_s + noise_s);
-    frame.room_from_cam =
-        dataset.path.PoseAt(captures[k]).ToRigid3d() * o.odom_from_cam;
+    frame.room_from_cam = body_pose(captures[k]) * o.odom_from_cam;
     frame.origin_from_cam = origin_from_room * frame.room_from_cam;
     dataset.frames.push_back(frame);
   }
@@ -133,7 +188,9 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
 
 RenderedDataset SimulateRenderedDataset(const RenderedDatasetOptions& options) {
   RenderedDataset dataset = SimulateDatasetMotion(options);
-  dataset.scene = BuildRoomScene(dataset.options.layout, dataset.options.scene);
+  const RenderedDatasetOptions& o = dataset.options;
+  dataset.scene = o.road ? BuildRoadScene(*o.road, o.scene)
+                         : BuildRoomScene(o.layout, o.scene);
   return dataset;
 }
 
@@ -214,6 +271,28 @@ std::string GroundTruthJson(const RenderedDataset& dataset) {
         {"supersampling", o.render.supersampling}}},
       {"images", images},
   };
+  if (o.road) {
+    const RoadOptions& r = *o.road;
+    truth["scene"]["road"] = {
+        {"speed_mps", r.speed_mps},
+        {"first_straight_m", r.first_straight_m},
+        {"turn_radius_m", r.turn_radius_m},
+        {"left_turn_deg", r.left_turn_deg},
+        {"middle_straight_m", r.middle_straight_m},
+        {"right_turn_deg", r.right_turn_deg},
+        {"last_straight_m", r.last_straight_m},
+        {"road_width_m", r.road_width_m},
+        {"lane_offset_m", r.lane_offset_m},
+        {"ground_cell_m", r.ground_cell_m},
+        {"slope_x_deg", r.slope_x_deg},
+        {"slope_y_deg", r.slope_y_deg},
+        {"slope_wavelength_m", r.slope_wavelength_m},
+        {"road_patch_fraction", r.road_patch_fraction},
+        {"note",
+         "the car rides on the ground: world_from_cam and odometry_se3.tum "
+         "are SE(3); odometry.csv integrates the distance along the ground "
+         "and the turn about the car's up axis as if flat"}};
+  }
   return truth.dump(2) + "\n";
 }
 
@@ -254,6 +333,10 @@ void WriteRenderedDataset(
   WriteOdometryCsv(dataset.odometry, (root / "odometry.csv").string());
   WriteOdometryCsv(dataset.true_odometry,
                    (root / "odometry_ground_truth.csv").string());
+  if (!dataset.true_odometry_se3.poses.empty()) {
+    WriteTumTrajectory(dataset.true_odometry_se3,
+                       (root / "odometry_se3.tum").string());
+  }
   WriteText((root / "image_timestamps.csv").string(), timestamps);
   WriteText((root / "ground_truth.json").string(), GroundTruthJson(dataset));
 }

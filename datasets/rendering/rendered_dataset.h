@@ -16,11 +16,19 @@
 //
 // Deterministic for the options: the scene, the path, the odometry noise and
 // the time jitter each use their own stream derived from `seed` (seed.h).
+//
+// With `road` set the scene is a road (road_scene.h) instead of the room:
+// layout and path are unused, the car drives the road's route and rides on
+// its ground (SE(3) poses: room_from_origin and the true camera poses pitch
+// and bank with it), and the wheel odometry integrates, as if flat, the
+// distance driven along the ground and the turn about the car's up axis
+// (SimulateWheelOdometryFromSteps): planar odometry of a drive that is not.
 #pragma once
 
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/datasets/rendering/camera_model.h"
 #include "odomcal/datasets/rendering/ray_caster.h"
+#include "odomcal/datasets/rendering/road_scene.h"
 #include "odomcal/datasets/rendering/room_layout.h"
 #include "odomcal/datasets/rendering/room_path.h"
 #include "odomcal/datasets/rendering/room_scene.h"
@@ -29,6 +37,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +53,9 @@ struct RenderedDatasetOptions {
   // (from seed, the timeline and odom_from_cam) and overwritten.
   RoomSceneOptions scene;
   RoomPathOptions path;
+  // A road instead of the room; its last_straight_m is lengthened to reach
+  // 30 m beyond where the drive ends.
+  std::optional<RoadOptions> road;
   int num_images = 40;
   double camera_rate_hz = 4.0;
   double odometry_rate_hz = 50.0;
@@ -70,7 +82,10 @@ struct RenderedDataset {
   UnicyclePath path;
   Rigid3d room_from_origin;
   Trajectory odometry;       // measured, origin_from_odom
-  Trajectory true_odometry;  // exact, same stamps
+  Trajectory true_odometry;  // exact, same stamps (road: noise-free wheels)
+  // Road scenes: origin_from_odom in SE(3), the car's true poses, same stamps
+  // (empty for rooms, whose odometry is exact in the plane).
+  Trajectory true_odometry_se3;
   std::vector<RenderedFrame> frames;
 };
 
@@ -92,7 +107,10 @@ std::string GroundTruthJson(const RenderedDataset& dataset);
 // Writes into `output_dir` (created if missing; existing files replaced):
 //   images/NNNNNN.png          8-bit RGB PNG per frame
 //   odometry.csv               measured odometry, timestamp,x,y,yaw
-//   odometry_ground_truth.csv  the true odometry at the same stamps
+//   odometry_ground_truth.csv  the true odometry at the same stamps (road:
+//                              the noise-free planar wheel odometry)
+//   odometry_se3.tum           road scenes only: the true SE(3) odometry
+//                              (TUM: timestamp tx ty tz qx qy qz qw)
 //   image_timestamps.csv       image_name,timestamp (recorded, s, 9 decimals)
 //   ground_truth.json          odom_from_cam (quaternion_wxyz, translation_m,
 //                              4x4 matrix) and its inverse, intrinsics

@@ -5,7 +5,9 @@
 // scene repeats), or a flat colour when the layout marks it featureless.
 // A point on a surface is origin + a * u_axis + b * v_axis with a in
 // [0, u_extent_m], b in [0, v_extent_m]; its texel coordinates are
-// (a, b) / texel_size_m. Deterministic for (layout, options).
+// (a, b) / texel_size_m. The axes are orthogonal for a rectangle; a
+// parallelogram (a tile of sloped ground, road_scene.h) has them at an angle.
+// Deterministic for (layout, options).
 #pragma once
 
 #include "odomcal/datasets/rendering/room_layout.h"
@@ -21,7 +23,7 @@ namespace odomcal {
 struct Surface {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();   // a corner, room frame
   Eigen::Vector3d u_axis = Eigen::Vector3d::UnitX();  // unit
-  Eigen::Vector3d v_axis = Eigen::Vector3d::UnitY();  // unit, orthogonal to u
+  Eigen::Vector3d v_axis = Eigen::Vector3d::UnitY();  // unit, not parallel to u
   double u_extent_m = 1.0;
   double v_extent_m = 1.0;
   int texture_index = 0;

@@ -37,12 +37,17 @@ void WheelOdometryNoise::Check() const {
   }
 }
 
-Trajectory SimulateWheelOdometry(const UnicyclePath& path,
-                                 const std::vector<int64_t>& sample_times_ns,
-                                 int64_t stamp_offset_ns,
-                                 const WheelOdometryNoise& noise) {
+Trajectory SimulateWheelOdometryFromSteps(
+    const std::vector<Eigen::Vector2d>& true_steps,
+    const std::vector<int64_t>& sample_times_ns,
+    int64_t stamp_offset_ns,
+    const WheelOdometryNoise& noise) {
   CheckTimes(sample_times_ns);
   noise.Check();
+  if (true_steps.size() + 1 != sample_times_ns.size()) {
+    throw std::invalid_argument(
+        "wheel odometry: need one step per sample period");
+  }
   std::mt19937_64 rng(noise.seed);
   std::normal_distribution<double> slip(0.0, 1.0);
   Trajectory odometry;
@@ -52,8 +57,7 @@ Trajectory SimulateWheelOdometry(const UnicyclePath& path,
   const double half_base = 0.5 * noise.wheel_base_m;
   for (size_t k = 0; k < sample_times_ns.size(); ++k) {
     if (k > 0) {
-      const Eigen::Vector2d true_step = path.DistanceAndYawBetween(
-          sample_times_ns[k - 1], sample_times_ns[k]);
+      const Eigen::Vector2d& true_step = true_steps[k - 1];
       const double left = (true_step[0] - half_base * true_step[1]) *
                           (1.0 + noise.wheel_scale_error_left) *
                           (1.0 + noise.wheel_slip_stddev * slip(rng));
@@ -78,6 +82,20 @@ Trajectory SimulateWheelOdometry(const UnicyclePath& path,
          Rigid3d(YawRotation(yaw), Eigen::Vector3d(x, y, 0.0))});
   }
   return odometry;
+}
+
+Trajectory SimulateWheelOdometry(const UnicyclePath& path,
+                                 const std::vector<int64_t>& sample_times_ns,
+                                 int64_t stamp_offset_ns,
+                                 const WheelOdometryNoise& noise) {
+  CheckTimes(sample_times_ns);
+  std::vector<Eigen::Vector2d> steps;
+  for (size_t k = 1; k < sample_times_ns.size(); ++k) {
+    steps.push_back(
+        path.DistanceAndYawBetween(sample_times_ns[k - 1], sample_times_ns[k]));
+  }
+  return SimulateWheelOdometryFromSteps(
+      steps, sample_times_ns, stamp_offset_ns, noise);
 }
 
 Trajectory TrueWheelOdometry(const UnicyclePath& path,

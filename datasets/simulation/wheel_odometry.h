@@ -41,6 +41,17 @@ Trajectory SimulateWheelOdometry(const UnicyclePath& path,
                                  int64_t stamp_offset_ns,
                                  const WheelOdometryNoise& noise);
 
+// The same wheel model driven by given true steps: true_steps[k - 1] is the
+// distance travelled (m) and the heading change about the body's up axis
+// (rad) over [t_{k-1}, t_k], e.g. of a robot on sloped ground
+// (road_scene.h), which planar wheel odometry integrates as if flat. Throws
+// std::invalid_argument unless there is one step per sample period.
+Trajectory SimulateWheelOdometryFromSteps(
+    const std::vector<Eigen::Vector2d>& true_steps,
+    const std::vector<int64_t>& sample_times_ns,
+    int64_t stamp_offset_ns,
+    const WheelOdometryNoise& noise);
+
 // The exact odometry at the same times: origin_from_odom(t) =
 // path_from_odom(0)^-1 * path_from_odom(t), where 0 is the first sample time.
 Trajectory TrueWheelOdometry(const UnicyclePath& path,

@@ -30,6 +30,7 @@ void PrepareOutputFolder(const fs::path& dir, bool overwrite) {
                     {"images",
                      "odometry.csv",
                      "odometry_ground_truth.csv",
+                     "odometry_se3.tum",
                      "image_timestamps.csv",
                      "ground_truth.json"},
                     overwrite ? ExistingOutputs::kReplaceOwn
@@ -60,7 +61,8 @@ std::string PresetHelp() {
 int RunRender(int argc, char** argv) {
   CLI::App app{
       "Renders a synthetic calibration dataset: a camera on a wheeled robot "
-      "driving through a textured room, with wheel odometry and ground truth.",
+      "driving through a textured room (or a car on a road), with wheel "
+      "odometry and ground truth.",
       "odomcal render"};
   std::string preset;
   std::string output_path;
@@ -75,7 +77,8 @@ int RunRender(int argc, char** argv) {
   app.add_option("--output_path",
                  output_path,
                  "dataset folder: images/, odometry.csv, image_timestamps.csv, "
-                 "ground_truth.json, odometry_ground_truth.csv")
+                 "ground_truth.json, odometry_ground_truth.csv (road presets: "
+                 "also odometry_se3.tum)")
       ->required();
   app.add_option("--seed", seed, "random seed (scene textures, path, noise)")
       ->check(AtLeast(0))
@@ -110,8 +113,14 @@ int RunRender(int argc, char** argv) {
     const auto elapsed = [&] {
       return std::chrono::duration<double>(Clock::now() - start).count();
     };
-    PrepareOutputFolder(output_path, overwrite);
     RenderedDatasetOptions options = MakeDatasetPreset(preset, seed);
+    if (options.road && (floor_slope_deg != 0.0 || untextured_floor)) {
+      throw std::invalid_argument(
+          "--floor_slope_deg and --untextured_floor apply to the room "
+          "presets, not to '" +
+          preset + "'");
+    }
+    PrepareOutputFolder(output_path, overwrite);
     if (num_images > 0) options.num_images = num_images;
     options.layout.floor_slope_deg = floor_slope_deg;
     options.layout.floor_slope_pivot_x_m = options.path.start.x;
