@@ -91,8 +91,9 @@ std::string FloorPlaneSummary(const CalibrationResult& result) {
              std::sqrt(std::max(f.roll_pitch_correction_covariance(0, 0),
                                 f.roll_pitch_correction_covariance(1, 1))) *
                  kRadToDeg)
-      << ", of which near against far "
-      << FormatPrintf("%.3f deg", f.tilt_band_sigma_rad * kRadToDeg) << ")\n";
+      << " own sigma, "
+      << FormatPrintf("%.3f deg", f.tilt_band_sigma_rad * kRadToDeg)
+      << " of it from its near and far points)\n";
   return out.str();
 }
 
