@@ -19,11 +19,20 @@ namespace {
 
 constexpr int kMaxRefitIterations = 10;
 constexpr int kMaxJackknifeBlocks = 10;
+// The floor's parts for its tilt error (TiltPartJackknife): distance bands
+// times stretches of the drive; fewer than kMinSpreadParts parts of
+// kMinSpreadPartPoints points leave the jackknife unmeasured, a band with
+// fewer the bands' spread.
+constexpr int kSpreadBands = 3;
+constexpr int kSpreadBlocks = 4;
+constexpr int kMinSpreadPartPoints = 12;
+constexpr int kMinSpreadParts = 4;
 
 struct Candidate {
   Eigen::Vector3d xyz;
-  double weight = 1.0;  // 1 / sigma^2
-  int camera = 0;       // nearest camera (horizontally)
+  double weight = 1.0;    // 1 / sigma^2
+  int camera = 0;         // the camera that saw it (nearest observer)
+  double distance = 0.0;  // from that camera (metres)
 };
 
 // The candidates: below the lowest camera, near a camera centre. Camera
@@ -67,8 +76,16 @@ std::vector<Candidate> SelectCandidates(
       }
     }
     if (nearest < 0) continue;
+    // The point shares the errors of the camera that saw it.
+    const int camera =
+        point.camera >= 0 && point.camera < static_cast<int>(centres.size())
+            ? point.camera
+            : nearest;
+    const double distance = point.distance_m > 0.0
+                                ? point.distance_m
+                                : (point.xyz - centres[camera]).norm();
     candidates.push_back(
-        {point.xyz, 1.0 / (point.sigma_m * point.sigma_m), nearest});
+        {point.xyz, 1.0 / (point.sigma_m * point.sigma_m), camera, distance});
   }
   return candidates;
 }
@@ -214,6 +231,152 @@ Derived Derive(const Eigen::Vector3d& p,
   return derived;
 }
 
+// The floor's tilt error from its parts: the delete-a-part jackknife of the
+// plane's slope (a, b) and the roll/pitch correction, each refitted without
+// each part, and the spread of the distance bands' corrections.
+struct PartJackknife {
+  int num_parts = 0;  // 0: not measured
+  Eigen::Matrix2d slope_covariance = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d phi_covariance = Eigen::Matrix2d::Zero();
+  // tau^2: the variance of the distance bands' roll/pitch corrections
+  // (each band fitted alone) beyond their fits' (zero when not measured).
+  double band_variance = 0.0;
+};
+
+// The Paule-Mandel estimate of tau^2: the variance that, added to each
+// value's variance, makes their weighted scatter about their weighted mean
+// its expectation, G - 1. Zero when the values' variances explain the
+// scatter.
+double RandomEffectsVariance(const std::vector<double>& values,
+                             const std::vector<double>& variances) {
+  const auto scatter = [&](double tau2) {
+    double weight_sum = 0.0, weighted = 0.0;
+    for (size_t g = 0; g < values.size(); ++g) {
+      weight_sum += 1.0 / (variances[g] + tau2);
+      weighted += values[g] / (variances[g] + tau2);
+    }
+    const double mean = weighted / weight_sum;
+    double q = 0.0;
+    for (size_t g = 0; g < values.size(); ++g) {
+      q += (values[g] - mean) * (values[g] - mean) / (variances[g] + tau2);
+    }
+    return q;
+  };
+  const double expected = static_cast<double>(values.size()) - 1.0;
+  if (values.size() < 2 || !(scatter(0.0) > expected)) return 0.0;
+  // The scatter falls with tau^2; at the values' mean square it is below
+  // its expectation.
+  double high = 0.0;
+  for (const double v : values) high += v * v;
+  if (!(high > 0.0) || !std::isfinite(high)) return 0.0;
+  double low = 0.0;
+  while (scatter(high) > expected) high *= 2.0;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const double mid = 0.5 * (low + high);
+    (scatter(mid) > expected ? low : high) = mid;
+  }
+  return 0.5 * (low + high);
+}
+
+// The parts: thirds of the inliers by their distance from the camera that
+// saw them (near, middle, far: triangulation error and grazing views grow
+// with it) times kSpreadBlocks stretches of the drive (by that camera).
+// Parts with fewer than kMinSpreadPartPoints points stay in every refit.
+PartJackknife TiltPartJackknife(const std::vector<Candidate>& candidates,
+                                const std::vector<int>& members,
+                                const Eigen::Vector2d& reference,
+                                const std::vector<Eigen::Vector3d>& centres,
+                                const std::vector<FloorCamera>& cameras,
+                                const Rigid3d& odom_from_cam) {
+  PartJackknife result;
+  std::vector<double> distances;
+  for (const int m : members) distances.push_back(candidates[m].distance);
+  std::sort(distances.begin(), distances.end());
+  std::vector<double> bounds;
+  for (int b = 1; b < kSpreadBands; ++b) {
+    bounds.push_back(distances[distances.size() * b / kSpreadBands]);
+  }
+  std::vector<int> part_of(candidates.size(), -1);
+  std::vector<int> part_size(kSpreadBands * kSpreadBlocks, 0);
+  for (const int m : members) {
+    const int band = static_cast<int>(
+        std::upper_bound(bounds.begin(), bounds.end(), candidates[m].distance) -
+        bounds.begin());
+    const int block =
+        static_cast<int>(static_cast<int64_t>(candidates[m].camera) *
+                         kSpreadBlocks / static_cast<int64_t>(cameras.size()));
+    part_of[m] = band * kSpreadBlocks + block;
+    ++part_size[part_of[m]];
+  }
+  const std::vector<int> all_cameras = AllOf(cameras);
+  // Each band alone: its roll/pitch correction and the variances of its fit.
+  std::vector<std::vector<double>> values(2), variances(2);
+  for (int band = 0; band < kSpreadBands; ++band) {
+    std::vector<int> in_band;
+    for (const int m : members) {
+      if (part_of[m] / kSpreadBlocks == band) in_band.push_back(m);
+    }
+    Eigen::Vector3d q;
+    Eigen::Matrix3d normal_matrix;
+    if (static_cast<int>(in_band.size()) < kMinSpreadPartPoints ||
+        !FitPlane(candidates, in_band, reference, &q, &normal_matrix)) {
+      continue;
+    }
+    double weighted_sum = 0.0;
+    for (const int m : in_band) {
+      const double r = VerticalResidual(candidates[m], reference, q);
+      weighted_sum += candidates[m].weight * r * r;
+    }
+    const double variance_factor =
+        weighted_sum / static_cast<double>(in_band.size() - 3);
+    const Derived derived =
+        Derive(q, reference, centres, cameras, all_cameras, odom_from_cam);
+    const Eigen::Matrix2d covariance =
+        derived.phi_jacobian * (variance_factor * normal_matrix.inverse()) *
+        derived.phi_jacobian.transpose();
+    if (!derived.phi.allFinite() || !covariance.allFinite()) continue;
+    for (int axis = 0; axis < 2; ++axis) {
+      values[axis].push_back(derived.phi(axis));
+      variances[axis].push_back(covariance(axis, axis));
+    }
+  }
+  if (static_cast<int>(values[0].size()) == kSpreadBands) {
+    for (int axis = 0; axis < 2; ++axis) {
+      result.band_variance =
+          std::max(result.band_variance,
+                   RandomEffectsVariance(values[axis], variances[axis]));
+    }
+  }
+  std::vector<Eigen::Vector4d> estimates;  // a, b, phi_x, phi_y
+  for (int part = 0; part < static_cast<int>(part_size.size()); ++part) {
+    if (part_size[part] < kMinSpreadPartPoints) continue;
+    std::vector<int> kept;
+    for (const int m : members) {
+      if (part_of[m] != part) kept.push_back(m);
+    }
+    Eigen::Vector3d q;
+    if (!FitPlane(candidates, kept, reference, &q, nullptr)) continue;
+    const Derived derived =
+        Derive(q, reference, centres, cameras, all_cameras, odom_from_cam);
+    if (!derived.phi.allFinite()) continue;
+    estimates.emplace_back(q.x(), q.y(), derived.phi.x(), derived.phi.y());
+  }
+  if (static_cast<int>(estimates.size()) < kMinSpreadParts) return result;
+  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
+  for (const Eigen::Vector4d& v : estimates) mean += v;
+  const double g = static_cast<double>(estimates.size());
+  mean /= g;
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+  for (const Eigen::Vector4d& v : estimates) {
+    covariance += (v - mean) * (v - mean).transpose();
+  }
+  covariance *= (g - 1.0) / g;
+  result.num_parts = static_cast<int>(estimates.size());
+  result.slope_covariance = covariance.topLeftCorner<2, 2>();
+  result.phi_covariance = covariance.bottomRightCorner<2, 2>();
+  return result;
+}
+
 }  // namespace
 
 std::string ToString(FloorPlaneUse use) {
@@ -252,6 +415,8 @@ std::string ToString(FloorPlaneStatus status) {
       return "sloped";
     case FloorPlaneStatus::kDisagreesWithMotion:
       return "disagrees_with_motion";
+    case FloorPlaneStatus::kTiltUncertain:
+      return "tilt_uncertain";
   }
   return "not_run";
 }
@@ -287,16 +452,10 @@ void FloorPlaneOptions::Check() const {
     throw std::invalid_argument("floor_min_inliers must be >= 3, got " +
                                 std::to_string(min_inliers));
   }
-  if (!(max_slope_deg >= 0.0 && max_slope_deg < max_tilt_deg)) {
-    throw std::invalid_argument("floor_max_slope_deg must be in [0, " +
+  if (!(max_slope_deg > 0.0 && max_slope_deg < max_tilt_deg)) {
+    throw std::invalid_argument("floor_max_slope_deg must be in (0, " +
                                 FormatNumber(max_tilt_deg) + "), got " +
                                 FormatNumber(max_slope_deg));
-  }
-  if (!(orientation_model_sigma_deg >= 0.0) ||
-      !std::isfinite(orientation_model_sigma_deg)) {
-    throw std::invalid_argument(
-        "floor_orientation_model_sigma_deg must be >= 0, got " +
-        FormatNumber(orientation_model_sigma_deg));
   }
   if (!(max_beside_ratio > 0.0) || !std::isfinite(max_beside_ratio)) {
     throw std::invalid_argument(
@@ -445,7 +604,7 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
   Eigen::Matrix2d phi_covariance =
       all.phi_jacobian * fit_covariance * all.phi_jacobian.transpose();
   // The delete-a-block jackknife over blocks of consecutive cameras (each
-  // point in its nearest camera's block) takes in the errors the points and
+  // point in its observing camera's block) takes in the errors the points and
   // cameras share along the drive; each quantity takes the larger.
   const int num_blocks =
       std::min<int>(kMaxJackknifeBlocks, static_cast<int>(cameras.size()) / 2);
@@ -497,6 +656,30 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
       }
     }
   }
+  // The floor's own tilt error from parts near and far along the drive:
+  // the tilt's and the roll/pitch correction's covariances take the larger
+  // (by trace) of theirs and the part jackknife's, plus the bands' spread.
+  const PartJackknife parts = TiltPartJackknife(
+      candidates, members, reference, centres, cameras, odom_from_cam);
+  floor.tilt_parts = parts.num_parts;
+  Eigen::Matrix2d slope_covariance = covariance.topLeftCorner<2, 2>();
+  if (parts.slope_covariance.trace() > slope_covariance.trace()) {
+    slope_covariance = parts.slope_covariance;
+  }
+  if (parts.phi_covariance.trace() > phi_covariance.trace()) {
+    phi_covariance = parts.phi_covariance;
+  }
+  // Where the bands near and far disagree beyond their fits (a model that
+  // bends, grazing views), tau^2 is part of the whole floor's tilt error in
+  // any direction (shared by the bands, not averaged away).
+  slope_covariance += parts.band_variance * Eigen::Matrix2d::Identity();
+  phi_covariance += parts.band_variance * Eigen::Matrix2d::Identity();
+  floor.tilt_band_sigma_rad = std::sqrt(parts.band_variance);
+  floor.tilt_parts_sigma_rad = std::sqrt(std::max(
+      0.0,
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(parts.phi_covariance)
+          .eigenvalues()
+          .maxCoeff()));
   floor.parameter_covariance = covariance;
   floor.normal = PlaneNormal(p);
   floor.offset_m =
@@ -506,7 +689,6 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
 
   floor.disagreement_threshold =
       ChiSquareCriticalValue(options.disagreement_alpha, 2.0);
-  const Eigen::Matrix2d slope_covariance = covariance.topLeftCorner<2, 2>();
   const Eigen::LDLT<Eigen::Matrix2d> slope_ldlt(slope_covariance);
   floor.tilt_chi_square =
       slope_ldlt.info() == Eigen::Success && slope_ldlt.rcond() > 1e-15
@@ -534,9 +716,7 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
   const Eigen::Vector2d phi = all.phi;
   const double angle = phi.norm();
   floor.roll_pitch_correction_rad = phi;
-  const double model_sigma = options.orientation_model_sigma_deg * kDegToRad;
-  floor.roll_pitch_correction_covariance =
-      phi_covariance + Eigen::Matrix2d::Identity() * model_sigma * model_sigma;
+  floor.roll_pitch_correction_covariance = phi_covariance;
   const Eigen::Vector3d floor_rpy =
       RollPitchYaw(ExpRotation(Eigen::Vector3d(phi.x(), phi.y(), 0.0)) *
                    odom_from_cam.rotation);
@@ -568,6 +748,31 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
         FormatRounded(floor.disagreement_chi_square, 3) + " > " +
         FormatRounded(floor.disagreement_threshold, 3) +
         "): a sloped floor, a model that is not flat, or a wrong roll/pitch";
+    return floor;
+  }
+  // Neither check may pass a max_slope_deg slope or contradiction: the
+  // floor's tilt (largest standard deviation of its own covariances) must be
+  // within max_slope_deg / sqrt(threshold).
+  const double max_sigma = options.max_slope_deg * kDegToRad /
+                           std::sqrt(floor.disagreement_threshold);
+  const double tilt_sigma = std::sqrt(
+      std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(slope_covariance)
+                   .eigenvalues()
+                   .maxCoeff(),
+               Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
+                   floor.roll_pitch_correction_covariance)
+                   .eigenvalues()
+                   .maxCoeff()));
+  if (!(tilt_sigma <= max_sigma)) {
+    floor.status = FloorPlaneStatus::kTiltUncertain;
+    floor.reason =
+        "the floor's tilt is known only to " +
+        FormatRounded(tilt_sigma * kRadToDeg, 3) + " deg (1 sigma, of which " +
+        FormatRounded(floor.tilt_band_sigma_rad * kRadToDeg, 3) +
+        " deg from its points near and far disagreeing): a " +
+        FormatNumber(options.max_slope_deg) +
+        " deg slope or roll/pitch error would pass unseen (at most " +
+        FormatRounded(max_sigma * kRadToDeg, 3) + " deg)";
     return floor;
   }
   floor.status = FloorPlaneStatus::kFitted;

@@ -12,7 +12,9 @@
 // the plane z = c + a (x - x0) + b (y - y0). Its covariance is the larger
 // of the fit's (scaled by the a-posteriori variance factor) and a
 // delete-a-block jackknife over blocks of the drive (points share their
-// cameras' errors, so the fit alone would be overconfident).
+// cameras' errors, so the fit alone would be overconfident); the plane's
+// tilt also takes a jackknife over parts near and far from the cameras
+// (FloorPlane::tilt_parts).
 //
 // The camera height H is the mean perpendicular distance of the camera
 // centres above the plane; z = H - odometry_height_m (the odometry frame's
@@ -22,7 +24,9 @@
 // odometry frame by the motion's extrinsic, should be up. The small left
 // rotation phi (about the odometry's x and y axes) that makes it up is the
 // floor's correction to the motion's roll and pitch; its chi-square against
-// the motion's covariance and the floor's is the cross-check.
+// the motion's covariance and the floor's is the cross-check. A floor whose
+// tilt is too uncertain for these checks to catch a max_slope_deg error
+// does not give z (kTiltUncertain).
 #pragma once
 
 #include "odomcal/solver/rigid3.h"
@@ -65,15 +69,12 @@ struct FloorPlaneOptions {
   // More candidates beside the plane than this times its inliers: no plane
   // stands out (kNotDistinct).
   double max_beside_ratio = 0.5;
-  // The model's camera orientations against its own floor: a standard
-  // deviation per axis added to the floor's roll/pitch correction (errors
-  // common to the whole model, which the jackknife does not see). Measured
-  // on rendered scenes: corrections of 0.020 deg RMS per axis against the
-  // motion's 0.006-0.012 deg (docs/floor_plane.md, scripts/floor_plane_study.sh).
-  double orientation_model_sigma_deg = 0.02;
   // A floor tilted against the plane the robot drives in (the origin
   // frame's x-y plane) by more than this, beyond the tilt's chi-square
-  // test, is sloped: z stays held.
+  // test, is sloped: z stays held. The floor's tilt must also be known well
+  // enough that a slope or a roll/pitch contradiction of this size fails
+  // its chi-square test (a standard deviation up to max_slope_deg /
+  // sqrt(threshold), 0.13 deg at the defaults); else z stays held.
   double max_slope_deg = 0.5;
   // The chi-square tests (2 dof: the floor's tilt, and its roll/pitch
   // against the motion's) at this false-alarm probability.
@@ -86,6 +87,12 @@ struct FloorPlaneOptions {
 struct FloorCandidatePoint {
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
   double sigma_m = 0.01;  // standard deviation of its position (isotropic)
+  // The nearest camera that observed it (an index into the cameras; -1:
+  // unknown, then the camera nearest to it horizontally) and its distance
+  // from that camera (0: unknown, then the distance to that camera's
+  // centre).
+  int camera = -1;
+  double distance_m = 0.0;
 };
 
 // A camera of the metric model and the calibration segment whose scale
@@ -103,6 +110,8 @@ enum class FloorPlaneStatus {
   kNotDistinct,          // as many points beside the plane as on it
   kSloped,               // tilted against the plane driven in
   kDisagreesWithMotion,  // its roll/pitch contradict the motion's
+  kTiltUncertain,        // its tilt too uncertain to tell a max_slope_deg
+                         // slope or roll/pitch error
 };
 std::string ToString(FloorPlaneStatus status);
 
@@ -143,6 +152,23 @@ struct FloorPlane {
   // unit)): the height in reconstruction units times the segment's share of
   // the cameras.
   std::vector<double> height_per_scale;
+
+  // The floor's own tilt error, measured on this run from parts of the
+  // inliers: thirds by their distance from the camera that saw them (near,
+  // middle, far bands) times four stretches of the drive (by that camera).
+  // The tilt's and the roll/pitch correction's covariances are the larger
+  // (by trace) of the fit's, the drive's jackknife and a delete-a-part
+  // jackknife over these parts, plus tau^2 per axis: triangulation error
+  // growing with distance, grazing views and a model that bends tilt the
+  // bands differently, and tau (tilt_band_sigma_rad) is the standard
+  // deviation of the bands' roll/pitch corrections (each band fitted alone)
+  // beyond their fits' (Paule-Mandel, the larger of the two axes). It is
+  // not divided by the number of bands: such errors are shared.
+  // tilt_parts_sigma_rad: the part jackknife's largest standard deviation
+  // of the roll/pitch correction.
+  int tilt_parts = 0;  // parts refitted (0: not measured)
+  double tilt_parts_sigma_rad = 0.0;
+  double tilt_band_sigma_rad = 0.0;
 
   // The floor's correction to the motion's roll and pitch: odom_from_cam's
   // rotation as the floor sees it is Exp(phi) * R (left perturbation about

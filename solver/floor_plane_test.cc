@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace odomcal {
@@ -150,6 +151,126 @@ TEST(FloorPlane, UnseenFloorIsTooFewPoints) {
   const FloorPlane floor = Fit(scene);
   EXPECT_EQ(floor.status, FloorPlaneStatus::kTooFewPoints);
   EXPECT_NE(floor.reason.find("not seen"), std::string::npos);
+}
+
+// A side camera 0.6 m up looking left (yaw 90 deg) and 17 deg down,
+// driving 6 m along x. The floor points lie 0.7-3 m beside the path, their
+// sigma growing with the square of the distance from the camera that saw
+// them (1 mm at 1 m: low resolution, grazing views). A model that bends
+// where the views graze: heights beyond 1 m from the camera biased by
+// bend_per_m2 times the square of the excess, which tilts the whole floor
+// against the cameras by about 0.065 deg per 0.001. A floor sloped by
+// slope_deg about x.
+Scene MakeFarSideScene(double bend_per_m2,
+                       uint64_t seed,
+                       double slope_deg = 0.0) {
+  Scene scene;
+  const Eigen::Quaterniond forward(0.5, -0.5, 0.5, -0.5);  // optical, forward
+  scene.odom_from_cam.rotation =
+      Eigen::Quaterniond(
+          Eigen::AngleAxisd(0.5 * M_PI, Eigen::Vector3d::UnitZ())) *
+      Eigen::Quaterniond(
+          Eigen::AngleAxisd(17.0 * kDegToRad, Eigen::Vector3d::UnitY())) *
+      forward;
+  scene.odom_from_cam.translation = Eigen::Vector3d(0.0, 0.15, 0.6);
+  std::vector<Eigen::Vector3d> centres;
+  for (int i = 0; i < 50; ++i) {
+    const Rigid3d origin_from_odom(Eigen::Quaterniond::Identity(),
+                                   Eigen::Vector3d(6.0 * i / 49.0, 0.0, 0.0));
+    scene.cameras.push_back({origin_from_odom * scene.odom_from_cam, 0});
+    centres.push_back(scene.cameras.back().origin_from_cam.translation);
+  }
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> along(0.0, 6.0), side(0.7, 3.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int i = 0; i < 1500; ++i) {
+    const Eigen::Vector3d on_floor(along(random), 0.15 + side(random), 0.0);
+    double distance = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& centre : centres) {
+      distance = std::min(distance, (on_floor - centre).norm());
+    }
+    const double sigma = 0.001 * distance * distance;
+    FloorCandidatePoint point;
+    const double bend =
+        bend_per_m2 * std::pow(std::max(0.0, distance - 1.0), 2);
+    point.xyz = on_floor +
+                Eigen::Vector3d(0.0,
+                                0.0,
+                                std::tan(slope_deg * kDegToRad) * on_floor.y() +
+                                    bend + sigma * normal(random));
+    point.sigma_m = sigma;
+    point.distance_m = distance;
+    scene.points.push_back(point);
+  }
+  return scene;
+}
+
+// The motion's roll/pitch as well known as on the rendered scenes (0.01 deg).
+FloorPlane FitTightMotion(const Scene& scene, const Rigid3d& extrinsic) {
+  const double sigma = 0.01 * kDegToRad;
+  return FitFloorPlane(scene.points,
+                       scene.cameras,
+                       extrinsic,
+                       Eigen::Matrix2d::Identity() * sigma * sigma,
+                       {1.0},
+                       FloorPlaneOptions());
+}
+
+Rigid3d RotatedAboutOdometryX(const Rigid3d& extrinsic, double angle_deg) {
+  return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(
+                     angle_deg * kDegToRad, Eigen::Vector3d::UnitX())) *
+                     extrinsic.rotation,
+                 extrinsic.translation);
+}
+
+TEST(FloorPlane, BentFarFloorIsAcceptedWithItsOwnTiltError) {
+  for (const uint64_t seed : {1u, 2u, 3u}) {
+    const Scene scene = MakeFarSideScene(0.0015, seed);
+    const FloorPlane floor = FitTightMotion(scene, scene.odom_from_cam);
+    ASSERT_EQ(floor.status, FloorPlaneStatus::kFitted) << floor.reason;
+    // The bend tilts the floor against the cameras by more than 0.09 deg:
+    // against the motion's 0.01 deg and a fixed 0.02 deg for the model, a
+    // chi-square above 14 (refused). The bands near and far disagree, and
+    // that measures it.
+    EXPECT_GT(floor.roll_pitch_correction_rad.norm() * kRadToDeg, 0.09);
+    EXPECT_GT(floor.tilt_band_sigma_rad * kRadToDeg, 0.05);
+    EXPECT_EQ(floor.tilt_parts, 12);
+    EXPECT_NEAR(floor.camera_height_m, 0.6, 0.005);
+    // A 0.5 to 1 deg roll contradiction is still refused.
+    for (const double angle_deg : {0.5, -0.5, 1.0}) {
+      const FloorPlane wrong = FitTightMotion(
+          scene, RotatedAboutOdometryX(scene.odom_from_cam, angle_deg));
+      EXPECT_EQ(wrong.status, FloorPlaneStatus::kDisagreesWithMotion)
+          << "seed " << seed << ", " << angle_deg << " deg: " << wrong.reason;
+    }
+    // So is a floor sloped by 0.7 deg under the same model.
+    const Scene sloped = MakeFarSideScene(0.0015, seed, 0.7);
+    const FloorPlane tilted = FitTightMotion(sloped, sloped.odom_from_cam);
+    EXPECT_EQ(tilted.status, FloorPlaneStatus::kSloped) << tilted.reason;
+  }
+}
+
+TEST(FloorPlane, CleanFarFloorRefusesHalfADegree) {
+  const Scene scene = MakeFarSideScene(0.0, 4);
+  const FloorPlane floor = FitTightMotion(scene, scene.odom_from_cam);
+  ASSERT_EQ(floor.status, FloorPlaneStatus::kFitted) << floor.reason;
+  EXPECT_LT(floor.roll_pitch_correction_rad.norm() * kRadToDeg, 0.03);
+  EXPECT_LT(floor.tilt_band_sigma_rad * kRadToDeg, 0.03);
+  const FloorPlane wrong =
+      FitTightMotion(scene, RotatedAboutOdometryX(scene.odom_from_cam, 0.5));
+  EXPECT_EQ(wrong.status, FloorPlaneStatus::kDisagreesWithMotion)
+      << wrong.reason;
+}
+
+// A model that bends so much that the bands near and far disagree by more
+// than 0.13 deg: a 0.5 deg slope or roll/pitch error could pass, so z is
+// held and the reason says why.
+TEST(FloorPlane, FloorTiltTooUncertainToTellHalfADegreeIsNamed) {
+  const Scene scene = MakeFarSideScene(0.006, 5);
+  const FloorPlane floor = FitTightMotion(scene, scene.odom_from_cam);
+  EXPECT_EQ(floor.status, FloorPlaneStatus::kTiltUncertain) << floor.reason;
+  EXPECT_NE(floor.reason.find("would pass unseen"), std::string::npos);
+  EXPECT_GT(floor.tilt_band_sigma_rad * kRadToDeg, 0.134);
 }
 
 TEST(FloorPlane, OptionsAreChecked) {

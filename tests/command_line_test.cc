@@ -272,7 +272,7 @@ TEST_F(CommandLine, OptionErrorsNameTheFlag) {
                      "--floor_max_path_distance_m must be positive, got 0");
   ExpectBadInput(RunOdomcal(Colmap({"--floor_max_slope_deg", "20"})),
                  std::string(kColmapError) +
-                     "--floor_max_slope_deg must be in [0, 10), got 20");
+                     "--floor_max_slope_deg must be in (0, 10), got 20");
 }
 
 TEST_F(CommandLine, ValuesOfTheWrongTypeNameTheFlag) {

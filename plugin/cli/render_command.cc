@@ -3,6 +3,7 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/datasets/rendering/dataset_presets.h"
 #include "odomcal/datasets/rendering/rendered_dataset.h"
+#include "odomcal/datasets/simulation/camera_mount.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_line.h"
 #include "odomcal/plugin/output/output_file.h"
@@ -11,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -103,6 +105,16 @@ int RunRender(int argc, char** argv) {
                untextured_floor,
                "a flat-coloured floor, without features: a scene whose "
                "floor COLMAP cannot see");
+  std::vector<double> camera_mount;
+  app.add_option("--camera_mount",
+                 camera_mount,
+                 "the camera's mount instead of the preset's: "
+                 "YAW,PITCH_DOWN,ROLL,X,Y,Z (degrees: yaw 90 looks to the "
+                 "left, pitch down towards the floor, roll about the optical "
+                 "axis; metres in the odometry frame, Z the height above the "
+                 "floor)")
+      ->delimiter(',')
+      ->expected(6);
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
@@ -122,6 +134,19 @@ int RunRender(int argc, char** argv) {
     }
     PrepareOutputFolder(output_path, overwrite);
     if (num_images > 0) options.num_images = num_images;
+    if (!camera_mount.empty()) {
+      for (const double value : camera_mount) {
+        if (!std::isfinite(value)) {
+          throw std::invalid_argument(
+              "--camera_mount must be six finite numbers");
+        }
+      }
+      options.odom_from_cam = MakeCameraMount(
+          camera_mount[0],
+          camera_mount[1],
+          camera_mount[2],
+          Eigen::Vector3d(camera_mount[3], camera_mount[4], camera_mount[5]));
+    }
     options.layout.floor_slope_deg = floor_slope_deg;
     options.layout.floor_slope_pivot_x_m = options.path.start.x;
     for (FloorPatch& floor : options.layout.floors) {

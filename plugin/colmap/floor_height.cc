@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
+#include <utility>
 
 namespace odomcal {
 namespace {
@@ -24,14 +26,47 @@ double FocalLengthPx(const ColmapCamera& camera) {
 
 }  // namespace
 
-std::vector<FloorCandidatePoint> FloorCandidatesOf(
-    const std::vector<MetricSubModel>& models) {
-  std::vector<FloorCandidatePoint> points;
-  for (const MetricSubModel& metric : models) {
-    const ColmapModel& model = metric.model;
+FloorInput FloorInputOf(const std::vector<MetricSubModel>& models,
+                        const std::map<std::string, int64_t>& stamp_of_image) {
+  // Cameras: (has no stamp, stamp, name) sorts in time, then by name.
+  struct Entry {
+    bool no_stamp;
+    int64_t stamp;
+    std::string name;
+    size_t model;
+    uint32_t image_id;
+  };
+  std::vector<Entry> ordered;
+  for (size_t k = 0; k < models.size(); ++k) {
+    for (const auto& [id, image] : models[k].model.images) {
+      const auto stamp = stamp_of_image.find(image.name);
+      ordered.push_back({stamp == stamp_of_image.end(),
+                         stamp == stamp_of_image.end() ? 0 : stamp->second,
+                         image.name,
+                         k,
+                         id});
+    }
+  }
+  std::sort(ordered.begin(), ordered.end(), [](const Entry& a, const Entry& b) {
+    return std::tie(a.no_stamp, a.stamp, a.name) <
+           std::tie(b.no_stamp, b.stamp, b.name);
+  });
+  FloorInput input;
+  std::map<std::pair<size_t, uint32_t>, int> index_of;
+  for (const Entry& entry : ordered) {
+    const MetricSubModel& metric = models[entry.model];
+    index_of[{entry.model, entry.image_id}] =
+        static_cast<int>(input.cameras.size());
+    input.cameras.push_back(
+        {Inverse(metric.model.images.at(entry.image_id).cam_from_world),
+         metric.output_segment});
+  }
+  for (size_t k = 0; k < models.size(); ++k) {
+    const ColmapModel& model = models[k].model;
     for (const auto& [id, point] : model.points3D) {
       double nearest = std::numeric_limits<double>::infinity();
       double focal = 0.0;
+      int camera = -1;
       std::vector<Eigen::Vector3d> rays;
       for (const ColmapTrackElement& element : point.track) {
         const auto image = model.images.find(element.image_id);
@@ -43,9 +78,11 @@ std::vector<FloorCandidatePoint> FloorCandidatesOf(
         rays.push_back(ray / distance);
         if (distance < nearest) {
           nearest = distance;
-          const auto camera = model.cameras.find(image->second.camera_id);
-          focal = camera == model.cameras.end() ? 0.0
-                                                : FocalLengthPx(camera->second);
+          camera = index_of.at({k, element.image_id});
+          const auto intrinsics = model.cameras.find(image->second.camera_id);
+          focal = intrinsics == model.cameras.end()
+                      ? 0.0
+                      : FocalLengthPx(intrinsics->second);
         }
       }
       if (rays.size() < 2 || !(focal > 0.0)) continue;
@@ -59,35 +96,11 @@ std::vector<FloorCandidatePoint> FloorCandidatesOf(
           std::max(point.error, kMinReprojectionErrorPx) / focal;
       const double lateral = angle * nearest;
       const double depth = lateral / std::max(max_sine, kMinSineParallax);
-      points.push_back({point.xyz, std::hypot(lateral, depth)});
+      input.points.push_back(
+          {point.xyz, std::hypot(lateral, depth), camera, nearest});
     }
   }
-  return points;
-}
-
-std::vector<FloorCamera> FloorCamerasOf(
-    const std::vector<MetricSubModel>& models,
-    const std::map<std::string, int64_t>& stamp_of_image) {
-  // (has no stamp, stamp, name) sorts in time, then by name.
-  std::vector<std::tuple<bool, int64_t, std::string, FloorCamera>> ordered;
-  for (const MetricSubModel& metric : models) {
-    for (const auto& [id, image] : metric.model.images) {
-      const auto stamp = stamp_of_image.find(image.name);
-      ordered.emplace_back(
-          stamp == stamp_of_image.end(),
-          stamp == stamp_of_image.end() ? 0 : stamp->second,
-          image.name,
-          FloorCamera{Inverse(image.cam_from_world), metric.output_segment});
-    }
-  }
-  std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) {
-    return std::tie(std::get<0>(a), std::get<1>(a), std::get<2>(a)) <
-           std::tie(std::get<0>(b), std::get<1>(b), std::get<2>(b));
-  });
-  std::vector<FloorCamera> cameras;
-  cameras.reserve(ordered.size());
-  for (auto& entry : ordered) cameras.push_back(std::get<3>(entry));
-  return cameras;
+  return input;
 }
 
 void ApplyFloorPlane(const FloorPlaneOptions& options,
@@ -99,19 +112,20 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
       !result.has_estimate) {
     return;
   }
-  const FloorPlane floor =
-      FitFloorPlane(FloorCandidatesOf(run->metric_models),
-                    FloorCamerasOf(run->metric_models, stamp_of_image),
-                    result.odom_from_cam,
-                    RollPitchCovariance(result),
-                    result.metric_scales,
-                    options);
+  const FloorInput input = FloorInputOf(run->metric_models, stamp_of_image);
+  const FloorPlane floor = FitFloorPlane(input.points,
+                                         input.cameras,
+                                         result.odom_from_cam,
+                                         RollPitchCovariance(result),
+                                         result.metric_scales,
+                                         options);
   const double held_z = result.odom_from_cam.translation.z();
   result.floor_z_held_reason = SetTranslationZFromFloor(
       floor, options, max_translation_stddev_m, &result);
   result.floor_plane = floor;
   if (floor.status == FloorPlaneStatus::kSloped ||
-      floor.status == FloorPlaneStatus::kDisagreesWithMotion) {
+      floor.status == FloorPlaneStatus::kDisagreesWithMotion ||
+      floor.status == FloorPlaneStatus::kTiltUncertain) {
     result.warnings.push_back("floor plane: " + floor.reason +
                               "; translation z stays held");
   }

@@ -131,7 +131,8 @@ const OptionTable<FloorPlaneOptions>& FloorPlaneFlags() {
       NumberRow<F>(
           "floor_max_slope_deg",
           "a floor tilted more than this against the plane driven in "
-          "(beyond 3 sigma) is sloped: z stays held",
+          "(beyond 3 sigma) is sloped, and a floor whose tilt is too "
+          "uncertain to tell this much is not used: z stays held",
           [](auto& o) -> auto& { return o.max_slope_deg; },
           FlagCheck::AtLeast(0.0)),
   };

@@ -18,7 +18,8 @@ namespace {
 bool HasPlane(const FloorPlane& floor) {
   return floor.status == FloorPlaneStatus::kFitted ||
          floor.status == FloorPlaneStatus::kSloped ||
-         floor.status == FloorPlaneStatus::kDisagreesWithMotion;
+         floor.status == FloorPlaneStatus::kDisagreesWithMotion ||
+         floor.status == FloorPlaneStatus::kTiltUncertain;
 }
 
 }  // namespace
@@ -53,6 +54,12 @@ json FloorPlaneToJson(const CalibrationResult& result) {
   out["roll_pitch_correction_deg"] = {
       f.roll_pitch_correction_rad.x() * kRadToDeg,
       f.roll_pitch_correction_rad.y() * kRadToDeg};
+  out["roll_pitch_correction_stddev_deg"] = {
+      std::sqrt(f.roll_pitch_correction_covariance(0, 0)) * kRadToDeg,
+      std::sqrt(f.roll_pitch_correction_covariance(1, 1)) * kRadToDeg};
+  out["tilt_parts"] = f.tilt_parts;
+  out["tilt_parts_sigma_deg"] = f.tilt_parts_sigma_rad * kRadToDeg;
+  out["tilt_band_sigma_deg"] = f.tilt_band_sigma_rad * kRadToDeg;
   out["disagreement_chi_square"] = f.disagreement_chi_square;
   out["chi_square_threshold"] = f.disagreement_threshold;
   return out;
@@ -78,7 +85,15 @@ std::string FloorPlaneSummary(const CalibrationResult& result) {
       << ", chi-square " << FormatPrintf("%.2f", f.disagreement_chi_square)
       << (f.disagreement_chi_square <= f.disagreement_threshold ? " <= "
                                                                 : " > ")
-      << FormatPrintf("%.2f", f.disagreement_threshold) << ")\n";
+      << FormatPrintf("%.2f", f.disagreement_threshold) << "; the floor's "
+      << FormatPrintf(
+             "+- %.3f deg",
+             std::sqrt(std::max(f.roll_pitch_correction_covariance(0, 0),
+                                f.roll_pitch_correction_covariance(1, 1))) *
+                 kRadToDeg)
+      << " own sigma, "
+      << FormatPrintf("%.3f deg", f.tilt_band_sigma_rad * kRadToDeg)
+      << " of it from its near and far points)\n";
   return out.str();
 }
 
