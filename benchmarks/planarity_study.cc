@@ -138,6 +138,9 @@ void Add(const CalibrationResult& result,
         check.ground_roll_rms_deg,
         check.ground_pitch_rms_deg,
         static_cast<int>(check.ground_named));
+    for (const std::string& warning : result.warnings) {
+      std::printf("  warning: %s\n", warning.c_str());
+    }
   }
 }
 
