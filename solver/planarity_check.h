@@ -152,7 +152,8 @@ std::string PlanarityWarning(const PlanarityCheck& check,
 // its variation along the drive: the covariance of (rx, ry, tx, ty) under
 // a tilt of standard deviation ground_roll_rms_deg about x and
 // ground_pitch_rms_deg about y, for a camera height of mean height_m and
-// second moment height_m2 (the held z and its prior). Zero when not seen.
+// second moment height_m2 (calibrate.cc: the held z, and the square of its
+// prior's 2 sigma bound). Zero when not seen.
 Eigen::Matrix4d GroundTiltCovariance(const PlanarityCheck& check,
                                      double height_m,
                                      double height_m2);
