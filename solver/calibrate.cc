@@ -120,6 +120,61 @@ void MeasureExcitation(const MotionPairs& pairs,
   }
 }
 
+// Planar odometry sees neither the ground's tilt nor its mean over the
+// drive, which moves the extrinsic as a whole (GroundTiltCovariance): its
+// covariance joins the information's inverse, for a camera height of the
+// held z within its prior's 2 sigma. Named when it widens roll or pitch beyond their
+// standard deviations without it.
+void AddGroundTiltCovariance(const CalibrationOptions& options,
+                             PlanarityCheck* check,
+                             Eigen::MatrixXd* information,
+                             CalibrationResult* result) {
+  const Eigen::Index n = information->rows();
+  if (n < 5 || !information->allFinite()) return;
+  // Inverted at unit diagonal: the scales' rows differ by orders of
+  // magnitude from the rotation's.
+  const Eigen::VectorXd diagonal = information->diagonal();
+  if (!(diagonal.minCoeff() > 0.0)) return;
+  const Eigen::VectorXd unit = diagonal.cwiseSqrt().cwiseInverse();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(unit.asDiagonal() * *information *
+                                          unit.asDiagonal());
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return;
+  Eigen::MatrixXd covariance = unit.asDiagonal() *
+                               ldlt.solve(Eigen::MatrixXd::Identity(n, n)) *
+                               unit.asDiagonal();
+  if (!covariance.allFinite()) return;
+  // The camera's height at the prior's 2 sigma bound: its second moment
+  // (1 m^2 under the default prior) would cover a car's roof camera (1.65 m)
+  // in x and y under a tilt of one standard deviation only.
+  const double height = options.fixed_translation_z_m;
+  const double height_bound =
+      std::abs(height) + 2.0 * options.translation_z_prior_sigma_m;
+  const Eigen::Matrix4d ground =
+      GroundTiltCovariance(*check, height, height_bound * height_bound);
+  const Eigen::Index index[4] = {0, 1, 3, 4};  // rx, ry, tx, ty
+  const Eigen::Vector2d before_deg(std::sqrt(covariance(0, 0)) * kRadToDeg,
+                                   std::sqrt(covariance(1, 1)) * kRadToDeg);
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) covariance(index[a], index[b]) += ground(a, b);
+  }
+  const Eigen::Vector2d after_deg(std::sqrt(covariance(0, 0)) * kRadToDeg,
+                                  std::sqrt(covariance(1, 1)) * kRadToDeg);
+  const Eigen::VectorXd diagonal_after = covariance.diagonal();
+  const Eigen::VectorXd unit_after = diagonal_after.cwiseSqrt().cwiseInverse();
+  *information =
+      unit_after.asDiagonal() *
+      (unit_after.asDiagonal() * covariance * unit_after.asDiagonal())
+          .ldlt()
+          .solve(Eigen::MatrixXd::Identity(n, n)) *
+      unit_after.asDiagonal();
+  check->ground_named = check->ground_roll_rms_deg > before_deg(0) ||
+                        check->ground_pitch_rms_deg > before_deg(1);
+  if (check->ground_named) {
+    result->warnings.push_back(
+        GroundTiltWarning(*check, before_deg, after_deg));
+  }
+}
+
 // True when some odometry rotation moves the z axis beyond the planar
 // tolerance (the same as IsPlanarOdometry's): R_A e_z leaves e_z.
 bool OdometryTilts(const MotionPairs& pairs, const std::vector<int>& used) {
@@ -675,6 +730,9 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     }
     information /= d.planarity.covariance_inflation;
   }
+  if (d.planarity.checked && d.planarity.ground_tilt_seen) {
+    AddGroundTiltCovariance(options, &d.planarity, &information, &result);
+  }
   // The held z's prior joins the data's information (z last).
   if (z_prior.moved_by_data) {
     const Eigen::Index z = information.rows() - 1;
@@ -752,7 +810,12 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
                   "the motion does not determine: " + Join(essential) +
                       " (standard deviation above the limit or no "
                       "information; drive turns of different sizes in both "
-                      "directions)");
+                      "directions)" +
+                      (d.planarity.ground_named
+                           ? "; the ground's tilt, which planar odometry "
+                             "cannot see, widens roll, pitch, x and y (see "
+                             "the warnings)"
+                           : ""));
   }
   if (!segment_scales.empty()) {
     result.warnings.push_back("undetermined scale of " + Join(segment_scales) +

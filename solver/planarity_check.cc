@@ -2,6 +2,7 @@
 
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/chi_square.h"
+#include "odomcal/solver/f_distribution.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/hand_eye_residual.h"
 
@@ -49,6 +50,80 @@ double CorrelationLength(const std::vector<Eigen::Vector3d>& whitened) {
   return length;
 }
 
+// A used pair's out-of-plane rotation residual (radians), its information
+// and the odometry's yaw (radians).
+struct GroundTerm {
+  Eigen::Vector2d tilt = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d information = Eigen::Matrix2d::Zero();
+  double yaw = 0.0;
+};
+
+// A window needs turns to show the ground's tilt: below this sum of
+// squared yaws (radians^2; a single 5 deg turn) it is left out.
+constexpr double kMinWindowYawSquared = 0.0076;
+
+// Fits tilt = yaw * c per window (c = (-pitch, roll) of the ground) and
+// tests the explained tilt variance against the rest (F test, 99.9 %).
+void TestGroundTilt(const std::vector<GroundTerm>& terms,
+                    const std::map<int, std::vector<size_t>>& by_segment,
+                    PlanarityCheck* check) {
+  double total = 0.0;  // chi-square of the tilt components
+  for (const GroundTerm& term : terms) {
+    total += term.tilt.dot(term.information * term.tilt);
+  }
+  double explained = 0.0;
+  std::vector<Eigen::Vector2d> fits;
+  std::vector<Eigen::Matrix2d> fit_covariances;  // at unit noise level
+  for (const auto& [segment, members] : by_segment) {
+    const size_t count =
+        std::max<size_t>(1, members.size() / kGroundWindowPairs);
+    for (size_t w = 0; w < count; ++w) {
+      Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+      double yaw_squared = 0.0;
+      for (size_t m = w * members.size() / count;
+           m < (w + 1) * members.size() / count;
+           ++m) {
+        const GroundTerm& term = terms[members[m]];
+        normal += term.yaw * term.yaw * term.information;
+        rhs += term.yaw * term.information * term.tilt;
+        yaw_squared += term.yaw * term.yaw;
+      }
+      if (yaw_squared < kMinWindowYawSquared) continue;
+      const Eigen::Matrix2d covariance = normal.inverse();
+      if (!covariance.allFinite()) continue;
+      fits.push_back(covariance * rhs);
+      fit_covariances.push_back(covariance);
+      explained += rhs.dot(covariance * rhs);
+    }
+  }
+  const int windows = static_cast<int>(fits.size());
+  // Roll and pitch of the estimate were fitted to the same components.
+  const double rest_dof =
+      2.0 * static_cast<double>(terms.size()) - 2.0 * windows - 2.0;
+  check->ground_windows = windows;
+  if (windows < 2 || rest_dof < 10.0) return;
+  const double rest = total - explained;
+  if (!(rest > 0.0)) return;
+  check->ground_tested = true;
+  const double rest_variance = rest / rest_dof;
+  check->ground_f_statistic = (explained / (2.0 * windows)) / rest_variance;
+  check->ground_f_threshold =
+      FDistributionCriticalValue(1e-3, 2.0 * windows, rest_dof);
+  check->ground_tilt_seen =
+      check->ground_f_statistic > check->ground_f_threshold;
+  // The fitted tilt's spread, its fitting noise at the residual level
+  // subtracted.
+  Eigen::Vector2d spread = Eigen::Vector2d::Zero();
+  for (int w = 0; w < windows; ++w) {
+    spread +=
+        fits[w].cwiseAbs2() - rest_variance * fit_covariances[w].diagonal();
+  }
+  spread = (spread / windows).cwiseMax(0.0).cwiseSqrt();
+  check->ground_pitch_rms_deg = spread(0) * kRadToDeg;
+  check->ground_roll_rms_deg = spread(1) * kRadToDeg;
+}
+
 }  // namespace
 
 bool IsPlanarMotion(const Rigid3d& odom_i_from_odom_j) {
@@ -82,6 +157,7 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
 
   std::vector<double> chi_square(used.size(), 0.0);
   std::vector<Eigen::Vector3d> whitened(used.size());
+  std::vector<GroundTerm> ground(used.size());
   double sum_tilt2 = 0.0, sum_height2 = 0.0;
   for (size_t k = 0; k < used.size(); ++k) {
     const int i = used[k];
@@ -100,6 +176,9 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
     }
     // The same tiny load as HandEyeSqrtInformation: finite when singular.
     sigma += 1e-18 * Eigen::Matrix3d::Identity();
+    ground[k].tilt = r.head<2>();
+    ground[k].information = sigma.topLeftCorner<2, 2>().inverse();
+    ground[k].yaw = LogRotation(pair.odom_i_from_odom_j.rotation).z();
     const Eigen::LLT<Eigen::Matrix3d> cholesky(sigma);
     whitened[k] = cholesky.matrixL().solve(r);
     chi_square[k] = whitened[k].squaredNorm();
@@ -131,20 +210,25 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
           ? 1.0
           : std::max(1.0, check.reduced_chi_square * check.correlation_length);
 
-  // Worst stretch: the window of consecutive used pairs of one segment (in
-  // time order) with the largest chi-square sum; a window never spans two
-  // segments, whose times may be far apart or overlap.
+  // The ground's tilt per window (in time order within each segment).
   std::map<int, std::vector<size_t>> by_segment;  // positions in `used`
   for (size_t k = 0; k < used.size(); ++k) {
     by_segment[pairs[used[k]].segment].push_back(k);
   }
-  const size_t full_window = std::max<size_t>(3, used.size() / 10);
-  double best_sum = -1.0;
-  std::vector<size_t> worst;  // positions in `used` of the worst window
   for (auto& [segment, members] : by_segment) {
     std::stable_sort(members.begin(), members.end(), [&](size_t a, size_t b) {
       return pairs[used[a]].stamp_i_ns < pairs[used[b]].stamp_i_ns;
     });
+  }
+  TestGroundTilt(ground, by_segment, &check);
+
+  // Worst stretch: the window of consecutive used pairs of one segment (in
+  // time order) with the largest chi-square sum; a window never spans two
+  // segments, whose times may be far apart or overlap.
+  const size_t full_window = std::max<size_t>(3, used.size() / 10);
+  double best_sum = -1.0;
+  std::vector<size_t> worst;  // positions in `used` of the worst window
+  for (const auto& [segment, members] : by_segment) {
     const size_t window = std::min(members.size(), full_window);
     double window_sum = 0.0;
     for (size_t m = 0; m < members.size(); ++m) {
@@ -190,6 +274,44 @@ std::string PlanarityWarning(const PlanarityCheck& check,
          "camera is noisier than the noise model): standard deviations "
          "inflated " +
          Short(std::sqrt(check.covariance_inflation)) + "x";
+}
+
+Eigen::Matrix4d GroundTiltCovariance(const PlanarityCheck& check,
+                                     double height_m,
+                                     double height_m2) {
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // rx, ry, tx, ty
+  if (!check.ground_tilt_seen) return covariance;
+  const double roll2 = std::pow(check.ground_roll_rms_deg * kDegToRad, 2);
+  const double pitch2 = std::pow(check.ground_pitch_rms_deg * kDegToRad, 2);
+  // A tilt G by (roll, pitch) moves the extrinsic to G * odom_from_cam:
+  // rotation by the tilt, translation by tilt x p (tx = pitch h,
+  // ty = -roll h): the error's covariance, with the height's moments.
+  covariance(0, 0) = roll2;
+  covariance(1, 1) = pitch2;
+  covariance(2, 2) = height_m2 * pitch2;
+  covariance(3, 3) = height_m2 * roll2;
+  covariance(0, 3) = covariance(3, 0) = -height_m * roll2;
+  covariance(1, 2) = covariance(2, 1) = height_m * pitch2;
+  return covariance;
+}
+
+std::string GroundTiltWarning(const PlanarityCheck& check,
+                              const Eigen::Vector2d& stddev_before_deg,
+                              const Eigen::Vector2d& stddev_after_deg) {
+  return "the ground is not level: the camera's rotation axes show its roll "
+         "varying by " +
+         Short(check.ground_roll_rms_deg) + " deg RMS and its pitch by " +
+         Short(check.ground_pitch_rms_deg) +
+         " deg RMS along the drive (F = " + Short(check.ground_f_statistic) +
+         ", threshold " + Short(check.ground_f_threshold) +
+         "), which planar odometry cannot see; a mean tilt of that size "
+         "moves roll and pitch by as much and x, y by the camera's height "
+         "times it: their standard deviations include it (roll " +
+         Short(stddev_before_deg(0)) + " -> " + Short(stddev_after_deg(0)) +
+         " deg, pitch " + Short(stddev_before_deg(1)) + " -> " +
+         Short(stddev_after_deg(1)) +
+         " deg). Give the camera's height (--fixed_translation_z_m) for x, "
+         "y; SE(3) odometry (roll, pitch, z) avoids this";
 }
 
 }  // namespace odomcal

@@ -27,6 +27,8 @@
 #include "odomcal/solver/motion_pair.h"
 #include "odomcal/solver/rigid3.h"
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -70,7 +72,37 @@ struct PlanarityCheck {
   int64_t worst_last_stamp_ns = 0;
   double worst_tilt_rms_deg = 0.0;
   double worst_out_of_plane_rms_m = 0.0;
+
+  // The ground's tilt seen in the camera's rotation axes. On ground rolled
+  // by r and pitched by p (about odometry x and y) a turn by yaw d turns
+  // about the ground's normal, and the camera's rotation, mapped into the
+  // odometry frame, tilts by d (-p, r) against the planar odometry's: a
+  // signature proportional to the turn that no camera noise has. Per window
+  // of kGroundWindowPairs consecutive used pairs the tilt is fitted to it;
+  // the F statistic compares the tilt variance it explains with the rest,
+  // so it holds whatever the noise level (the estimated camera rotation
+  // noise absorbs the ground's tilt into its level, and a chi-square under
+  // it does not see the ground).
+  bool ground_tested = false;       // enough windows and pairs to test
+  int ground_windows = 0;           // windows with a turn to fit the tilt
+  double ground_f_statistic = 0.0;  // explained over residual tilt variance
+  double ground_f_threshold = 0.0;  // its 99.9 % point
+  bool ground_tilt_seen = false;    // ground_f_statistic > threshold
+  // RMS over the windows of the ground's fitted roll (about odometry x) and
+  // pitch (about y) against the level the estimate took as the odometry
+  // plane, their fitting noise subtracted (0 when the noise explains them).
+  double ground_roll_rms_deg = 0.0;
+  double ground_pitch_rms_deg = 0.0;
+  // Seen, and the ground's tilt variation above the stated standard
+  // deviation of roll or pitch (set by the caller, who adds its covariance:
+  // GroundTiltCovariance): the result carries GroundTiltWarning.
+  bool ground_named = false;
 };
+
+// Consecutive used pairs per window of the ground-tilt fit: a road's grade
+// and banking change over tens of metres; a window of 25 pairs keeps most
+// of that variation and averages the camera noise.
+inline constexpr int kGroundWindowPairs = 25;
 
 // Measured on simulated 2-minute drives (scripts/warning_rates.sh, 30 seeds
 // each): flat ground gives a correlation length of 1.00 and a reduced
@@ -112,5 +144,29 @@ PlanarityCheck CheckPlanarity(const MotionPairs& pairs,
 // the noise model): standard deviations inflated 7.25x".
 std::string PlanarityWarning(const PlanarityCheck& check,
                              int64_t first_stamp_ns);
+
+// Where the ground's tilt is seen: planar odometry sees neither it nor its
+// mean over the drive, and a constant tilt G of the ground is exactly a
+// different extrinsic G * odom_from_cam (rotation error the tilt, x and y
+// error the camera's height times it). Its mean is taken to be as large as
+// its variation along the drive: the covariance of (rx, ry, tx, ty) under
+// a tilt of standard deviation ground_roll_rms_deg about x and
+// ground_pitch_rms_deg about y, for a camera height of mean height_m and
+// second moment height_m2 (calibrate.cc: the held z, and the square of its
+// prior's 2 sigma bound). Zero when not seen.
+Eigen::Matrix4d GroundTiltCovariance(const PlanarityCheck& check,
+                                     double height_m,
+                                     double height_m2);
+
+// The warning for a named ground tilt, with the standard deviations of
+// roll and pitch before and after its covariance, e.g. "the ground is not
+// level: the camera's rotation axes show its roll varying by 1.1 deg RMS
+// and its pitch by 0.88 deg RMS along the drive (F = 45, threshold 1.6),
+// which planar odometry cannot see; a mean tilt of that size moves roll and
+// pitch by as much and x, y by the camera's height times it: their standard
+// deviations include it (roll 0.03 -> 1.1 deg, pitch 0.03 -> 0.88 deg)".
+std::string GroundTiltWarning(const PlanarityCheck& check,
+                              const Eigen::Vector2d& stddev_before_deg,
+                              const Eigen::Vector2d& stddev_after_deg);
 
 }  // namespace odomcal

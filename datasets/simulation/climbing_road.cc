@@ -34,6 +34,35 @@ Rigid3d Measure(const Rigid3d& motion,
                  motion.translation + n.tail<3>());
 }
 
+// The pose seen by planar odometry: x, y and the heading (yaw of the body x
+// axis); roll, pitch and z dropped.
+Rigid3d PlanarPose(const Rigid3d& origin_from_odom) {
+  const Eigen::Vector3d forward =
+      origin_from_odom.rotation * Eigen::Vector3d::UnitX();
+  const double heading = std::atan2(forward.y(), forward.x());
+  return Rigid3d(
+      Eigen::Quaterniond(Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ())),
+      Eigen::Vector3d(origin_from_odom.translation.x(),
+                      origin_from_odom.translation.y(),
+                      0.0));
+}
+
+// A planar measurement: yaw, x and y drawn from `covariance`, no tilt or
+// height.
+Rigid3d MeasurePlanar(const Rigid3d& motion,
+                      const MotionCovariance& covariance,
+                      std::mt19937_64* rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double yaw = std::sqrt(covariance(2, 2)) * unit(*rng);
+  const double x = std::sqrt(covariance(3, 3)) * unit(*rng);
+  const double y = std::sqrt(covariance(4, 4)) * unit(*rng);
+  return Rigid3d(
+      (Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())) *
+       motion.rotation)
+          .normalized(),
+      motion.translation + Eigen::Vector3d(x, y, 0.0));
+}
+
 }  // namespace
 
 ClimbingRoadOptions::ClimbingRoadOptions()
@@ -51,6 +80,9 @@ MotionPairs ClimbingRoadPairs(const ClimbingRoadOptions& options,
   std::uniform_real_distribution<double> phase(0.0, 2.0 * kPi);
   std::normal_distribution<double> roll(0.0, options.roll_sigma_deg);
   const double start_phase = phase(path_rng);
+  // Its own stream: the paths without banking stay as they are.
+  std::mt19937_64 bank_rng(DeriveSeed(seed, 2));
+  const double bank_phase = phase(bank_rng);
   std::vector<Rigid3d> origin_from_odom;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double yaw = 0.0;
@@ -61,8 +93,12 @@ MotionPairs ClimbingRoadPairs(const ClimbingRoadOptions& options,
         0.5 * options.max_grade_deg *
         (1.0 +
          std::sin(start_phase + 2.0 * kPi * distance / options.grade_period_m));
+    const double bank_deg =
+        0.5 * options.max_bank_deg *
+        (1.0 +
+         std::sin(bank_phase + 2.0 * kPi * distance / options.bank_period_m));
     const Eigen::Quaterniond rotation = FromRollPitchYaw(
-        roll(path_rng) * kDegToRad, -grade_deg * kDegToRad, yaw);
+        (roll(path_rng) + bank_deg) * kDegToRad, -grade_deg * kDegToRad, yaw);
     origin_from_odom.emplace_back(rotation, position);
     position += rotation * Eigen::Vector3d(options.step_m, 0.0, 0.0);
     yaw += turn(path_rng) * kDegToRad;
@@ -74,12 +110,18 @@ MotionPairs ClimbingRoadPairs(const ClimbingRoadOptions& options,
         Inverse(origin_from_odom[k]) * origin_from_odom[k + 1];
     pair.cam_i_from_cam_j = CameraMotionFromOdometryMotion(
         pair.odom_i_from_odom_j, options.odom_from_cam, options.metric_scale);
+    if (options.planar_odometry) {
+      pair.odom_i_from_odom_j = Inverse(PlanarPose(origin_from_odom[k])) *
+                                PlanarPose(origin_from_odom[k + 1]);
+    }
     if (noise) {
       const StepSize step = MeasuredStep(pair);  // the true steps
       const MotionCovariance odom = OdometryCovariance(pair, *noise, step);
       const MotionCovariance cam = CameraCovariance(pair, *noise, step);
       pair.odom_i_from_odom_j =
-          Measure(pair.odom_i_from_odom_j, odom, &noise_rng);
+          options.planar_odometry
+              ? MeasurePlanar(pair.odom_i_from_odom_j, odom, &noise_rng)
+              : Measure(pair.odom_i_from_odom_j, odom, &noise_rng);
       pair.cam_i_from_cam_j = Measure(pair.cam_i_from_cam_j, cam, &noise_rng);
     }
     pair.stamp_i_ns = static_cast<int64_t>(k) * 500000000;

@@ -26,7 +26,15 @@ struct ClimbingRoadOptions {
   double max_grade_deg = 2.5;    // pitch (nose up) within [0, max_grade_deg]
   double grade_period_m = 40.0;  // the grade's period along the road
   double roll_sigma_deg = 0.3;   // road camber and roughness, per keyframe
-  double metric_scale = 0.7;     // metres per reconstruction unit
+  // Banking: the roll (right side down) varies smoothly within
+  // [0, max_bank_deg] with this period, as a road's camber and its banked
+  // curves do; 0: none.
+  double max_bank_deg = 0.0;
+  double bank_period_m = 60.0;
+  // Planar odometry, as wheel odometry gives: each pose's x, y and yaw, its
+  // roll, pitch and z dropped; noise drawn for yaw, x and y only.
+  bool planar_odometry = false;
+  double metric_scale = 0.7;  // metres per reconstruction unit
   // A forward-looking camera this high above the odometry frame.
   Rigid3d odom_from_cam;
   ClimbingRoadOptions();

@@ -63,6 +63,15 @@ json PlanarityToJson(const PlanarityCheck& p) {
       {"worst_last_time_s", FormatTimestampSeconds(p.worst_last_stamp_ns)},
       {"worst_tilt_rms_deg", p.worst_tilt_rms_deg},
       {"worst_out_of_plane_rms_m", p.worst_out_of_plane_rms_m},
+      {"ground_tilt",
+       {{"tested", p.ground_tested},
+        {"windows", p.ground_windows},
+        {"f_statistic", p.ground_f_statistic},
+        {"f_threshold", p.ground_f_threshold},
+        {"seen", p.ground_tilt_seen},
+        {"roll_rms_deg", p.ground_roll_rms_deg},
+        {"pitch_rms_deg", p.ground_pitch_rms_deg},
+        {"named", p.ground_named}}},
   };
 }
 
