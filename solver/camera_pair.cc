@@ -9,12 +9,6 @@ namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
 Eigen::Vector3d SqrtDiagonal(const Eigen::Matrix3d& m) {
   return m.diagonal().cwiseMax(0.0).cwiseSqrt();
 }
@@ -64,7 +58,7 @@ CameraPairTransform CameraPairOf(const ExtrinsicWithCovariance& a,
   ja.bottomRightCorner<3, 3>() = rb_t;
   Matrix6d jb = Matrix6d::Zero();
   jb.topLeftCorner<3, 3>() = -rb_t;
-  jb.bottomLeftCorner<3, 3>() = rb_t * Skew(offset);
+  jb.bottomLeftCorner<3, 3>() = rb_t * CrossProductMatrix(offset);
   jb.bottomRightCorner<3, 3>() = -rb_t;
   pair.covariance =
       ja * a.covariance * ja.transpose() + jb * b.covariance * jb.transpose();

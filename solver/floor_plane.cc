@@ -294,7 +294,8 @@ PartJackknife TiltPartJackknife(const std::vector<Candidate>& candidates,
   std::sort(distances.begin(), distances.end());
   std::vector<double> bounds;
   for (int b = 1; b < kSpreadBands; ++b) {
-    bounds.push_back(distances[distances.size() * b / kSpreadBands]);
+    bounds.push_back(distances[distances.size() * static_cast<size_t>(b) /
+                               static_cast<size_t>(kSpreadBands)]);
   }
   std::vector<int> part_of(candidates.size(), -1);
   std::vector<int> part_size(kSpreadBands * kSpreadBlocks, 0);

@@ -8,15 +8,7 @@
 #include <cmath>
 
 namespace odomcal {
-namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return s;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Vector6d HandEyeResidual(const MotionPair& pair,
                          const Rigid3d& odom_from_cam,
@@ -232,7 +224,8 @@ ResidualNoiseJacobians HandEyeResidualNoiseJacobians(
   ResidualNoiseJacobians f;
   f.odometry.setZero();
   f.odometry.topLeftCorner<3, 3>() = -r_a.transpose();
-  f.odometry.bottomLeftCorner<3, 3>() = -Skew(r_a * odom_from_cam.translation);
+  f.odometry.bottomLeftCorner<3, 3>() =
+      -CrossProductMatrix(r_a * odom_from_cam.translation);
   f.odometry.bottomRightCorner<3, 3>().setIdentity();
   f.camera.setZero();
   f.camera.topLeftCorner<3, 3>() = r_a.transpose() * r;

@@ -55,6 +55,12 @@ Eigen::Quaterniond YawRotation(double yaw_rad) {
       std::cos(0.5 * yaw_rad), 0.0, 0.0, std::sin(0.5 * yaw_rad));
 }
 
+Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
 Eigen::Quaterniond WithPositiveScalar(const Eigen::Quaterniond& q) {
   return q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q;
 }

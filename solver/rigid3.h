@@ -46,6 +46,9 @@ Eigen::Quaterniond ExpRotation(const Eigen::Vector3d& phi);
 // Rotation about +z by yaw radians.
 Eigen::Quaterniond YawRotation(double yaw_rad);
 
+// [v]x, the cross product as a matrix: [v]x w = v x w.
+Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v);
+
 // Angle of a rotation about +z, radians in (-pi, pi]; for a rotation with
 // other components it is the z part of the twist-swing split, not the
 // RollPitchYaw yaw.
