@@ -123,8 +123,8 @@ void MeasureExcitation(const MotionPairs& pairs,
 // Planar odometry sees neither the ground's tilt nor its mean over the
 // drive, which moves the extrinsic as a whole (GroundTiltCovariance): its
 // covariance joins the information's inverse, for a camera height of the
-// held z within its prior's 2 sigma. Named when it widens roll or pitch beyond their
-// standard deviations without it.
+// held z within its prior's 2 sigma. Named when it widens roll or pitch beyond
+// their standard deviations without it.
 void AddGroundTiltCovariance(const CalibrationOptions& options,
                              PlanarityCheck* check,
                              Eigen::MatrixXd* information,
