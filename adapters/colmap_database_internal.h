@@ -33,6 +33,11 @@ using StatementHandle = std::unique_ptr<sqlite3_stmt, StatementFinalizer>;
 // path when it is missing, not a regular file or not an SQLite database.
 DatabaseHandle OpenReadOnly(const std::string& path);
 
+// Opens `path` for reading and writing (a database odomcal itself created:
+// the workspace of `odomcal run`). Throws FormatError("path: cannot open the
+// database for writing (why)").
+DatabaseHandle OpenReadWrite(const std::string& path);
+
 // Prepares `sql`; a failure throws FormatError naming the path and `table`.
 StatementHandle Prepare(sqlite3* database,
                         const std::string& path,

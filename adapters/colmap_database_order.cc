@@ -57,16 +57,7 @@ int64_t Count(sqlite3* db, const std::string& sql) {
 }  // namespace
 
 bool RenumberColmapImagesByName(const std::string& database_path) {
-  sqlite3* raw = nullptr;
-  if (sqlite3_open_v2(
-          database_path.c_str(), &raw, SQLITE_OPEN_READWRITE, nullptr) !=
-      SQLITE_OK) {
-    const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
-    sqlite3_close(raw);
-    throw FormatError(database_path +
-                      ": cannot open the database for writing (" + why + ")");
-  }
-  const DatabaseHandle db(raw);
+  const DatabaseHandle db = internal::OpenReadWrite(database_path);
   const ColmapDatabaseVersion version =
       internal::InspectColmapDatabase(db.get(), database_path);
   if (!version.has_cameras_and_images) {

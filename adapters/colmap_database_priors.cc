@@ -81,16 +81,7 @@ LayoutStatements StatementsOf(ColmapPriorLayout layout) {
 int WriteColmapDatabasePositionPriors(
     const std::string& database_path,
     const std::map<std::string, Eigen::Vector3d>& positions) {
-  sqlite3* raw = nullptr;
-  if (sqlite3_open_v2(
-          database_path.c_str(), &raw, SQLITE_OPEN_READWRITE, nullptr) !=
-      SQLITE_OK) {
-    const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
-    sqlite3_close(raw);
-    throw FormatError(database_path +
-                      ": cannot open the database for writing (" + why + ")");
-  }
-  const DatabaseHandle db(raw);
+  const DatabaseHandle db = internal::OpenReadWrite(database_path);
   const ColmapDatabaseVersion version =
       internal::InspectColmapDatabase(db.get(), database_path);
   const LayoutStatements sql = StatementsOf(version.prior_layout);

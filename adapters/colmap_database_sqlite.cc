@@ -37,6 +37,17 @@ void FailDatabase(const std::string& path, const std::string& what) {
   throw FormatError(path + ": " + what);
 }
 
+DatabaseHandle OpenReadWrite(const std::string& path) {
+  sqlite3* raw = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READWRITE, nullptr) !=
+      SQLITE_OK) {
+    const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
+    sqlite3_close(raw);
+    FailDatabase(path, "cannot open the database for writing (" + why + ")");
+  }
+  return DatabaseHandle(raw);
+}
+
 DatabaseHandle OpenReadOnly(const std::string& path) {
   std::error_code error;
   if (path.empty() || !fs::is_regular_file(path, error)) {
