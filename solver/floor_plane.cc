@@ -290,15 +290,19 @@ PartJackknife TiltPartJackknife(const std::vector<Candidate>& candidates,
                                 const Rigid3d& odom_from_cam) {
   PartJackknife result;
   std::vector<double> distances;
+  distances.reserve(members.size());
   for (const int m : members) distances.push_back(candidates[m].distance);
   std::sort(distances.begin(), distances.end());
   std::vector<double> bounds;
+  bounds.reserve(kSpreadBands);
   for (int b = 1; b < kSpreadBands; ++b) {
     bounds.push_back(distances[distances.size() * static_cast<size_t>(b) /
                                static_cast<size_t>(kSpreadBands)]);
   }
   std::vector<int> part_of(candidates.size(), -1);
-  std::vector<int> part_size(kSpreadBands * kSpreadBlocks, 0);
+  std::vector<int> part_size(
+      static_cast<size_t>(kSpreadBands) * static_cast<size_t>(kSpreadBlocks),
+      0);
   for (const int m : members) {
     const int band = static_cast<int>(
         std::upper_bound(bounds.begin(), bounds.end(), candidates[m].distance) -

@@ -36,7 +36,7 @@ Rigid3d Measure(const Rigid3d& motion,
 
 // The pose seen by planar odometry: x, y and the heading (yaw of the body x
 // axis); roll, pitch and z dropped.
-Rigid3d PlanarPose(const Rigid3d& origin_from_odom) {
+Rigid3d FlattenedPose(const Rigid3d& origin_from_odom) {
   const Eigen::Vector3d forward =
       origin_from_odom.rotation * Eigen::Vector3d::UnitX();
   const double heading = std::atan2(forward.y(), forward.x());
@@ -111,8 +111,8 @@ MotionPairs ClimbingRoadPairs(const ClimbingRoadOptions& options,
     pair.cam_i_from_cam_j = CameraMotionFromOdometryMotion(
         pair.odom_i_from_odom_j, options.odom_from_cam, options.metric_scale);
     if (options.planar_odometry) {
-      pair.odom_i_from_odom_j = Inverse(PlanarPose(origin_from_odom[k])) *
-                                PlanarPose(origin_from_odom[k + 1]);
+      pair.odom_i_from_odom_j = Inverse(FlattenedPose(origin_from_odom[k])) *
+                                FlattenedPose(origin_from_odom[k + 1]);
     }
     if (noise) {
       const StepSize step = MeasuredStep(pair);  // the true steps
