@@ -449,6 +449,12 @@ void FloorPlaneOptions::Check() const {
                                 FormatNumber(max_tilt_deg));
   }
   positive(ransac_inlier_distance_m, "floor_inlier_distance_m");
+  if (!(common_orientation_sigma_deg >= 0.0) ||
+      !std::isfinite(common_orientation_sigma_deg)) {
+    throw std::invalid_argument(
+        "floor common_orientation_sigma_deg must be >= 0, got " +
+        FormatNumber(common_orientation_sigma_deg));
+  }
   if (ransac_iterations < 1) {
     throw std::invalid_argument("floor_ransac_iterations must be >= 1, got " +
                                 std::to_string(ransac_iterations));
@@ -679,6 +685,8 @@ FloorPlane FitFloorPlane(const std::vector<FloorCandidatePoint>& points,
   // any direction (shared by the bands, not averaged away).
   slope_covariance += parts.band_variance * Eigen::Matrix2d::Identity();
   phi_covariance += parts.band_variance * Eigen::Matrix2d::Identity();
+  const double common_rad = options.common_orientation_sigma_deg * kDegToRad;
+  phi_covariance += common_rad * common_rad * Eigen::Matrix2d::Identity();
   floor.tilt_band_sigma_rad = std::sqrt(parts.band_variance);
   floor.tilt_parts_sigma_rad = std::sqrt(std::max(
       0.0,

@@ -76,6 +76,12 @@ struct FloorPlaneOptions {
   // its chi-square test (a standard deviation up to max_slope_deg /
   // sqrt(threshold), 0.13 deg at the defaults); else z stays held.
   double max_slope_deg = 0.5;
+  // The model's camera orientations against its own floor, common to every
+  // part of it (so neither the fit nor the parts' jackknife and spread see
+  // it): a standard deviation per axis added to the roll/pitch correction's.
+  // Corrections of 0.015-0.020 deg RMS per axis on the rendered level scenes
+  // (docs/floor_plane.md).
+  double common_orientation_sigma_deg = 0.02;
   // The chi-square tests (2 dof: the floor's tilt, and its roll/pitch
   // against the motion's) at this false-alarm probability.
   double disagreement_alpha = 0.001;
