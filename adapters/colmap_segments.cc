@@ -57,11 +57,15 @@ ColmapSegment MakeSegment(const std::string& model_path,
   segment.model_path = model_path;
   segment.sub_model = sub_model;
   segment.trajectory.source = model_path;
-  segment.num_registered_images = static_cast<int>(model.images.size());
 
   std::vector<StampedColmapImage> timed;
   timed.reserve(model.images.size());
   for (const auto& [id, image] : model.images) {
+    if (!options.camera_ids.empty() &&
+        options.camera_ids.count(image.camera_id) == 0) {
+      continue;
+    }
+    ++segment.num_registered_images;
     std::string why;
     const std::optional<int64_t> stamp_ns = timestamps.Lookup(image.name, &why);
     if (!stamp_ns) {
@@ -149,7 +153,10 @@ std::vector<ColmapSegment> ReadColmapSegments(
   for (const std::string& folder : folders) {
     const std::string sub_model =
         single ? std::string() : fs::path(folder).filename().string();
-    segments.push_back(MakeSegment(folder, sub_model, timestamps, options));
+    ColmapSegment segment = MakeSegment(folder, sub_model, timestamps, options);
+    if (options.camera_ids.empty() || segment.num_registered_images > 0) {
+      segments.push_back(std::move(segment));
+    }
   }
   return segments;
 }

@@ -21,6 +21,7 @@
 #include "odomcal/adapters/trajectory.h"
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ struct ColmapSegmentOptions {
   // it usually means the wrong timestamp file or unit. true: such images are
   // left out and counted in the segment.
   bool skip_images_without_timestamp = false;
+  // Only the images of these COLMAP cameras (empty: every image): one camera
+  // of a rig (colmap_cameras.h). A sub-model without any of its images then
+  // gives no segment, and the counts are of its images only.
+  std::set<uint32_t> camera_ids;
 };
 
 // The model folders under `sparse_path`:
@@ -66,10 +71,11 @@ struct ColmapSegmentOptions {
 std::vector<std::string> FindColmapModelFolders(const std::string& sparse_path);
 
 // One segment per folder of FindColmapModelFolders(sparse_path), in that
-// order. points3D are not read. Throws FormatError as FindColmapModelFolders
-// and ReadColmapModel do, and, naming the model folder and the image(s):
-// when an image has no timestamp (unless skipped, see the options), and when
-// two images of one sub-model have the same timestamp.
+// order (but for the folders without an image of options.camera_ids). points3D
+// are not read. Throws FormatError as FindColmapModelFolders and
+// ReadColmapModel do, and, naming the model folder and the image(s): when an
+// image has no timestamp (unless skipped, see the options), and when two images
+// of one sub-model have the same timestamp.
 std::vector<ColmapSegment> ReadColmapSegments(
     const std::string& sparse_path,
     const ImageTimestamps& timestamps,

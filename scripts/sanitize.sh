@@ -74,8 +74,8 @@ unit_tests=(solver_test adapters_test bag_ros1_test bag_ros2_test bag_extract_te
             output_test colmap_test report_test robustness_test command_line_test)
 # e2e-labelled CLI runs of the sanitized odomcal executable (seconds each;
 # their ctest label is e2e, so they are selected by test name below).
-cli_tests=(cli_test colmap_cli_test rig_cli_test)
-cli_test_regex='^(OdomcalCli|ColmapCli|RigCli)\.'
+cli_tests=(cli_test colmap_cli_test rig_cli_test colmap_rig_cli_test)
+cli_test_regex='^(OdomcalCli|ColmapCli|RigCli|ColmapRigCli)\.'
 # rendered_e2e_test (COLMAP for minutes, in scripts/test.sh) and
 # paper_evaluation_test: Monte Carlo reproductions of the paper's tables that
 # take 10 minutes under ASan (its solver and dataset code is covered by

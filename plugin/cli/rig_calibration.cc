@@ -107,6 +107,7 @@ std::vector<std::string> RigCalibrationRun::Warnings() const {
     warnings.push_back("camera " + camera.name + " not calibrated (" +
                        camera.Status() + "): " + camera.Reason());
   }
+  warnings.insert(warnings.end(), findings.begin(), findings.end());
   return warnings;
 }
 
@@ -145,18 +146,22 @@ RigCalibrationRun CalibrateRig(const std::vector<NamedCamera>& cameras,
     camera_run.extrinsic = ExtrinsicOf(camera_run.run.result);
     rig.cameras.push_back(std::move(camera_run));
   }
-  for (size_t a = 0; a < rig.cameras.size(); ++a) {
-    for (size_t b = a + 1; b < rig.cameras.size(); ++b) {
-      if (!rig.cameras[a].Calibrated() || !rig.cameras[b].Calibrated()) {
-        continue;
-      }
-      rig.pairs.push_back(
+  PairCalibratedCameras(&rig);
+  return rig;
+}
+
+void PairCalibratedCameras(RigCalibrationRun* rig) {
+  rig->pairs.clear();
+  const std::vector<RigCameraRun>& cameras = rig->cameras;
+  for (size_t a = 0; a < cameras.size(); ++a) {
+    for (size_t b = a + 1; b < cameras.size(); ++b) {
+      if (!cameras[a].Calibrated() || !cameras[b].Calibrated()) continue;
+      rig->pairs.push_back(
           {static_cast<int>(a),
            static_cast<int>(b),
-           CameraPairOf(*rig.cameras[a].extrinsic, *rig.cameras[b].extrinsic)});
+           CameraPairOf(*cameras[a].extrinsic, *cameras[b].extrinsic)});
     }
   }
-  return rig;
 }
 
 }  // namespace odomcal

@@ -73,12 +73,17 @@ struct RigCalibrationRun {
   int reference = 0;
   // Every two calibrated cameras, A before B in the given order.
   std::vector<RigCameraPair> pairs;
+  // The rig's own findings (cameras that disagree on a shared scale).
+  std::vector<std::string> findings;
 
   int NumCalibrated() const;
   // "camera rear not calibrated (not_enough_motion): ..." per camera that
-  // was not calibrated.
+  // was not calibrated, then the findings.
   std::vector<std::string> Warnings() const;
 };
+
+// Fills rig->pairs from its calibrated cameras.
+void PairCalibratedCameras(RigCalibrationRun* rig);
 
 // Calibrates every camera against `odometry` with `inputs`' options (its
 // paths are not used). Throws std::invalid_argument for bad options and for

@@ -16,15 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-// The reference camera's result, with the rig's warnings added.
-CalibrationRun ReferenceRun(const RigCalibrationRun& rig) {
-  CalibrationRun run = rig.cameras[rig.reference].run;
-  for (const std::string& warning : rig.Warnings()) {
-    run.result.warnings.push_back(warning);
-  }
-  return run;
-}
-
 // printf into a string, for lines with several numbers.
 template <typename... Args>
 std::string Printf(const char* format, Args... args) {
@@ -107,6 +98,14 @@ json PairToJson(const RigCalibrationRun& rig, const RigCameraPair& pair) {
 
 }  // namespace
 
+CalibrationRun ReferenceRun(const RigCalibrationRun& rig) {
+  CalibrationRun run = rig.cameras[rig.reference].run;
+  for (const std::string& warning : rig.Warnings()) {
+    run.result.warnings.push_back(warning);
+  }
+  return run;
+}
+
 RobotFrameNames RigCameraFrames(const RobotFrameNames& frames,
                                 const std::string& name) {
   RobotFrameNames out = frames;
@@ -157,7 +156,14 @@ std::optional<RobotDescription> RigRobotDescription(
 json RigCalibrationToJson(const RigCalibrationRun& rig) {
   const CalibrationRun reference = ReferenceRun(rig);
   json out = CalibrationToJson(reference.result, reference.context);
-  const RobotFrameNames& frames = reference.context.robot_frames;
+  AddRigToJson(rig, &out);
+  return out;
+}
+
+void AddRigToJson(const RigCalibrationRun& rig, json* result) {
+  json& out = *result;
+  const RobotFrameNames& frames =
+      rig.cameras[rig.reference].run.context.robot_frames;
   out["robot"] = RobotToJson(RigRobotDescription(rig));
   out["reference_camera"] = rig.cameras[rig.reference].name;
   json cameras = json::array();
@@ -176,7 +182,6 @@ json RigCalibrationToJson(const RigCalibrationRun& rig) {
   out["camera_pairs"] = pairs;
   out["inputs"]["cameras"] = input_cameras;
   out["inputs"]["reference_camera"] = rig.cameras[rig.reference].name;
-  return out;
 }
 
 std::string RigCalibrationSummary(const RigCalibrationRun& rig) {

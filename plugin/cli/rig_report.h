@@ -20,7 +20,14 @@ namespace odomcal {
 RobotFrameNames RigCameraFrames(const RobotFrameNames& frames,
                                 const std::string& name);
 
+// The reference camera's run with the rig's warnings added to its result.
+CalibrationRun ReferenceRun(const RigCalibrationRun& rig);
+
 nlohmann::json RigCalibrationToJson(const RigCalibrationRun& rig);
+
+// Adds `robot` (every camera's transforms), `reference_camera`, `cameras`,
+// `camera_pairs` and their `inputs` to a result JSON.
+void AddRigToJson(const RigCalibrationRun& rig, nlohmann::json* result);
 
 // Every calibrated camera's transforms from the base frame; none when no
 // camera was calibrated. Wheel corrections come from the reference camera's

@@ -239,14 +239,22 @@ ColmapCalibrationRun CalibrateColmapProject(
           : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
                                      inputs.image_time_unit);
   ColmapCalibrationRun run;
-  run.segments = ReadColmapSegments(inputs.model_path, timestamps);
+  ColmapSegmentOptions segment_options;
+  segment_options.camera_ids = inputs.camera_ids;
+  run.segments =
+      ReadColmapSegments(inputs.model_path, timestamps, segment_options);
   if (run.segments.empty()) {
     throw FormatError(inputs.model_path + ": no COLMAP model found");
   }
   run.duplicate_segments = RemoveDuplicateSegments(&run.segments);
   if (!inputs.database_path.empty()) {
-    run.num_database_images =
-        static_cast<int>(ReadColmapDatabaseImages(inputs.database_path).size());
+    run.num_database_images = 0;
+    for (const ColmapDatabaseImage& image :
+         ReadColmapDatabaseImages(inputs.database_path)) {
+      const bool counted = inputs.camera_ids.empty() ||
+                           inputs.camera_ids.count(image.camera_id) != 0;
+      run.num_database_images += counted ? 1 : 0;
+    }
   }
   run.odometry = ReadOdometryOf(inputs);
   CheckOdometrySpeed(run.odometry);

@@ -29,6 +29,7 @@
 
 #include <functional>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct ColmapCalibrationInputs {
   // One adjustment of images, odometry and extrinsic after the two-step
   // calibration (joint_adjustment_stage.h).
   JointAdjustmentSettings joint_adjustment;
+  // One camera of a rig: only the images of these COLMAP cameras (empty:
+  // every image; colmap_cameras.h).
+  std::set<uint32_t> camera_ids;
 };
 
 // One sub-model in metres in the odometry's origin frame.

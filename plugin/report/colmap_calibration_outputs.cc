@@ -25,7 +25,8 @@ std::vector<std::string> ColmapCalibrationOutputEntries() {
                                       "sparse_metric",
                                       "camera_in_odom.tum",
                                       "camera_in_odom.tum.tmp",
-                                      "report.html"};
+                                      "report.html",
+                                      "cameras"};
   for (const std::string& suffix : RobotOutputSuffixes()) {
     entries.push_back("calibration" + suffix);
   }
@@ -36,16 +37,31 @@ std::vector<std::string> WriteColmapCalibrationOutputs(
     const ColmapCalibrationRun& run,
     const ReportContext& context,
     const std::string& output_dir) {
+  return WriteColmapCalibrationOutputs(run, context, output_dir, nullptr);
+}
+
+std::vector<std::string> WriteColmapCalibrationOutputs(
+    const ColmapCalibrationRun& run,
+    const ReportContext& context,
+    const std::string& output_dir,
+    const RigOverrides* rig) {
   const fs::path root(output_dir);
-  WriteFileAtomically((root / "calibration.json").string(),
-                      ColmapCalibrationToJson(run, context).dump(2) + "\n");
+  if (rig == nullptr) RemoveOwnedOutput(output_dir, "cameras");
+  WriteFileAtomically(
+      (root / "calibration.json").string(),
+      (rig != nullptr ? rig->result : ColmapCalibrationToJson(run, context))
+              .dump(2) +
+          "\n");
   WriteFileAtomically((root / "calibration.yaml").string(),
                       CalibrationToYaml(run.check.result));
   std::vector<std::string> entries = {"calibration.json", "calibration.yaml"};
 
   // The robot outputs of this result; an earlier run's others go.
   std::set<std::string> robot_files;
-  if (const auto robot = RobotDescriptionOf(run.check.result, context)) {
+  const std::optional<RobotDescription> robot =
+      rig != nullptr ? rig->robot
+                     : RobotDescriptionOf(run.check.result, context);
+  if (robot) {
     for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
       const std::string name = "calibration" + file.suffix;
       WriteFileAtomically((root / name).string(), file.text);

@@ -3,16 +3,20 @@
 // the odometry frame and the HTML report.
 #pragma once
 
+#include "odomcal/adapters/robot_description.h"
 #include "odomcal/plugin/colmap/colmap_calibration.h"
 #include "odomcal/plugin/report/calibration_report.h"
 
+#include <nlohmann/json.hpp>
+
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace odomcal {
 
 // The entries WriteColmapCalibrationOutputs writes in its folder (for
-// ClaimOutputFolder, output_folder.h).
+// ClaimOutputFolder, output_folder.h): also a rig's cameras/.
 std::vector<std::string> ColmapCalibrationOutputEntries();
 
 // Writes into `output_dir` (which must exist and be claimed for the entries
@@ -31,5 +35,20 @@ std::vector<std::string> WriteColmapCalibrationOutputs(
     const ColmapCalibrationRun& run,
     const ReportContext& context,
     const std::string& output_dir);
+
+// A rig's top-level files in place of its reference camera's own: the
+// result JSON (with the rig's cameras) and the robot outputs (every
+// camera's transforms). The rig writes cameras/ itself.
+struct RigOverrides {
+  nlohmann::json result;
+  std::optional<RobotDescription> robot;
+};
+// As above, with `rig`'s JSON and robot outputs; a single camera's call
+// removes an earlier rig run's cameras/.
+std::vector<std::string> WriteColmapCalibrationOutputs(
+    const ColmapCalibrationRun& run,
+    const ReportContext& context,
+    const std::string& output_dir,
+    const RigOverrides* rig);
 
 }  // namespace odomcal

@@ -1,0 +1,109 @@
+#include "odomcal/plugin/cli/colmap_rig_outputs.h"
+
+#include "odomcal/plugin/cli/rig_report.h"
+#include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
+#include "odomcal/plugin/report/colmap_report.h"
+
+#include <filesystem>
+
+namespace odomcal {
+namespace {
+
+using nlohmann::json;
+
+// What only a COLMAP project's cameras have: their COLMAP cameras, image
+// counts and folders, and the scales two cameras found for one sub-model.
+void AddColmapRigToJson(const ColmapRigRun& rig, json* result) {
+  json& out = *result;
+  out["camera_grouping"] = ColmapCameraGroupingText(rig.grouping);
+  for (size_t k = 0; k < rig.cameras.size(); ++k) {
+    const ColmapRigCameraRun& camera = rig.cameras[k];
+    json& entry = out["cameras"][k];
+    entry["colmap_camera_ids"] = camera.camera.camera_ids;
+    entry["num_registered_images"] = camera.camera.num_images;
+    entry["outputs"] = camera.run ? json("cameras/" + camera.camera.name + "/")
+                                  : json(nullptr);
+    out["inputs"]["cameras"][k]["colmap_camera_ids"] = camera.camera.camera_ids;
+  }
+  json shared = json::array();
+  for (const SharedSubModelScale& scale : rig.shared_scales) {
+    shared.push_back({{"camera_a", rig.cameras[scale.camera_a].camera.name},
+                      {"camera_b", rig.cameras[scale.camera_b].camera.name},
+                      {"sub_model", scale.sub_model},
+                      {"metric_scale_a", scale.scale_a},
+                      {"metric_scale_b", scale.scale_b},
+                      {"difference_sigmas", scale.sigmas},
+                      {"disagree", scale.Disagrees()}});
+  }
+  out["shared_scales"] = shared;
+}
+
+}  // namespace
+
+RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
+                                   const std::string& command,
+                                   const nlohmann::json& flag_echo) {
+  RigCalibrationRun out;
+  out.reference = rig.reference;
+  for (const ColmapRigCameraRun& camera : rig.cameras) {
+    RigCameraRun camera_run;
+    camera_run.name = camera.camera.name;
+    if (camera.run) {
+      camera_run.run.result = camera.run->check.result;
+      camera_run.run.context =
+          ProjectReportContext(camera.inputs, *camera.run, command, flag_echo);
+    } else {
+      camera_run.input_error = camera.input_error;
+      camera_run.run.result.message = camera.input_error;
+      camera_run.run.context.command = command;
+      camera_run.run.context.camera_paths = {camera.inputs.model_path};
+      camera_run.run.context.odometry_path = camera.inputs.odometry_path;
+      camera_run.run.context.robot_frames = camera.inputs.robot_frames;
+      camera_run.run.context.flag_echo = flag_echo;
+    }
+    camera_run.extrinsic = ExtrinsicOf(camera_run.run.result);
+    out.cameras.push_back(std::move(camera_run));
+  }
+  PairCalibratedCameras(&out);
+  out.findings = SharedScaleWarnings(rig);
+  return out;
+}
+
+std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
+                                               const RigCalibrationRun& as_rig,
+                                               const std::string& output_dir) {
+  namespace fs = std::filesystem;
+  const ColmapRigCameraRun& reference = rig.cameras.at(rig.reference);
+  // The reference camera's run with the rig's warnings; an empty one when
+  // its images did not fit the odometry (no model, no report of its own).
+  ColmapCalibrationRun reference_run =
+      reference.run ? *reference.run : ColmapCalibrationRun();
+  const CalibrationRun reference_result = ReferenceRun(as_rig);
+  reference_run.check.result = reference_result.result;
+  RigOverrides overrides;
+  overrides.result =
+      ColmapCalibrationToJson(reference_run, reference_result.context);
+  AddRigToJson(as_rig, &overrides.result);
+  AddColmapRigToJson(rig, &overrides.result);
+  overrides.robot = RigRobotDescription(as_rig);
+  std::vector<std::string> written = WriteColmapCalibrationOutputs(
+      reference_run, reference_result.context, output_dir, &overrides);
+
+  // cameras/<name>/: each camera's own files; an earlier run's go first.
+  RemoveOwnedOutput(output_dir, "cameras");
+  for (size_t k = 0; k < rig.cameras.size(); ++k) {
+    const ColmapRigCameraRun& camera = rig.cameras[k];
+    if (!camera.run) continue;
+    const std::string folder =
+        (fs::path(output_dir) / "cameras" / camera.camera.name).string();
+    ClaimOutputFolder(
+        folder, ColmapCalibrationOutputEntries(), ExistingOutputs::kReplaceOwn);
+    WriteColmapCalibrationOutputs(
+        *camera.run, as_rig.cameras[k].run.context, folder);
+    written.push_back("cameras/" + camera.camera.name + "/");
+  }
+  return written;
+}
+
+}  // namespace odomcal

@@ -1,0 +1,336 @@
+// `odomcal colmap` on a COLMAP project with several cameras: a simulated
+// robot with three cameras (each its own COLMAP camera and image sub-folder,
+// its own rate, phase and clock offset), reconstructed together in two
+// sub-models. Checks that every camera is calibrated from its own images
+// within its stated 3 sigma, that the cameras agree on the scale of the
+// sub-models they share, that each camera's files are written, that a
+// camera which cannot be calibrated is named while the others are written,
+// and the --reference_camera errors.
+
+#include "odomcal/adapters/colmap_model.h"
+#include "odomcal/adapters/test_support.h"
+#include "odomcal/adapters/timestamp.h"
+#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/simulation/camera_mount.h"
+#include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/solver/angles.h"
+#include "odomcal/tests/test_files.h"
+#include "odomcal/tests/test_seed.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace odomcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct RigCamera {
+  std::string name;
+  Rigid3d odom_from_cam;
+  double rate_hz = 5.0;
+  double phase_s = 0.0;         // first frame after the drive's start
+  double clock_offset_s = 0.0;  // its stamps are true time - this
+  double duration_s = 1e9;      // frames only this long after the start
+};
+
+std::vector<RigCamera> ThreeCameras() {
+  return {
+      {"front",
+       MakeCameraMount(30.0, 10.0, 0.0, {0.30, 0.10, 0.50}),
+       5.0,
+       0.0,
+       0.0},
+      {"rear",
+       MakeCameraMount(180.0, 15.0, 0.0, {-0.20, 0.05, 0.50}),
+       4.0,
+       0.03,
+       0.02},
+      {"right",
+       MakeCameraMount(-90.0, 5.0, 2.0, {0.05, -0.20, 0.50}),
+       5.0,
+       0.115,
+       -0.015},
+  };
+}
+
+class ColmapRigCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(::testing::TempDir()) /
+           (std::string("odomcal_colmap_rig_cli_") + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "project" / "sparse");
+  }
+  void TearDown() override {
+    if (std::getenv("ODOMCAL_KEEP_TEST_FILES") == nullptr) fs::remove_all(dir_);
+  }
+
+  std::string Path(const std::string& name) const {
+    return (dir_ / name).string();
+  }
+
+  int Run(const std::string& arguments,
+          std::string* out = nullptr,
+          std::string* err = nullptr) const {
+    const fs::path out_path = dir_ / "stdout.txt",
+                   err_path = dir_ / "stderr.txt";
+    const std::string command = std::string(ODOMCAL_EXECUTABLE) + " " +
+                                arguments + " > " + out_path.string() + " 2> " +
+                                err_path.string();
+    const int status = std::system(command.c_str());
+    if (out != nullptr) *out = ReadFile(out_path);
+    if (err != nullptr) *err = ReadFile(err_path);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  // odometry.csv, and a project whose sub-model 0 holds every camera's
+  // images of the first 60 % of the drive and sub-model 1 the rest (10
+  // shared seconds), each sub-model in its own similarity frame; camera k is
+  // COLMAP camera k + 1 with images "<name>/<index>.png".
+  void WriteProject(uint64_t seed, const std::vector<RigCamera>& cameras) {
+    DriveSimulatorOptions options;
+    options.seed = seed;
+    options.duration_s = 90.0;
+    options.odometry_rate_hz = 200.0;
+    options.wheel_scale_error_left = 0.002;
+    options.wheel_scale_error_right = -0.002;
+    const SimulatedDrive drive = SimulateDrive(options);
+    WriteOdometryCsv(drive.odometry, Path("odometry.csv"));
+    std::mt19937_64 rng(seed * 7919 + 3);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    const int64_t start_ns = drive.true_odometry.poses.front().stamp_ns;
+    std::ofstream stamps(dir_ / "project" / "image_timestamps.csv");
+    stamps << "image_name,timestamp\n";
+    const Rigid3d frames[2] = {
+        Rigid3d(Eigen::Quaterniond(0.9, 0.1, -0.3, 0.2).normalized(),
+                Eigen::Vector3d(0.5, -1.0, 2.0)),
+        Rigid3d(Eigen::Quaterniond(0.2, 0.7, 0.1, -0.4).normalized(),
+                Eigen::Vector3d(-3.0, 1.0, 0.5))};
+    const double units_per_metre[2] = {1.0 / 0.37, 1.0 / 1.9};
+    const double split_s = 54.0;
+    ColmapModel models[2];
+    for (size_t c = 0; c < cameras.size(); ++c) {
+      const uint32_t camera_id = static_cast<uint32_t>(c + 1);
+      for (ColmapModel& model : models) {
+        model.cameras[camera_id] = MakeColmapCamera(camera_id,
+                                                    ColmapCameraModel::kPinhole,
+                                                    320,
+                                                    240,
+                                                    {250, 250, 160, 120});
+      }
+      const RigCamera& camera = cameras[c];
+      const int64_t period_ns = std::llround(1e9 / camera.rate_hz);
+      const int64_t phase_ns = std::llround(1e9 * camera.phase_s);
+      int index = 0;
+      for (const StampedPose& pose : drive.true_odometry.poses) {
+        const int64_t since_start_ns = pose.stamp_ns - start_ns - phase_ns;
+        if (since_start_ns < 0 || since_start_ns % period_ns != 0 ||
+            since_start_ns > std::llround(1e9 * camera.duration_s)) {
+          continue;
+        }
+        const double t_s = 1e-9 * static_cast<double>(since_start_ns);
+        char name[64];
+        std::snprintf(
+            name, sizeof(name), "%s/%06d.png", camera.name.c_str(), index++);
+        stamps << name << ","
+               << FormatTimestampSeconds(
+                      pose.stamp_ns - std::llround(1e9 * camera.clock_offset_s))
+               << "\n";
+        for (int part = 0; part < 2; ++part) {
+          if ((part == 0 && t_s > split_s) ||
+              (part == 1 && t_s < split_s - 10.0))
+            continue;
+          Rigid3d world_from_cam =
+              frames[part] * pose.world_from_sensor * camera.odom_from_cam;
+          world_from_cam.translation *= units_per_metre[part];
+          const Eigen::Vector3d rotation_noise(
+              gauss(rng), gauss(rng), gauss(rng));
+          const Eigen::Vector3d position_noise(
+              gauss(rng), gauss(rng), gauss(rng));
+          world_from_cam.rotation =
+              (ExpRotation(rotation_noise * 0.02 * kDegToRad) *
+               world_from_cam.rotation)
+                  .normalized();
+          world_from_cam.translation +=
+              0.001 * units_per_metre[part] * position_noise;
+          ColmapImage image;
+          image.image_id =
+              static_cast<uint32_t>(models[part].images.size() + 1);
+          image.camera_id = camera_id;
+          image.name = name;
+          image.cam_from_world = Inverse(world_from_cam);
+          models[part].images[image.image_id] = image;
+        }
+      }
+    }
+    for (int part = 0; part < 2; ++part) {
+      const fs::path folder =
+          dir_ / "project" / "sparse" / std::to_string(part);
+      fs::create_directories(folder);
+      WriteColmapModel(models[part], folder.string(), ColmapFormat::kBinary);
+    }
+  }
+
+  std::string Arguments() const {
+    return "colmap --model_path " + Path("project/sparse") + " --odometry " +
+           Path("odometry.csv") + " --image_timestamps " +
+           Path("project/image_timestamps.csv") + " --output_path " +
+           Path("out") + " --fixed_translation_z_m 0.5";
+  }
+
+  fs::path dir_;
+};
+
+// Rotation (left perturbation: truth = Exp(e) * estimate) and x, y errors of
+// a JSON odom_from_cam within 3 of their sigmas.
+void ExpectWithinThreeSigma(const Rigid3d& truth, const json& camera) {
+  const json& q = camera["odom_from_cam"]["quaternion_wxyz"];
+  const Eigen::Quaterniond rotation(q[0].get<double>(),
+                                    q[1].get<double>(),
+                                    q[2].get<double>(),
+                                    q[3].get<double>());
+  const Eigen::Vector3d rotation_error =
+      LogRotation(truth.rotation * rotation.inverse());
+  const json& c = camera["covariance"]["matrix"];
+  for (int k = 0; k < 3; ++k) {
+    const double sigma = std::sqrt(c[k][k].get<double>());
+    EXPECT_LT(std::abs(rotation_error(k)), 3.0 * sigma)
+        << "rotation axis " << k << ": " << rotation_error(k) * kRadToDeg
+        << " deg, sigma " << sigma * kRadToDeg << " deg";
+  }
+  const json& t = camera["odom_from_cam"]["translation_m"];
+  for (int k = 0; k < 2; ++k) {
+    const double sigma = std::sqrt(c[3 + k][3 + k].get<double>());
+    const double error = truth.translation(k) - t[k].get<double>();
+    EXPECT_LT(std::abs(error), 3.0 * sigma)
+        << "translation " << k << ": " << error << " m, sigma " << sigma;
+  }
+}
+
+TEST_F(ColmapRigCli, EveryCameraCalibratedFromItsOwnImages) {
+  const uint64_t seed = TestSeed(41);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  const std::vector<RigCamera> cameras = ThreeCameras();
+  WriteProject(seed, cameras);
+  const auto before = Snapshot(dir_ / "project");
+  std::string out, err;
+  ASSERT_EQ(Run(Arguments() + " --reference_camera rear", &out, &err), 0)
+      << out << err;
+  EXPECT_EQ(Snapshot(dir_ / "project"), before) << "the input project changed";
+  EXPECT_NE(out.find("cameras: 3 (one camera per image sub-folder): front ("),
+            std::string::npos)
+      << out;
+
+  const json result = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "rear");
+  EXPECT_EQ(result["inputs"]["reference_camera"], "rear");
+  EXPECT_EQ(result["camera_grouping"], "one camera per image sub-folder");
+  ASSERT_EQ(result["cameras"].size(), 3u);
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    const json& camera = result["cameras"][k];
+    SCOPED_TRACE(cameras[k].name);
+    EXPECT_EQ(camera["name"], cameras[k].name);
+    ASSERT_EQ(camera["status"], "success") << camera["reason"];
+    EXPECT_EQ(camera["colmap_camera_ids"], json::array({k + 1}));
+    ExpectWithinThreeSigma(cameras[k].odom_from_cam, camera);
+    // Two sub-models, each with this camera's images at its own scale.
+    ASSERT_EQ(camera["metric_scales"].size(), 2u);
+    EXPECT_NEAR(camera["metric_scales"][0].get<double>(), 0.37, 0.37 * 0.01);
+    EXPECT_NEAR(camera["metric_scales"][1].get<double>(), 1.9, 1.9 * 0.01);
+    EXPECT_NEAR(camera["camera_time_offset_s"].get<double>(),
+                cameras[k].clock_offset_s,
+                0.005);
+    // The camera's own files.
+    const fs::path own = dir_ / "out" / "cameras" / cameras[k].name;
+    EXPECT_EQ(camera["outputs"], "cameras/" + cameras[k].name + "/");
+    const json alone = json::parse(ReadFile(own / "calibration.json"));
+    EXPECT_EQ(alone["odom_from_cam"], camera["odom_from_cam"]);
+    EXPECT_TRUE(fs::exists(own / "report.html"));
+    EXPECT_TRUE(fs::is_directory(own / "sparse_metric" / "0"));
+  }
+  EXPECT_EQ(result["odom_from_cam"], result["cameras"][1]["odom_from_cam"]);
+  EXPECT_EQ(result["camera_pairs"].size(), 3u);
+  // Three pairs of cameras, two shared sub-models each, none disagreeing.
+  ASSERT_EQ(result["shared_scales"].size(), 6u);
+  for (const json& shared : result["shared_scales"]) {
+    EXPECT_FALSE(shared["disagree"].get<bool>()) << shared;
+  }
+  const std::string urdf = ReadFile(dir_ / "out" / "calibration.urdf");
+  for (const RigCamera& camera : cameras) {
+    EXPECT_NE(urdf.find(camera.name + "_camera_optical_frame"),
+              std::string::npos)
+        << urdf;
+  }
+
+  // A rerun as a single camera's project removes the rig's cameras/.
+  fs::remove_all(dir_ / "project" / "sparse" / "1");
+  ColmapModel model = ReadColmapModel(Path("project/sparse/0"));
+  for (auto it = model.images.begin(); it != model.images.end();) {
+    it = it->second.camera_id == 1 ? std::next(it) : model.images.erase(it);
+  }
+  model.cameras.erase(2);
+  model.cameras.erase(3);
+  WriteColmapModel(model, Path("project/sparse/0"), ColmapFormat::kBinary);
+  ASSERT_EQ(Run(Arguments() + " --overwrite", &out, &err), 0) << out << err;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "cameras"));
+  EXPECT_FALSE(json::parse(ReadFile(dir_ / "out" / "calibration.json"))
+                   .contains("cameras"));
+}
+
+// A camera that saw only its first seconds: named with its reason, the
+// others calibrated and written, exit 0.
+TEST_F(ColmapRigCli, CameraWithTooFewImagesIsNamedAndTheOthersAreWritten) {
+  std::vector<RigCamera> cameras = ThreeCameras();
+  cameras[2].duration_s = 1.0;
+  WriteProject(TestSeed(42), cameras);
+  std::string out, err;
+  ASSERT_EQ(Run(Arguments(), &out, &err), 0) << out << err;
+  EXPECT_NE(err.find("odomcal colmap: warning: camera right not calibrated"),
+            std::string::npos)
+      << err;
+  const json result = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "front");
+  EXPECT_EQ(result["cameras"][0]["status"], "success");
+  EXPECT_EQ(result["cameras"][1]["status"], "success");
+  EXPECT_NE(result["cameras"][2]["status"], "success");
+  EXPECT_FALSE(result["cameras"][2]["reason"].get<std::string>().empty());
+  ASSERT_EQ(result["camera_pairs"].size(), 1u);
+  EXPECT_TRUE(
+      fs::exists(dir_ / "out" / "cameras" / "rear" / "calibration.json"));
+}
+
+TEST_F(ColmapRigCli, ReferenceCameraErrorsNameTheFlag) {
+  std::vector<RigCamera> cameras = ThreeCameras();
+  cameras.resize(2);
+  WriteProject(TestSeed(43), cameras);
+  std::string err;
+  EXPECT_EQ(Run(Arguments() + " --reference_camera side", nullptr, &err), 2);
+  EXPECT_EQ(err,
+            "odomcal colmap: error: --reference_camera 'side' names no camera "
+            "of the project (its cameras: front, rear)\n");
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "calibration.json"));
+
+  cameras.resize(1);
+  fs::remove_all(dir_ / "project");
+  fs::create_directories(dir_ / "project" / "sparse");
+  WriteProject(TestSeed(43), cameras);
+  EXPECT_EQ(Run(Arguments() + " --reference_camera front", nullptr, &err), 2);
+  EXPECT_EQ(err,
+            "odomcal colmap: error: --reference_camera: the project has one "
+            "camera (one camera); the option is for a project with several\n");
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "calibration.json"));
+}
+
+}  // namespace
+}  // namespace odomcal
