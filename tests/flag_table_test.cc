@@ -567,9 +567,13 @@ TEST_F(FlagEcho, RunEchoesEveryFlag) {
                          "--bag_time",
                          "--wheel_radius_m",
                          "--left_wheel_joint",
-                         "--right_wheel_joint"},
-                        result);
+                         "--right_wheel_joint",
+                         "--rig"},
+                        result,
+                        // With --rig only (RigRun.*).
+                        {"--reference_camera"});
   EXPECT_TRUE(result["inputs"]["bag"].is_null());
+  EXPECT_EQ(result["inputs"]["rig"], false);
   EXPECT_EQ(result["options"]["bag"]["bag_time"], "header");
   EXPECT_EQ(result["options"]["run"]["force"], false);
 }

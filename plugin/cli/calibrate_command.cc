@@ -158,10 +158,17 @@ void WriteCalibrationOutputs(const CalibrationRun& run,
   WriteFileAtomically(
       json_path, CalibrationToJson(run.result, run.context).dump(2) + "\n");
   WriteFileAtomically(yaml_path, CalibrationToYaml(run.result));
+  WriteRobotOutputsBeside(
+      json_path, RobotDescriptionOf(run.result, run.context), overwrite);
+}
+
+void WriteRobotOutputsBeside(const std::string& json_path,
+                             const std::optional<RobotDescription>& robot,
+                             bool overwrite) {
   // The robot outputs of this result, and none of an earlier one (which
   // only --overwrite lets exist here).
   std::set<std::string> written;
-  if (const auto robot = RobotDescriptionOf(run.result, run.context)) {
+  if (robot) {
     for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
       const std::string path = RobotOutputPath(json_path, file.suffix);
       CheckOutputPath(path, overwrite);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "odomcal/adapters/association.h"
+#include "odomcal/adapters/robot_description.h"
 #include "odomcal/adapters/systematics_estimation.h"
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/adapters/trajectory_io.h"
@@ -12,6 +13,7 @@
 #include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +62,13 @@ CalibrationRun CalibrateTrajectories(const std::vector<Trajectory>& cameras,
 // (CheckOutputPath). Throws OutputError.
 void CheckCalibrationOutputs(const CalibrateInputs& inputs,
                              const std::string& json_path,
+                             bool overwrite);
+
+// The robot outputs of `robot` beside <output>.json (RobotOutputPath), each
+// checked (CheckOutputPath); those of an earlier result that `robot` does
+// not have are removed.
+void WriteRobotOutputsBeside(const std::string& json_path,
+                             const std::optional<RobotDescription>& robot,
                              bool overwrite);
 
 // Writes <output>.json and <output>.yaml atomically (both checked first).

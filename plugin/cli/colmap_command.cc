@@ -44,7 +44,7 @@ int RunColmapRig(const ColmapCalibrationInputs& inputs,
   const RigCalibrationRun as_rig =
       RigCalibrationOf(rig, "odomcal colmap", echo);
   const std::vector<std::string> written =
-      WriteColmapRigOutputs(rig, as_rig, output_path);
+      WriteColmapRigOutputs(rig, as_rig, output_path, true);
   if (!quiet) {
     std::cout << RigCalibrationSummary(as_rig);
     std::string names;
@@ -113,6 +113,7 @@ int RunColmap(int argc, char** argv) {
       last_line = now;
       std::cout << "  " << message << "\n" << std::flush;
     };
+    inputs.Check();  // before the model is read, as the calibration does
     const ColmapProjectCameras cameras =
         FindColmapProjectCameras(inputs.model_path);
     if (cameras.IsRig()) {

@@ -55,6 +55,7 @@ RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
           ProjectReportContext(camera.inputs, *camera.run, command, flag_echo);
     } else {
       camera_run.input_error = camera.input_error;
+      camera_run.failure_status = camera.failure_status;
       camera_run.run.result.message = camera.input_error;
       camera_run.run.context.command = command;
       camera_run.run.context.camera_paths = {camera.inputs.model_path};
@@ -72,7 +73,8 @@ RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
 
 std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
                                                const RigCalibrationRun& as_rig,
-                                               const std::string& output_dir) {
+                                               const std::string& output_dir,
+                                               bool write_camera_folders) {
   namespace fs = std::filesystem;
   const ColmapRigCameraRun& reference = rig.cameras.at(rig.reference);
   // The reference camera's run with the rig's warnings; an empty one when
@@ -91,10 +93,14 @@ std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
       reference_run, reference_result.context, output_dir, &overrides);
 
   // cameras/<name>/: each camera's own files; an earlier run's go first.
-  RemoveOwnedOutput(output_dir, "cameras");
+  if (write_camera_folders) RemoveOwnedOutput(output_dir, "cameras");
   for (size_t k = 0; k < rig.cameras.size(); ++k) {
     const ColmapRigCameraRun& camera = rig.cameras[k];
     if (!camera.run) continue;
+    if (!write_camera_folders) {
+      written.push_back("cameras/" + camera.camera.name + "/");
+      continue;
+    }
     const std::string folder =
         (fs::path(output_dir) / "cameras" / camera.camera.name).string();
     ClaimOutputFolder(

@@ -25,10 +25,13 @@ RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
                                    const nlohmann::json& flag_echo);
 
 // Writes the files above into `output_dir` (claimed for
-// ColmapCalibrationOutputEntries()). `as_rig` is RigCalibrationOf(rig).
+// ColmapCalibrationOutputEntries()). `as_rig` is RigCalibrationOf(rig) or
+// alike. Without `write_camera_folders`, cameras/<name>/ are the cameras'
+// own workspaces (`run --rig`), written already, and left as they are.
 // Returns what it wrote, "cameras/front/" for a camera's folder.
 std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
                                                const RigCalibrationRun& as_rig,
-                                               const std::string& output_dir);
+                                               const std::string& output_dir,
+                                               bool write_camera_folders);
 
 }  // namespace odomcal

@@ -87,7 +87,8 @@ int ReferenceCameraIndex(const std::vector<NamedCameraPaths>& cameras,
 }
 
 std::string RigCameraRun::Status() const {
-  return input_error.empty() ? ToString(run.result.status) : "input_error";
+  if (input_error.empty()) return ToString(run.result.status);
+  return failure_status.empty() ? "input_error" : failure_status;
 }
 
 std::string RigCameraRun::Reason() const {

@@ -52,11 +52,14 @@ struct RigCameraRun {
   // kNotRun and input_error says why.
   CalibrationRun run;
   std::string input_error;
+  // The status of a camera whose pipeline failed: "colmap_failed" (COLMAP
+  // gave it no model); empty: "input_error".
+  std::string failure_status;
   // The extrinsic with its covariance when the camera was calibrated.
   std::optional<ExtrinsicWithCovariance> extrinsic;
 
   bool Calibrated() const { return extrinsic.has_value(); }
-  // A calibration status name, or "input_error".
+  // A calibration status name, or failure_status / "input_error".
   std::string Status() const;
   // The result's message, or the input error.
   std::string Reason() const;

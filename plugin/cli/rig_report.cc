@@ -273,21 +273,7 @@ void WriteRigCalibrationOutputs(const RigCalibrationRun& rig,
   WriteFileAtomically(json_path, RigCalibrationToJson(rig).dump(2) + "\n");
   WriteFileAtomically(yaml_path,
                       CalibrationToYaml(rig.cameras[rig.reference].run.result));
-  std::set<std::string> written;
-  if (const auto robot = RigRobotDescription(rig)) {
-    for (const RobotOutputFile& file : RobotOutputFiles(*robot)) {
-      const std::string path = RobotOutputPath(json_path, file.suffix);
-      CheckOutputPath(path, overwrite);
-      WriteFileAtomically(path, file.text);
-      written.insert(file.suffix);
-    }
-  }
-  for (const std::string& suffix : RobotOutputSuffixes()) {
-    if (written.count(suffix) == 0) {
-      std::error_code ignored;
-      std::filesystem::remove(RobotOutputPath(json_path, suffix), ignored);
-    }
-  }
+  WriteRobotOutputsBeside(json_path, RigRobotDescription(rig), overwrite);
 }
 
 int RigExitCode(const RigCalibrationRun& rig) {

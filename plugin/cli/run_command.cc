@@ -7,6 +7,7 @@
 #include "odomcal/plugin/cli/bag_commands.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_flags.h"
+#include "odomcal/plugin/cli/rig_run.h"
 #include "odomcal/plugin/options/bag_flags.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
@@ -150,10 +151,7 @@ RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
   calibrated.model_path = result.model_path;
   calibrated.database_path = result.database_path;
   nlohmann::json echo = RunResultFlagsEcho(options, result);
-  if (!bag_echo.is_null()) {
-    echo["inputs"]["bag"] = bag_echo["inputs"]["bag"];
-    echo["options"]["bag"] = bag_echo["options"]["bag"];
-  }
+  if (!bag_echo.is_null()) MergeFlagEcho(bag_echo, &echo);
   outcome.context =
       ProjectReportContext(calibrated, outcome.calibration, command, echo);
   const fs::path workspace(options.workspace_path);
@@ -205,8 +203,38 @@ int RunRun(int argc, char** argv) {
   for (const char* flag : {"--image_path", "--odometry"}) {
     app.get_option(flag)->required(false);
   }
+  bool rig = false;
+  app.add_flag("--rig",
+               rig,
+               "each sub-folder of --image_path is one camera, named by it "
+               "(images/front/..., images/rear/...): every camera calibrated "
+               "against the one odometry (docs/cli.md, \"Several cameras\")");
+  std::string reference_camera;
+  app.add_option("--reference_camera",
+                 reference_camera,
+                 "with --rig: the camera whose result is the top level of "
+                 "calibration.json (default: the first)")
+      ->needs("--rig");
+  // With --rig, one NAME=PARAMS per camera (or one PARAMS for all).
+  std::vector<std::string> camera_params;
+  app.get_option("--camera_params")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->each([&camera_params](const std::string& value) {
+        camera_params.push_back(value);
+      });
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
+  }
+  if (!rig && camera_params.size() > 1) {
+    std::cerr << "odomcal run: error: --camera_params is given "
+              << camera_params.size()
+              << " times: one camera takes one (several cameras: --rig)\n";
+    return kExitBadInput;
+  }
+  if (rig && !bag_path.empty()) {
+    std::cerr << "odomcal run: error: --rig reads the cameras from the "
+                 "sub-folders of --image_path, not from --bag\n";
+    return kExitBadInput;
   }
   const bool from_bag = !bag_path.empty();
   for (const char* flag :
@@ -231,6 +259,7 @@ int RunRun(int argc, char** argv) {
         {"inputs", {{"bag", nullptr}}},
         {"options", {{"bag", nlohmann::json::object()}}}};
     EchoOptions(BagTopicFlags(), bag_options, &bag_echo["options"]["bag"]);
+    bag_echo["inputs"]["rig"] = rig;
     if (from_bag) {
       bag_echo["inputs"]["bag"] = bag_path;
       std::cout << "odomcal run: extracting " << bag_path << "\n";
@@ -240,6 +269,11 @@ int RunRun(int argc, char** argv) {
                        &run,
                        std::cout);
     }
+    if (rig) {
+      return RunRigReconstruction(
+          run, camera_params, reference_camera, bag_echo);
+    }
+    if (!camera_params.empty()) run.camera_params = camera_params.front();
     const RunOutcome outcome = RunAndWriteOutputs(run, "odomcal run", bag_echo);
     std::cout << CalibrationSummary(outcome.calibration.check.result,
                                     outcome.context)

@@ -24,8 +24,9 @@ struct RunOutcome {
 // Claims the workspace, runs ReconstructAndCalibrate with its five stages'
 // progress on stdout and writes the outputs of `odomcal colmap` in the
 // workspace (only calibration.json when the drive is refused before COLMAP).
-// `bag_echo` (`odomcal run --bag`): {"inputs": {"bag": ...}, "options":
-// {"bag": {...}}}, added to the result's echo. Throws FormatError,
+// `bag_echo`: the echo of the flags the pipeline does not take (`--bag`
+// and its options, `--rig`), {"inputs": {...}, "options": {...}}, merged
+// into the result's echo. Throws FormatError,
 // OutputError, ColmapError or std::invalid_argument with a one-line message.
 RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
                               const std::string& command,

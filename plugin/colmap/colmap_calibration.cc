@@ -225,14 +225,18 @@ bool ContradictedBetweenKeyframes(
 
 }  // namespace
 
+void ColmapCalibrationInputs::Check() const {
+  association.Check();
+  calibration.Check();
+  robot_frames.Check();
+  floor.Check();
+  joint_adjustment.Check();
+}
+
 ColmapCalibrationRun CalibrateColmapProject(
     const ColmapCalibrationInputs& inputs,
     const CalibrationProgress& progress) {
-  inputs.association.Check();
-  inputs.calibration.Check();
-  inputs.robot_frames.Check();
-  inputs.floor.Check();
-  inputs.joint_adjustment.Check();
+  inputs.Check();
   const ImageTimestamps timestamps =
       inputs.image_timestamps_path.empty()
           ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)

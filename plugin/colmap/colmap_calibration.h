@@ -60,6 +60,9 @@ struct ColmapCalibrationInputs {
   // One camera of a rig: only the images of these COLMAP cameras (empty:
   // every image; colmap_cameras.h).
   std::set<uint32_t> camera_ids;
+
+  // Throws std::invalid_argument naming the flag of the first bad option.
+  void Check() const;
 };
 
 // One sub-model in metres in the odometry's origin frame.

@@ -22,6 +22,7 @@ struct ColmapRigCameraRun {
   // odometry (input_error says why: no time stamp inside it, ...).
   std::optional<ColmapCalibrationRun> run;
   std::string input_error;
+  std::string failure_status;  // "colmap_failed"; empty: "input_error"
 };
 
 // The metric scale of one sub-model as two cameras calibrated it.

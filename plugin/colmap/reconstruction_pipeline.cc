@@ -149,11 +149,20 @@ FrameSelection SelectImages(const ReconstructionOptions& run,
           ? ImageTimestamps::FromFileNames(inputs.file_name_time_unit)
           : ImageTimestamps::FromCsv(inputs.image_timestamps_path,
                                      inputs.image_time_unit);
-  const std::vector<std::string> names = ListImages(run.image_path);
+  std::vector<std::string> names = ListImages(run.image_path);
+  if (!run.image_sub_folder.empty()) {
+    const std::string prefix = run.image_sub_folder + "/";
+    names.erase(std::remove_if(names.begin(),
+                               names.end(),
+                               [&](const std::string& name) {
+                                 return name.rfind(prefix, 0) != 0;
+                               }),
+                names.end());
+  }
   if (names.empty()) {
-    throw FormatError(run.image_path +
-                      ": no images (.png, .jpg, .jpeg, "
-                      ".bmp, .tif)");
+    throw FormatError(
+        (fs::path(run.image_path) / run.image_sub_folder).string() +
+        ": no images (.png, .jpg, .jpeg, .bmp, .tif)");
   }
   std::vector<TimedImage> all;
   all.reserve(names.size());

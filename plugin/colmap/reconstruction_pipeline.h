@@ -43,7 +43,11 @@ enum class MapperKind {
 const char* ToString(MapperKind kind);  // "incremental", "global"
 
 struct ReconstructionOptions {
-  std::string image_path;      // folder of images (sub-folders too)
+  std::string image_path;  // folder of images (sub-folders too)
+  // One camera of a rig: only the images in this sub-folder of image_path
+  // (names keep the sub-folder, as the image timestamps list them); empty:
+  // every image.
+  std::string image_sub_folder;
   std::string workspace_path;  // created; reused on reruns
   std::string camera_model = "PINHOLE";
   std::string camera_params;  // COLMAP order, comma-separated; empty: estimate
