@@ -15,8 +15,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -270,6 +274,86 @@ TEST_F(OdomcalCli, DemoRunsAndMatchesGroundTruth) {
                   truth["metric_scale"].get<double>(),
               1.0,
               0.005);
+}
+
+// `render --rig`: one folder of images per camera, their times in one CSV,
+// every camera in ground_truth.json and cameras.txt; an overwrite with
+// another rig leaves no folder of the first one.
+TEST_F(OdomcalCli, RenderRigWritesOneFolderPerCamera) {
+  const std::string render =
+      "render --preset small --output_path " + Path("rig") + " --num_images 3";
+  const CommandResult run =
+      Run(render + " --rig surround3 --capped_camera rear");
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  // 0.4 s of images: 0, 0.2, 0.4 s; 0.07, 0.32 s; 0.1, 0.3 s.
+  const std::map<std::string, size_t> counts = {
+      {"front_left", 3}, {"rear", 2}, {"right", 2}};
+  for (const auto& [name, count] : counts) {
+    size_t files = 0;
+    for (const auto& entry :
+         fs::directory_iterator(Path("rig/images/" + name))) {
+      EXPECT_EQ(entry.path().extension(), ".png");
+      ++files;
+    }
+    EXPECT_EQ(files, count) << name;
+  }
+  std::istringstream csv(ReadFile(Path("rig/image_timestamps.csv")));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "image_name,timestamp");
+  int rows = 0;
+  for (; std::getline(csv, line); ++rows) {
+    const std::string name = line.substr(0, line.find(','));
+    EXPECT_TRUE(fs::exists(Path("rig/images/" + name))) << line;
+  }
+  EXPECT_EQ(rows, 7);
+  const json truth = json::parse(ReadFile(Path("rig/ground_truth.json")));
+  EXPECT_EQ(truth["rig"]["name"], "surround3");
+  ASSERT_EQ(truth["cameras"].size(), 3u);
+  EXPECT_EQ(truth["cameras"][1]["name"], "rear");
+  EXPECT_EQ(truth["cameras"][1]["capped"], true);
+  EXPECT_EQ(truth["cameras"][0]["capped"], false);
+  EXPECT_EQ(truth["cameras"][1]["rate_hz"], 4.0);
+  EXPECT_EQ(truth["cameras"][1]["odom_from_cam"]["translation_m"],
+            json::array({-0.25, 0.0, 0.45}));
+  EXPECT_EQ(truth["cameras"][1]["num_images"], 2);
+  EXPECT_EQ(truth["odom_from_cam"], truth["cameras"][0]["odom_from_cam"]);
+  EXPECT_EQ(truth["images"].size(), 3u);
+  EXPECT_EQ(
+      truth["images"][0]["name"].get<std::string>().rfind("front_left/", 0),
+      0u);
+  std::istringstream cameras(ReadFile(Path("rig/cameras.txt")));
+  int camera_lines = 0;
+  while (std::getline(cameras, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    EXPECT_EQ(line.substr(2), "PINHOLE 320 240 260 260 160 120");
+    ++camera_lines;
+  }
+  EXPECT_EQ(camera_lines, 3);
+
+  const CommandResult stereo = Run(render + " --rig stereo --overwrite");
+  ASSERT_EQ(stereo.exit_code, 0) << stereo.out << stereo.err;
+  std::set<std::string> folders;
+  for (const auto& entry : fs::directory_iterator(Path("rig/images"))) {
+    folders.insert(entry.path().filename().string());
+  }
+  EXPECT_EQ(folders, (std::set<std::string>{"left", "right"}));
+
+  for (const auto& [flags, message] :
+       std::vector<std::pair<std::string, std::string>>{
+           {"--rig stereo --capped_camera rear",
+            "--capped_camera: rig 'stereo' has no camera 'rear' (its "
+            "cameras: left, right)"},
+           {"--capped_camera left", "--capped_camera caps a camera of a rig"},
+           {"--rig stereo --camera_mount 0,0,0,0.2,0,0.4",
+            "--camera_mount sets the single camera's mount"}}) {
+    const CommandResult refused = Run("render --preset small --output_path " +
+                                      Path("refused") + " " + flags);
+    EXPECT_EQ(refused.exit_code, 2) << flags;
+    EXPECT_EQ(LineCount(refused.err), 1) << refused.err;
+    EXPECT_NE(refused.err.find(message), std::string::npos) << refused.err;
+    EXPECT_FALSE(fs::exists(Path("refused"))) << flags;
+  }
 }
 
 }  // namespace

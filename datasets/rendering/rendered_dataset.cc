@@ -6,46 +6,23 @@
 #include "odomcal/datasets/rendering/rendered_dataset.h"
 
 #include "odomcal/adapters/timestamp.h"
-#include "odomcal/adapters/trajectory_io.h"
+#include "odomcal/datasets/rendering/rendered_files_internal.h"
 #include "odomcal/datasets/simulation/seed.h"
 
 #include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <stdexcept>
 
 namespace odomcal {
-namespace {
 
-nlohmann::json TransformJson(const Rigid3d& transform) {
-  const Eigen::Quaterniond q = WithPositiveScalar(transform.rotation);
-  const Eigen::Vector3d& t = transform.translation;
-  const Eigen::Matrix4d m = transform.ToMatrix();
-  nlohmann::json matrix = nlohmann::json::array();
-  for (int r = 0; r < 4; ++r) {
-    matrix.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
-  }
-  return {{"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}},
-          {"translation_m", {t.x(), t.y(), t.z()}},
-          {"matrix", matrix}};
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error(path + ": write failed");
-}
-
-}  // namespace
+using internal::FrameJson;
+using internal::IntrinsicsJson;
+using internal::TransformJson;
 
 void RenderedDatasetOptions::Check() const {
   camera.Check();
@@ -121,9 +98,10 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
   std::function<Rigid3d(int64_t)> body_pose;
   if (o.road) {
     dataset.path = MakeRoadPath(*o.road, o.path.duration_s);
-    const RoadGround ground = MakeRoadGround(*o.road);
+    dataset.road_ground = MakeRoadGround(*o.road);
     const UnicyclePath& path = dataset.path;
-    body_pose = [ground, &path](int64_t t) {
+    const RoadGround& ground = *dataset.road_ground;
+    body_pose = [&ground, &path](int64_t t) {
       return PoseOnGround(ground, path.PoseAt(t));
     };
     // The wheels' true steps: distance along the ground and turn about the
@@ -186,6 +164,12 @@ RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options) {
   return dataset;
 }
 
+Rigid3d RoomFromOdomAt(const RenderedDataset& dataset, int64_t path_time_ns) {
+  const PlanarPose pose = dataset.path.PoseAt(path_time_ns);
+  return dataset.road_ground ? PoseOnGround(*dataset.road_ground, pose)
+                             : pose.ToRigid3d();
+}
+
 RenderedDataset SimulateRenderedDataset(const RenderedDatasetOptions& options) {
   RenderedDataset dataset = SimulateDatasetMotion(options);
   const RenderedDatasetOptions& o = dataset.options;
@@ -208,13 +192,7 @@ std::string GroundTruthJson(const RenderedDataset& dataset) {
   const RenderedDatasetOptions& o = dataset.options;
   nlohmann::json images = nlohmann::json::array();
   for (const RenderedFrame& frame : dataset.frames) {
-    nlohmann::json pose = TransformJson(frame.origin_from_cam);
-    pose.erase("matrix");
-    images.push_back(
-        {{"name", frame.image_name},
-         {"timestamp", FormatTimestampSeconds(frame.stamp_ns)},
-         {"capture_timestamp", FormatTimestampSeconds(frame.capture_ns)},
-         {"world_from_cam", pose}});
+    images.push_back(FrameJson(frame));
   }
   const WheelOdometryNoise& n = o.odometry_noise;
   nlohmann::json truth = {
@@ -239,12 +217,7 @@ std::string GroundTruthJson(const RenderedDataset& dataset) {
       {"odom_from_cam", TransformJson(o.odom_from_cam)},
       {"cam_from_odom", TransformJson(Inverse(o.odom_from_cam))},
       {"metric_scale", 1.0},
-      {"camera",
-       {{"model", o.camera.ColmapModelName()},
-        {"width", o.camera.width},
-        {"height", o.camera.height},
-        {"params", o.camera.ColmapParams()},
-        {"param_names", o.camera.ColmapParamNames()}}},
+      {"camera", IntrinsicsJson(o.camera)},
       {"timing",
        {{"camera_rate_hz", o.camera_rate_hz},
         {"odometry_rate_hz", o.odometry_rate_hz},
@@ -310,35 +283,16 @@ void WriteRenderedDataset(
   }
   std::string timestamps = "image_name,timestamp\n";
   for (size_t i = 0; i < dataset.frames.size(); ++i) {
-    const Image image = RenderFrame(dataset, i);
-    const cv::Mat rgb(image.height,
-                      image.width,
-                      CV_8UC3,
-                      const_cast<uint8_t*>(image.rgb.data()));
-    cv::Mat bgr;
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-    const std::string path = (images / dataset.frames[i].image_name).string();
-    bool written = false;
-    try {
-      written = cv::imwrite(path, bgr);
-    } catch (const cv::Exception& e) {
-      throw std::runtime_error(path + ": cannot write the image (" + e.what() +
-                               ")");
-    }
-    if (!written) throw std::runtime_error(path + ": cannot write the image");
+    internal::WritePng(RenderFrame(dataset, i),
+                       (images / dataset.frames[i].image_name).string());
     timestamps += dataset.frames[i].image_name + "," +
                   FormatTimestampSeconds(dataset.frames[i].stamp_ns) + "\n";
     if (progress) progress(i + 1, dataset.frames.size());
   }
-  WriteOdometryCsv(dataset.odometry, (root / "odometry.csv").string());
-  WriteOdometryCsv(dataset.true_odometry,
-                   (root / "odometry_ground_truth.csv").string());
-  if (!dataset.true_odometry_se3.poses.empty()) {
-    WriteTumTrajectory(dataset.true_odometry_se3,
-                       (root / "odometry_se3.tum").string());
-  }
-  WriteText((root / "image_timestamps.csv").string(), timestamps);
-  WriteText((root / "ground_truth.json").string(), GroundTruthJson(dataset));
+  internal::WriteOdometryFiles(dataset, output_dir);
+  internal::WriteTextFile((root / "image_timestamps.csv").string(), timestamps);
+  internal::WriteTextFile((root / "ground_truth.json").string(),
+                          GroundTruthJson(dataset));
 }
 
 }  // namespace odomcal

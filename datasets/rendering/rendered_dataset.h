@@ -86,6 +86,8 @@ struct RenderedDataset {
   // Road scenes: origin_from_odom in SE(3), the car's true poses, same stamps
   // (empty for rooms, whose odometry is exact in the plane).
   Trajectory true_odometry_se3;
+  // Road scenes: the ground the car rides on.
+  std::optional<RoadGround> road_ground;
   std::vector<RenderedFrame> frames;
 };
 
@@ -94,6 +96,11 @@ struct RenderedDataset {
 // std::invalid_argument for bad options, std::runtime_error when the path
 // cannot be planned.
 RenderedDataset SimulateDatasetMotion(const RenderedDatasetOptions& options);
+
+// The robot's true pose room_from_odom at path time `path_time_ns` (ns from
+// the first odometry sample), as the frames' poses use it: on the path, and
+// for roads on the ground.
+Rigid3d RoomFromOdomAt(const RenderedDataset& dataset, int64_t path_time_ns);
 
 // SimulateDatasetMotion plus the textured scene: ready to render.
 RenderedDataset SimulateRenderedDataset(const RenderedDatasetOptions& options);

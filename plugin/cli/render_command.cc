@@ -3,6 +3,8 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/datasets/rendering/dataset_presets.h"
 #include "odomcal/datasets/rendering/rendered_dataset.h"
+#include "odomcal/datasets/rendering/rendered_rig.h"
+#include "odomcal/datasets/rendering/rig_layout.h"
 #include "odomcal/datasets/simulation/camera_mount.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
 #include "odomcal/plugin/cli/command_line.h"
@@ -15,9 +17,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <optional>
 #include <regex>
 #include <string>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -26,24 +31,48 @@ namespace fs = std::filesystem;
 
 // Refuses a non-empty output folder unless overwriting; then removes the
 // images an earlier render left (only names this command writes, in the
-// images/ odomcal wrote: output_folder.h).
-void PrepareOutputFolder(const fs::path& dir, bool overwrite) {
+// images/ odomcal wrote: output_folder.h): a single camera's NNNNNN.png and
+// a rig's <camera>/<stamp>.png, a camera's folder left empty and, for a
+// single camera, a rig's cameras.txt. Stale camera folders would otherwise
+// be read with the new images (COLMAP reads images/ recursively).
+void PrepareOutputFolder(const fs::path& dir, bool overwrite, bool rig) {
+  std::vector<std::string> entries = {"images",
+                                      "odometry.csv",
+                                      "odometry_ground_truth.csv",
+                                      "odometry_se3.tum",
+                                      "image_timestamps.csv",
+                                      "ground_truth.json"};
+  if (rig) entries.push_back("cameras.txt");
   ClaimOutputFolder(dir.string(),
-                    {"images",
-                     "odometry.csv",
-                     "odometry_ground_truth.csv",
-                     "odometry_se3.tum",
-                     "image_timestamps.csv",
-                     "ground_truth.json"},
+                    entries,
                     overwrite ? ExistingOutputs::kReplaceOwn
                               : ExistingOutputs::kRefuseNonEmptyFolder);
   std::error_code error;
+  if (!rig && fs::exists(dir / "cameras.txt", error)) {
+    // A rig's, which would not describe this dataset; a cameras.txt of the
+    // user's (not in the record) stays.
+    try {
+      RemoveOwnedOutput(dir.string(), "cameras.txt");
+    } catch (const OutputError&) {
+    }
+  }
   const fs::path images = dir / "images";
-  if (fs::is_directory(images, error)) {
-    static const std::regex kImageName("[0-9]{6}\\.png");
-    for (const fs::directory_entry& entry : fs::directory_iterator(images)) {
-      const std::string name = entry.path().filename().string();
-      if (std::regex_match(name, kImageName)) {
+  if (!fs::is_directory(images, error)) return;
+  static const std::regex kImageName("[0-9]{6}\\.png");
+  static const std::regex kRigImageName("[0-9]{19}\\.png");
+  for (const fs::directory_entry& entry : fs::directory_iterator(images)) {
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, kImageName)) {
+      RemoveOwnedOutput(dir.string(), "images/" + name);
+    } else if (entry.is_directory(error)) {
+      for (const fs::directory_entry& image :
+           fs::directory_iterator(entry.path())) {
+        const std::string image_name = image.path().filename().string();
+        if (std::regex_match(image_name, kRigImageName)) {
+          RemoveOwnedOutput(dir.string(), "images/" + name + "/" + image_name);
+        }
+      }
+      if (fs::is_empty(entry.path(), error)) {
         RemoveOwnedOutput(dir.string(), "images/" + name);
       }
     }
@@ -56,6 +85,56 @@ std::string PresetHelp() {
     text += "\n  " + info.name + ": " + info.summary;
   }
   return text;
+}
+
+std::string RigHelp() {
+  std::string text =
+      "render a multi-camera rig instead of the preset's camera: one folder "
+      "per camera in images/, cameras.txt, and the cameras in "
+      "ground_truth.json:";
+  for (const RigLayoutInfo& info : RigLayouts()) {
+    text += "\n  " + info.name + ": " + info.summary;
+  }
+  return text;
+}
+
+// Renders and writes a rig's dataset with the progress lines of a single
+// camera's; the cameras' image counts after the scene's line.
+int RenderRig(const RenderedDatasetOptions& options,
+              const RigLayout& layout,
+              uint64_t seed,
+              const std::string& output_path,
+              const std::function<double()>& elapsed) {
+  std::cout << "odomcal render: preset " << options.preset << ", rig "
+            << layout.name << ", seed " << seed << ", " << options.num_images
+            << " images of the reference camera " << layout.cameras.front().name
+            << " -> " << output_path << "\n";
+  const RenderedRig rig = SimulateRenderedRig(options, layout);
+  std::printf("  scene: %zu surfaces, path %.1f s (%.1f s)\n",
+              rig.drive.scene.surfaces.size(),
+              1e-9 * rig.drive.path.duration_ns(),
+              elapsed());
+  for (const RenderedRigCamera& camera : rig.cameras) {
+    std::printf("  camera %s: %zu images %dx%d at %g Hz, phase %g s%s\n",
+                camera.camera.name.c_str(),
+                camera.frames.size(),
+                camera.camera.intrinsics->width,
+                camera.camera.intrinsics->height,
+                *camera.camera.rate_hz,
+                camera.camera.phase_s,
+                camera.camera.capped ? ", capped" : "");
+  }
+  std::fflush(stdout);
+  WriteRenderedRig(rig, output_path, [&](size_t done, size_t total) {
+    if (done == total || done % std::max<size_t>(1, total / 10) == 0) {
+      std::printf(
+          "  rendered %zu/%zu images (%.1f s)\n", done, total, elapsed());
+      std::fflush(stdout);
+    }
+  });
+  std::printf(
+      "odomcal render: wrote %s in %.1f s\n", output_path.c_str(), elapsed());
+  return kExitSuccess;
 }
 
 }  // namespace
@@ -80,7 +159,8 @@ int RunRender(int argc, char** argv) {
                  output_path,
                  "dataset folder: images/, odometry.csv, image_timestamps.csv, "
                  "ground_truth.json, odometry_ground_truth.csv (road presets: "
-                 "also odometry_se3.tum)")
+                 "also odometry_se3.tum; --rig: images/<camera>/ and "
+                 "cameras.txt)")
       ->required();
   app.add_option("--seed", seed, "random seed (scene textures, path, noise)")
       ->check(AtLeast(0))
@@ -91,7 +171,10 @@ int RunRender(int argc, char** argv) {
   app.add_option("--num_images",
                  num_images,
                  "images to render instead of the preset's number (the drive "
-                 "is as long as they take at the preset's camera rate)")
+                 "is as long as they take at the preset's camera rate); with "
+                 "--rig the reference (first) camera's, at its rate, the "
+                 "others' follow from their rates (without it a rig keeps "
+                 "the preset's drive length)")
       ->check(CLI::Range(2, 100000));
   double floor_slope_deg = 0.0;
   app.add_option("--floor_slope_deg",
@@ -115,6 +198,15 @@ int RunRender(int argc, char** argv) {
                  "floor)")
       ->delimiter(',')
       ->expected(6);
+  std::string rig_name;
+  std::vector<std::string> rig_names;
+  for (const RigLayoutInfo& info : RigLayouts()) rig_names.push_back(info.name);
+  app.add_option("--rig", rig_name, RigHelp())->check(CLI::IsMember(rig_names));
+  std::vector<std::string> capped_cameras;
+  app.add_option("--capped_camera",
+                 capped_cameras,
+                 "with --rig: a lens cap on this camera (repeatable): its "
+                 "images are uniformly dark, nothing COLMAP can match");
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
@@ -132,8 +224,34 @@ int RunRender(int argc, char** argv) {
           "presets, not to '" +
           preset + "'");
     }
-    PrepareOutputFolder(output_path, overwrite);
-    if (num_images > 0) options.num_images = num_images;
+    std::optional<RigLayout> rig;
+    if (!rig_name.empty()) {
+      if (!camera_mount.empty()) {
+        throw std::invalid_argument(
+            "--camera_mount sets the single camera's mount; --rig " + rig_name +
+            " has its own mounts: drop one of the two");
+      }
+      rig = MakeRigLayout(rig_name);
+      for (const std::string& name : capped_cameras) {
+        try {
+          rig->Camera(name).capped = true;
+        } catch (const std::invalid_argument& error) {
+          throw std::invalid_argument(std::string("--capped_camera: ") +
+                                      error.what());
+        }
+      }
+    } else if (!capped_cameras.empty()) {
+      throw std::invalid_argument(
+          "--capped_camera caps a camera of a rig: it needs --rig");
+    }
+    PrepareOutputFolder(output_path, overwrite, rig.has_value());
+    // A rig keeps the preset's drive length unless told the reference
+    // camera's number of images.
+    if (num_images > 0) {
+      options.num_images = num_images;
+    } else if (rig) {
+      options.num_images = RigReferenceImageCount(options, *rig);
+    }
     if (!camera_mount.empty()) {
       for (const double value : camera_mount) {
         if (!std::isfinite(value)) {
@@ -151,6 +269,9 @@ int RunRender(int argc, char** argv) {
     options.layout.floor_slope_pivot_x_m = options.path.start.x;
     for (FloorPatch& floor : options.layout.floors) {
       floor.textured = floor.textured && !untextured_floor;
+    }
+    if (rig) {
+      return RenderRig(options, *rig, seed, output_path, elapsed);
     }
     std::cout << "odomcal render: preset " << preset << ", seed " << seed
               << ", " << options.num_images << " images "
