@@ -272,6 +272,43 @@ TEST_F(ColmapRigCli, EveryCameraCalibratedFromItsOwnImages) {
               std::string::npos)
         << urdf;
   }
+  // The top report shows the rig: every camera with a link to its own
+  // report and a pyramid in the drawing, and the rig's robot outputs.
+  const std::string report = ReadFile(dir_ / "out" / "report.html");
+  const size_t section = report.find("<h2>Cameras of the rig</h2>");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_NE(report.find("3 of 3 cameras calibrated", section),
+            std::string::npos);
+  EXPECT_NE(report.find("</span> rear<br><span "
+                        "style=\"white-space:nowrap\">(reference)</span></td>"),
+            std::string::npos);
+  for (const RigCamera& camera : cameras) {
+    EXPECT_NE(
+        report.find("<a href=\"cameras/" + camera.name + "/report.html\">",
+                    section),
+        std::string::npos)
+        << camera.name;
+    // Named in the legend and beside its pyramid in both views.
+    size_t count = 0;
+    for (size_t at = report.find(">" + camera.name + "</text>", section);
+         at != std::string::npos;
+         at = report.find(">" + camera.name + "</text>", at + 1)) {
+      ++count;
+    }
+    EXPECT_EQ(count, 3u) << camera.name;
+  }
+  EXPECT_NE(report.find("Frames: base_link &rarr; front_camera_optical_frame, "
+                        "base_link &rarr; rear_camera_optical_frame, base_link "
+                        "&rarr; right_camera_optical_frame ",
+                        section),
+            std::string::npos)
+      << "the rig's robot outputs under Use it";
+  EXPECT_NE(report.find("<table class=\"rig-pairs\">"), std::string::npos);
+  EXPECT_EQ(report.find("class=\"disagree\""), std::string::npos);
+  const std::string rig_section =
+      report.substr(section, report.find("</section>", section) - section);
+  EXPECT_EQ(rig_section.find("nan"), std::string::npos);
+  EXPECT_EQ(rig_section.find("inf"), std::string::npos);
 
   // A rerun as a single camera's project removes the rig's cameras/.
   fs::remove_all(dir_ / "project" / "sparse" / "1");
@@ -284,6 +321,8 @@ TEST_F(ColmapRigCli, EveryCameraCalibratedFromItsOwnImages) {
   WriteColmapModel(model, Path("project/sparse/0"), ColmapFormat::kBinary);
   ASSERT_EQ(Run(Arguments() + " --overwrite", &out, &err), 0) << out << err;
   EXPECT_FALSE(fs::exists(dir_ / "out" / "cameras"));
+  EXPECT_EQ(ReadFile(dir_ / "out" / "report.html").find("Cameras of the rig"),
+            std::string::npos);
   EXPECT_FALSE(json::parse(ReadFile(dir_ / "out" / "calibration.json"))
                    .contains("cameras"));
 }
@@ -306,6 +345,9 @@ TEST_F(ColmapRigCli, CameraWithTooFewImagesIsNamedAndTheOthersAreWritten) {
   EXPECT_NE(result["cameras"][2]["status"], "success");
   EXPECT_FALSE(result["cameras"][2]["reason"].get<std::string>().empty());
   ASSERT_EQ(result["camera_pairs"].size(), 1u);
+  EXPECT_NE(ReadFile(dir_ / "out" / "report.html")
+                .find("<td colspan=\"6\" class=\"reason\">not calibrated: "),
+            std::string::npos);
   EXPECT_TRUE(
       fs::exists(dir_ / "out" / "cameras" / "rear" / "calibration.json"));
 }

@@ -1,9 +1,11 @@
 #include "odomcal/plugin/cli/colmap_rig_outputs.h"
 
+#include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/cli/rig_report.h"
 #include "odomcal/plugin/output/output_folder.h"
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/colmap_report.h"
+#include "odomcal/plugin/report/rig_report_html.h"
 
 #include <filesystem>
 
@@ -37,6 +39,36 @@ void AddColmapRigToJson(const ColmapRigRun& rig, json* result) {
                       {"disagree", scale.Disagrees()}});
   }
   out["shared_scales"] = shared;
+}
+
+// The rig's section of report.html from the two views of the rig.
+RigReport ColmapRigReport(const ColmapRigRun& rig,
+                          const RigCalibrationRun& as_rig) {
+  RigReport report;
+  report.reference = as_rig.reference;
+  for (size_t k = 0; k < as_rig.cameras.size(); ++k) {
+    const RigCameraRun& camera = as_rig.cameras[k];
+    RigReportCamera& out = report.cameras.emplace_back();
+    out.name = camera.name;
+    out.status = camera.Status();
+    out.reason = camera.Reason();
+    out.calibrated = camera.Calibrated();
+    out.result = camera.run.result;
+    if (const auto& systematics = camera.run.context.systematics) {
+      out.clock_offset_s = NsToSeconds(systematics->camera_time_offset_ns);
+      out.clock_offset_estimated = systematics->time_offset_estimated;
+      out.clock_offset_stddev_s = systematics->camera_time_offset_stddev_s;
+    }
+    out.num_images = rig.cameras[k].camera.num_images;
+    if (rig.cameras[k].run) {
+      out.report_path = "cameras/" + camera.name + "/report.html";
+    }
+  }
+  for (const RigCameraPair& pair : as_rig.pairs) {
+    report.pairs.push_back({pair.camera_a, pair.camera_b, pair.transform});
+  }
+  report.shared_scales = rig.shared_scales;
+  return report;
 }
 
 }  // namespace
@@ -89,6 +121,7 @@ std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
   AddRigToJson(as_rig, &overrides.result);
   AddColmapRigToJson(rig, &overrides.result);
   overrides.robot = RigRobotDescription(as_rig);
+  overrides.report_section = RigReportHtml(ColmapRigReport(rig, as_rig));
   std::vector<std::string> written = WriteColmapCalibrationOutputs(
       reference_run, reference_result.context, output_dir, &overrides);
 

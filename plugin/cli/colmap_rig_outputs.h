@@ -2,8 +2,9 @@
 // a rig, colmap_rig_calibration.h). In the output folder:
 //   - the reference camera's files (calibration.json/.yaml, sparse_metric/,
 //     camera_in_odom.tum, report.html), the JSON with the rig's `cameras`,
-//     `camera_pairs` and `shared_scales` (docs/result_schema.md), and robot
-//     outputs with one transform chain per calibrated camera;
+//     `camera_pairs` and `shared_scales` (docs/result_schema.md), robot
+//     outputs with one transform chain per calibrated camera, and
+//     report.html with the rig's section (rig_report_html.h);
 //   - cameras/<name>/ per calibrated camera: that camera's own files, as a
 //     single-camera project's.
 #pragma once

@@ -127,7 +127,7 @@ std::vector<std::string> WriteColmapCalibrationOutputs(
   }
 
   WriteFileAtomically((root / "report.html").string(),
-                      ColmapReportHtml(run, context));
+                      ColmapReportHtml(run, context, rig));
   entries.push_back("report.html");
   return entries;
 }

@@ -37,13 +37,15 @@ std::vector<std::string> WriteColmapCalibrationOutputs(
     const std::string& output_dir);
 
 // A rig's top-level files in place of its reference camera's own: the
-// result JSON (with the rig's cameras) and the robot outputs (every
-// camera's transforms). The rig writes cameras/ itself.
-struct RigOverrides {
+// result JSON (with the rig's cameras), the robot outputs (every camera's
+// transforms) and report.html with the rig's section (RigReportHtml,
+// rig_report_html.h). The rig writes cameras/ itself.
+struct RigOverrides {  // NOLINT(bugprone-exception-escape)
   nlohmann::json result;
   std::optional<RobotDescription> robot;
+  std::string report_section;
 };
-// As above, with `rig`'s JSON and robot outputs; a single camera's call
+// As above, with `rig`'s JSON, robot outputs and report; a single camera's call
 // removes an earlier rig run's cameras/.
 std::vector<std::string> WriteColmapCalibrationOutputs(
     const ColmapCalibrationRun& run,

@@ -2,6 +2,7 @@
 
 #include "odomcal/adapters/timestamp.h"
 #include "odomcal/plugin/options/project_flags.h"
+#include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/floor_plane_report.h"
 #include "odomcal/plugin/report/joint_adjustment_report.h"
 #include "odomcal/plugin/report/repeatability_report.h"
@@ -222,6 +223,12 @@ json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
 
 std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                              const ReportContext& context) {
+  return ColmapReportHtml(run, context, nullptr);
+}
+
+std::string ColmapReportHtml(const ColmapCalibrationRun& run,
+                             const ReportContext& context,
+                             const RigOverrides* rig) {
   const CalibrationResult& result = run.check.result;
   const MotionPairs& input_pairs = run.association.pairs;
   const size_t num_input = input_pairs.size();
@@ -468,7 +475,10 @@ std::string ColmapReportHtml(const ColmapCalibrationRun& run,
   for (const std::string& warning : result.warnings) {
     html << "<li class=\"warning\">" << EscapeMarkup(warning) << "</li>";
   }
-  html << "</ul>\n" << RobotUseItHtml(RobotDescriptionOf(result, context));
+  html << "</ul>\n";
+  if (rig != nullptr) html << rig->report_section;
+  html << RobotUseItHtml(rig != nullptr ? rig->robot
+                                        : RobotDescriptionOf(result, context));
   html << "<h2>Trajectories</h2>\n"
        << figure_html(top,
                       "Seen from above, x and y in metres at the same scale. "

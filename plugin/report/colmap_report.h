@@ -35,4 +35,13 @@ nlohmann::json ColmapCalibrationToJson(const ColmapCalibrationRun& run,
 std::string ColmapReportHtml(const ColmapCalibrationRun& run,
                              const ReportContext& context);
 
+// A rig's report.html (its reference camera's run and context): `rig`'s
+// section (RigReportHtml, rig_report_html.h) after the warnings, and "Use
+// it" with the rig's robot outputs (every camera's transforms). Null: as
+// above.
+struct RigOverrides;  // colmap_calibration_outputs.h
+std::string ColmapReportHtml(const ColmapCalibrationRun& run,
+                             const ReportContext& context,
+                             const RigOverrides* rig);
+
 }  // namespace odomcal

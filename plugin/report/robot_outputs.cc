@@ -125,8 +125,14 @@ std::string RobotUseItHtml(const std::optional<RobotDescription>& robot) {
   html << "<p>The extrinsic in the forms robots load, also written beside "
           "calibration.json. Frames: "
        << EscapeMarkup(robot->frames.base_frame);
+  // A chain as one line; a rig's cameras each from the base frame.
+  std::string previous = robot->frames.base_frame;
   for (const FrameTransform& transform : robot->transforms) {
+    if (transform.parent != previous) {
+      html << ", " << EscapeMarkup(transform.parent);
+    }
     html << " &rarr; " << EscapeMarkup(transform.child);
+    previous = transform.child;
   }
   html << " (the camera frame is the optical frame: x right, y down, z "
           "forward). Each transform maps child to parent coordinates, as a "

@@ -5,8 +5,9 @@
 // data), widened to the outer ticks; an empty or constant range gets a unit
 // (or one-decade) span. Equal-aspect panels instead pad the data ranges by
 // 5 % and widen the shorter one about its centre until both axes have the
-// same units per pixel, with one tick step for both (square grid cells). Text
-// is XML-escaped.
+// same units per pixel, with one tick step for both (square grid cells).
+// Point labels are placed in order, each moved by whole lines off the ones
+// before it. Text is XML-escaped.
 
 #include "odomcal/plugin/report/svg_plot.h"
 
@@ -207,6 +208,69 @@ void DrawMarker(MarkerShape shape,
   }
 }
 
+struct PixelBox {
+  double left = 0.0, top = 0.0, right = 0.0, bottom = 0.0;
+  bool Overlaps(const PixelBox& other) const {
+    return left < other.right && other.left < right && top < other.bottom &&
+           other.top < bottom;
+  }
+};
+
+// Each label where asked, else the nearest free place a line (or more) up
+// or down; inside `area` either way.
+template <typename ToPixelX, typename ToPixelY>
+void DrawLabels(const std::vector<PlotLabel>& labels,
+                const PixelBox& area,
+                const ToPixelX& px,
+                const ToPixelY& py,
+                std::ostringstream* svg) {
+  constexpr double kFontPx = 12.0;
+  constexpr double kLinePx = 14.0;
+  constexpr double kAscentPx = 10.0, kDescentPx = 3.0;
+  std::vector<PixelBox> placed;
+  for (const PlotLabel& label : labels) {
+    if (!std::isfinite(label.x) || !std::isfinite(label.y)) continue;
+    const double width =
+        TextWidthUpperBoundPx(label.text, kFontPx) * (label.bold ? 1.1 : 1.0);
+    const double shift = label.anchor == PlotLabel::Anchor::kStart ? 0.0
+                         : label.anchor == PlotLabel::Anchor::kMiddle
+                             ? 0.5 * width
+                             : width;
+    // The box's left edge and the baseline.
+    double x = px(label.x) + label.dx_px - shift;
+    x = std::max(area.left + 2.0, std::min(x, area.right - 2.0 - width));
+    const double y0 = py(label.y) + label.dy_px;
+    auto box_at = [&](double y) {
+      const double baseline =
+          std::max(area.top + kAscentPx + 2.0,
+                   std::min(y, area.bottom - kDescentPx - 2.0));
+      return PixelBox{
+          x, baseline - kAscentPx, x + width, baseline + kDescentPx};
+    };
+    PixelBox box = box_at(y0);
+    for (int step = 1; step <= 12; ++step) {
+      const bool free =
+          std::none_of(placed.begin(), placed.end(), [&](const PixelBox& b) {
+            return b.Overlaps(box);
+          });
+      if (free) break;
+      // Up, down, two up, two down, ...
+      const int lines = (step + 1) / 2;
+      const double offset = kLinePx * lines * (step % 2 != 0 ? -1.0 : 1.0);
+      box = box_at(y0 + offset);
+    }
+    placed.push_back(box);
+    *svg << "<text class=\"plot-label\" x=\"" << Number(box.left) << "\" y=\""
+         << Number(box.bottom - kDescentPx) << "\" font-size=\""
+         << Number(kFontPx) << "\""
+         << (label.bold ? " font-weight=\"bold\"" : "") << " fill=\""
+         << (label.color.empty() ? "#222" : label.color)
+         << "\" stroke=\"white\" stroke-width=\"3\" stroke-linejoin=\"round\" "
+            "paint-order=\"stroke\">"
+         << EscapeMarkup(label.text) << "</text>\n";
+  }
+}
+
 void RenderPanel(const PlotPanel& panel,
                  const std::vector<std::string>& colors,
                  const std::vector<int>& color_index,
@@ -322,6 +386,11 @@ void RenderPanel(const PlotPanel& panel,
       }
     }
   }
+  DrawLabels(panel.labels,
+             {left, top, left + plot_width, top + plot_height},
+             px,
+             py,
+             svg);
   *svg << "</g>\n";
 }
 

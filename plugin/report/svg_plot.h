@@ -36,6 +36,22 @@ struct PlotSeries {
   double marker_radius_px = 2.5;
 };
 
+// Text at a data point (e.g. a name beside a marker), over the series. A
+// label that would overlap one drawn before it in its panel moves up or
+// down by a line; it is kept inside the plot area. Not in the legend, and
+// it does not widen the axes.
+struct PlotLabel {
+  double x = 0.0;  // data units
+  double y = 0.0;
+  std::string text;
+  std::string color;  // CSS colour; empty: #222
+  // The text's anchor relative to the point, pixels (y down).
+  double dx_px = 0.0;
+  double dy_px = 0.0;
+  enum class Anchor { kStart, kMiddle, kEnd } anchor = Anchor::kStart;
+  bool bold = false;
+};
+
 struct PlotPanel {
   std::string title;
   std::string x_label;
@@ -45,6 +61,7 @@ struct PlotPanel {
   // padded about its centre, never stretched. Ignores log_y.
   bool equal_aspect = false;
   std::vector<PlotSeries> series;
+  std::vector<PlotLabel> labels;
 };
 
 struct PlotFigure {

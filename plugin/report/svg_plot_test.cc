@@ -259,5 +259,68 @@ TEST(RenderSvg, MarkerShapesAreDrawnAndMarkerOnlySeriesHaveNoPath) {
   EXPECT_TRUE(Contains(svg, "<polygon points="));
 }
 
+// Labels at one point move apart by whole lines; a label near the edge stays
+// inside the plot area; a label at a non-finite point is left out.
+TEST(RenderSvg, PointLabelsDoNotOverlapAndStayInsideThePlot) {
+  PlotFigure figure;
+  figure.num_columns = 1;
+  figure.panel_width_px = 400;
+  figure.panel_height_px = 300;
+  PlotPanel& panel = figure.panels.emplace_back();
+  panel.series.push_back(Series("data", {0, 10}, {0, 10}));
+  for (const char* text : {"front <a>", "rear", "right"}) {
+    PlotLabel label;
+    label.x = 5.0;
+    label.y = 5.0;
+    label.text = text;
+    panel.labels.push_back(label);
+  }
+  PlotLabel edge;
+  edge.x = 10.0;
+  edge.y = 10.0;
+  edge.text = "a long label at the corner";
+  edge.anchor = PlotLabel::Anchor::kStart;
+  panel.labels.push_back(edge);
+  PlotLabel nowhere;
+  nowhere.x = std::nan("");
+  nowhere.text = "nowhere";
+  panel.labels.push_back(nowhere);
+  const std::string svg = RenderSvg(figure);
+  EXPECT_TRUE(Contains(svg, ">front &lt;a&gt;</text>"));
+  EXPECT_FALSE(Contains(svg, "nowhere"));
+  const std::regex label_regex(
+      "class=\"plot-label\" x=\"([0-9.]+)\" y=\"([0-9.]+)\"[^>]*>([^<]*)<");
+  struct Box {
+    double left, right, baseline;
+  };
+  std::vector<Box> boxes;
+  for (std::sregex_iterator it(svg.begin(), svg.end(), label_regex), end;
+       it != end;
+       ++it) {
+    const double x = std::stod((*it)[1]);
+    boxes.push_back(
+        {x, x + TextWidthUpperBoundPx((*it)[3], 12.0), std::stod((*it)[2])});
+  }
+  ASSERT_EQ(boxes.size(), 4u) << svg;
+  for (size_t a = 0; a < boxes.size(); ++a) {
+    // The plot area: x 62 .. 386, y 28 .. 256 (the panel's margins).
+    EXPECT_GE(boxes[a].left, 62.0) << a;
+    EXPECT_LE(boxes[a].right, 386.0) << a;
+    EXPECT_GE(boxes[a].baseline - 10.0, 28.0) << a;
+    EXPECT_LE(boxes[a].baseline + 3.0, 256.0) << a;
+    for (size_t b = a + 1; b < boxes.size(); ++b) {
+      const bool apart_x =
+          boxes[a].right <= boxes[b].left || boxes[b].right <= boxes[a].left;
+      const bool apart_y =
+          std::abs(boxes[a].baseline - boxes[b].baseline) >= 13.0;
+      EXPECT_TRUE(apart_x || apart_y) << a << " and " << b << " overlap";
+    }
+  }
+  // The first stays where it was asked to be; the next two a line above and
+  // below it.
+  EXPECT_NEAR(boxes[1].baseline, boxes[0].baseline - 14.0, 1e-9);
+  EXPECT_NEAR(boxes[2].baseline, boxes[0].baseline + 14.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace odomcal
