@@ -8,6 +8,7 @@
 
 #include "odomcal/adapters/colmap_model.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
 #include "odomcal/solver/rigid3.h"
 #include "odomcal/tests/test_files.h"
 #include "odomcal/tests/test_seed.h"
@@ -419,6 +420,100 @@ TEST_F(RenderedEndToEnd, StraightDrivingIsUnobservable) {
   EXPECT_FALSE(fs::exists(run.workspace / "database.db")) << run.log;
   EXPECT_FALSE(fs::exists(run.workspace / "commands.txt")) << run.log;
   EXPECT_TRUE(run.result["colmap"]["mapper_attempts"].empty()) << run.log;
+}
+
+}  // namespace
+}  // namespace odomcal
+
+namespace odomcal {
+namespace {
+
+Rigid3d TransformOf(const json& transform) {
+  const json& q = transform["quaternion_wxyz"];
+  const json& t = transform["translation_m"];
+  return Rigid3d(
+      Eigen::Quaterniond(q[0].get<double>(),
+                         q[1].get<double>(),
+                         q[2].get<double>(),
+                         q[3].get<double>()),
+      Eigen::Vector3d(
+          t[0].get<double>(), t[1].get<double>(), t[2].get<double>()));
+}
+
+// A stereo pair (two forward cameras 12 cm apart, `render --rig stereo`)
+// through `run --rig`: each camera from its own images in WS/cameras/<name>,
+// z from the floor, and the camera-to-camera transform from the two.
+TEST_F(RenderedEndToEnd, StereoRigThroughRunRig) {
+  std::string log;
+  const fs::path data = dir_ / "data";
+  ASSERT_EQ(
+      Run("render --preset small --rig stereo --seed " +
+              std::to_string(TestSeed(5)) + " --output_path " + data.string(),
+          &log),
+      0)
+      << log;
+  const json truth = json::parse(ReadFile(data / "ground_truth.json"));
+  std::string params_flags;
+  for (const json& camera : truth["cameras"]) {
+    std::string params;
+    for (const json& value : camera["camera"]["params"]) {
+      params += (params.empty() ? "" : ",") + FormatNumber(value.get<double>());
+    }
+    params_flags +=
+        " --camera_params " + camera["name"].get<std::string>() + "=" + params;
+  }
+  const fs::path workspace = dir_ / "ws";
+  ASSERT_EQ(Run("run --rig --image_path " + (data / "images").string() +
+                    " --odometry " + (data / "odometry.csv").string() +
+                    " --camera_model PINHOLE" + params_flags +
+                    " --reference_camera right --workspace_path " +
+                    workspace.string(),
+                &log),
+            0)
+      << log;
+  const json result = json::parse(ReadFile(workspace / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "right");
+  ASSERT_EQ(result["cameras"].size(), 2u) << result["cameras"];
+  std::map<std::string, Rigid3d> truths, estimates;
+  for (size_t k = 0; k < 2; ++k) {
+    const std::string name = truth["cameras"][k]["name"];
+    const json& camera = result["cameras"][k];
+    SCOPED_TRACE(name);
+    ASSERT_EQ(camera["name"], name);
+    ASSERT_EQ(camera["status"], "success") << camera["reason"] << log;
+    truths[name] = TransformOf(truth["cameras"][k]["odom_from_cam"]);
+    estimates[name] = TransformOf(camera["odom_from_cam"]);
+    const Rigid3d error = Inverse(truths[name]) * estimates[name];
+    std::cout << "[ errors   ] " << name << ": rotation "
+              << RotationAngle(error.rotation) * kRadToDeg << " deg, "
+              << "translation "
+              << 1000.0 *
+                     (estimates[name].translation - truths[name].translation)
+                         .transpose()
+              << " mm\n";
+    EXPECT_LT(RotationAngle(error.rotation) * kRadToDeg, 0.1);
+    EXPECT_LT((estimates[name].translation - truths[name].translation)
+                  .head<2>()
+                  .norm(),
+              0.005);
+    EXPECT_EQ(camera["translation_z_source"], "floor_plane");
+    EXPECT_NEAR(
+        estimates[name].translation.z(), truths[name].translation.z(), 0.005);
+    EXPECT_TRUE(fs::exists(workspace / "cameras" / name / "calibration.json"));
+  }
+  // The pair: 12 cm apart along the odometry's y, the same orientation.
+  ASSERT_EQ(result["camera_pairs"].size(), 1u);
+  const json& pair = result["camera_pairs"][0];
+  const Rigid3d expected =
+      Inverse(truths[pair["camera_b"]]) * truths[pair["camera_a"]];
+  const Rigid3d error = Inverse(expected) * TransformOf(pair["camb_from_cama"]);
+  EXPECT_LT(RotationAngle(error.rotation) * kRadToDeg, 0.1);
+  EXPECT_LT(error.translation.norm(), 0.005);
+  const std::string urdf = ReadFile(workspace / "calibration.urdf");
+  EXPECT_NE(urdf.find("left_camera_optical_frame"), std::string::npos);
+  EXPECT_NE(urdf.find("right_camera_optical_frame"), std::string::npos);
+  EXPECT_NE(ReadFile(workspace / "report.html").find("Cameras of the rig"),
+            std::string::npos);
 }
 
 }  // namespace
