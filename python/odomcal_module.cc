@@ -16,10 +16,12 @@
 // keyword or an argument of the wrong type, ValueError for bad values, files
 // and arrays, each with the CLI's one-line message in keyword terms
 // ("--max_odometry_gap_s" reads "max_odometry_gap_s").
+#include "odomcal/adapters/colmap_cameras.h"
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/plugin/cli/bag_commands.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/cli/colmap_rig_outputs.h"
 #include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/plugin/cli/command_line.h"
 #include "odomcal/plugin/cli/rig_calibration.h"
@@ -309,9 +311,14 @@ struct ProjectFlagSet {
   CLI::App app{"", "odomcal.calibrate_project"};
   ColmapCalibrationInputs inputs;
   ProjectFlags flags;
+  std::string reference_camera;
   ProjectFlagSet() {
     AddFlags(ColmapModelFlags(), &app, &inputs);
     AddProjectFlags(&app, &inputs, &flags);
+    app.add_option("--reference_camera",
+                   reference_camera,
+                   "a project with several cameras: the camera of the top "
+                   "level");
   }
   FlagParser Parser() { return {"odomcal.calibrate_project", &app}; }
 };
@@ -460,6 +467,24 @@ py::object CalibrateProject(const py::object& model_path,
   const ColmapCalibrationInputs& inputs = flag_set.inputs;
   return DictFromJson(ReportingErrors([&] {
     py::gil_scoped_release no_gil;
+    inputs.Check();
+    // Several cameras: each from its own images, as `odomcal colmap` does.
+    const ColmapProjectCameras cameras =
+        FindColmapProjectCameras(inputs.model_path);
+    if (cameras.IsRig()) {
+      const ColmapRigRun rig = CalibrateColmapRig(
+          inputs,
+          cameras,
+          ColmapReferenceCamera(cameras, flag_set.reference_camera));
+      nlohmann::json echo = ProjectFlagsEcho(inputs);
+      return ColmapRigToJson(rig, RigCalibrationOf(rig, "odomcal colmap", echo))
+          .dump();
+    }
+    if (!flag_set.reference_camera.empty()) {
+      throw std::invalid_argument(
+          "reference_camera: the project has one camera; the keyword is for "
+          "a project with several");
+    }
     const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
     // The JSON of `odomcal colmap`, with the echo of these options.
     return ColmapCalibrationToJson(

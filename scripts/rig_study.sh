@@ -28,7 +28,7 @@ run_rig() {  # data_dir workspace
 }
 
 evaluate() {  # data_dir workspace seconds label
-  python3 - "$@" <<'PY'
+  /usr/bin/python3 - "$@" <<'PY'
 import json, sys
 import numpy as np
 data, ws, seconds, label = sys.argv[1:5]

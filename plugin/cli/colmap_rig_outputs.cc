@@ -103,27 +103,44 @@ RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
   return out;
 }
 
+namespace {
+
+// The reference camera's run with the rig's warnings, and its context; an
+// empty run when its images did not fit the odometry (no model, no report
+// of its own).
+std::pair<ColmapCalibrationRun, ReportContext> ReferenceColmapRun(
+    const ColmapRigRun& rig, const RigCalibrationRun& as_rig) {
+  const ColmapRigCameraRun& reference = rig.cameras.at(rig.reference);
+  ColmapCalibrationRun run =
+      reference.run ? *reference.run : ColmapCalibrationRun();
+  CalibrationRun result = ReferenceRun(as_rig);
+  run.check.result = std::move(result.result);
+  return {std::move(run), std::move(result.context)};
+}
+
+}  // namespace
+
+nlohmann::json ColmapRigToJson(const ColmapRigRun& rig,
+                               const RigCalibrationRun& as_rig) {
+  const auto [reference_run, context] = ReferenceColmapRun(rig, as_rig);
+  json out = ColmapCalibrationToJson(reference_run, context);
+  AddRigToJson(as_rig, &out);
+  AddColmapRigToJson(rig, &out);
+  return out;
+}
+
 std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
                                                const RigCalibrationRun& as_rig,
                                                const std::string& output_dir,
                                                bool write_camera_folders) {
   namespace fs = std::filesystem;
-  const ColmapRigCameraRun& reference = rig.cameras.at(rig.reference);
-  // The reference camera's run with the rig's warnings; an empty one when
-  // its images did not fit the odometry (no model, no report of its own).
-  ColmapCalibrationRun reference_run =
-      reference.run ? *reference.run : ColmapCalibrationRun();
-  const CalibrationRun reference_result = ReferenceRun(as_rig);
-  reference_run.check.result = reference_result.result;
+  const auto [reference_run, context] = ReferenceColmapRun(rig, as_rig);
   RigOverrides overrides;
-  overrides.result =
-      ColmapCalibrationToJson(reference_run, reference_result.context);
-  AddRigToJson(as_rig, &overrides.result);
-  AddColmapRigToJson(rig, &overrides.result);
+  overrides.result = ColmapRigToJson(rig, as_rig);
   overrides.robot = RigRobotDescription(as_rig);
   overrides.report_section = RigReportHtml(ColmapRigReport(rig, as_rig));
   std::vector<std::string> written = WriteColmapCalibrationOutputs(
-      reference_run, reference_result.context, output_dir, &overrides);
+      reference_run, context, output_dir, &overrides);
 
   // cameras/<name>/: each camera's own files; an earlier run's go first.
   if (write_camera_folders) RemoveOwnedOutput(output_dir, "cameras");

@@ -25,6 +25,11 @@ RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
                                    const std::string& command,
                                    const nlohmann::json& flag_echo);
 
+// The rig's calibration.json: the reference camera's project result with
+// the rig's keys.
+nlohmann::json ColmapRigToJson(const ColmapRigRun& rig,
+                               const RigCalibrationRun& as_rig);
+
 // Writes the files above into `output_dir` (claimed for
 // ColmapCalibrationOutputEntries()). `as_rig` is RigCalibrationOf(rig) or
 // alike. Without `write_camera_folders`, cameras/<name>/ are the cameras'

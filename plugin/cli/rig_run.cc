@@ -22,29 +22,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool IsImage(const fs::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(),
-                 extension.end(),
-                 extension.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return extension == ".png" || extension == ".jpg" || extension == ".jpeg" ||
-         extension == ".bmp" || extension == ".tif" || extension == ".tiff";
-}
-
-std::string NameList(const std::vector<std::string>& names) {
-  std::string list;
-  for (const std::string& name : names)
-    list += (list.empty() ? "" : ", ") + name;
-  return list;
-}
-
 }  // namespace
 
 std::vector<std::string> RigCameraFolders(const std::string& image_path) {
   std::set<std::string> folders;
   for (const auto& entry : fs::recursive_directory_iterator(image_path)) {
-    if (!entry.is_regular_file() || !IsImage(entry.path())) continue;
+    if (!entry.is_regular_file() || !IsImageFile(entry.path())) continue;
     const fs::path relative = fs::relative(entry.path(), image_path);
     if (!relative.has_parent_path()) {
       throw std::invalid_argument(
@@ -81,7 +64,7 @@ std::map<std::string, std::string> RigCameraParams(
     if (std::find(cameras.begin(), cameras.end(), name) == cameras.end()) {
       throw std::invalid_argument(
           "--camera_params '" + value + "': no camera '" + name +
-          "' (the cameras of --image_path: " + NameList(cameras) + ")");
+          "' (the cameras of --image_path: " + JoinNames(cameras) + ")");
     }
     if (!params.emplace(name, value.substr(equals + 1)).second) {
       throw std::invalid_argument("--camera_params '" + value + "': camera '" +
@@ -111,7 +94,7 @@ int RunRigReconstruction(const ReconstructionOptions& run,
       throw std::invalid_argument("--reference_camera '" + reference_camera +
                                   "' names no camera sub-folder of "
                                   "--image_path (its cameras: " +
-                                  NameList(names) + ")");
+                                  JoinNames(names) + ")");
     }
     reference = static_cast<int>(it - names.begin());
   }
@@ -120,7 +103,7 @@ int RunRigReconstruction(const ReconstructionOptions& run,
                       ColmapCalibrationOutputEntries(),
                       ExistingOutputs::kReplaceOwn);
   std::cout << "cameras: " << names.size() << " (one per sub-folder of "
-            << run.image_path << "): " << NameList(names) << "\n"
+            << run.image_path << "): " << JoinNames(names) << "\n"
             << std::flush;
 
   ColmapRigRun rig;
@@ -182,7 +165,7 @@ int RunRigReconstruction(const ReconstructionOptions& run,
   const std::vector<std::string> written = WriteColmapRigOutputs(
       rig, as_rig, run.workspace_path, /*write_camera_folders=*/false);
   std::cout << RigCalibrationSummary(as_rig);
-  std::cout << "  wrote " << run.workspace_path << "/{" << NameList(written)
+  std::cout << "  wrote " << run.workspace_path << "/{" << JoinNames(written)
             << "}\n";
   if (as_rig.NumCalibrated() > 0) {
     std::cout << std::flush;

@@ -118,14 +118,14 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point start_, last_line_;
 };
 
+}  // namespace
+
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string joined;
   for (const std::string& name : names)
     joined += (joined.empty() ? "" : ", ") + name;
   return joined;
 }
-
-}  // namespace
 
 RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
                               const std::string& command,

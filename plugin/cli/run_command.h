@@ -32,6 +32,9 @@ RunOutcome RunAndWriteOutputs(const ReconstructionOptions& options,
                               const std::string& command,
                               const nlohmann::json& bag_echo = nullptr);
 
+// "a, b, c".
+std::string JoinNames(const std::vector<std::string>& names);
+
 int RunRun(int argc, char** argv);
 
 }  // namespace odomcal

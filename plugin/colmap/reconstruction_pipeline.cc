@@ -40,7 +40,7 @@ namespace fs = std::filesystem;
 using reconstruction::Progress;
 using reconstruction::StageClock;
 
-bool IsImageFile(const fs::path& path) {
+bool IsImageExtension(const fs::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(),
                  extension.end(),
@@ -54,7 +54,7 @@ bool IsImageFile(const fs::path& path) {
 std::vector<std::string> ListImages(const std::string& image_path) {
   std::vector<std::string> names;
   for (const auto& entry : fs::recursive_directory_iterator(image_path)) {
-    if (entry.is_regular_file() && IsImageFile(entry.path())) {
+    if (entry.is_regular_file() && IsImageExtension(entry.path())) {
       names.push_back(fs::relative(entry.path(), image_path).generic_string());
     }
   }
@@ -412,6 +412,10 @@ ReconstructionOptions WithMapperOf(const ReconstructionOptions& run,
 }
 
 }  // namespace
+
+bool IsImageFile(const std::filesystem::path& path) {
+  return IsImageExtension(path);
+}
 
 std::vector<FlaggedPath> UserInputs(const ReconstructionOptions& run) {
   std::vector<FlaggedPath> inputs = {

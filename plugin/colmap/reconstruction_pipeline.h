@@ -24,6 +24,7 @@
 #include "odomcal/plugin/colmap/mapper_stretches.h"
 #include "odomcal/plugin/output/output_guard.h"
 
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -139,6 +140,10 @@ std::vector<std::string> ReconstructionWorkspaceEntries();
 // CheckOutputsApartFromInputs, output_guard.h): all but those under
 // extracted_inputs_path.
 std::vector<FlaggedPath> UserInputs(const ReconstructionOptions& run);
+
+// Whether the pipeline takes `path` as an image: .png, .jpg, .jpeg, .bmp,
+// .tif, .tiff, in any case.
+bool IsImageFile(const std::filesystem::path& path);
 
 // Throws FormatError (inputs), OutputError (workspace), ColmapError (COLMAP
 // failed or produced no model) or std::invalid_argument (options), each

@@ -405,6 +405,39 @@ class CalibrateProjectTest(unittest.TestCase):
         self.assertIsNone(off["joint_adjustment"])
         self.assertEqual(off["options"]["joint_adjustment"], "off")
 
+    def test_project_with_two_cameras_calibrates_each(self):
+        # The same poses seen by two COLMAP cameras in two sub-folders: a
+        # rig of two cameras, each calibrated from its own images.
+        camera, odometry = simulated_drive()
+        with tempfile.TemporaryDirectory() as folder:
+            model, odometry_path, stamps = write_colmap_project(folder, camera, odometry)
+            images_path = os.path.join(model, "0", "images.txt")
+            lines = [line for line in open(images_path) if line.strip()]
+            with open(images_path, "w") as f, open(stamps, "w") as times:
+                times.write("image_name,timestamp\n")
+                for k, (sub_folder, camera_id) in enumerate((("front", 1), ("rear", 2))):
+                    for i, line in enumerate(lines):
+                        fields = line.split()
+                        fields[0] = str(k * len(lines) + i + 1)
+                        fields[8] = str(camera_id)
+                        fields[9] = sub_folder + "/" + fields[9]
+                        f.write(" ".join(fields) + "\n\n")
+                        times.write("%s,%.9f\n" % (fields[9], camera[i, 0]))
+            with open(os.path.join(model, "0", "cameras.txt"), "a") as f:
+                f.write("2 PINHOLE 320 240 250 250 160 120\n")
+            result = odomcal.calibrate_project(
+                model_path=model, odometry=odometry_path, image_timestamps=stamps,
+                fixed_translation_z_m=0.40, reference_camera="rear")
+        self.assertEqual(result["reference_camera"], "rear")
+        self.assertEqual([c["name"] for c in result["cameras"]], ["front", "rear"])
+        for camera_result in result["cameras"]:
+            self.assertEqual(camera_result["status"], "success", camera_result["reason"])
+            transform = np.array(camera_result["odom_from_cam"]["matrix"])
+            self.assertLess(rotation_error_deg(transform[:3, :3], ODOM_FROM_CAM_R), 1e-6)
+        self.assertEqual(len(result["camera_pairs"]), 1)
+        self.assertEqual(len(result["shared_scales"]), 1)
+        self.assertFalse(result["shared_scales"][0]["disagree"])
+
     def test_project_errors_name_the_keyword(self):
         with tempfile.TemporaryDirectory() as folder:
             camera, odometry = simulated_drive(duration_s=2)
