@@ -235,15 +235,15 @@ std::string RigCalibrationSummary(const RigCalibrationRun& rig) {
     out << "  " << rig.cameras[pair.camera_b].name << "_from_"
         << rig.cameras[pair.camera_a].name
         << Printf(
-               ": roll pitch yaw %.3f %.3f %.3f deg (3 sigma %.3f %.3f "
-               "%.3f); translation %.2f %.2f %.2f cm (3 sigma %.2f %.2f "
-               "%.2f)%s\n",
+               ": roll pitch yaw %.3f %.3f %.3f deg (3 sigma about camB's "
+               "x y z %.3f %.3f %.3f deg); translation %.2f %.2f %.2f cm "
+               "(3 sigma %.2f %.2f %.2f)%s\n",
                rpy.x(),
                rpy.y(),
                rpy.z(),
-               3.0 * t.stddev_roll_pitch_yaw_deg.x(),
-               3.0 * t.stddev_roll_pitch_yaw_deg.y(),
-               3.0 * t.stddev_roll_pitch_yaw_deg.z(),
+               3.0 * t.stddev_rotation_axes_deg.x(),
+               3.0 * t.stddev_rotation_axes_deg.y(),
+               3.0 * t.stddev_rotation_axes_deg.z(),
                100.0 * x.x(),
                100.0 * x.y(),
                100.0 * x.z(),

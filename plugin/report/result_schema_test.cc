@@ -8,6 +8,7 @@
 // cannot fall behind the writers.
 
 #include "odomcal/adapters/frame_selection.h"
+#include "odomcal/plugin/cli/colmap_rig_outputs.h"
 #include "odomcal/plugin/cli/rig_report.h"
 #include "odomcal/plugin/options/project_flags.h"
 #include "odomcal/plugin/options/run_flags.h"
@@ -269,6 +270,35 @@ TEST(ResultSchema, ColmapOutputConforms) {
     run_out["options"]["run"]["matcher"] = matcher;
     EXPECT_EQ(Lines(checker.Check(run_out)), "") << matcher;
   }
+  fs::remove_all(dir);
+}
+
+// `odomcal colmap` on several cameras (here two cameras of the same images)
+// and `run --rig` with a camera COLMAP gave no model.
+TEST(ResultSchema, ColmapRigOutputConforms) {
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("result_schema_rig_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir / "project").string(), {});
+  ColmapProjectCameras cameras;
+  cameras.grouping = ColmapCameraGrouping::kBySubFolder;
+  cameras.cameras = {{"front", {1}, 10}, {"rear", {1}, 10}};
+  ColmapRigRun rig = CalibrateColmapRig(inputs, cameras, 1);
+  ASSERT_EQ(rig.shared_scales.size(), 1u);
+  const SchemaChecker checker(ReadSchema());
+  const json echo = ProjectFlagsEcho(inputs);
+  json out =
+      ColmapRigToJson(rig, RigCalibrationOf(rig, "odomcal colmap", echo));
+  EXPECT_EQ(Lines(checker.Check(out)), "");
+  EXPECT_EQ(out["shared_scales"].size(), 1u);
+  rig.cameras[0].run.reset();
+  rig.cameras[0].input_error = "COLMAP mapper produced no model";
+  rig.cameras[0].failure_status = "colmap_failed";
+  out = ColmapRigToJson(rig, RigCalibrationOf(rig, "odomcal run", echo));
+  EXPECT_EQ(Lines(checker.Check(out)), "");
+  EXPECT_EQ(out["cameras"][0]["status"], "colmap_failed");
+  EXPECT_TRUE(out["cameras"][0]["outputs"].is_null());
   fs::remove_all(dir);
 }
 

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -156,12 +157,23 @@ std::string RigPairRowHtml(const RigReport& rig, const RigReportPair& pair) {
       << kRigNumberCell
       << RigValueHtml("%.3f", t.angle_deg, 3.0 * angle_sigma_deg) << "</td>"
       << kRigNumberCell;
+  // Roll, pitch and yaw without their sigmas, which grow without bound near
+  // pitch +-90 deg (a side camera against a rear one): the rotation's 3
+  // sigma about camB's axes instead.
   const char* angle_names[3] = {"roll", "pitch", "yaw"};
   for (int k = 0; k < 3; ++k) {
-    row << (k > 0 ? "<br>" : "") << angle_names[k] << " "
-        << RigValueHtml("%.3f", rpy(k), 3.0 * t.stddev_roll_pitch_yaw_deg(k));
+    char value[32];
+    std::snprintf(value, sizeof(value), "%.3f", rpy(k));
+    row << (k > 0 ? "<br>" : "") << angle_names[k] << " " << value;
   }
-  row << "</td>" << kRigNumberCell;
+  char axes[96];
+  std::snprintf(axes,
+                sizeof(axes),
+                "<br>3&sigma; about x, y, z: %.3f, %.3f, %.3f",
+                3.0 * t.stddev_rotation_axes_deg.x(),
+                3.0 * t.stddev_rotation_axes_deg.y(),
+                3.0 * t.stddev_rotation_axes_deg.z());
+  row << axes << "</td>" << kRigNumberCell;
   const char axis_names[3] = {'x', 'y', 'z'};
   for (int k = 0; k < 3; ++k) {
     row << (k > 0 ? "<br>" : "") << axis_names[k] << " "
