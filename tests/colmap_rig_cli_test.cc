@@ -376,3 +376,36 @@ TEST_F(ColmapRigCli, ReferenceCameraErrorsNameTheFlag) {
 
 }  // namespace
 }  // namespace odomcal
+
+namespace odomcal {
+namespace {
+
+// The reference camera's images fit no odometry time (another clock): it is
+// named with its input error, the other cameras are calibrated and written,
+// and the top level says so without a model of its own.
+TEST_F(ColmapRigCli, ReferenceCameraWithAnInputErrorLeavesTheOthers) {
+  std::vector<RigCamera> cameras = ThreeCameras();
+  cameras[0].clock_offset_s = 5000.0;
+  WriteProject(TestSeed(44), cameras);
+  std::string out, err;
+  ASSERT_EQ(Run(Arguments(), &out, &err), 0) << out << err;
+  const json result = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "front");
+  EXPECT_EQ(result["cameras"][0]["status"], "input_error");
+  EXPECT_TRUE(result["cameras"][0]["outputs"].is_null());
+  EXPECT_EQ(result["cameras"][1]["status"], "success");
+  EXPECT_EQ(result["cameras"][2]["status"], "success");
+  EXPECT_EQ(result["camera_pairs"].size(), 1u);
+  EXPECT_NE(err.find("warning: camera front not calibrated (input_error)"),
+            std::string::npos)
+      << err;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "report.html"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "cameras" / "front"));
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "cameras" / "rear" / "report.html"));
+  EXPECT_NE(ReadFile(dir_ / "out" / "calibration.urdf")
+                .find("rear_camera_optical_frame"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace odomcal
