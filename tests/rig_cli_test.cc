@@ -19,9 +19,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace odomcal {
@@ -373,6 +375,70 @@ TEST_F(RigCli, BadCameraFlagsGiveOneLineNamingTheFlag) {
     EXPECT_EQ(LineCount(run.err), 1) << run.err;
     EXPECT_EQ(run.err.rfind("odomcal calibrate: error: ", 0), 0u) << run.err;
   }
+}
+
+}  // namespace
+}  // namespace odomcal
+
+namespace odomcal {
+namespace {
+
+// `run --rig`'s input errors, each one line naming the flag or folder,
+// before any COLMAP stage (docs/robustness.md).
+TEST_F(RigCli, RunRigInputErrorsGiveOneLine) {
+  WriteRig(TestSeed(36), ThreeCameraRig());
+  const fs::path images = dir_ / "images";
+  for (const char* camera : {"front", "rear"}) {
+    fs::create_directories(images / camera);
+    std::ofstream(images / camera / "1700000000000000000.png") << "not read";
+  }
+  const std::string base = "run --rig --image_path " + images.string() +
+                           " --odometry " + Path("odometry.csv") +
+                           " --workspace_path " + Path("ws");
+  const std::string error = "odomcal run: error: ";
+  std::vector<std::pair<std::string, std::string>> cases = {
+      {base + " --camera_params side=1,2,3,4",
+       "--camera_params 'side=1,2,3,4': no camera 'side' (the cameras of "
+       "--image_path: front, rear)"},
+      {base + " --camera_params front=1,2,3,4 --camera_params front=1,2,3,5",
+       "--camera_params 'front=1,2,3,5': camera 'front' given twice"},
+      {base + " --camera_params 1,2,3,4 --camera_params front=1,2,3,5",
+       "--camera_params: give either one PARAMS for every camera or "
+       "NAME=PARAMS per camera, not both"},
+      {base + " --reference_camera side",
+       "--reference_camera 'side' names no camera sub-folder of --image_path "
+       "(its cameras: front, rear)"},
+      {"run --image_path " + images.string() + " --odometry " +
+           Path("odometry.csv") + " --workspace_path " + Path("ws") +
+           " --camera_params 1,2,3,4 --camera_params 5,6,7,8",
+       "--camera_params is given 2 times: one camera takes one (several "
+       "cameras: --rig)"},
+  };
+  for (const auto& [arguments, message] : cases) {
+    SCOPED_TRACE(arguments);
+    const CommandResult run = Run(arguments);
+    EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+    EXPECT_EQ(run.err, error + message + "\n");
+    EXPECT_FALSE(fs::exists(Path("ws")));
+  }
+  // A camera folder without images; an image in no camera's folder.
+  fs::create_directories(images / "side");
+  CommandResult run = Run(base);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err,
+            error + "--rig: camera sub-folder " + (images / "side").string() +
+                " holds no images (.png, .jpg, .jpeg, .bmp, .tif)\n");
+  fs::remove(images / "side");
+  std::ofstream(images / "1700000000000000000.png") << "not read";
+  run = Run(base);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(run.err.rfind(error + "--rig: " +
+                              (images / "1700000000000000000.png").string() +
+                              " lies in no camera sub-folder",
+                          0),
+            0u)
+      << run.err;
+  EXPECT_FALSE(fs::exists(Path("ws")));
 }
 
 }  // namespace

@@ -42,6 +42,17 @@ std::vector<std::string> RigCameraFolders(const std::string& image_path) {
                                 " holds images (.png, .jpg, .jpeg, .bmp, "
                                 ".tif)");
   }
+  // A camera folder without images is a camera that recorded nothing (or a
+  // wrong path): said, not skipped.
+  for (const auto& entry : fs::directory_iterator(image_path)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_directory() && folders.count(name) == 0) {
+      throw std::invalid_argument("--rig: camera sub-folder " +
+                                  entry.path().string() +
+                                  " holds no images (.png, .jpg, .jpeg, "
+                                  ".bmp, .tif)");
+    }
+  }
   for (const std::string& folder : folders) {
     CheckCameraName(folder, "--rig: camera sub-folder '" + folder + "'");
   }
@@ -51,12 +62,19 @@ std::vector<std::string> RigCameraFolders(const std::string& image_path) {
 std::map<std::string, std::string> RigCameraParams(
     const std::vector<std::string>& values,
     const std::vector<std::string>& cameras) {
+  const bool for_every_camera =
+      std::any_of(values.begin(), values.end(), [](const std::string& value) {
+        return value.find('=') == std::string::npos;
+      });
+  if (for_every_camera && values.size() > 1) {
+    throw std::invalid_argument(
+        "--camera_params: give either one PARAMS for every camera or "
+        "NAME=PARAMS per camera, not both");
+  }
   std::map<std::string, std::string> params;
-  bool for_every_camera = false;
   for (const std::string& value : values) {
     const size_t equals = value.find('=');
     if (equals == std::string::npos) {
-      for_every_camera = true;
       for (const std::string& camera : cameras) params[camera] = value;
       continue;
     }
@@ -70,11 +88,6 @@ std::map<std::string, std::string> RigCameraParams(
       throw std::invalid_argument("--camera_params '" + value + "': camera '" +
                                   name + "' given twice");
     }
-  }
-  if (for_every_camera && values.size() > 1) {
-    throw std::invalid_argument(
-        "--camera_params: give either one PARAMS for every camera or "
-        "NAME=PARAMS per camera, not both");
   }
   return params;
 }

@@ -20,10 +20,10 @@
 
 namespace odomcal {
 
-// The cameras of a rig folder: its sub-folders that hold images, in name
-// order. Throws std::invalid_argument naming --rig when an image lies
-// directly in `image_path` (in no camera's folder) or no sub-folder holds an
-// image, and naming the camera folder when its name cannot be a frame name.
+// The cameras of a rig folder: its sub-folders, in name order. Throws
+// std::invalid_argument naming --rig when an image lies directly in
+// `image_path` (in no camera's folder), when a sub-folder holds no image,
+// and naming the camera folder when its name cannot be a frame name.
 std::vector<std::string> RigCameraFolders(const std::string& image_path);
 
 // --camera_params values (one per occurrence): NAME=PARAMS per camera, or
