@@ -1,0 +1,55 @@
+// Expectations shared by the tests of several cameras (rig_cli_test.cc,
+// colmap_rig_cli_test.cc).
+#pragma once
+
+#include "odomcal/solver/angles.h"
+#include "odomcal/solver/rigid3.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <string>
+
+namespace odomcal {
+
+// Rotation error (left perturbation: truth = Exp(e) * estimate) and
+// translation error of a JSON odom_from_cam / camb_from_cama, each within 3
+// of its sigma. Prints each error over its sigma ("normalised error"), the
+// numbers docs/cli.md quotes over seeds.
+inline void ExpectWithinThreeSigma(const std::string& what,
+                                   const Rigid3d& truth,
+                                   const nlohmann::json& transform,
+                                   const nlohmann::json& covariance,
+                                   bool z_held) {
+  const nlohmann::json& q = transform["quaternion_wxyz"];
+  const Eigen::Quaterniond rotation(q[0].get<double>(),
+                                    q[1].get<double>(),
+                                    q[2].get<double>(),
+                                    q[3].get<double>());
+  const nlohmann::json& t = transform["translation_m"];
+  const Eigen::Vector3d rotation_error =
+      LogRotation(truth.rotation * rotation.inverse());
+  const nlohmann::json& c = covariance["matrix"];
+  for (int k = 0; k < 3; ++k) {
+    const double sigma = std::sqrt(c[k][k].get<double>());
+    EXPECT_GT(sigma, 0.0);
+    std::cout << "normalised error " << what << " r" << k << " "
+              << rotation_error(k) / sigma << "\n";
+    EXPECT_LT(std::abs(rotation_error(k)), 3.0 * sigma)
+        << "rotation axis " << k << ": " << rotation_error(k) * kRadToDeg
+        << " deg, sigma " << sigma * kRadToDeg << " deg";
+  }
+  for (int k = 0; k < (z_held ? 2 : 3); ++k) {
+    const double sigma = std::sqrt(c[3 + k][3 + k].get<double>());
+    const double error = truth.translation(k) - t[k].get<double>();
+    EXPECT_GT(sigma, 0.0);
+    std::cout << "normalised error " << what << " t" << k << " "
+              << error / sigma << "\n";
+    EXPECT_LT(std::abs(error), 3.0 * sigma)
+        << "translation " << k << ": " << error << " m, sigma " << sigma;
+  }
+}
+
+}  // namespace odomcal
