@@ -15,10 +15,11 @@ std::string SubFolder(const std::string& name) {
   return slash == std::string::npos ? std::string() : name.substr(0, slash);
 }
 
-// A camera name (A-Z a-z 0-9 _ - ., at most 100 characters) from a folder.
-std::string CameraNameOf(const std::string& folder) {
+}  // namespace
+
+std::string CameraNameFromText(const std::string& text) {
   std::string name;
-  for (const char c : folder) {
+  for (const char c : text) {
     const bool allowed = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') ||
                          (c >= '0' && c <= '9') || c == '_' || c == '-' ||
                          c == '.';
@@ -26,8 +27,6 @@ std::string CameraNameOf(const std::string& folder) {
   }
   return name.substr(0, 100);
 }
-
-}  // namespace
 
 const char* ColmapCameraGroupingText(ColmapCameraGrouping grouping) {
   switch (grouping) {
@@ -85,11 +84,11 @@ ColmapProjectCameras GroupColmapImagesIntoCameras(
     std::set<std::string> names;
     for (const auto& [folder, camera_ids] : cameras_of_folder) {
       ColmapProjectCamera camera;
-      camera.name = CameraNameOf(folder);
+      camera.name = CameraNameFromText(folder);
       // Two folders that differ only in characters a frame name cannot hold.
       for (int k = 2; !names.insert(camera.name).second; ++k) {
         camera.name =
-            CameraNameOf(folder).substr(0, 90) + "_" + std::to_string(k);
+            CameraNameFromText(folder).substr(0, 90) + "_" + std::to_string(k);
       }
       camera.camera_ids = camera_ids;
       camera.num_images = images_of_folder.at(folder);

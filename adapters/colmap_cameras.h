@@ -61,6 +61,10 @@ struct ColmapImageCamera {
 ColmapProjectCameras GroupColmapImagesIntoCameras(
     const std::vector<ColmapImageCamera>& images);
 
+// A camera name (A-Z a-z 0-9 _ - ., at most 100 characters) from a folder
+// or topic: other characters become '_'.
+std::string CameraNameFromText(const std::string& text);
+
 // "by sub-folder", ... for messages.
 const char* ColmapCameraGroupingText(ColmapCameraGrouping grouping);
 

@@ -590,9 +590,10 @@ py::object Extract(const py::object& bag_path,
                              t.mean_abs_header_minus_receive_s}};
     };
     const fs::path out(flag_set.options.output_folder);
-    const auto [model, params] = ExtractedCamera(summary);
+    const bag::CameraExtractionSummary& camera = summary.cameras.front();
+    const auto [model, params] = ExtractedCamera(camera);
     nlohmann::json result = {
-        {"images", topic(summary.images)},
+        {"images", topic(camera.images)},
         {"odometry", topic(summary.odometry)},
         {"image_path", (out / "images").string()},
         {"image_timestamps", (out / "image_timestamps.csv").string()},
@@ -604,8 +605,8 @@ py::object Extract(const py::object& bag_path,
         {"camera_params",
          params.empty() ? nlohmann::json() : nlohmann::json(params)},
         {"warnings", summary.warnings}};
-    if (!summary.camera_info.topic.empty()) {
-      result["camera_info"] = topic(summary.camera_info);
+    if (!camera.camera_info.topic.empty()) {
+      result["camera_info"] = topic(camera.camera_info);
     }
     return result.dump();
   }));

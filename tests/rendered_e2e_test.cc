@@ -440,39 +440,14 @@ Rigid3d TransformOf(const json& transform) {
           t[0].get<double>(), t[1].get<double>(), t[2].get<double>()));
 }
 
-// A stereo pair (two forward cameras 12 cm apart, `render --rig stereo`)
-// through `run --rig`: each camera from its own images in WS/cameras/<name>,
-// z from the floor, and the camera-to-camera transform from the two.
-TEST_F(RenderedEndToEnd, StereoRigThroughRunRig) {
-  std::string log;
-  const fs::path data = dir_ / "data";
-  ASSERT_EQ(
-      Run("render --preset small --rig stereo --seed " +
-              std::to_string(TestSeed(5)) + " --output_path " + data.string(),
-          &log),
-      0)
-      << log;
-  const json truth = json::parse(ReadFile(data / "ground_truth.json"));
-  std::string params_flags;
-  for (const json& camera : truth["cameras"]) {
-    std::string params;
-    for (const json& value : camera["camera"]["params"]) {
-      params += (params.empty() ? "" : ",") + FormatNumber(value.get<double>());
-    }
-    params_flags +=
-        " --camera_params " + camera["name"].get<std::string>() + "=" + params;
-  }
-  const fs::path workspace = dir_ / "ws";
-  ASSERT_EQ(Run("run --rig --image_path " + (data / "images").string() +
-                    " --odometry " + (data / "odometry.csv").string() +
-                    " --camera_model PINHOLE" + params_flags +
-                    " --reference_camera right --workspace_path " +
-                    workspace.string(),
-                &log),
-            0)
-      << log;
-  const json result = json::parse(ReadFile(workspace / "calibration.json"));
-  EXPECT_EQ(result["reference_camera"], "right");
+// The cameras of `render --rig stereo` in `result` (a rig's
+// calibration.json in `workspace`): both within 0.1 deg and 5 mm of their
+// mounts (z from the floor), the pair within 0.1 deg and 5 mm, each camera's
+// own files in cameras/<name>/ and the rig's robot files.
+void ExpectStereoRigAccurate(const json& truth,
+                             const json& result,
+                             const fs::path& workspace,
+                             const std::string& log) {
   ASSERT_EQ(result["cameras"].size(), 2u) << result["cameras"];
   std::map<std::string, Rigid3d> truths, estimates;
   for (size_t k = 0; k < 2; ++k) {
@@ -507,6 +482,9 @@ TEST_F(RenderedEndToEnd, StereoRigThroughRunRig) {
   const Rigid3d expected =
       Inverse(truths[pair["camera_b"]]) * truths[pair["camera_a"]];
   const Rigid3d error = Inverse(expected) * TransformOf(pair["camb_from_cama"]);
+  std::cout << "[ errors   ] pair: rotation "
+            << RotationAngle(error.rotation) * kRadToDeg << " deg, "
+            << "translation " << 1000.0 * error.translation.norm() << " mm\n";
   EXPECT_LT(RotationAngle(error.rotation) * kRadToDeg, 0.1);
   EXPECT_LT(error.translation.norm(), 0.005);
   const std::string urdf = ReadFile(workspace / "calibration.urdf");
@@ -514,6 +492,107 @@ TEST_F(RenderedEndToEnd, StereoRigThroughRunRig) {
   EXPECT_NE(urdf.find("right_camera_optical_frame"), std::string::npos);
   EXPECT_NE(ReadFile(workspace / "report.html").find("Cameras of the rig"),
             std::string::npos);
+}
+
+// A stereo pair (two forward cameras 12 cm apart, `render --rig stereo`)
+// through `run --rig`: each camera from its own images in WS/cameras/<name>,
+// z from the floor, and the camera-to-camera transform from the two.
+TEST_F(RenderedEndToEnd, StereoRigThroughRunRig) {
+  std::string log;
+  const fs::path data = dir_ / "data";
+  ASSERT_EQ(
+      Run("render --preset small --rig stereo --seed " +
+              std::to_string(TestSeed(5)) + " --output_path " + data.string(),
+          &log),
+      0)
+      << log;
+  const json truth = json::parse(ReadFile(data / "ground_truth.json"));
+  std::string params_flags;
+  for (const json& camera : truth["cameras"]) {
+    std::string params;
+    for (const json& value : camera["camera"]["params"]) {
+      params += (params.empty() ? "" : ",") + FormatNumber(value.get<double>());
+    }
+    params_flags +=
+        " --camera_params " + camera["name"].get<std::string>() + "=" + params;
+  }
+  const fs::path workspace = dir_ / "ws";
+  ASSERT_EQ(Run("run --rig --image_path " + (data / "images").string() +
+                    " --odometry " + (data / "odometry.csv").string() +
+                    " --camera_model PINHOLE" + params_flags +
+                    " --reference_camera right --workspace_path " +
+                    workspace.string(),
+                &log),
+            0)
+      << log;
+  const json result = json::parse(ReadFile(workspace / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "right");
+  ExpectStereoRigAccurate(truth, result, workspace, log);
+}
+
+// The stereo pair as a robot records it: a ROS 1 bag with two image topics
+// and their CameraInfo (/left/image_raw/compressed, /left/camera_info,
+// /right/..., written by python3-rosbag: rendered_to_ros1_bag.py), through
+// `run --bag` with both --image_topic: a rig whose cameras are named by the
+// topics' namespaces, each with the intrinsics of its CameraInfo. 30 images
+// per camera (12 s of the drive) keep the test near a minute.
+TEST_F(RenderedEndToEnd, StereoRigFromARos1BagWithTwoImageTopics) {
+  std::string log;
+  const fs::path data = dir_ / "data";
+  const fs::path bag = dir_ / "bag" / "stereo.bag";
+  fs::create_directories(bag.parent_path());
+  ASSERT_EQ(
+      Run("render --preset small --rig stereo --num_images 30 --seed " +
+              std::to_string(TestSeed(5)) + " --output_path " + data.string(),
+          &log),
+      0)
+      << log;
+  const json truth = json::parse(ReadFile(data / "ground_truth.json"));
+  ASSERT_EQ(std::system(("/usr/bin/python3 " ODOMCAL_BAG_FROM_RENDERING " " +
+                         data.string() + " " + bag.string())
+                            .c_str()),
+            0);
+  const auto bag_before = Snapshot(bag.parent_path());
+  const fs::path workspace = dir_ / "ws";
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(Run("run --bag " + bag.string() +
+                    " --image_topic /left/image_raw/compressed"
+                    " --image_topic /right/image_raw/compressed"
+                    " --workspace_path " +
+                    workspace.string(),
+                &log),
+            0)
+      << log;
+  std::cout << "[ time     ] run --bag: "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                             start)
+                   .count()
+            << " s\n";
+  EXPECT_TRUE(Snapshot(bag.parent_path()) == bag_before);
+  const json result = json::parse(ReadFile(workspace / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "left");
+  EXPECT_EQ(result["inputs"]["bag"], bag.string());
+  EXPECT_EQ(result["inputs"]["rig"], true);
+  EXPECT_EQ(result["options"]["bag"]["image_topic"],
+            json::array(
+                {"/left/image_raw/compressed", "/right/image_raw/compressed"}));
+  ExpectStereoRigAccurate(truth, result, workspace, log);
+  // The intrinsics came from each camera's CameraInfo, moved to COLMAP's
+  // pixel centre.
+  const std::string cameras =
+      ReadFile(workspace / "bag_inputs" / "cameras.txt");
+  EXPECT_NE(cameras.find("\n1 PINHOLE 320 240 260 260 160 120\n"),
+            std::string::npos)
+      << cameras;
+  EXPECT_NE(cameras.find("\n2 PINHOLE 320 240 260 260 160 120\n"),
+            std::string::npos)
+      << cameras;
+  for (const char* name : {"left", "right"}) {
+    const json own = json::parse(
+        ReadFile(workspace / "cameras" / name / "calibration.json"));
+    EXPECT_EQ(own["options"]["run"]["camera_params"], "260,260,160,120")
+        << name;
+  }
 }
 
 }  // namespace

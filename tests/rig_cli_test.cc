@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <random>
 #include <string>
 #include <utility>
@@ -402,6 +403,170 @@ TEST_F(RigCli, RunRigInputErrorsGiveOneLine) {
             0u)
       << run.err;
   EXPECT_FALSE(fs::exists(Path("ws")));
+}
+
+// A bag with several image topics through `run --bag` (rig.bag of
+// tests/fixtures/bags/make_extract_bags.py: left with a plumb_bob
+// CameraInfo, right with a distortion-free one, rear without). Its drive is
+// 1.2 s of one turn, so every camera is refused before COLMAP: what is
+// checked is the rig the bag becomes, not a calibration.
+std::string RigBag() {
+  return (fs::path(ODOMCAL_EXTRACT_FIXTURE_DIR) / "rig.bag").string();
+}
+
+TEST_F(RigCli, RunBagWithSeveralImageTopicsTakesEachCamerasCameraInfo) {
+  const CommandResult run =
+      Run("run --bag " + RigBag() +
+          " --image_topic /left/image_raw --image_topic "
+          "/right/image_raw/compressed --image_topic /rear/image_raw "
+          "--camera_model PINHOLE --camera_params rear=8,8,4,3 "
+          "--reference_camera right --colmap_path " +
+          Path("no_colmap") + " --workspace_path " + Path("ws"));
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(run.out.find("topics: 3 cameras left (images /left/image_raw, "
+                         "camera info /left/camera_info), rear (images "
+                         "/rear/image_raw, no camera info (give "
+                         "--camera_params rear=PARAMS)), right (images "
+                         "/right/image_raw/compressed, camera info "
+                         "/right/camera_info), odometry /odom"),
+            std::string::npos)
+      << run.out;
+  for (const char* name : {"left", "rear", "right"}) {
+    EXPECT_TRUE(fs::is_directory(dir_ / "ws" / "bag_inputs" / "images" / name))
+        << name;
+  }
+  const json result = json::parse(ReadFile(dir_ / "ws" / "calibration.json"));
+  EXPECT_EQ(result["reference_camera"], "right");
+  ASSERT_EQ(result["cameras"].size(), 3u);
+  EXPECT_EQ(result["inputs"]["rig"], true);
+  EXPECT_EQ(result["inputs"]["bag"], RigBag());
+  EXPECT_EQ(result["options"]["bag"]["image_topic"],
+            json::array({"/left/image_raw",
+                         "/right/image_raw/compressed",
+                         "/rear/image_raw"}));
+  // Each camera's intrinsics: its CameraInfo's (model and COLMAP's pixel
+  // centre, cx + 0.5), or the --camera_params given for it.
+  const std::map<std::string, std::pair<std::string, std::string>> cameras = {
+      {"left", {"OPENCV", "7.5,7.25,3.75,3.25,-0.21,0.043,0.0011,-0.0007"}},
+      {"rear", {"PINHOLE", "8,8,4,3"}},
+      {"right", {"PINHOLE", "3.5,3.25,2,1.5"}},
+  };
+  for (const auto& [name, camera] : cameras) {
+    SCOPED_TRACE(name);
+    const json own = json::parse(
+        ReadFile(dir_ / "ws" / "cameras" / name / "calibration.json"));
+    EXPECT_EQ(own["options"]["run"]["camera_model"], camera.first);
+    EXPECT_EQ(own["options"]["run"]["camera_params"], camera.second);
+    EXPECT_EQ(own["status"], "unobservable");
+  }
+}
+
+// The rig's topic errors: one line naming the topic or flag, before the
+// workspace is created (docs/robustness.md).
+TEST_F(RigCli, BagRigInputErrorsGiveOneLine) {
+  const std::string base = "run --bag " + RigBag() + " --workspace_path " +
+                           Path("ws") + " --image_topic /left/image_raw";
+  const std::string error = "odomcal run: error: ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {base + " --image_topic /front/image_raw",
+       "--image_topic /front/image_raw is not in the bag; image topics: "
+       "/left/image_raw (sensor_msgs/Image, 10 messages), "
+       "/left/image_raw/compressed (sensor_msgs/CompressedImage, 10 "
+       "messages), /rear/image_raw (sensor_msgs/Image, 4 messages), "
+       "/right/image_raw/compressed (sensor_msgs/CompressedImage, 5 "
+       "messages)"},
+      {base + " --image_topic /rear/image_raw",
+       "--image_topic /rear/image_raw (camera rear): the bag has no "
+       "CameraInfo beside it (/rear/camera_info) and no --camera_params "
+       "rear=PARAMS is given"},
+      {base + " --image_topic /left/image_raw/compressed",
+       "image topics /left/image_raw and /left/image_raw/compressed both "
+       "make camera 'left' (a camera is named by its topic's namespace): "
+       "give one of them, or name each with --image_topic NAME=TOPIC"},
+      {"run --bag " + RigBag() + " --workspace_path " + Path("ws") + " --rig",
+       "image topics /left/image_raw and /left/image_raw/compressed both "
+       "make camera 'left' (a camera is named by its topic's namespace): "
+       "give one of them, or name each with --image_topic NAME=TOPIC"},
+      {base + " --image_topic /right/image_raw/compressed --camera_params "
+              "side=1,2,3,4",
+       "--camera_params 'side=1,2,3,4': no camera 'side' (the cameras of "
+       "--bag: left, right)"},
+      {base + " --image_topic /right/image_raw/compressed "
+              "--reference_camera side",
+       "--reference_camera 'side' names no camera of --bag (its cameras: "
+       "left, right)"},
+      {"run --bag " + RigBag() + " --workspace_path " + Path("ws") +
+           " --reference_camera left",
+       "--reference_camera requires --rig (or several --image_topic with "
+       "--bag)"},
+  };
+  for (const auto& [arguments, message] : cases) {
+    SCOPED_TRACE(arguments);
+    const CommandResult run = Run(arguments);
+    EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+    EXPECT_EQ(run.err, error + message + "\n");
+    EXPECT_FALSE(fs::exists(Path("ws")));
+  }
+}
+
+// `inspect` says what a rig run would take; `extract` with several
+// --image_topic writes the rig layout and the `run --rig` command.
+TEST_F(RigCli, InspectAndExtractABagWithSeveralImageTopics) {
+  CommandResult run = Run("inspect --bag " + RigBag());
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("run --bag cannot choose by itself: the bag has 4 "
+                         "image topics: "),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("pass --image_topic to choose one (several "
+                         "--image_topic: a rig, one camera each)"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("run --bag --rig cannot choose by itself: image "
+                         "topics /left/image_raw and "
+                         "/left/image_raw/compressed both make camera 'left'"),
+            std::string::npos)
+      << run.out;
+  const std::string two =
+      " --image_topic /left/image_raw --image_topic "
+      "/right/image_raw/compressed";
+  run = Run("inspect --bag " + RigBag() + two);
+  EXPECT_NE(run.out.find("run --bag would use: 2 cameras left (images "
+                         "/left/image_raw, camera info /left/camera_info), "
+                         "right (images /right/image_raw/compressed, camera "
+                         "info /right/camera_info), odometry /odom\n"),
+            std::string::npos)
+      << run.out;
+
+  run = Run("extract --bag " + RigBag() + two + " --output_path " +
+            Path("inputs"));
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_EQ(fs::exists(dir_ / "inputs" / "images" / "left" /
+                       "1690000000123456796.png"),
+            true);
+  EXPECT_EQ(fs::exists(dir_ / "inputs" / "images" / "right" /
+                       "1690000000173456800.png"),
+            true);
+  const std::string times = ReadFile(dir_ / "inputs" / "image_timestamps.csv");
+  EXPECT_NE(times.find("\nleft/1690000000123456796.png,1690000000.123456796\n"),
+            std::string::npos)
+      << times;
+  EXPECT_NE(
+      times.find("\nright/1690000000173456800.png,1690000000.173456800\n"),
+      std::string::npos)
+      << times;
+  EXPECT_NE(ReadFile(dir_ / "inputs" / "cameras.txt")
+                .find("\n2 PINHOLE 4 3 3.5 3.25 2 1.5\n"),
+            std::string::npos);
+  EXPECT_NE(run.out.find("  odomcal run --rig --image_path " + Path("inputs") +
+                         "/images --image_timestamps "),
+            std::string::npos)
+      << run.out;
+  // OPENCV and PINHOLE: run --rig takes one --camera_model.
+  EXPECT_NE(run.out.find("run --rig takes one --camera_model and the "
+                         "cameras' differ"),
+            std::string::npos)
+      << run.out;
 }
 
 }  // namespace

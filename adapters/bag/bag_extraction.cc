@@ -164,8 +164,26 @@ struct ImageSize {
 
 enum class TopicRole { kNone, kImage, kOdometry, kCameraInfo };
 
+struct TopicUse {
+  TopicRole role = TopicRole::kNone;
+  size_t camera = 0;  // kImage, kCameraInfo: which camera's
+};
+
+// What one camera keeps between messages: its stamps, its image size and
+// its first CameraInfo.
+struct CameraState {
+  ChosenCamera chosen;
+  std::optional<TopicStamps> images;
+  std::optional<TopicStamps> infos;
+  std::optional<ImageSize> image_size;
+  std::optional<CameraInfoMessage> first_info;
+  std::optional<ColmapCamera> camera;
+  int64_t changed_infos = 0;
+};
+
 // One extraction: the chosen topics, the output folder, and what is kept
-// between messages (stamps, poses or wheel travels, the first CameraInfo).
+// between messages (stamps, poses or wheel travels, each camera's first
+// CameraInfo).
 class Extraction {
  public:
   Extraction(BagReader& reader, const BagExtractionOptions& options)
@@ -182,27 +200,36 @@ class Extraction {
           "to turn them into travels");
     }
     const std::vector<BagTopic>& topics = reader.Topics();
-    roles_.assign(topics.size(), TopicRole::kNone);
-    std::string image_type, odometry_type, info_type;
+    uses_.assign(topics.size(), TopicUse{});
+    cameras_.resize(chosen.cameras.size());
+    std::string odometry_type;
+    for (size_t k = 0; k < chosen.cameras.size(); ++k) {
+      cameras_[k].chosen = chosen.cameras[k];
+    }
     for (size_t i = 0; i < topics.size(); ++i) {
       const std::string& name = topics[i].topic;
-      if (name == chosen.image) {
-        roles_[i] = TopicRole::kImage;
-        image_type = topics[i].type;
-      } else if (name == chosen.odometry) {
-        roles_[i] = TopicRole::kOdometry;
+      if (name == chosen.odometry) {
+        uses_[i].role = TopicRole::kOdometry;
         odometry_type = topics[i].type;
-      } else if (!chosen.camera_info.empty() && name == chosen.camera_info) {
-        roles_[i] = TopicRole::kCameraInfo;
-        info_type = topics[i].type;
       }
-      if (roles_[i] != TopicRole::kNone) total_ += topics[i].message_count;
+      for (size_t k = 0; k < cameras_.size(); ++k) {
+        CameraState& camera = cameras_[k];
+        if (name == camera.chosen.image) {
+          uses_[i] = {TopicRole::kImage, k};
+          camera.images.emplace(ContextOf(name), name, topics[i].type);
+        } else if (!camera.chosen.camera_info.empty() &&
+                   name == camera.chosen.camera_info) {
+          uses_[i] = {TopicRole::kCameraInfo, k};
+          camera.infos.emplace(ContextOf(name), name, topics[i].type);
+        }
+      }
+      if (uses_[i].role != TopicRole::kNone) total_ += topics[i].message_count;
     }
-    images_.emplace(ContextOf(chosen.image), chosen.image, image_type);
+    for (CameraState& camera : cameras_) {
+      if (!camera.infos) camera.infos.emplace(ContextOf(""), "", "");
+    }
     odometry_.emplace(
         ContextOf(chosen.odometry), chosen.odometry, odometry_type);
-    infos_.emplace(
-        ContextOf(chosen.camera_info), chosen.camera_info, info_type);
     if (chosen.odometry_joint_state) {
       WheelJointOptions joints;
       joints.left_joint = options.left_wheel_joint;
@@ -212,23 +239,34 @@ class Extraction {
     }
     // Last: nothing is created for options or topics that are refused.
     PrepareOutputFolder(options.output_folder);
+    for (const CameraState& camera : cameras_) {
+      if (camera.chosen.name.empty()) continue;
+      std::error_code error;
+      const fs::path folder = Output() / "images" / camera.chosen.name;
+      fs::create_directories(folder, error);
+      if (error) {
+        throw FormatError(folder.string() +
+                          ": cannot create the folder: " + error.message());
+      }
+    }
   }
 
   void Run(const ExtractionProgress& progress) {
     BagMessage message;
     int64_t done = 0;
     while (reader_.Next(&message)) {
-      if (message.topic_index >= roles_.size()) continue;
+      if (message.topic_index >= uses_.size()) continue;
       const MessageEncoding encoding =
           reader_.Topics()[message.topic_index].encoding;
-      switch (roles_[message.topic_index]) {
+      const TopicUse use = uses_[message.topic_index];
+      switch (use.role) {
         case TopicRole::kNone:
           continue;
         case TopicRole::kImage:
-          if (summary_.topics.image_compressed) {
-            OnCompressedImage(message, encoding);
+          if (cameras_[use.camera].chosen.image_compressed) {
+            OnCompressedImage(message, encoding, &cameras_[use.camera]);
           } else {
-            OnRawImage(message, encoding);
+            OnRawImage(message, encoding, &cameras_[use.camera]);
           }
           break;
         case TopicRole::kOdometry:
@@ -239,7 +277,7 @@ class Extraction {
           }
           break;
         case TopicRole::kCameraInfo:
-          OnCameraInfo(message, encoding);
+          OnCameraInfo(message, encoding, &cameras_[use.camera]);
           break;
       }
       ++done;
@@ -248,17 +286,22 @@ class Extraction {
   }
 
   BagExtractionSummary Finish() {
-    summary_.images = images_->Finish();
-    summary_.odometry = odometry_->Finish();
-    if (summary_.images.used == 0) {
-      throw FormatError(images_->context() + ": no image messages");
+    for (const CameraState& camera : cameras_) {
+      CameraExtractionSummary extracted;
+      extracted.name = camera.chosen.name;
+      extracted.images = camera.images->Finish();
+      if (extracted.images.used == 0) {
+        throw FormatError(camera.images->context() + ": no image messages");
+      }
+      summary_.cameras.push_back(std::move(extracted));
     }
+    summary_.odometry = odometry_->Finish();
     if (summary_.odometry.messages == 0) {
       throw FormatError(odometry_->context() + ": no odometry messages");
     }
     WriteText((Output() / "image_timestamps.csv").string(), image_csv_);
     WriteOdometry();
-    if (first_info_) WriteCamera();
+    WriteCameras();
     AddStampWarnings();
     return std::move(summary_);
   }
@@ -269,15 +312,25 @@ class Extraction {
   }
   fs::path Output() const { return fs::path(options_.output_folder); }
 
-  void OnCompressedImage(const BagMessage& message, MessageEncoding encoding) {
-    const std::string& context = images_->context();
+  // "<stamp>.png", or a rig camera's "<name>/<stamp>.png": the name in
+  // image_timestamps.csv, relative to images/.
+  static std::string ImageName(const CameraState& camera,
+                               const std::string& file) {
+    return camera.chosen.name.empty() ? file : camera.chosen.name + "/" + file;
+  }
+
+  void OnCompressedImage(const BagMessage& message,
+                         MessageEncoding encoding,
+                         CameraState* camera) {
+    const std::string& context = camera->images->context();
     const CompressedImageMessage image = DecodeIn(
         context, [&] { return DecodeCompressedImage(encoding, message.data); });
-    const int64_t stamp = images_->Stamp(
+    const int64_t stamp = camera->images->Stamp(
         image.header.stamp_ns, message.log_time_ns, options_.time);
-    if (!images_->Use(stamp, options_.time)) return;
-    const std::string name =
-        std::to_string(stamp) + CompressedImageExtension(image, context);
+    if (!camera->images->Use(stamp, options_.time)) return;
+    const std::string name = ImageName(
+        *camera,
+        std::to_string(stamp) + CompressedImageExtension(image, context));
     // Every image is decoded: COLMAP would skip one that does not decode
     // without a word, and all must have the size CameraInfo gives.
     cv::Mat pixels;
@@ -290,21 +343,23 @@ class Extraction {
       throw FormatError(context + ": the image at " + std::to_string(stamp) +
                         " ns (" + name + ") does not decode");
     }
-    CheckImageSize(pixels, stamp, context);
+    CheckImageSize(pixels, stamp, camera);
     WriteBytes((Output() / "images" / name).string(), image.data);
     AddImageLine(name, stamp);
   }
 
-  void OnRawImage(const BagMessage& message, MessageEncoding encoding) {
-    const std::string& context = images_->context();
+  void OnRawImage(const BagMessage& message,
+                  MessageEncoding encoding,
+                  CameraState* camera) {
+    const std::string& context = camera->images->context();
     const ImageMessage image =
         DecodeIn(context, [&] { return DecodeImage(encoding, message.data); });
-    const int64_t stamp = images_->Stamp(
+    const int64_t stamp = camera->images->Stamp(
         image.header.stamp_ns, message.log_time_ns, options_.time);
-    if (!images_->Use(stamp, options_.time)) return;
+    if (!camera->images->Use(stamp, options_.time)) return;
     const cv::Mat pixels = ImageMessageToMat(image, context);
-    CheckImageSize(pixels, stamp, context);
-    const std::string name = std::to_string(stamp) + ".png";
+    CheckImageSize(pixels, stamp, camera);
+    const std::string name = ImageName(*camera, std::to_string(stamp) + ".png");
     const std::string path = (Output() / "images" / name).string();
     bool written = false;
     try {
@@ -316,19 +371,21 @@ class Extraction {
     AddImageLine(name, stamp);
   }
 
-  // The first image sets the size; every later one must have it.
-  void CheckImageSize(const cv::Mat& pixels,
-                      int64_t stamp_ns,
-                      const std::string& context) {
-    if (!image_size_) {
-      SetImageSize(pixels.cols, pixels.rows);
-    } else if (pixels.cols != image_size_->width ||
-               pixels.rows != image_size_->height) {
-      throw FormatError(context + ": image at " + std::to_string(stamp_ns) +
-                        " ns is " + std::to_string(pixels.cols) + " x " +
+  // A camera's first image sets its size; every later one must have it.
+  static void CheckImageSize(const cv::Mat& pixels,
+                             int64_t stamp_ns,
+                             CameraState* camera) {
+    if (!camera->image_size) {
+      camera->image_size = ImageSize{pixels.cols, pixels.rows};
+      CheckCameraSize(*camera);
+    } else if (pixels.cols != camera->image_size->width ||
+               pixels.rows != camera->image_size->height) {
+      throw FormatError(camera->images->context() + ": image at " +
+                        std::to_string(stamp_ns) + " ns is " +
+                        std::to_string(pixels.cols) + " x " +
                         std::to_string(pixels.rows) + ", the first is " +
-                        std::to_string(image_size_->width) + " x " +
-                        std::to_string(image_size_->height));
+                        std::to_string(camera->image_size->width) + " x " +
+                        std::to_string(camera->image_size->height));
     }
   }
 
@@ -336,18 +393,13 @@ class Extraction {
     image_csv_ += name + "," + FormatTimestampSeconds(stamp_ns) + "\n";
   }
 
-  void SetImageSize(int width, int height) {
-    image_size_ = ImageSize{width, height};
-    CheckCameraSize();
-  }
-
   // As soon as both are known, so that a wrong CameraInfo stops early.
-  void CheckCameraSize() const {
-    if (!image_size_ || !first_info_) return;
-    CheckCameraInfoImageSize(*first_info_,
-                             static_cast<uint32_t>(image_size_->width),
-                             static_cast<uint32_t>(image_size_->height),
-                             infos_->context());
+  static void CheckCameraSize(const CameraState& camera) {
+    if (!camera.image_size || !camera.first_info) return;
+    CheckCameraInfoImageSize(*camera.first_info,
+                             static_cast<uint32_t>(camera.image_size->width),
+                             static_cast<uint32_t>(camera.image_size->height),
+                             camera.infos->context());
   }
 
   void OnJointState(const BagMessage& message, MessageEncoding encoding) {
@@ -376,19 +428,23 @@ class Extraction {
     }
   }
 
-  void OnCameraInfo(const BagMessage& message, MessageEncoding encoding) {
-    CameraInfoMessage info = DecodeIn(infos_->context(), [&] {
+  void OnCameraInfo(const BagMessage& message,
+                    MessageEncoding encoding,
+                    CameraState* camera) {
+    CameraInfoMessage info = DecodeIn(camera->infos->context(), [&] {
       return DecodeCameraInfo(encoding, message.data);
     });
     // Only the first CameraInfo is used; its stamps are not checked.
-    infos_->Stamp(info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
-    if (!first_info_) {
+    camera->infos->Stamp(
+        info.header.stamp_ns, message.log_time_ns, BagTime::kReceive);
+    if (!camera->first_info) {
       // Converted now, so that an unusable calibration stops early.
-      camera_ = ColmapCameraFromCameraInfo(info, infos_->context());
-      first_info_ = std::move(info);
-      CheckCameraSize();
-    } else if (!SameCalibration(*first_info_, info)) {
-      ++changed_infos_;
+      camera->camera =
+          ColmapCameraFromCameraInfo(info, camera->infos->context());
+      camera->first_info = std::move(info);
+      CheckCameraSize(*camera);
+    } else if (!SameCalibration(*camera->first_info, info)) {
+      ++camera->changed_infos;
     }
   }
 
@@ -420,27 +476,53 @@ class Extraction {
     }
   }
 
-  void WriteCamera() {
-    const std::string& topic = summary_.topics.camera_info;
-    summary_.camera_info = infos_->Finish();
-    WriteText((Output() / "camera.txt").string(),
-              "# COLMAP camera from " + topic +
-                  " (K and D of the unrectified images); principal point in "
-                  "COLMAP's convention, top-left pixel centre at (0.5, 0.5): "
-                  "cx = K[2] + 0.5, cy = K[5] + 0.5\n# odomcal run: " +
-                  OdomcalCameraFlags(*camera_) + "\n" +
-                  ColmapCameraLine(*camera_) + "\n");
-    summary_.camera = camera_;
-    if (changed_infos_ > 0) {
-      summary_.warnings.push_back(
-          topic + ": " + std::to_string(changed_infos_) +
-          " messages differ from the first CameraInfo; the first is used");
+  // camera.txt for one camera, cameras.txt for a rig (camera_id k + 1 for
+  // the k-th camera); nothing when no camera has a CameraInfo.
+  void WriteCameras() {
+    const std::string convention =
+        " (K and D of the unrectified images); principal point in COLMAP's "
+        "convention, top-left pixel centre at (0.5, 0.5): cx = K[2] + 0.5, "
+        "cy = K[5] + 0.5\n";
+    std::string text;
+    for (size_t k = 0; k < cameras_.size(); ++k) {
+      CameraState& camera = cameras_[k];
+      CameraExtractionSummary& extracted = summary_.cameras[k];
+      if (!camera.first_info) continue;
+      const std::string& topic = camera.chosen.camera_info;
+      extracted.camera_info = camera.infos->Finish();
+      camera.camera->camera_id = static_cast<uint32_t>(k + 1);
+      extracted.camera = camera.camera;
+      if (summary_.topics.rig) {
+        std::string flags = OdomcalCameraFlags(*camera.camera);
+        const std::string params = "--camera_params ";
+        flags.insert(flags.find(params) + params.size(),
+                     camera.chosen.name + "=");
+        text += "# camera " + camera.chosen.name + " from " + topic +
+                convention + "# odomcal run --rig: " + flags + "\n" +
+                ColmapCameraLine(*camera.camera) + "\n";
+      } else {
+        text += "# COLMAP camera from " + topic + convention +
+                "# odomcal run: " + OdomcalCameraFlags(*camera.camera) + "\n" +
+                ColmapCameraLine(*camera.camera) + "\n";
+      }
+      if (camera.changed_infos > 0) {
+        summary_.warnings.push_back(
+            topic + ": " + std::to_string(camera.changed_infos) +
+            " messages differ from the first CameraInfo; the first is used");
+      }
     }
+    if (text.empty()) return;
+    WriteText((Output() / (summary_.topics.rig ? "cameras.txt" : "camera.txt"))
+                  .string(),
+              text);
   }
 
   void AddStampWarnings() {
-    const std::vector<const TopicExtractionSummary*> topics = {
-        &summary_.images, &summary_.odometry};
+    std::vector<const TopicExtractionSummary*> topics;
+    for (const CameraExtractionSummary& camera : summary_.cameras) {
+      topics.push_back(&camera.images);
+    }
+    topics.push_back(&summary_.odometry);
     for (const TopicExtractionSummary* topic : topics) {
       if (topic->duplicate_stamps > 0) {
         summary_.warnings.push_back(
@@ -472,18 +554,13 @@ class Extraction {
   BagReader& reader_;
   const BagExtractionOptions& options_;
   BagExtractionSummary summary_;
-  std::vector<TopicRole> roles_;
+  std::vector<TopicUse> uses_;
   int64_t total_ = 0;
-  std::optional<TopicStamps> images_;
+  std::vector<CameraState> cameras_;
   std::optional<TopicStamps> odometry_;
-  std::optional<TopicStamps> infos_;
   std::string image_csv_ = "image_name,timestamp\n";
-  std::optional<ImageSize> image_size_;
   std::vector<StampedPose> poses_;
   std::optional<WheelTravelCollector> wheels_;
-  std::optional<CameraInfoMessage> first_info_;
-  std::optional<ColmapCamera> camera_;
-  int64_t changed_infos_ = 0;
 };
 
 }  // namespace

@@ -1,9 +1,13 @@
 // BagExtractionOptions and the choice of topics (bag_extraction.h).
 #include "odomcal/adapters/bag/bag_extraction.h"
+#include "odomcal/adapters/colmap_cameras.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace odomcal::bag {
@@ -96,10 +100,12 @@ const BagTopic* ChooseOne(const std::vector<BagTopic>& topics,
         "the bag has no " + what + " topic (" + TypesText(types) +
         "); its topics: " + TopicList(AllTopics(topics)));
   }
-  throw std::invalid_argument("the bag has " +
-                              std::to_string(candidates.size()) + " " + what +
-                              " topics: " + TopicList(candidates) + "; pass " +
-                              flag + " to choose one");
+  throw std::invalid_argument(
+      "the bag has " + std::to_string(candidates.size()) + " " + what +
+      " topics: " + TopicList(candidates) + "; pass " + flag +
+      " to choose one" +
+      (what == "image" ? " (several --image_topic: a rig, one camera each)"
+                       : ""));
 }
 
 // "/cam/image_raw" -> "/cam"; "/cam/image_raw/compressed" -> "/cam".
@@ -114,7 +120,139 @@ std::string CameraNamespace(const std::string& image_topic, bool compressed) {
   return slash == std::string::npos ? std::string() : name.substr(0, slash);
 }
 
+// Camera info is optional: empty topics do not count when choosing.
+std::string ChooseCameraInfo(const std::vector<BagTopic>& topics,
+                             const BagExtractionOptions& options,
+                             const ChosenCamera& camera) {
+  std::vector<BagTopic> infos;
+  for (const BagTopic& topic : topics) {
+    if (topic.type == kCameraInfoType &&
+        (topic.message_count > 0 || !options.camera_info_topic.empty())) {
+      infos.push_back(topic);
+    }
+  }
+  const std::string beside = CameraInfoBeside(camera);
+  if (options.camera_info_topic.empty() && infos.size() > 1) {
+    for (const BagTopic& info : infos) {
+      if (info.topic == beside) return info.topic;
+    }
+  }
+  const BagTopic* info =
+      ChooseOne(options.camera_info_topic.empty() ? infos : topics,
+                {kCameraInfoType},
+                "--camera_info_topic",
+                options.camera_info_topic,
+                "camera info",
+                false);
+  return info == nullptr ? std::string() : info->topic;
+}
+
+// A rig camera's name from its image topic: its namespace, or the topic
+// itself when it has none.
+std::string RigCameraName(const ChosenCamera& camera) {
+  std::string name = CameraNamespace(camera.image, camera.image_compressed);
+  if (name.empty()) name = camera.image;
+  while (!name.empty() && name.front() == '/') name.erase(0, 1);
+  return CameraNameFromText(name);
+}
+
+std::vector<ChosenCamera> ChooseRigCameras(
+    const std::vector<BagTopic>& topics, const BagExtractionOptions& options) {
+  if (!options.camera_info_topic.empty()) {
+    throw std::invalid_argument(
+        "--camera_info_topic " + options.camera_info_topic +
+        " names one camera's CameraInfo; a rig's cameras take theirs beside "
+        "their image topics (<namespace>/camera_info)");
+  }
+  // (given name or "", topic)
+  std::vector<std::pair<std::string, const BagTopic*>> images;
+  if (options.image_topics.empty()) {
+    for (const BagTopic* image :
+         TopicsOfTypes(topics, {kImageType, kCompressedImageType})) {
+      if (image->message_count > 0) images.emplace_back("", image);
+    }
+    if (images.empty()) {
+      throw std::invalid_argument(
+          "--rig: the bag has no image topic with messages (" +
+          TypesText({kImageType, kCompressedImageType}) +
+          "); its topics: " + TopicList(AllTopics(topics)));
+    }
+  }
+  for (const std::string& given : options.image_topics) {
+    const size_t equals = given.find('=');
+    const std::string name =
+        equals == std::string::npos ? "" : given.substr(0, equals);
+    const std::string topic =
+        equals == std::string::npos ? given : given.substr(equals + 1);
+    if (equals != std::string::npos &&
+        (name.empty() || CameraNameFromText(name) != name)) {
+      throw std::invalid_argument(
+          "--image_topic '" + given +
+          "': a camera name is 1-100 characters of A-Z a-z 0-9 _ - .");
+    }
+    for (const auto& [other_name, other] : images) {
+      if (other->topic == topic) {
+        throw std::invalid_argument("--image_topic " + topic +
+                                    " is given twice");
+      }
+    }
+    images.emplace_back(name,
+                        ChooseOne(topics,
+                                  {kImageType, kCompressedImageType},
+                                  "--image_topic",
+                                  topic,
+                                  "image",
+                                  true));
+  }
+  std::map<std::string, ChosenCamera> cameras;
+  for (const auto& [given_name, image] : images) {
+    ChosenCamera camera;
+    camera.image = image->topic;
+    camera.image_compressed = image->type == kCompressedImageType;
+    camera.name = given_name.empty() ? RigCameraName(camera) : given_name;
+    const auto [it, added] = cameras.emplace(camera.name, camera);
+    if (!added) {
+      throw std::invalid_argument(
+          "image topics " + it->second.image + " and " + camera.image +
+          " both make camera '" + camera.name + "' (" +
+          (given_name.empty() ? "a camera is named by its topic's namespace"
+                              : "named by --image_topic NAME=TOPIC") +
+          "): give one of them, or name each with --image_topic NAME=TOPIC");
+    }
+    // Only the CameraInfo beside the images: a lone CameraInfo of another
+    // namespace is no rig camera's.
+    const std::string beside = CameraInfoBeside(camera);
+    for (const BagTopic& topic : topics) {
+      if (topic.topic == beside && topic.type == kCameraInfoType &&
+          topic.message_count > 0) {
+        it->second.camera_info = beside;
+      }
+    }
+  }
+  std::vector<ChosenCamera> chosen;
+  std::map<std::string, std::string> image_of_info;
+  for (auto& [name, camera] : cameras) {
+    if (!camera.camera_info.empty()) {
+      const auto [it, added] =
+          image_of_info.emplace(camera.camera_info, camera.image);
+      if (!added) {
+        throw std::invalid_argument(
+            "image topics " + it->second + " and " + camera.image +
+            " share the CameraInfo " + camera.camera_info +
+            ": they are one camera's; give one of them");
+      }
+    }
+    chosen.push_back(std::move(camera));
+  }
+  return chosen;
+}
+
 }  // namespace
+
+std::string CameraInfoBeside(const ChosenCamera& camera) {
+  return CameraNamespace(camera.image, camera.image_compressed) +
+         "/camera_info";
+}
 
 BagTime ParseBagTime(const std::string& name) {
   if (name == "header") return BagTime::kHeader;
@@ -168,14 +306,30 @@ void BagExtractionOptions::Check() const {
 ChosenTopics ChooseTopics(const std::vector<BagTopic>& topics,
                           const BagExtractionOptions& options) {
   ChosenTopics chosen;
-  const BagTopic* image = ChooseOne(topics,
-                                    {kImageType, kCompressedImageType},
-                                    "--image_topic",
-                                    options.image_topic,
-                                    "image",
-                                    true);
-  chosen.image = image->topic;
-  chosen.image_compressed = image->type == kCompressedImageType;
+  chosen.rig = options.IsRig();
+  if (chosen.rig) {
+    chosen.cameras = ChooseRigCameras(topics, options);
+  } else {
+    const std::string given =
+        options.image_topics.empty() ? "" : options.image_topics.front();
+    if (given.find('=') != std::string::npos) {
+      throw std::invalid_argument(
+          "--image_topic " + given +
+          ": NAME=TOPIC names a camera of a rig (several --image_topic, or "
+          "--rig); one camera takes the topic alone");
+    }
+    ChosenCamera camera;
+    const BagTopic* image = ChooseOne(topics,
+                                      {kImageType, kCompressedImageType},
+                                      "--image_topic",
+                                      given,
+                                      "image",
+                                      true);
+    camera.image = image->topic;
+    camera.image_compressed = image->type == kCompressedImageType;
+    camera.camera_info = ChooseCameraInfo(topics, options, camera);
+    chosen.cameras.push_back(camera);
+  }
 
   const BagTopic* odometry = nullptr;
   if (!options.joint_state_topic.empty()) {
@@ -208,33 +362,6 @@ ChosenTopics ChooseTopics(const std::vector<BagTopic>& topics,
   }
   chosen.odometry = odometry->topic;
   chosen.odometry_joint_state = odometry->type == kJointStateType;
-
-  // Camera info is optional: empty topics do not count when choosing.
-  std::vector<BagTopic> infos;
-  for (const BagTopic& topic : topics) {
-    if (topic.type == kCameraInfoType &&
-        (topic.message_count > 0 || !options.camera_info_topic.empty())) {
-      infos.push_back(topic);
-    }
-  }
-  if (options.camera_info_topic.empty() && infos.size() > 1) {
-    const std::string beside =
-        CameraNamespace(chosen.image, chosen.image_compressed) + "/camera_info";
-    for (const BagTopic& info : infos) {
-      if (info.topic == beside) {
-        chosen.camera_info = info.topic;
-        return chosen;
-      }
-    }
-  }
-  const BagTopic* info =
-      ChooseOne(options.camera_info_topic.empty() ? infos : topics,
-                {kCameraInfoType},
-                "--camera_info_topic",
-                options.camera_info_topic,
-                "camera info",
-                false);
-  if (info != nullptr) chosen.camera_info = info->topic;
   return chosen;
 }
 

@@ -75,16 +75,17 @@ class BagExtractionTest : public ScratchFolderTest {
 TEST_F(BagExtractionTest, PlanarOdometryRawImagesAndCameraInfo) {
   const nlohmann::json& expected = Expected()["planar.bag"];
   const BagExtractionSummary summary = Extract("planar.bag", {});
-  EXPECT_EQ(summary.topics.image, "/cam/image_raw");
+  EXPECT_EQ(summary.topics.cameras[0].image, "/cam/image_raw");
   EXPECT_EQ(summary.topics.odometry, "/odom");
-  EXPECT_EQ(summary.topics.camera_info, "/cam/camera_info");
-  EXPECT_EQ(summary.images.used, 10);
+  EXPECT_EQ(summary.topics.cameras[0].camera_info, "/cam/camera_info");
+  EXPECT_EQ(summary.cameras[0].images.used, 10);
   EXPECT_EQ(summary.odometry.used, 60);
   EXPECT_EQ(summary.odometry_file, "odometry.csv");
   EXPECT_TRUE(summary.planar);
-  EXPECT_NEAR(summary.images.rate_hz, 10.0, 1e-6);
+  EXPECT_NEAR(summary.cameras[0].images.rate_hz, 10.0, 1e-6);
   EXPECT_NEAR(summary.odometry.rate_hz, 50.0, 1e-6);
-  EXPECT_NEAR(summary.images.mean_abs_header_minus_receive_s, 0.015, 1e-9);
+  EXPECT_NEAR(
+      summary.cameras[0].images.mean_abs_header_minus_receive_s, 0.015, 1e-9);
   EXPECT_NEAR(summary.odometry.mean_abs_header_minus_receive_s, 0.004, 1e-9);
   EXPECT_TRUE(summary.warnings.empty()) << summary.warnings.front();
   // Camera info, images and odometry; not the unrelated topic.
@@ -175,7 +176,7 @@ TEST_F(BagExtractionTest, RefusesAFolderInUse) {
 TEST_F(BagExtractionTest, Se3OdometryAndCompressedImages) {
   const nlohmann::json& expected = Expected()["se3.bag"];
   const BagExtractionSummary summary = Extract("se3.bag", {});
-  EXPECT_TRUE(summary.topics.image_compressed);
+  EXPECT_TRUE(summary.topics.cameras[0].image_compressed);
   EXPECT_FALSE(summary.planar);
   EXPECT_EQ(summary.odometry_file, "odometry.tum");
   // The images arrive 30 ms after their stamps; the odometry every 20 ms.
@@ -235,10 +236,10 @@ TEST_F(BagExtractionTest, WheelJointStatesAndBayerImages) {
   EXPECT_EQ(summary.left_wheel_joint, "base_Left_wheel");
   EXPECT_EQ(summary.right_wheel_joint, "base_Right_wheel");
   EXPECT_EQ(summary.odometry.used, 40);
-  EXPECT_FALSE(summary.camera.has_value());
-  EXPECT_EQ(summary.images.messages, 5);
-  EXPECT_EQ(summary.images.used, 4);
-  EXPECT_EQ(summary.images.duplicate_stamps, 1);
+  EXPECT_FALSE(summary.cameras[0].camera.has_value());
+  EXPECT_EQ(summary.cameras[0].images.messages, 5);
+  EXPECT_EQ(summary.cameras[0].images.used, 4);
+  EXPECT_EQ(summary.cameras[0].images.duplicate_stamps, 1);
   ASSERT_EQ(summary.warnings.size(), 2u);
   EXPECT_TRUE(Contains(summary.warnings[0], "40 joint states"))
       << summary.warnings[0];
@@ -341,6 +342,66 @@ TEST_F(BagExtractionTest, CameraInfoMustFitTheImages) {
       << error;
   EXPECT_TRUE(Contains(error, "10 x 6")) << error;
   EXPECT_TRUE(Contains(error, "8 x 6")) << error;
+}
+
+// Three image topics of one bag: a rig, each camera's images in
+// images/<camera>/ at its own rate and size, one image_timestamps.csv, and
+// cameras.txt with the cameras that have a CameraInfo.
+TEST_F(BagExtractionTest, RigOfThreeCamerasFromOneBag) {
+  const nlohmann::json& expected = Expected()["rig.bag"];
+  BagExtractionOptions options;
+  options.image_topics = {
+      "/left/image_raw", "/right/image_raw/compressed", "/rear/image_raw"};
+  const BagExtractionSummary summary = Extract("rig.bag", options);
+  ASSERT_TRUE(summary.topics.rig);
+  ASSERT_EQ(summary.cameras.size(), 3u);
+  const std::vector<std::string> names = {"left", "rear", "right"};
+  const std::map<std::string, int64_t> stamps = ReadImageTimestampsCsv(
+      Path("out/image_timestamps.csv"), TimeUnit::kSeconds);
+  size_t images = 0;
+  for (size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    SCOPED_TRACE(name);
+    const CameraExtractionSummary& camera = summary.cameras[k];
+    EXPECT_EQ(camera.name, name);
+    EXPECT_EQ(camera.images.used, static_cast<int64_t>(expected[name].size()));
+    for (const nlohmann::json& stamp : expected[name]) {
+      const std::string file =
+          name + "/" + std::to_string(stamp.get<int64_t>()) + ".png";
+      ASSERT_EQ(stamps.count(file), 1u) << file;
+      EXPECT_EQ(stamps.at(file), stamp.get<int64_t>());
+      const cv::Mat pixels =
+          cv::imread(Path("out/images/" + file), cv::IMREAD_UNCHANGED);
+      EXPECT_EQ(pixels.cols, name == "right" ? 4 : 8) << file;
+      EXPECT_EQ(pixels.rows, name == "right" ? 3 : 6) << file;
+      ++images;
+    }
+  }
+  EXPECT_EQ(stamps.size(), images);
+  EXPECT_FALSE(summary.cameras[1].camera.has_value());  // rear: none
+  EXPECT_FALSE(fs::exists(Path("out/camera.txt")));
+
+  // cameras.txt as a COLMAP text model: left (camera_id 1) and right (3).
+  const fs::path model = dir_ / "model";
+  fs::create_directories(model);
+  fs::copy_file(dir_ / "out" / "cameras.txt", model / "cameras.txt");
+  std::ofstream(model / "images.txt") << "";
+  std::ofstream(model / "points3D.txt") << "";
+  const ColmapModel read = ReadColmapModel(model.string());
+  ASSERT_EQ(read.cameras.size(), 2u);
+  const ColmapCamera& left = read.cameras.at(1);
+  EXPECT_EQ(left.model, ColmapCameraModel::kOpenCV);
+  EXPECT_EQ(left.width, 8u);
+  const nlohmann::json& k_left = expected["cameras"]["left"]["k"];
+  EXPECT_DOUBLE_EQ(left.params[2], k_left[2].get<double>() + 0.5);
+  const ColmapCamera& right = read.cameras.at(3);
+  EXPECT_EQ(right.model, ColmapCameraModel::kPinhole);
+  EXPECT_EQ(right.width, 4u);
+  const nlohmann::json& k_right = expected["cameras"]["right"]["k"];
+  EXPECT_DOUBLE_EQ(right.params[0], k_right[0].get<double>());
+  EXPECT_DOUBLE_EQ(right.params[3], k_right[5].get<double>() + 0.5);
+  EXPECT_TRUE(Contains(ReadFile(dir_ / "out" / "cameras.txt"),
+                       "--camera_params right=3.5,3.25,2,1.5"));
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/plugin/cli/command_flags.h"
 #include "odomcal/plugin/cli/command_line.h"
+#include "odomcal/plugin/cli/rig_run.h"
+#include "odomcal/plugin/cli/run_command.h"
 #include "odomcal/plugin/colmap/reconstruction_pipeline.h"
 #include "odomcal/plugin/options/bag_flags.h"
 #include "odomcal/plugin/output/output_file.h"
@@ -62,22 +64,65 @@ std::string TopicLine(const bag::TopicExtractionSummary& topic,
                  topic.rate_hz);
 }
 
+// One camera's topics: "images /cam/image_raw, camera info
+// /cam/camera_info".
+std::string CameraChoice(const bag::ChosenCamera& camera) {
+  return "images " + camera.image +
+         (camera.camera_info.empty()
+              ? ", no camera info (give --camera_params" +
+                    (camera.name.empty() ? std::string()
+                                         : " " + camera.name + "=PARAMS") +
+                    ")"
+              : ", camera info " + camera.camera_info);
+}
+
 // The chosen topics in one line: "images /cam/image_raw, odometry /odom,
-// camera info /cam/camera_info".
+// camera info /cam/camera_info"; a rig's "cameras left (images
+// /left/image_raw, camera info /left/camera_info), right (...), odometry
+// /odom".
 std::string ChoiceLine(const bag::ChosenTopics& topics) {
-  std::string line =
-      "images " + topics.image + ", " +
+  const std::string odometry =
       (topics.odometry_joint_state ? "wheel joint states " : "odometry ") +
       topics.odometry;
-  line += topics.camera_info.empty() ? ", no camera info (give --camera_params)"
-                                     : ", camera info " + topics.camera_info;
-  return line;
+  if (!topics.rig) {
+    const bag::ChosenCamera& camera = topics.cameras.front();
+    return "images " + camera.image + ", " + odometry +
+           (camera.camera_info.empty()
+                ? ", no camera info (give --camera_params)"
+                : ", camera info " + camera.camera_info);
+  }
+  std::string line = std::to_string(topics.cameras.size()) + " cameras ";
+  for (size_t k = 0; k < topics.cameras.size(); ++k) {
+    const bag::ChosenCamera& camera = topics.cameras[k];
+    line +=
+        (k == 0 ? "" : ", ") + camera.name + " (" + CameraChoice(camera) + ")";
+  }
+  return line + ", " + odometry;
 }
 
 std::vector<std::string> SelectedTopics(const bag::ChosenTopics& topics) {
-  std::vector<std::string> selected = {topics.image, topics.odometry};
-  if (!topics.camera_info.empty()) selected.push_back(topics.camera_info);
+  std::vector<std::string> selected = {topics.odometry};
+  for (const bag::ChosenCamera& camera : topics.cameras) {
+    selected.push_back(camera.image);
+    if (!camera.camera_info.empty()) selected.push_back(camera.camera_info);
+  }
   return selected;
+}
+
+// The camera flags of the `odomcal run` command that `extract` prints: the
+// one camera's from its CameraInfo; a rig's NAME=PARAMS when its cameras
+// share one model (run --rig takes one --camera_model), else none.
+std::string RunCameraFlags(const bag::BagExtractionSummary& summary) {
+  std::string model, params;
+  for (const bag::CameraExtractionSummary& camera : summary.cameras) {
+    if (!camera.camera) continue;
+    const auto [camera_model, camera_params] = ExtractedCamera(camera);
+    if (!model.empty() && camera_model != model) return "";
+    model = camera_model;
+    params += " --camera_params " +
+              (camera.name.empty() ? "" : camera.name + "=") + camera_params;
+  }
+  return model.empty() ? "" : " --camera_model " + model + params;
 }
 
 // One error line for the bag commands: the exit code they return.
@@ -88,19 +133,23 @@ int ReportBagError(const std::string& command, const std::exception& error) {
 
 }  // namespace
 
+bag::ChosenTopics ChooseBagTopics(const std::string& bag_path,
+                                  const bag::BagExtractionOptions& options) {
+  const std::unique_ptr<bag::BagReader> index = bag::OpenBag(bag_path);
+  return bag::ChooseTopics(index->Topics(), options);
+}
+
 bag::BagExtractionSummary ExtractBagPrinting(
     const std::string& bag_path,
     const bag::BagExtractionOptions& options,
-    std::ostream& out) {
+    std::ostream& out,
+    const bag::ChosenTopics* chosen) {
   options.Check();
-  bag::ChosenTopics chosen;
-  {
-    const std::unique_ptr<bag::BagReader> index = bag::OpenBag(bag_path);
-    chosen = bag::ChooseTopics(index->Topics(), options);
-  }
-  out << "  topics: " << ChoiceLine(chosen) << "\n" << std::flush;
+  const bag::ChosenTopics topics =
+      chosen != nullptr ? *chosen : ChooseBagTopics(bag_path, options);
+  out << "  topics: " << ChoiceLine(topics) << "\n" << std::flush;
   const std::unique_ptr<bag::BagReader> reader =
-      bag::OpenBag(bag_path, SelectedTopics(chosen));
+      bag::OpenBag(bag_path, SelectedTopics(topics));
   int last_tenth = -1;
   bag::BagExtractionSummary summary =
       bag::ExtractBag(*reader, options, [&](int64_t done, int64_t total) {
@@ -111,7 +160,12 @@ bag::BagExtractionSummary ExtractBagPrinting(
               << std::flush;
         }
       });
-  out << "  " << TopicLine(summary.images, "images") << "\n";
+  for (const bag::CameraExtractionSummary& camera : summary.cameras) {
+    out << "  "
+        << TopicLine(camera.images,
+                     camera.name.empty() ? "images" : "images " + camera.name)
+        << "\n";
+  }
   out << "  "
       << TopicLine(summary.odometry,
                    summary.topics.odometry_joint_state ? "wheels" : "odometry")
@@ -122,9 +176,12 @@ bag::BagExtractionSummary ExtractBagPrinting(
           : summary.planar ? " (planar: x, y, yaw)"
                            : " (SE(3): the odometry leaves the plane)")
       << "\n";
-  if (summary.camera) {
-    out << "  camera: " << bag::ColmapCameraLine(*summary.camera)
-        << " -> camera.txt (COLMAP's pixel centre: ROS's cx, cy + 0.5)\n";
+  for (const bag::CameraExtractionSummary& camera : summary.cameras) {
+    if (!camera.camera) continue;
+    out << "  camera" << (camera.name.empty() ? "" : " " + camera.name) << ": "
+        << bag::ColmapCameraLine(*camera.camera) << " -> "
+        << (summary.topics.rig ? "cameras.txt" : "camera.txt")
+        << " (COLMAP's pixel centre: ROS's cx, cy + 0.5)\n";
   }
   out << "  time: " << bag::BagTimeName(summary.time)
       << (summary.time == bag::BagTime::kHeader
@@ -144,23 +201,24 @@ std::string ExtractedOdometryPath(const bag::BagExtractionOptions& options,
 }
 
 std::pair<std::string, std::string> ExtractedCamera(
-    const bag::BagExtractionSummary& summary) {
-  if (!summary.camera) return {};
-  const std::string flags = bag::OdomcalCameraFlags(*summary.camera);
+    const bag::CameraExtractionSummary& camera) {
+  if (!camera.camera) return {};
+  const std::string flags = bag::OdomcalCameraFlags(*camera.camera);
   const std::string params_flag = "--camera_params ";
   const size_t at = flags.find(params_flag);
-  return {ColmapCameraModelName(summary.camera->model),
+  return {ColmapCameraModelName(camera.camera->model),
           at == std::string::npos ? std::string()
                                   : flags.substr(at + params_flag.size())};
 }
 
-// `odomcal run --bag`: the workspace claimed, the bag extracted into
-// WS/bag_inputs (replacing an earlier extraction), and `run` pointed at the
-// files: images, image times, odometry, and the camera from CameraInfo
-// unless --camera_params was given.
-bag::BagExtractionSummary ExtractBagForRun(
+namespace {
+
+// The workspace claimed for WS/bag_inputs (an earlier extraction removed),
+// the bag extracted into it, and `run` pointed at its images, image times
+// and odometry.
+bag::BagExtractionSummary ExtractIntoWorkspace(
     const std::string& bag_path,
-    bool camera_params_given,
+    const bag::ChosenTopics& chosen,
     bag::BagExtractionOptions* bag_options,
     ReconstructionOptions* run,
     std::ostream& out) {
@@ -170,21 +228,101 @@ bag::BagExtractionSummary ExtractBagForRun(
                       {"bag_inputs"},
                       ExistingOutputs::kReplaceOwn);
   RemoveOwnedOutput(run->workspace_path, "bag_inputs");
-  bag_options->output_folder = inputs.string();
-  bag_options->wheel_track_m = run->project.systematics.wheel_track_m;
   bag::BagExtractionSummary summary =
-      ExtractBagPrinting(bag_path, *bag_options, out);
+      ExtractBagPrinting(bag_path, *bag_options, out, &chosen);
   run->extracted_inputs_path = inputs.string();
   run->image_path = (inputs / "images").string();
   run->project.image_timestamps_path =
       (inputs / "image_timestamps.csv").string();
   run->project.odometry_path = ExtractedOdometryPath(*bag_options, summary);
-  const auto [model, params] = ExtractedCamera(summary);
+  return summary;
+}
+
+// The output folder and the wheel track of `run --bag`'s extraction.
+void SetRunExtraction(const ReconstructionOptions& run,
+                      bag::BagExtractionOptions* bag_options) {
+  bag_options->output_folder =
+      (fs::path(run.workspace_path) / "bag_inputs").string();
+  bag_options->wheel_track_m = run.project.systematics.wheel_track_m;
+  bag_options->Check();
+}
+
+}  // namespace
+
+bag::BagExtractionSummary ExtractBagForRun(
+    const std::string& bag_path,
+    bool camera_params_given,
+    bag::BagExtractionOptions* bag_options,
+    ReconstructionOptions* run,
+    std::ostream& out) {
+  if (bag_options->IsRig()) {
+    throw std::invalid_argument(
+        "several image topics are the cameras of a rig: odomcal run --bag "
+        "calibrates them");
+  }
+  SetRunExtraction(*run, bag_options);
+  const bag::ChosenTopics chosen = ChooseBagTopics(bag_path, *bag_options);
+  bag::BagExtractionSummary summary =
+      ExtractIntoWorkspace(bag_path, chosen, bag_options, run, out);
+  const auto [model, params] = ExtractedCamera(summary.cameras.front());
   if (!model.empty() && !camera_params_given) {
     run->camera_model = model;
     run->camera_params = params;
   }
   return summary;
+}
+
+BagRigCameras ExtractBagRigForRun(const std::string& bag_path,
+                                  const BagRigFlags& flags,
+                                  bag::BagExtractionOptions* bag_options,
+                                  ReconstructionOptions* run,
+                                  std::ostream& out) {
+  SetRunExtraction(*run, bag_options);
+  bag_options->rig = true;
+  const bag::ChosenTopics chosen = ChooseBagTopics(bag_path, *bag_options);
+  BagRigCameras rig;
+  for (const bag::ChosenCamera& camera : chosen.cameras) {
+    rig.names.push_back(camera.name);
+  }
+  // Every camera flag checked against the cameras before the extraction.
+  const std::string cameras_from = "--bag";
+  const std::map<std::string, std::string> given =
+      RigCameraParams(flags.camera_params, rig.names, cameras_from);
+  if (!flags.reference_camera.empty() &&
+      std::find(rig.names.begin(), rig.names.end(), flags.reference_camera) ==
+          rig.names.end()) {
+    throw std::invalid_argument(
+        "--reference_camera '" + flags.reference_camera +
+        "' names no camera of --bag (its cameras: " + JoinNames(rig.names) +
+        ")");
+  }
+  for (const bag::ChosenCamera& camera : chosen.cameras) {
+    if (camera.camera_info.empty() && given.count(camera.name) == 0) {
+      throw std::invalid_argument(
+          "--image_topic " + camera.image + " (camera " + camera.name +
+          "): the bag has no CameraInfo beside it (" +
+          bag::CameraInfoBeside(camera) + ") and no --camera_params " +
+          camera.name + "=PARAMS is given");
+    }
+  }
+  const bag::BagExtractionSummary summary =
+      ExtractIntoWorkspace(bag_path, chosen, bag_options, run, out);
+  for (size_t k = 0; k < summary.cameras.size(); ++k) {
+    const bag::CameraExtractionSummary& camera = summary.cameras[k];
+    const auto user = given.find(camera.name);
+    if (user != given.end()) {
+      rig.camera_params.push_back(camera.name + "=" + user->second);
+      continue;
+    }
+    const auto [model, params] = ExtractedCamera(camera);
+    if (model.empty()) {
+      throw FormatError(bag_path + ": " + chosen.cameras[k].camera_info +
+                        ": no CameraInfo read for camera " + camera.name);
+    }
+    rig.camera_params.push_back(camera.name + "=" + params);
+    rig.camera_models[camera.name] = model;
+  }
+  return rig;
 }
 
 int RunInspect(int argc, char** argv) {
@@ -244,6 +382,25 @@ int RunInspect(int argc, char** argv) {
     } catch (const std::invalid_argument& why) {
       std::cout << "run --bag cannot choose by itself: " << why.what() << "\n";
     }
+    // Several image topics: what a rig run (a camera per topic) would take.
+    size_t image_topics = 0;
+    for (const bag::BagTopic& topic : topics) {
+      image_topics += topic.message_count > 0 &&
+                      (topic.type == "sensor_msgs/Image" ||
+                       topic.type == "sensor_msgs/CompressedImage");
+    }
+    if (!options.IsRig() && image_topics > 1) {
+      bag::BagExtractionOptions rig = options;
+      rig.rig = true;
+      rig.image_topics.clear();
+      try {
+        const std::string choice = ChoiceLine(bag::ChooseTopics(topics, rig));
+        std::cout << "run --bag --rig would use: " << choice << "\n";
+      } catch (const std::invalid_argument& why) {
+        std::cout << "run --bag --rig cannot choose by itself: " << why.what()
+                  << "\n";
+      }
+    }
     return kExitSuccess;
   } catch (const FormatError& error) {
     return ReportBagError("inspect", error);
@@ -295,12 +452,18 @@ int RunExtract(int argc, char** argv) {
                    ? FormatPrintf("%.12g", options.wheel_track_m)
                    : std::string("TRACK"));
     }
-    const auto [model, params] = ExtractedCamera(summary);
-    if (!model.empty()) {
-      next += " --camera_model " + model + " --camera_params " + params;
+    if (summary.topics.rig) {
+      next.insert(std::string("odomcal run").size(), " --rig");
     }
+    const std::string camera_flags = RunCameraFlags(summary);
+    next += camera_flags;
     std::cout << "odomcal extract: done; next:\n  " << next
               << " --workspace_path WS\n";
+    if (summary.topics.rig && camera_flags.empty()) {
+      std::cout << "  (with the cameras' intrinsics: run --rig takes one "
+                   "--camera_model and the cameras' differ, see cameras.txt; "
+                   "odomcal run --bag takes each camera's own)\n";
+    }
     return kExitSuccess;
   } catch (const FormatError& error) {
     return ReportBagError("extract", error);

@@ -38,6 +38,19 @@ CLI::Option* AddFlag(const OptionRow<Options>& row,
       [&](const auto& value) {
         using Value = std::decay_t<decltype(value)>;
         if constexpr (std::is_same_v<Value, OptionText<Options>>) {
+          if (row.repeatable) {
+            // One value per occurrence: "--flag a --flag b".
+            option =
+                app->add_option(flag)
+                    ->description(row.help)
+                    ->type_name("TEXT")
+                    ->expected(1)
+                    ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+                    ->each([options, set = value.set](const std::string& text) {
+                      set(options, text);
+                    });
+            return;
+          }
           option = app->add_option_function<std::string>(
               flag,
               [options, set = value.set](const std::string& text) {

@@ -61,7 +61,8 @@ std::vector<std::string> RigCameraFolders(const std::string& image_path) {
 
 std::map<std::string, std::string> RigCameraParams(
     const std::vector<std::string>& values,
-    const std::vector<std::string>& cameras) {
+    const std::vector<std::string>& cameras,
+    const std::string& cameras_from) {
   const bool for_every_camera =
       std::any_of(values.begin(), values.end(), [](const std::string& value) {
         return value.find('=') == std::string::npos;
@@ -80,9 +81,10 @@ std::map<std::string, std::string> RigCameraParams(
     }
     const std::string name = value.substr(0, equals);
     if (std::find(cameras.begin(), cameras.end(), name) == cameras.end()) {
-      throw std::invalid_argument(
-          "--camera_params '" + value + "': no camera '" + name +
-          "' (the cameras of --image_path: " + JoinNames(cameras) + ")");
+      throw std::invalid_argument("--camera_params '" + value +
+                                  "': no camera '" + name +
+                                  "' (the cameras of " + cameras_from + ": " +
+                                  JoinNames(cameras) + ")");
     }
     if (!params.emplace(name, value.substr(equals + 1)).second) {
       throw std::invalid_argument("--camera_params '" + value + "': camera '" +
@@ -92,10 +94,12 @@ std::map<std::string, std::string> RigCameraParams(
   return params;
 }
 
-int RunRigReconstruction(const ReconstructionOptions& run,
-                         const std::vector<std::string>& camera_params,
-                         const std::string& reference_camera,
-                         const nlohmann::json& bag_echo) {
+int RunRigReconstruction(
+    const ReconstructionOptions& run,
+    const std::vector<std::string>& camera_params,
+    const std::string& reference_camera,
+    const nlohmann::json& bag_echo,
+    const std::map<std::string, std::string>& camera_models) {
   run.project.Check();
   const std::vector<std::string> names = RigCameraFolders(run.image_path);
   const std::map<std::string, std::string> params =
@@ -138,6 +142,9 @@ int RunRigReconstruction(const ReconstructionOptions& run,
     const auto given = params.find(name);
     camera_options.camera_params =
         given == params.end() ? std::string() : given->second;
+    const auto model = camera_models.find(name);
+    if (model != camera_models.end())
+      camera_options.camera_model = model->second;
 
     ColmapRigCameraRun camera_run;
     camera_run.camera.name = name;

@@ -30,18 +30,23 @@ std::vector<std::string> RigCameraFolders(const std::string& image_path);
 // one PARAMS for every camera. Returns name -> params for every camera
 // given (a camera without is estimated by COLMAP). Throws
 // std::invalid_argument naming --camera_params for a NAME that is no
-// camera (listing the cameras), a camera given twice, or PARAMS for every
-// camera mixed with NAME=PARAMS.
+// camera (listing `cameras`, "the cameras of <cameras_from>"), a camera
+// given twice, or PARAMS for every camera mixed with NAME=PARAMS.
 std::map<std::string, std::string> RigCameraParams(
     const std::vector<std::string>& values,
-    const std::vector<std::string>& cameras);
+    const std::vector<std::string>& cameras,
+    const std::string& cameras_from = "--image_path");
 
 // Runs every camera, writes the rig's outputs, prints progress and the
 // summary; returns the exit code (0 when any camera is calibrated). `run`
-// holds the flags (its camera_params unused: `camera_params`).
-int RunRigReconstruction(const ReconstructionOptions& run,
-                         const std::vector<std::string>& camera_params,
-                         const std::string& reference_camera,
-                         const nlohmann::json& bag_echo);
+// holds the flags (its camera_params unused: `camera_params`);
+// `camera_models` the COLMAP model of cameras whose model is not
+// run.camera_model (name -> model, e.g. from a bag's CameraInfo).
+int RunRigReconstruction(
+    const ReconstructionOptions& run,
+    const std::vector<std::string>& camera_params,
+    const std::string& reference_camera,
+    const nlohmann::json& bag_echo,
+    const std::map<std::string, std::string>& camera_models = {});
 
 }  // namespace odomcal

@@ -207,14 +207,15 @@ int RunRun(int argc, char** argv) {
   app.add_flag("--rig",
                rig,
                "each sub-folder of --image_path is one camera, named by it "
-               "(images/front/..., images/rear/...): every camera calibrated "
-               "against the one odometry (docs/cli.md, \"Several cameras\")");
+               "(images/front/..., images/rear/...); with --bag, each image "
+               "topic: every camera calibrated against the one odometry "
+               "(docs/cli.md, \"Several cameras\")");
   std::string reference_camera;
   app.add_option("--reference_camera",
                  reference_camera,
-                 "with --rig: the camera whose result is the top level of "
-                 "calibration.json (default: the first)")
-      ->needs("--rig");
+                 "with --rig (or several --image_topic): the camera whose "
+                 "result is the top level of calibration.json (default: the "
+                 "first)");
   // With --rig, one NAME=PARAMS per camera (or one PARAMS for all).
   std::vector<std::string> camera_params;
   app.get_option("--camera_params")
@@ -225,18 +226,21 @@ int RunRun(int argc, char** argv) {
   if (const auto exit_code = ParseFlags(&app, argc, argv)) {
     return *exit_code;
   }
-  if (!rig && camera_params.size() > 1) {
+  const bool from_bag = !bag_path.empty();
+  // Several image topics of a bag are a rig as --rig is.
+  bag_options.rig = rig && from_bag;
+  const bool several_cameras = rig || (from_bag && bag_options.IsRig());
+  if (!several_cameras && camera_params.size() > 1) {
     std::cerr << "odomcal run: error: --camera_params is given "
               << camera_params.size()
               << " times: one camera takes one (several cameras: --rig)\n";
     return kExitBadInput;
   }
-  if (rig && !bag_path.empty()) {
-    std::cerr << "odomcal run: error: --rig reads the cameras from the "
-                 "sub-folders of --image_path, not from --bag\n";
+  if (!several_cameras && !reference_camera.empty()) {
+    std::cerr << "odomcal run: error: --reference_camera requires --rig (or "
+                 "several --image_topic with --bag)\n";
     return kExitBadInput;
   }
-  const bool from_bag = !bag_path.empty();
   for (const char* flag :
        {"--image_path", "--odometry", "--image_timestamps"}) {
     const bool given = app.count(flag) > 0;
@@ -259,10 +263,25 @@ int RunRun(int argc, char** argv) {
         {"inputs", {{"bag", nullptr}}},
         {"options", {{"bag", nlohmann::json::object()}}}};
     EchoOptions(BagTopicFlags(), bag_options, &bag_echo["options"]["bag"]);
-    bag_echo["inputs"]["rig"] = rig;
+    bag_echo["inputs"]["rig"] = several_cameras;
     if (from_bag) {
       bag_echo["inputs"]["bag"] = bag_path;
       std::cout << "odomcal run: extracting " << bag_path << "\n";
+    }
+    if (from_bag && several_cameras) {
+      const BagRigCameras cameras =
+          ExtractBagRigForRun(bag_path,
+                              {camera_params, reference_camera},
+                              &bag_options,
+                              &run,
+                              std::cout);
+      return RunRigReconstruction(run,
+                                  cameras.camera_params,
+                                  reference_camera,
+                                  bag_echo,
+                                  cameras.camera_models);
+    }
+    if (from_bag) {
       ExtractBagForRun(bag_path,
                        app.count("--camera_params") > 0,
                        &bag_options,

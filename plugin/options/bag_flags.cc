@@ -8,10 +8,21 @@ using BagOptions = bag::BagExtractionOptions;
 
 const OptionTable<BagOptions>& BagTopicFlags() {
   static const OptionTable<BagOptions> table = {
-      NumberRow<BagOptions>(
+      // Echoed as given: "" (chosen), the topic, or the list of a rig's.
+      RepeatedRow<BagOptions>(
           "image_topic",
-          "sensor_msgs/Image or CompressedImage topic (default: the only one)",
-          [](auto& o) -> auto& { return o.image_topic; }),
+          "sensor_msgs/Image or CompressedImage topic (default: the only "
+          "one); repeated: a rig, one camera per topic (NAME=TOPIC names "
+          "one; default: by its namespace)",
+          [](BagOptions* o, const std::string& topic) {
+            o->image_topics.push_back(topic);
+          },
+          [](const BagOptions& o) {
+            if (o.image_topics.size() > 1)
+              return nlohmann::json(o.image_topics);
+            return nlohmann::json(
+                o.image_topics.empty() ? "" : o.image_topics.front());
+          }),
       NumberRow<BagOptions>(
           "odometry_topic",
           "nav_msgs/Odometry topic (default: the only one)",

@@ -114,6 +114,7 @@ struct OptionRow {
   OptionValue<Options> value;
   FlagCheck check;
   bool required = false;
+  bool repeatable = false;   // given any number of times (OptionText)
   bool show_default = true;  // --help shows the current value
   // The value echoed in the result JSON; empty for rows that are not
   // echoed or whose value the report echoes from elsewhere.
@@ -187,6 +188,26 @@ OptionRow<Options> ChoiceRow(
   row.echo = [get](const Options& options) {
     return nlohmann::json(get(options));
   };
+  return row;
+}
+
+// A flag given any number of times: `add` stores each value (in the order
+// given), `echo` echoes them all.
+template <typename Options>
+OptionRow<Options> RepeatedRow(
+    const std::string& name,
+    const std::string& help,
+    std::function<void(Options*, const std::string&)> add,
+    std::function<nlohmann::json(const Options&)> echo) {
+  OptionRow<Options> row;
+  row.name = name;
+  row.help = help;
+  row.echo_key = name;
+  row.value = OptionText<Options>{
+      {}, [](const Options&) { return std::string(); }, std::move(add), ""};
+  row.repeatable = true;
+  row.show_default = false;
+  row.echo = std::move(echo);
   return row;
 }
 
