@@ -30,7 +30,7 @@ scenes=(
   "rear_0.5m_15down_s2|small|2|--camera_mount 180,15,0,-0.2,0.0,0.5"
   "forward_1.2m_30down|small|4|--camera_mount 0,30,0,0.2,0.0,1.2"
   "forward_0.2m_level|small|5|--camera_mount 0,0,0,0.25,-0.05,0.2"
-  "forward_0.8m_20down|small|6|--camera_mount 0,20,0,0.3,0.05,0.8"
+  "forward_0.8m_20down|small|6|--camera_mount 0,20,0,0.15,0.05,0.8"
   "rolled_90_tilted|tilted|1|"
   "short_30|small|7|--num_images 30"
   "long_120|default|2|--num_images 120"
@@ -38,8 +38,8 @@ scenes=(
   "slope_1deg|small|8|--floor_slope_deg 1"
   "untextured_floor|small|9|--untextured_floor"
   "right_0.4m_5down|small|10|--camera_mount -90,5,2,0.0,-0.2,0.4"
-  "yaw20_0.45m|small|11|--camera_mount 20,12,0,0.3,0.1,0.45"
-  "rear_1.0m_30down|small|12|--camera_mount 180,30,0,-0.3,0.05,1.0"
+  "yaw20_0.45m|small|11|--camera_mount 20,12,0,0.15,0.1,0.45"
+  "rear_1.0m_30down|small|12|--camera_mount 180,30,0,-0.15,0.05,1.0"
   "forward_s4|small|13|"
   "forward_s5|small|14|"
   "left_1.5m_25down|default|3|--camera_mount 80,25,0,0.0,0.2,1.5"
@@ -67,7 +67,7 @@ def angle_error_axes(qe, qt):
     return [math.degrees(s*(D[2][1]-D[1][2])), math.degrees(s*(D[0][2]-D[2][0])),
             math.degrees(s*(D[1][0]-D[0][1]))]
 status = r["status"]
-if r.get("odom_from_cam") is None:
+if r.get("odom_from_cam") is None or r["odom_from_cam"].get("quaternion_wxyz") is None:
     print(f"{name:22s} {method:8s} {status} {float(seconds):5.0f} s: {r.get('message','')[:90]}")
     sys.exit()
 e = angle_error_axes(r["odom_from_cam"]["quaternion_wxyz"], truth["quaternion_wxyz"])
@@ -92,8 +92,11 @@ for ((k = first; k <= last; ++k)); do
   data=$root/$name/data
   ws=$root/$name/ws
   if [ ! -f "$data/ground_truth.json" ]; then
-    "$odomcal" render --preset "$preset" --seed "$seed" $flags --overwrite \
-      --output_path "$data" > /dev/null
+    if ! "$odomcal" render --preset "$preset" --seed "$seed" $flags --overwrite \
+      --output_path "$data" > "$root/$name.render.log" 2>&1; then
+      echo "$name: render refused: $(tail -1 "$root/$name.render.log")"
+      continue
+    fi
   fi
   params=$(/usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['camera']; print(c['model'], ','.join('%.17g' % v for v in c['params']))" "$data/ground_truth.json")
   model=${params% *}; values=${params#* }

@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""The table of scripts/scene_sweep.sh from its results: per scene and method
+(two_step: `odomcal run`; joint: `odomcal colmap --joint_adjustment on` on the
+same model) the error over the stated sigma of roll/pitch/yaw (about the
+odometry's axes) and x, y, z, then per parameter how many lie within 3 sigma
+and the RMS of error/sigma (1 when the sigma is honest).
+
+    scripts/scene_sweep_summary.py [/tmp/odomcal_scene_sweep]
+"""
+import json
+import math
+import os
+import sys
+
+root = sys.argv[1] if len(sys.argv) > 1 else "/tmp/odomcal_scene_sweep"
+
+
+def matrix(q):
+    w, x, y, z = q
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+
+
+def rotation_error_deg(estimate, truth):
+    """e with truth = Exp(e) * estimate, about the odometry's axes."""
+    Re, Rt = matrix(estimate), matrix(truth)
+    D = [[sum(Rt[i][k] * Re[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+    a = math.acos(max(-1.0, min(1.0, (D[0][0] + D[1][1] + D[2][2] - 1) / 2)))
+    s = 0.5 if a < 1e-12 else a / (2 * math.sin(a))
+    return [math.degrees(s * (D[2][1] - D[1][2])), math.degrees(s * (D[0][2] - D[2][0])),
+            math.degrees(s * (D[1][0] - D[0][1]))]
+
+
+params = ["roll", "pitch", "yaw", "x", "y", "z"]
+ratios = {"two_step": {p: [] for p in params}, "joint": {p: [] for p in params}}
+print("| scene | method | roll / pitch / yaw error over sigma | x / y / z error over sigma | "
+      "x / y / z error (mm) | z from |")
+print("| --- | --- | --- | --- | --- | --- |")
+for name in sorted(os.listdir(root)):
+    truth_path = os.path.join(root, name, "data", "ground_truth.json")
+    if not os.path.exists(truth_path):
+        continue
+    truth = json.load(open(truth_path))["odom_from_cam"]
+    for method, folder in (("two_step", "ws"), ("joint", "joint")):
+        path = os.path.join(root, name, folder, "calibration.json")
+        if not os.path.exists(path):
+            continue
+        r = json.load(open(path))
+        q = (r.get("odom_from_cam") or {}).get("quaternion_wxyz")
+        if r["status"] != "success" or q is None:
+            print(f"| {name} | {method} | {r['status']} | | | |")
+            continue
+        e = rotation_error_deg(q, truth["quaternion_wxyz"])
+        sd = r["stddev"]
+        sigmas = list(sd["rotation_axes_deg"]) + [
+            sd["translation_x_m"], sd["translation_y_m"], sd["translation_z_m"]]
+        t = r["odom_from_cam"]["translation_m"]
+        errors = e + [t[k] - truth["translation_m"][k] for k in range(3)]
+        cells = []
+        for p, err, sig in zip(params, errors, sigmas):
+            if sig is None or sig <= 0:
+                cells.append("held")
+                continue
+            ratios[method][p].append(err / sig)
+            cells.append(f"{err / sig:+.1f}")
+        mm = " / ".join(f"{1000 * v:+.1f}" for v in errors[3:])
+        print(f"| {name} | {method.replace('_', '-')} | {' / '.join(cells[:3])} | "
+              f"{' / '.join(cells[3:])} | {mm} | {r.get('translation_z_source')} |")
+print()
+for method in ("two_step", "joint"):
+    parts = []
+    for p in params:
+        v = ratios[method][p]
+        if v:
+            within = sum(1 for x in v if abs(x) <= 3)
+            rms = math.sqrt(sum(x * x for x in v) / len(v))
+            parts.append(f"{p} {within}/{len(v)} within 3 sigma, RMS {rms:.2f}")
+    print(f"- {method.replace('_', '-')}: " + "; ".join(parts))
