@@ -144,6 +144,19 @@ class RigCli : public ::testing::Test {
     return arguments;
   }
 
+  // Each `run` of `cases` (arguments, message) exits 2 with the one line
+  // "odomcal run: error: <message>" and leaves no workspace.
+  void ExpectRunErrors(
+      const std::vector<std::pair<std::string, std::string>>& cases) const {
+    for (const auto& [arguments, message] : cases) {
+      SCOPED_TRACE(arguments);
+      const CommandResult run = Run(arguments);
+      EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+      EXPECT_EQ(run.err, "odomcal run: error: " + message + "\n");
+      EXPECT_FALSE(fs::exists(Path("ws")));
+    }
+  }
+
   fs::path dir_;
 };
 
@@ -360,7 +373,7 @@ TEST_F(RigCli, RunRigInputErrorsGiveOneLine) {
                            " --odometry " + Path("odometry.csv") +
                            " --workspace_path " + Path("ws");
   const std::string error = "odomcal run: error: ";
-  std::vector<std::pair<std::string, std::string>> cases = {
+  const std::vector<std::pair<std::string, std::string>> cases = {
       {base + " --camera_params side=1,2,3,4",
        "--camera_params 'side=1,2,3,4': no camera 'side' (the cameras of "
        "--image_path: front, rear)"},
@@ -378,13 +391,7 @@ TEST_F(RigCli, RunRigInputErrorsGiveOneLine) {
        "--camera_params is given 2 times: one camera takes one (several "
        "cameras: --rig)"},
   };
-  for (const auto& [arguments, message] : cases) {
-    SCOPED_TRACE(arguments);
-    const CommandResult run = Run(arguments);
-    EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
-    EXPECT_EQ(run.err, error + message + "\n");
-    EXPECT_FALSE(fs::exists(Path("ws")));
-  }
+  ExpectRunErrors(cases);
   // A camera folder without images; an image in no camera's folder.
   fs::create_directories(images / "side");
   CommandResult run = Run(base);
@@ -466,7 +473,6 @@ TEST_F(RigCli, RunBagWithSeveralImageTopicsTakesEachCamerasCameraInfo) {
 TEST_F(RigCli, BagRigInputErrorsGiveOneLine) {
   const std::string base = "run --bag " + RigBag() + " --workspace_path " +
                            Path("ws") + " --image_topic /left/image_raw";
-  const std::string error = "odomcal run: error: ";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {base + " --image_topic /front/image_raw",
        "--image_topic /front/image_raw is not in the bag; image topics: "
@@ -500,13 +506,7 @@ TEST_F(RigCli, BagRigInputErrorsGiveOneLine) {
        "--reference_camera requires --rig (or several --image_topic with "
        "--bag)"},
   };
-  for (const auto& [arguments, message] : cases) {
-    SCOPED_TRACE(arguments);
-    const CommandResult run = Run(arguments);
-    EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
-    EXPECT_EQ(run.err, error + message + "\n");
-    EXPECT_FALSE(fs::exists(Path("ws")));
-  }
+  ExpectRunErrors(cases);
 }
 
 // `inspect` says what a rig run would take; `extract` with several
