@@ -118,15 +118,22 @@ std::pair<ColmapCalibrationRun, ReportContext> ReferenceColmapRun(
   return {std::move(run), std::move(result.context)};
 }
 
+json RigJsonOf(const ColmapRigRun& rig,
+               const RigCalibrationRun& as_rig,
+               const ColmapCalibrationRun& reference_run,
+               const ReportContext& context) {
+  json out = ColmapCalibrationToJson(reference_run, context);
+  AddRigToJson(as_rig, &out);
+  AddColmapRigToJson(rig, &out);
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json ColmapRigToJson(const ColmapRigRun& rig,
                                const RigCalibrationRun& as_rig) {
   const auto [reference_run, context] = ReferenceColmapRun(rig, as_rig);
-  json out = ColmapCalibrationToJson(reference_run, context);
-  AddRigToJson(as_rig, &out);
-  AddColmapRigToJson(rig, &out);
-  return out;
+  return RigJsonOf(rig, as_rig, reference_run, context);
 }
 
 std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
@@ -136,7 +143,8 @@ std::vector<std::string> WriteColmapRigOutputs(const ColmapRigRun& rig,
   namespace fs = std::filesystem;
   const auto [reference_run, context] = ReferenceColmapRun(rig, as_rig);
   RigOverrides overrides;
-  overrides.result = ColmapRigToJson(rig, as_rig);
+  // The reference run copied once, for the JSON and the files.
+  overrides.result = RigJsonOf(rig, as_rig, reference_run, context);
   overrides.robot = RigRobotDescription(as_rig);
   overrides.report_section = RigReportHtml(ColmapRigReport(rig, as_rig));
   std::vector<std::string> written = WriteColmapCalibrationOutputs(
