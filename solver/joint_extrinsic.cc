@@ -28,37 +28,57 @@ void AdoptJointExtrinsic(const JointAdjustmentResult& joint,
       joint.covariance.bottomRightCorner<2, 2>().diagonal().cwiseSqrt();
 }
 
-std::vector<ExtrinsicDisagreement> ExtrinsicDisagreements(
-    const Rigid3d& joint,
-    const Rigid3d& two_step,
-    const Eigen::Matrix<double, 5, 5>& two_step_covariance) {
-  const Eigen::Matrix3d rpy = RollPitchYawJacobian(two_step.rotation);
-  const Eigen::Vector3d rpy_stddev =
-      (rpy * two_step_covariance.topLeftCorner<3, 3>() * rpy.transpose())
+double ExtrinsicDisagreement::Sigmas() const {
+  return std::abs(difference) / std::hypot(two_step_stddev, joint_stddev);
+}
+
+namespace {
+
+// Standard deviations of roll, pitch, yaw (deg) and x, y (m) of an estimate
+// with rotation `rotation` and covariance `covariance`.
+Eigen::Matrix<double, 5, 1> QuantityStddevs(
+    const Eigen::Quaterniond& rotation,
+    const Eigen::Matrix<double, 5, 5>& covariance) {
+  const Eigen::Matrix3d rpy = RollPitchYawJacobian(rotation);
+  Eigen::Matrix<double, 5, 1> stddevs;
+  stddevs.head<3>() =
+      (rpy * covariance.topLeftCorner<3, 3>() * rpy.transpose())
           .diagonal()
           .cwiseSqrt() *
       kRadToDeg;
-  Eigen::Vector3d rpy_difference =
+  stddevs.tail<2>() = covariance.bottomRightCorner<2, 2>().diagonal().cwiseSqrt();
+  return stddevs;
+}
+
+}  // namespace
+
+std::vector<ExtrinsicDisagreement> ExtrinsicDisagreements(
+    const Rigid3d& joint,
+    const Eigen::Matrix<double, 5, 5>& joint_covariance,
+    const Rigid3d& two_step,
+    const Eigen::Matrix<double, 5, 5>& two_step_covariance,
+    double min_sigmas) {
+  const Eigen::Matrix<double, 5, 1> two_step_stddev =
+      QuantityStddevs(two_step.rotation, two_step_covariance);
+  const Eigen::Matrix<double, 5, 1> joint_stddev =
+      QuantityStddevs(joint.rotation, joint_covariance);
+  Eigen::Matrix<double, 5, 1> difference;
+  difference.head<3>() =
       (RollPitchYaw(joint.rotation) - RollPitchYaw(two_step.rotation)) *
       kRadToDeg;
   for (int k = 0; k < 3; ++k) {
-    rpy_difference[k] = std::remainder(rpy_difference[k], 360.0);
+    difference[k] = std::remainder(difference[k], 360.0);
   }
+  difference.tail<2>() =
+      joint.translation.head<2>() - two_step.translation.head<2>();
+  const char* const kNames[] = {
+      "roll", "pitch", "yaw", "translation_x", "translation_y"};
   std::vector<ExtrinsicDisagreement> disagreements;
-  constexpr double kSigmas = 3.0;
-  const char* const kRotationNames[] = {"roll", "pitch", "yaw"};
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(rpy_difference[k]) > kSigmas * rpy_stddev[k]) {
-      disagreements.push_back(
-          {kRotationNames[k], rpy_difference[k], rpy_stddev[k]});
-    }
-  }
-  const char* const kTranslationNames[] = {"translation_x", "translation_y"};
-  for (int k = 0; k < 2; ++k) {
-    const double difference = joint.translation[k] - two_step.translation[k];
-    const double stddev = std::sqrt(two_step_covariance(3 + k, 3 + k));
-    if (std::abs(difference) > kSigmas * stddev) {
-      disagreements.push_back({kTranslationNames[k], difference, stddev});
+  for (int k = 0; k < 5; ++k) {
+    const ExtrinsicDisagreement disagreement{
+        kNames[k], difference[k], two_step_stddev[k], joint_stddev[k]};
+    if (min_sigmas <= 0.0 || disagreement.Sigmas() > min_sigmas) {
+      disagreements.push_back(disagreement);
     }
   }
   return disagreements;

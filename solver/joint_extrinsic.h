@@ -21,21 +21,32 @@ namespace odomcal {
 void AdoptJointExtrinsic(const JointAdjustmentResult& joint,
                          CalibrationResult* result);
 
-// One extrinsic quantity on which the two estimates differ by more than
-// 3 of the two-step's standard deviations: the joint estimate lies outside
-// the two-step's own 3-sigma interval, which the two-step's uncertainty
-// promised it would not (most of the time).
+// One extrinsic quantity of the two estimates and their standard
+// deviations. Both rest on the same images and odometry, the adjustment on
+// more of them, so the variance of their difference is taken as at most the
+// sum of the two (it is the two-step's alone where the adjustment is much
+// the more precise, the usual case; the adjustment's where it is the
+// less precise, as with few points per image).
 struct ExtrinsicDisagreement {
   std::string quantity;          // "roll", "pitch", "yaw", "translation_x", ...
   double difference = 0.0;       // joint - two-step; deg or m
   double two_step_stddev = 0.0;  // deg or m
+  double joint_stddev = 0.0;     // deg or m
+  // |difference| over the standard deviation of the difference.
+  double Sigmas() const;
 };
 
-// The disagreements of `joint` (rotation as roll/pitch/yaw, x, y) with the
-// two-step estimate and its covariance ([rx, ry, rz, tx, ty] leading block).
+// The quantities (rotation as roll/pitch/yaw, x, y) on which `joint` and
+// the two-step estimate differ by more than `min_sigmas` standard
+// deviations of their difference (0: all five, in that order); the
+// covariances are the [rx, ry, rz, tx, ty] blocks. Beyond 3 the joint
+// estimate lies outside the two estimates' 3-sigma interval of agreement,
+// which their uncertainties promised it would not (most of the time).
 std::vector<ExtrinsicDisagreement> ExtrinsicDisagreements(
     const Rigid3d& joint,
+    const Eigen::Matrix<double, 5, 5>& joint_covariance,
     const Rigid3d& two_step,
-    const Eigen::Matrix<double, 5, 5>& two_step_covariance);
+    const Eigen::Matrix<double, 5, 5>& two_step_covariance,
+    double min_sigmas = 3.0);
 
 }  // namespace odomcal

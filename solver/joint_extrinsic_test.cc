@@ -11,7 +11,7 @@
 namespace odomcal {
 namespace {
 
-TEST(ExtrinsicDisagreements, NameWhatLiesOutsideTheTwoStepsThreeSigma) {
+TEST(ExtrinsicDisagreements, NameWhatLiesBeyondThreeSigmaOfTheDifference) {
   Rigid3d two_step;
   two_step.rotation = YawRotation(0.3);
   two_step.translation = Eigen::Vector3d(0.25, 0.05, 0.4);
@@ -20,20 +20,35 @@ TEST(ExtrinsicDisagreements, NameWhatLiesOutsideTheTwoStepsThreeSigma) {
   covariance.diagonal() << rotation_sigma * rotation_sigma,
       rotation_sigma * rotation_sigma, rotation_sigma * rotation_sigma, 1e-6,
       1e-6;
+  // The adjustment far the more precise: the difference's sigma is the
+  // two-step's.
+  const Eigen::Matrix<double, 5, 5> precise = 1e-6 * covariance;
   Rigid3d joint = two_step;
   joint.rotation = YawRotation(0.3 + 0.02 * kDegToRad);  // 2 sigma
   joint.translation.x() += 0.0035;                       // 3.5 sigma
   const std::vector<ExtrinsicDisagreement> disagreements =
-      ExtrinsicDisagreements(joint, two_step, covariance);
+      ExtrinsicDisagreements(joint, precise, two_step, covariance);
   ASSERT_EQ(disagreements.size(), 1u);
   EXPECT_EQ(disagreements[0].quantity, "translation_x");
   EXPECT_NEAR(disagreements[0].difference, 0.0035, 1e-12);
   EXPECT_NEAR(disagreements[0].two_step_stddev, 0.001, 1e-12);
+  EXPECT_NEAR(disagreements[0].joint_stddev, 1e-6, 1e-12);
+  EXPECT_NEAR(disagreements[0].Sigmas(), 3.5, 1e-5);
   joint.rotation = YawRotation(0.3 - 0.04 * kDegToRad);  // 4 sigma
-  const auto with_yaw = ExtrinsicDisagreements(joint, two_step, covariance);
+  const auto with_yaw =
+      ExtrinsicDisagreements(joint, precise, two_step, covariance);
   ASSERT_EQ(with_yaw.size(), 2u);
   EXPECT_EQ(with_yaw[0].quantity, "yaw");
   EXPECT_NEAR(with_yaw[0].difference, -0.04, 1e-9);
+  // An adjustment as uncertain as the two-step: 4 / sqrt(2) = 2.8 sigma of
+  // the difference, no disagreement; all five with min_sigmas 0.
+  EXPECT_TRUE(
+      ExtrinsicDisagreements(joint, covariance, two_step, covariance).empty());
+  const auto all =
+      ExtrinsicDisagreements(joint, covariance, two_step, covariance, 0.0);
+  ASSERT_EQ(all.size(), 5u);
+  EXPECT_EQ(all[4].quantity, "translation_y");
+  EXPECT_NEAR(all[2].Sigmas(), 4.0 / std::sqrt(2.0), 1e-6);
 }
 
 TEST(AdoptJointExtrinsic, ReplacesTheExtrinsicBlockAndKeepsTheScales) {

@@ -16,13 +16,19 @@
 
 namespace odomcal {
 
-enum class JointAdjustmentUse { kOn, kOff };
-std::string ToString(JointAdjustmentUse use);  // "on", "off"
+// kCheck: the adjustment runs after the two-step calibration and checks
+// it; the two-step estimate is reported unless the adjustment contradicts it
+// (a difference in roll, pitch, yaw, x or y beyond kJointContradictionSigmas
+// standard deviations of the difference, ExtrinsicDisagreement: the
+// two-step's model of the reconstruction failed), then the adjustment's is,
+// as with kOn.
+enum class JointAdjustmentUse { kOn, kOff, kCheck };
+std::string ToString(JointAdjustmentUse use);  // "on", "off", "check"
 // Throws std::invalid_argument naming the value.
 JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name);
 
 struct JointAdjustmentSettings {
-  JointAdjustmentUse use = JointAdjustmentUse::kOff;
+  JointAdjustmentUse use = JointAdjustmentUse::kCheck;
   JointAdjustmentOptions options;
   JointJackknifeOptions jackknife;
   void Check() const {
@@ -45,9 +51,23 @@ struct JointStretchScale {
   double joint_scale = 0.0;
 };
 
+// kCheck: beyond this many standard deviations of their difference the
+// adjustment contradicts the two-step estimate. Honest sigmas leave a
+// difference this large with a chance below 1e-5 over the five quantities;
+// between 3 and 5 the difference is named in a warning and the two-step
+// estimate stays.
+constexpr double kJointContradictionSigmas = 5.0;
+
 struct JointAdjustmentRun {
-  bool requested = false;  // --joint_adjustment on
+  bool requested = false;  // --joint_adjustment on or check
+  JointAdjustmentUse use = JointAdjustmentUse::kOff;
   bool ran = false;        // the adjustment was attempted
+  // The adjustment's extrinsic and model are the result's (kOn, or kCheck
+  // with a contradiction); false: the two-step's stay.
+  bool adopted = false;
+  // The largest |joint - two-step| over the standard deviation of the
+  // difference in roll, pitch, yaw, x, y (when it succeeded).
+  double max_disagreement_sigmas = 0.0;
   std::string skipped;     // why it was not (empty when it ran or was off)
   JointAdjustmentResult result;
   // The jackknife over stretches of the drive that widened result's

@@ -449,8 +449,6 @@ ColmapModel AdjustedModel(const JointInput& input,
   return model;
 }
 
-std::string Degrees(double value) { return FormatNumber(value) + " deg"; }
-
 // One progress line.
 std::string JointProgressLine(const JointAdjustmentProgress& where,
                               double seconds) {
@@ -468,14 +466,23 @@ std::string JointProgressLine(const JointAdjustmentProgress& where,
 }  // namespace
 
 std::string ToString(JointAdjustmentUse use) {
-  return use == JointAdjustmentUse::kOn ? "on" : "off";
+  switch (use) {
+    case JointAdjustmentUse::kOn:
+      return "on";
+    case JointAdjustmentUse::kOff:
+      return "off";
+    case JointAdjustmentUse::kCheck:
+      return "check";
+  }
+  return "off";
 }
 
 JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name) {
   if (name == "on") return JointAdjustmentUse::kOn;
   if (name == "off") return JointAdjustmentUse::kOff;
+  if (name == "check") return JointAdjustmentUse::kCheck;
   throw std::invalid_argument("joint_adjustment: '" + name +
-                              "' is not on or off");
+                              "' is not on, off or check");
 }
 
 void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
@@ -486,10 +493,14 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   CalibrationResult& result = run->check.result;
   if (inputs.joint_adjustment.use == JointAdjustmentUse::kOff) return;
   joint.requested = true;
+  joint.use = inputs.joint_adjustment.use;
+  const bool check = joint.use == JointAdjustmentUse::kCheck;
+  const std::string name = check ? "joint adjustment check" : "joint adjustment";
   const auto skip = [&](const std::string& why) {
     joint.skipped = why;
-    result.warnings.push_back("joint adjustment not run: " + why +
-                              "; the two-step result stands");
+    result.warnings.push_back(name + " not run: " + why +
+                              "; the two-step result stands" +
+                              (check ? ", unchecked" : ""));
   };
   if (run->metric_models.empty() || !result.covariance) {
     skip("no metric model to adjust");
@@ -535,12 +546,58 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   joint.two_step_covariance = result.covariance->topLeftCorner<5, 5>();
   joint.result = AdjustJointly(input.problem, options);
   if (!joint.result.IsSuccess()) {
-    result.warnings.push_back(std::string("joint adjustment failed (") +
+    result.warnings.push_back(name + " failed (" +
                               ToString(joint.result.status) +
                               "): " + joint.result.message +
-                              "; the two-step result stands");
+                              "; the two-step result stands" +
+                              (check ? ", unchecked" : ""));
     return;
   }
+  // Against the adjustment's covariance before any jackknife: the check
+  // needs its estimate only where it contradicts.
+  for (const ExtrinsicDisagreement& d :
+       ExtrinsicDisagreements(joint.result.odom_from_cam,
+                              joint.result.covariance,
+                              joint.two_step_odom_from_cam,
+                              joint.two_step_covariance,
+                              0.0)) {
+    joint.max_disagreement_sigmas =
+        std::max(joint.max_disagreement_sigmas, d.Sigmas());
+  }
+  joint.disagreements = ExtrinsicDisagreements(joint.result.odom_from_cam,
+                                               joint.result.covariance,
+                                               joint.two_step_odom_from_cam,
+                                               joint.two_step_covariance);
+  const bool contradicted =
+      joint.max_disagreement_sigmas > kJointContradictionSigmas;
+  for (const ExtrinsicDisagreement& disagreement : joint.disagreements) {
+    const bool angle =
+        disagreement.quantity.find("translation") == std::string::npos;
+    const std::string difference =
+        angle ? FormatPrintf("%.3f deg", disagreement.difference)
+              : FormatPrintf("%.1f mm", disagreement.difference * 1e3);
+    result.warnings.push_back(
+        name + ": " + disagreement.quantity +
+        " differs from the two-step estimate by " + difference + " (" +
+        FormatPrintf("%.1f", disagreement.Sigmas()) +
+        " sigma of the difference): the motion pairs and the images "
+        "disagree; "
+        "check the reconstruction (scale drift, folds) and the odometry");
+  }
+  if (check && !contradicted) {  // the two-step estimate stands
+    joint.jackknife.reason = "a check that agreed: the two-step estimate stands";
+    return;
+  }
+  if (check) {
+    result.warnings.push_back(
+        "joint adjustment check: the images contradict the two-step "
+        "estimate (" +
+        FormatPrintf("%.1f", joint.max_disagreement_sigmas) +
+        " sigma of their difference apart, more than " +
+        FormatPrintf("%.0f", kJointContradictionSigmas) +
+        "): the joint adjustment's extrinsic and metric model are reported");
+  }
+  joint.adopted = true;
   std::vector<int> image_order(input.problem.images.size());
   std::iota(image_order.begin(), image_order.end(), 0);
   std::sort(image_order.begin(), image_order.end(), [&](int a, int b) {
@@ -551,25 +608,6 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
                                             image_order,
                                             inputs.joint_adjustment.jackknife,
                                             &joint.result);
-  joint.disagreements = ExtrinsicDisagreements(joint.result.odom_from_cam,
-                                               joint.two_step_odom_from_cam,
-                                               joint.two_step_covariance);
-  for (const ExtrinsicDisagreement& disagreement : joint.disagreements) {
-    const bool angle =
-        disagreement.quantity.find("translation") == std::string::npos;
-    const auto text = [&](double value) {
-      return angle ? Degrees(value) : FormatNumber(value * 1e3) + " mm";
-    };
-    result.warnings.push_back(
-        "joint adjustment: " + disagreement.quantity +
-        " differs from the "
-        "two-step estimate by " +
-        text(disagreement.difference) + " (" +
-        FormatNumber(std::abs(disagreement.difference) /
-                     disagreement.two_step_stddev) +
-        " two-step sigma): the motion pairs and the images disagree; "
-        "check the reconstruction (scale drift, folds) and the odometry");
-  }
   AlignWithOdometry(*run, input, &joint.result);
   CompareScales(*run, input, &joint);
   AdoptJointExtrinsic(joint.result, &result);

@@ -6,6 +6,7 @@
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/joint_adjustment_stage.h"
 #include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/plugin/report/report_testing.h"
 #include "odomcal/solver/angles.h"
@@ -126,8 +127,9 @@ TEST_F(JointAdjustmentStageTest, TakesTheDriftOutOfTheMetricModel) {
 }
 
 TEST_F(JointAdjustmentStageTest, OffLeavesTheTwoStepResult) {
-  const ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
+  ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
       (dir_ / "project").string(), DriftingProject(TestSeed(8)));
+  inputs.joint_adjustment.use = JointAdjustmentUse::kOff;
   const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
   EXPECT_FALSE(run.joint.requested);
   const nlohmann::json json = ColmapCalibrationToJson(
@@ -135,6 +137,79 @@ TEST_F(JointAdjustmentStageTest, OffLeavesTheTwoStepResult) {
   EXPECT_TRUE(json["joint_adjustment"].is_null());
   EXPECT_TRUE(json["diagnostics"]["two_step"].is_null());
   EXPECT_GT(run.metric_models.size(), 1u);  // the drift's parts
+}
+
+std::map<std::string, int64_t> StampOfImage(const ColmapCalibrationRun& run) {
+  std::map<std::string, int64_t> stamps;
+  for (const ColmapSegment& segment : run.segments) {
+    for (size_t i = 0; i < segment.image_names.size(); ++i) {
+      stamps.emplace(segment.image_names[i],
+                     segment.trajectory.poses[i].stamp_ns);
+    }
+  }
+  return stamps;
+}
+
+TEST_F(JointAdjustmentStageTest, TheDefaultCheckKeepsATwoStepItAgreesWith) {
+  SimulatedColmapProjectOptions options = DriftingProject(TestSeed(10));
+  options.scale_drift = 0.0;
+  const ColmapCalibrationInputs inputs =
+      WriteSimulatedColmapProject((dir_ / "project").string(), options);
+  ASSERT_EQ(inputs.joint_adjustment.use, JointAdjustmentUse::kCheck);
+  ColmapCalibrationInputs off = inputs;
+  off.joint_adjustment.use = JointAdjustmentUse::kOff;
+  const ColmapCalibrationRun two_step = CalibrateColmapProject(off);
+  const ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  ASSERT_TRUE(run.check.result.has_estimate) << run.check.result.message;
+  ASSERT_TRUE(run.joint.ran && run.joint.result.IsSuccess())
+      << run.joint.skipped << run.joint.result.message;
+  EXPECT_FALSE(run.joint.adopted);
+  EXPECT_LE(run.joint.max_disagreement_sigmas, kJointContradictionSigmas);
+  EXPECT_FALSE(run.joint.jackknife.ran);  // needed only for its estimate
+  // The reported extrinsic is the two-step's, bit for bit.
+  EXPECT_TRUE(run.check.result.odom_from_cam.rotation.coeffs().isApprox(
+      two_step.check.result.odom_from_cam.rotation.coeffs(), 0.0));
+  EXPECT_EQ(run.check.result.odom_from_cam.translation,
+            two_step.check.result.odom_from_cam.translation);
+  EXPECT_EQ(run.metric_models.size(), two_step.metric_models.size());
+  const nlohmann::json json = ColmapCalibrationToJson(
+      run, ProjectReportContext(inputs, run, "odomcal colmap"));
+  EXPECT_EQ(json["joint_adjustment"]["use"], "check");
+  EXPECT_EQ(json["joint_adjustment"]["adopted"], false);
+  EXPECT_TRUE(json["diagnostics"]["two_step"].is_null());
+}
+
+TEST_F(JointAdjustmentStageTest, TheCheckReportsTheAdjustmentWhereItContradicts) {
+  const ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
+      (dir_ / "project").string(), DriftingProject(TestSeed(11)));
+  ColmapCalibrationInputs off = inputs;
+  off.joint_adjustment.use = JointAdjustmentUse::kOff;
+  ColmapCalibrationRun run = CalibrateColmapProject(off);
+  CalibrationResult& result = run.check.result;
+  ASSERT_TRUE(result.has_estimate && result.covariance) << result.message;
+  // A two-step estimate biased far beyond its sigma, as a model whose
+  // scale drifts inside a segment gives it: 1.5 deg about the odometry's x.
+  const Rigid3d truth_like = result.odom_from_cam;
+  result.odom_from_cam.rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(1.5 * kDegToRad,
+                                           Eigen::Vector3d::UnitX())) *
+      result.odom_from_cam.rotation;
+  ApplyJointAdjustment(inputs, StampOfImage(run), nullptr, &run);
+  ASSERT_TRUE(run.joint.result.IsSuccess()) << run.joint.result.message;
+  EXPECT_GT(run.joint.max_disagreement_sigmas, kJointContradictionSigmas);
+  EXPECT_TRUE(run.joint.adopted);
+  EXPECT_TRUE(run.joint.jackknife.ran) << run.joint.jackknife.reason;
+  // The adjustment came back from the bias, and says so.
+  EXPECT_LT(RotationAngle(result.odom_from_cam.rotation *
+                          truth_like.rotation.conjugate()),
+            0.2 * kDegToRad);
+  bool named = false;
+  for (const std::string& warning : result.warnings) {
+    named |= warning.find("contradict the two-step estimate") !=
+             std::string::npos;
+  }
+  EXPECT_TRUE(named);
+  ASSERT_EQ(run.metric_models.size(), 1u);  // the adjusted model
 }
 
 TEST_F(JointAdjustmentStageTest, AModelWithoutPointsIsNamedNotAdjusted) {

@@ -145,9 +145,12 @@ const OptionTable<JointAdjustmentSettings>& JointAdjustmentFlags() {
       ChoiceRow<J>(
           "joint_adjustment",
           "after the two-step calibration, one bundle adjustment of the "
-          "images, the wheel odometry and the extrinsic in metres: its "
-          "extrinsic and one metric model without COLMAP's scale drift",
-          {"on", "off"},
+          "images, the wheel odometry and the extrinsic in metres. on: its "
+          "extrinsic and one metric model without COLMAP's scale drift are "
+          "reported; check: it checks the two-step estimate, which is "
+          "reported unless the adjustment contradicts it (more than 5 "
+          "sigma apart), then the adjustment's is; off: not run",
+          {"on", "off", "check"},
           [](const J& o) { return ToString(o.use); },
           [](J* o, const std::string& name) {
             o->use = JointAdjustmentUseFromString(name);

@@ -49,17 +49,22 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   json out = {
       {"status", ToString(r.status)},
       {"message", r.message},
+      {"use", ToString(joint.use)},
+      {"adopted", joint.adopted},
       {"num_images", joint.num_images},
       {"num_points", joint.num_points},
       {"num_odometry_links", joint.num_links},
       {"num_joining_links", joint.num_joining_links},
   };
   if (!r.IsSuccess()) return out;
+  out["max_disagreement_sigmas"] = joint.max_disagreement_sigmas;
+  out["contradiction_sigmas"] = kJointContradictionSigmas;
   json disagreements = json::array();
   for (const ExtrinsicDisagreement& d : joint.disagreements) {
     disagreements.push_back({{"quantity", d.quantity},
                              {"difference", d.difference},
                              {"two_step_stddev", d.two_step_stddev},
+                             {"joint_stddev", d.joint_stddev},
                              {"unit", IsAngle(d) ? "deg" : "m"}});
   }
   json stretches = json::array();
@@ -125,7 +130,7 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
 
 json TwoStepToJson(const ColmapCalibrationRun& run) {
   const JointAdjustmentRun& joint = run.joint;
-  if (!Succeeded(joint)) return nullptr;
+  if (!Succeeded(joint) || !joint.adopted) return nullptr;
   const Eigen::Matrix3d rpy =
       RollPitchYawJacobian(joint.two_step_odom_from_cam.rotation);
   const Eigen::Vector3d rpy_stddev =
@@ -150,8 +155,23 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
   std::ostringstream out;
   const JointAdjustmentResult& r = joint.result;
   if (!r.IsSuccess()) {
-    out << "  joint adjustment: " << ToString(r.status) << " (" << r.message
+    out << "  joint adjustment" << (joint.adopted ? "" : " check") << ": "
+        << ToString(r.status) << " (" << r.message
         << "); the two-step result stands\n";
+    return out.str();
+  }
+  if (!joint.adopted) {
+    out << "  joint adjustment check: the two-step estimate stands (the "
+           "adjustment differs by at most "
+        << FormatPrintf("%.1f", joint.max_disagreement_sigmas)
+        << " sigma of the difference, a contradiction is more than "
+        << FormatPrintf("%.0f", kJointContradictionSigmas) << "; "
+        << joint.num_images << " images, "
+        << joint.num_points << " points, " << joint.num_links
+        << " odometry links; reprojection rms "
+        << FormatPrintf("%.2f px", r.reprojection_rms_px_after) << "; "
+        << FormatPrintf("%.1f s", r.solve_time_s + r.covariance_time_s)
+        << "); --joint_adjustment on reports its estimate\n";
     return out.str();
   }
   out << "  joint adjustment: " << joint.num_images << " images, "
@@ -203,6 +223,17 @@ std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
   const JointAdjustmentResult& r = joint.result;
   std::ostringstream html;
   html << "<h2>Joint adjustment</h2>\n";
+  if (r.IsSuccess() && !joint.adopted) {
+    html << "<p>Run as a check of the two-step estimate: they differ by at "
+            "most "
+         << EscapeMarkup(FormatPrintf("%.1f", joint.max_disagreement_sigmas))
+         << " standard deviations of their difference (a contradiction is "
+            "more than "
+         << EscapeMarkup(FormatPrintf("%.0f", kJointContradictionSigmas))
+         << "), so the two-step estimate is reported. "
+            "<code>--joint_adjustment on</code> reports the adjustment's.</p>\n";
+    return html.str();
+  }
   if (!r.IsSuccess()) {
     html << "<p>Not used: " << EscapeMarkup(ToString(r.status)) << " ("
          << EscapeMarkup(r.message)
