@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Rendered scenes varied beyond the presets (camera height, pitch, mount
 # direction, drive length, odometry noise, floors that are not level or not
-# textured), each through `odomcal run` (the two-step calibration, the
-# default) and then `odomcal colmap --joint_adjustment on` on the same
-# COLMAP model: per scene and parameter the error and the stated sigma.
+# textured), each through `odomcal run --joint_adjustment off` (the two-step
+# calibration) and then, on the same COLMAP model, `odomcal colmap` with its
+# default `--joint_adjustment check` and with `--joint_adjustment on`: per
+# scene and parameter the error and the stated sigma.
 # docs/joint_adjustment.md quotes the table.
 #
 #   scripts/scene_sweep.sh [FIRST_SCENE (default 1)] [LAST_SCENE (default 23)]
@@ -103,9 +104,16 @@ for ((k = first; k <= last; ++k)); do
   start=$(date +%s.%N)
   "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
     --image_timestamps "$data/image_timestamps.csv" --camera_model "$model" \
-    --camera_params "$values" --workspace_path "$ws" > "$root/$name/run.log" 2>&1 || true
+    --camera_params "$values" --joint_adjustment off --workspace_path "$ws" \
+    > "$root/$name/run.log" 2>&1 || true
   seconds=$(echo "$(date +%s.%N) - $start" | bc)
   evaluate "$name" two_step "$data" "$ws/calibration.json" "$seconds"
+  start=$(date +%s.%N)
+  "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/database.db" \
+    --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
+    --output_path "$root/$name/check" --overwrite > "$root/$name/check.log" 2>&1 || true
+  seconds=$(echo "$(date +%s.%N) - $start" | bc)
+  evaluate "$name" check "$data" "$root/$name/check/calibration.json" "$seconds"
   start=$(date +%s.%N)
   "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/database.db" \
     --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The table of scripts/scene_sweep.sh from its results: per scene and method
-(two_step: `odomcal run`; joint: `odomcal colmap --joint_adjustment on` on the
-same model) the error over the stated sigma of roll/pitch/yaw (about the
+(two_step: `odomcal run --joint_adjustment off`; check: `odomcal colmap`, its
+default `--joint_adjustment check`, and joint: `odomcal colmap
+--joint_adjustment on`, both on the same model) the error over the stated sigma of roll/pitch/yaw (about the
 odometry's axes) and x, y, z, then per parameter how many lie within 3 sigma
 and the RMS of error/sigma (1 when the sigma is honest).
 
@@ -32,8 +33,10 @@ def rotation_error_deg(estimate, truth):
             math.degrees(s * (D[1][0] - D[0][1]))]
 
 
+adopted = []
 params = ["roll", "pitch", "yaw", "x", "y", "z"]
-ratios = {"two_step": {p: [] for p in params}, "joint": {p: [] for p in params}}
+methods = (("two_step", "ws"), ("check", "check"), ("joint", "joint"))
+ratios = {method: {p: [] for p in params} for method, _ in methods}
 print("| scene | method | roll / pitch / yaw error over sigma | x / y / z error over sigma | "
       "x / y / z error (mm) | z from |")
 print("| --- | --- | --- | --- | --- | --- |")
@@ -42,7 +45,7 @@ for name in sorted(os.listdir(root)):
     if not os.path.exists(truth_path):
         continue
     truth = json.load(open(truth_path))["odom_from_cam"]
-    for method, folder in (("two_step", "ws"), ("joint", "joint")):
+    for method, folder in methods:
         path = os.path.join(root, name, folder, "calibration.json")
         if not os.path.exists(path):
             continue
@@ -51,6 +54,8 @@ for name in sorted(os.listdir(root)):
         if r["status"] != "success" or q is None:
             print(f"| {name} | {method} | {r['status']} | | | |")
             continue
+        if method == "check" and (r.get("joint_adjustment") or {}).get("adopted"):
+            adopted.append(name)
         e = rotation_error_deg(q, truth["quaternion_wxyz"])
         sd = r["stddev"]
         sigmas = list(sd["rotation_axes_deg"]) + [
@@ -68,7 +73,7 @@ for name in sorted(os.listdir(root)):
         print(f"| {name} | {method.replace('_', '-')} | {' / '.join(cells[:3])} | "
               f"{' / '.join(cells[3:])} | {mm} | {r.get('translation_z_source')} |")
 print()
-for method in ("two_step", "joint"):
+for method, _ in methods:
     parts = []
     for p in params:
         v = ratios[method][p]
@@ -77,3 +82,5 @@ for method in ("two_step", "joint"):
             rms = math.sqrt(sum(x * x for x in v) / len(v))
             parts.append(f"{p} {within}/{len(v)} within 3 sigma, RMS {rms:.2f}")
     print(f"- {method.replace('_', '-')}: " + "; ".join(parts))
+print("- check: the joint adjustment's estimate reported (a contradicted two-step) on "
+      + (", ".join(adopted) if adopted else "no scene"))

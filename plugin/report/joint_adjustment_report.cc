@@ -151,13 +151,24 @@ json TwoStepToJson(const ColmapCalibrationRun& run) {
 
 std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
   const JointAdjustmentRun& joint = run.joint;
-  if (!joint.ran) return "";
+  const bool check = joint.use == JointAdjustmentUse::kCheck;
+  const char* const name = check ? "joint adjustment check" : "joint adjustment";
+  const char* const stands =
+      check ? "the two-step result stands, unchecked" : "the two-step result stands";
+  if (!joint.ran) {
+    // A check of a calibration without an estimate has nothing to say.
+    if (!joint.requested || joint.skipped.empty() ||
+        (check && !run.check.result.has_estimate)) {
+      return "";
+    }
+    return std::string("  ") + name + ": not run (" + joint.skipped + "); " +
+           stands + "\n";
+  }
   std::ostringstream out;
   const JointAdjustmentResult& r = joint.result;
   if (!r.IsSuccess()) {
-    out << "  joint adjustment" << (joint.adopted ? "" : " check") << ": "
-        << ToString(r.status) << " (" << r.message
-        << "); the two-step result stands\n";
+    out << "  " << name << ": " << ToString(r.status) << " (" << r.message
+        << "); " << stands << "\n";
     return out.str();
   }
   if (!joint.adopted) {

@@ -392,9 +392,12 @@ class CalibrateProjectTest(unittest.TestCase):
             result = odomcal.calibrate_project(
                 model_path=model, odometry=odometry_path, image_timestamps=stamps,
                 fixed_translation_z_m=0.40, joint_adjustment="on")
-            off = odomcal.calibrate_project(
+            default = odomcal.calibrate_project(
                 model_path=model, odometry=odometry_path, image_timestamps=stamps,
                 fixed_translation_z_m=0.40)
+            off = odomcal.calibrate_project(
+                model_path=model, odometry=odometry_path, image_timestamps=stamps,
+                fixed_translation_z_m=0.40, joint_adjustment="off")
         self.assertEqual(result["status"], "success", result["message"])
         self.assertEqual(result["options"]["joint_adjustment"], "on")
         self.assertEqual(result["joint_adjustment"]["status"], "invalid_input")
@@ -404,6 +407,13 @@ class CalibrateProjectTest(unittest.TestCase):
         self.assertEqual(result["odom_from_cam"], off["odom_from_cam"])
         self.assertIsNone(off["joint_adjustment"])
         self.assertEqual(off["options"]["joint_adjustment"], "off")
+        # The default checks the two-step estimate; a check that cannot run
+        # leaves it, with no warning.
+        self.assertEqual(default["options"]["joint_adjustment"], "check")
+        self.assertEqual(default["joint_adjustment"]["use"], "check")
+        self.assertFalse(default["joint_adjustment"]["adopted"])
+        self.assertEqual(default["odom_from_cam"], off["odom_from_cam"])
+        self.assertEqual(default["warnings"], off["warnings"])
 
     def test_project_with_two_cameras_calibrates_each(self):
         # The same poses seen by two COLMAP cameras in two sub-folders: a
