@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Rendered scenes varied beyond the presets (camera height, pitch, mount
 # direction, drive length, odometry noise, floors that are not level or not
-# textured), each through `odomcal run --joint_adjustment off` (the two-step
-# calibration) and then, on the same COLMAP model, `odomcal colmap` with its
-# default `--joint_adjustment check` and with `--joint_adjustment on`: per
-# scene and parameter the error and the stated sigma.
+# textured), each through `odomcal run` for its COLMAP model and then
+# `odomcal colmap` on that model with `--joint_adjustment off` (the two-step
+# calibration), `check` (the default) and `on`, the robot's wheel track
+# given: per scene and parameter the error and the stated sigma.
+# SWEEP_SKIP_RUN=1 keeps a scene's existing model (`odomcal colmap` only).
 # docs/joint_adjustment.md quotes the table.
 #
 #   scripts/scene_sweep.sh [FIRST_SCENE (default 1)] [LAST_SCENE (default 23)]
@@ -101,24 +102,23 @@ for ((k = first; k <= last; ++k)); do
   fi
   params=$(/usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['camera']; print(c['model'], ','.join('%.17g' % v for v in c['params']))" "$data/ground_truth.json")
   model=${params% *}; values=${params#* }
-  start=$(date +%s.%N)
-  "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
-    --image_timestamps "$data/image_timestamps.csv" --camera_model "$model" \
-    --camera_params "$values" --joint_adjustment off --workspace_path "$ws" \
-    > "$root/$name/run.log" 2>&1 || true
-  seconds=$(echo "$(date +%s.%N) - $start" | bc)
-  evaluate "$name" two_step "$data" "$ws/calibration.json" "$seconds"
-  start=$(date +%s.%N)
-  "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/database.db" \
-    --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
-    --output_path "$root/$name/check" --overwrite > "$root/$name/check.log" 2>&1 || true
-  seconds=$(echo "$(date +%s.%N) - $start" | bc)
-  evaluate "$name" check "$data" "$root/$name/check/calibration.json" "$seconds"
-  start=$(date +%s.%N)
-  "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/database.db" \
-    --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
-    --joint_adjustment on --output_path "$root/$name/joint" --overwrite \
-    > "$root/$name/joint.log" 2>&1 || true
-  seconds=$(echo "$(date +%s.%N) - $start" | bc)
-  evaluate "$name" joint "$data" "$root/$name/joint/calibration.json" "$seconds"
+  # The robot's nominal wheel track, as its user would give it: without it
+  # unequal wheels shift y (docs/systematics.md), which the run names.
+  track=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['odometry_noise']['wheel_base_m'])" "$data/ground_truth.json")
+  if [ "${SWEEP_SKIP_RUN:-0}" != 1 ] || [ ! -d "$ws/sparse" ]; then
+    "$odomcal" run --image_path "$data/images" --odometry "$data/odometry.csv" \
+      --image_timestamps "$data/image_timestamps.csv" --camera_model "$model" \
+      --camera_params "$values" --wheel_track_m "$track" --joint_adjustment off \
+      --workspace_path "$ws" > "$root/$name/run.log" 2>&1 || true
+  fi
+  # The three uses of the joint adjustment on the run's COLMAP model.
+  for method in off check on; do
+    start=$(date +%s.%N)
+    "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/database.db" \
+      --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
+      --wheel_track_m "$track" --joint_adjustment "$method" \
+      --output_path "$root/$name/$method" --overwrite > "$root/$name/$method.log" 2>&1 || true
+    seconds=$(echo "$(date +%s.%N) - $start" | bc)
+    evaluate "$name" "$method" "$data" "$root/$name/$method/calibration.json" "$seconds"
+  done
 done

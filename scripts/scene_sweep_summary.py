@@ -1,8 +1,7 @@
 #!/usr/bin/python3
 """The table of scripts/scene_sweep.sh from its results: per scene and method
-(two_step: `odomcal run --joint_adjustment off`; check: `odomcal colmap`, its
-default `--joint_adjustment check`, and joint: `odomcal colmap
---joint_adjustment on`, both on the same model) the error over the stated sigma of roll/pitch/yaw (about the
+(`odomcal colmap` on the model of `odomcal run` with `--joint_adjustment`
+off: the two-step; check, the default; on: the joint adjustment) the error over the stated sigma of roll/pitch/yaw (about the
 odometry's axes) and x, y, z, then per parameter how many lie within 3 sigma
 and the RMS of error/sigma (1 when the sigma is honest).
 
@@ -35,7 +34,7 @@ def rotation_error_deg(estimate, truth):
 
 adopted = []
 params = ["roll", "pitch", "yaw", "x", "y", "z"]
-methods = (("two_step", "ws"), ("check", "check"), ("joint", "joint"))
+methods = (("two_step", "off"), ("check", "check"), ("joint", "on"))
 ratios = {method: {p: [] for p in params} for method, _ in methods}
 print("| scene | method | roll / pitch / yaw error over sigma | x / y / z error over sigma | "
       "x / y / z error (mm) | z from |")

@@ -11,6 +11,7 @@
 #include "odomcal/plugin/colmap/colmap_runner.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/plugin/report/joint_adjustment_report.h"
 #include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
@@ -249,7 +250,8 @@ int RunRenderedDemo(const std::string& workspace,
             << " --workspace_path " << settings.workspace_path << std::endl;
   const RunOutcome run = RunAndWriteOutputs(settings, "odomcal demo");
   const CalibrationResult& result = run.calibration.check.result;
-  std::cout << CalibrationSummary(result, run.context);
+  std::cout << CalibrationSummary(result, run.context)
+            << JointAdjustmentSummary(run.calibration);
 
   std::cout << "[demo] comparison with the ground truth\n";
   if (!result.has_estimate) {
