@@ -41,12 +41,12 @@ Eigen::Matrix<double, 5, 1> QuantityStddevs(
     const Eigen::Matrix<double, 5, 5>& covariance) {
   const Eigen::Matrix3d rpy = RollPitchYawJacobian(rotation);
   Eigen::Matrix<double, 5, 1> stddevs;
-  stddevs.head<3>() =
-      (rpy * covariance.topLeftCorner<3, 3>() * rpy.transpose())
-          .diagonal()
-          .cwiseSqrt() *
-      kRadToDeg;
-  stddevs.tail<2>() = covariance.bottomRightCorner<2, 2>().diagonal().cwiseSqrt();
+  stddevs.head<3>() = (rpy * covariance.topLeftCorner<3, 3>() * rpy.transpose())
+                          .diagonal()
+                          .cwiseSqrt() *
+                      kRadToDeg;
+  stddevs.tail<2>() =
+      covariance.bottomRightCorner<2, 2>().diagonal().cwiseSqrt();
   return stddevs;
 }
 

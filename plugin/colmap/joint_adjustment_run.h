@@ -61,14 +61,14 @@ constexpr double kJointContradictionSigmas = 5.0;
 struct JointAdjustmentRun {
   bool requested = false;  // --joint_adjustment on or check
   JointAdjustmentUse use = JointAdjustmentUse::kOff;
-  bool ran = false;        // the adjustment was attempted
+  bool ran = false;  // the adjustment was attempted
   // The adjustment's extrinsic and model are the result's (kOn, or kCheck
   // with a contradiction); false: the two-step's stay.
   bool adopted = false;
   // The largest |joint - two-step| over the standard deviation of the
   // difference in roll, pitch, yaw, x, y (when it succeeded).
   double max_disagreement_sigmas = 0.0;
-  std::string skipped;     // why it was not (empty when it ran or was off)
+  std::string skipped;  // why it was not (empty when it ran or was off)
   JointAdjustmentResult result;
   // The jackknife over stretches of the drive that widened result's
   // covariance where its spread was larger.

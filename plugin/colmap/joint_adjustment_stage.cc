@@ -551,10 +551,9 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   joint.result = AdjustJointly(input.problem, options);
   if (!joint.result.IsSuccess()) {
     if (!check) {
-      result.warnings.push_back(name + " failed (" +
-                                ToString(joint.result.status) +
-                                "): " + joint.result.message +
-                                "; the two-step result stands");
+      result.warnings.push_back(
+          name + " failed (" + ToString(joint.result.status) +
+          "): " + joint.result.message + "; the two-step result stands");
     }
     return;
   }
@@ -590,7 +589,8 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
         "check the reconstruction (scale drift, folds) and the odometry");
   }
   if (check && !contradicted) {  // the two-step estimate stands
-    joint.jackknife.reason = "a check that agreed: the two-step estimate stands";
+    joint.jackknife.reason =
+        "a check that agreed: the two-step estimate stands";
     return;
   }
   if (check) {

@@ -4,9 +4,10 @@
 // only the calibrated transform applied, the extrinsic within its stated
 // 3 sigma, and the drift reported.
 
+#include "odomcal/plugin/colmap/joint_adjustment_stage.h"
+
 #include "odomcal/adapters/association.h"
 #include "odomcal/plugin/colmap/colmap_calibration.h"
-#include "odomcal/plugin/colmap/joint_adjustment_stage.h"
 #include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/plugin/report/report_testing.h"
 #include "odomcal/solver/angles.h"
@@ -179,7 +180,8 @@ TEST_F(JointAdjustmentStageTest, TheDefaultCheckKeepsATwoStepItAgreesWith) {
   EXPECT_TRUE(json["diagnostics"]["two_step"].is_null());
 }
 
-TEST_F(JointAdjustmentStageTest, TheCheckReportsTheAdjustmentWhereItContradicts) {
+TEST_F(JointAdjustmentStageTest,
+       TheCheckReportsTheAdjustmentWhereItContradicts) {
   const ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
       (dir_ / "project").string(), DriftingProject(TestSeed(11)));
   ColmapCalibrationInputs off = inputs;
@@ -191,8 +193,8 @@ TEST_F(JointAdjustmentStageTest, TheCheckReportsTheAdjustmentWhereItContradicts)
   // scale drifts inside a segment gives it: 1.5 deg about the odometry's x.
   const Rigid3d truth_like = result.odom_from_cam;
   result.odom_from_cam.rotation =
-      Eigen::Quaterniond(Eigen::AngleAxisd(1.5 * kDegToRad,
-                                           Eigen::Vector3d::UnitX())) *
+      Eigen::Quaterniond(
+          Eigen::AngleAxisd(1.5 * kDegToRad, Eigen::Vector3d::UnitX())) *
       result.odom_from_cam.rotation;
   ApplyJointAdjustment(inputs, StampOfImage(run), nullptr, &run);
   ASSERT_TRUE(run.joint.result.IsSuccess()) << run.joint.result.message;
@@ -205,8 +207,8 @@ TEST_F(JointAdjustmentStageTest, TheCheckReportsTheAdjustmentWhereItContradicts)
             0.2 * kDegToRad);
   bool named = false;
   for (const std::string& warning : result.warnings) {
-    named |= warning.find("contradict the two-step estimate") !=
-             std::string::npos;
+    named |=
+        warning.find("contradict the two-step estimate") != std::string::npos;
   }
   EXPECT_TRUE(named);
   ASSERT_EQ(run.metric_models.size(), 1u);  // the adjusted model

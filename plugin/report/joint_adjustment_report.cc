@@ -152,9 +152,10 @@ json TwoStepToJson(const ColmapCalibrationRun& run) {
 std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
   const JointAdjustmentRun& joint = run.joint;
   const bool check = joint.use == JointAdjustmentUse::kCheck;
-  const char* const name = check ? "joint adjustment check" : "joint adjustment";
-  const char* const stands =
-      check ? "the two-step result stands, unchecked" : "the two-step result stands";
+  const char* const name =
+      check ? "joint adjustment check" : "joint adjustment";
+  const char* const stands = check ? "the two-step result stands, unchecked"
+                                   : "the two-step result stands";
   if (!joint.ran) {
     // A check of a calibration without an estimate has nothing to say.
     if (!joint.requested || joint.skipped.empty() ||
@@ -177,9 +178,8 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
         << FormatPrintf("%.1f", joint.max_disagreement_sigmas)
         << " sigma of the difference, a contradiction is more than "
         << FormatPrintf("%.0f", kJointContradictionSigmas) << "; "
-        << joint.num_images << " images, "
-        << joint.num_points << " points, " << joint.num_links
-        << " odometry links; reprojection rms "
+        << joint.num_images << " images, " << joint.num_points << " points, "
+        << joint.num_links << " odometry links; reprojection rms "
         << FormatPrintf("%.2f px", r.reprojection_rms_px_after) << "; "
         << FormatPrintf("%.1f s", r.solve_time_s + r.covariance_time_s)
         << "); --joint_adjustment on reports its estimate\n";
@@ -235,14 +235,15 @@ std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
   std::ostringstream html;
   html << "<h2>Joint adjustment</h2>\n";
   if (r.IsSuccess() && !joint.adopted) {
-    html << "<p>Run as a check of the two-step estimate: they differ by at "
-            "most "
-         << EscapeMarkup(FormatPrintf("%.1f", joint.max_disagreement_sigmas))
-         << " standard deviations of their difference (a contradiction is "
-            "more than "
-         << EscapeMarkup(FormatPrintf("%.0f", kJointContradictionSigmas))
-         << "), so the two-step estimate is reported. "
-            "<code>--joint_adjustment on</code> reports the adjustment's.</p>\n";
+    html
+        << "<p>Run as a check of the two-step estimate: they differ by at "
+           "most "
+        << EscapeMarkup(FormatPrintf("%.1f", joint.max_disagreement_sigmas))
+        << " standard deviations of their difference (a contradiction is "
+           "more than "
+        << EscapeMarkup(FormatPrintf("%.0f", kJointContradictionSigmas))
+        << "), so the two-step estimate is reported. "
+           "<code>--joint_adjustment on</code> reports the adjustment's.</p>\n";
     return html.str();
   }
   if (!r.IsSuccess()) {
