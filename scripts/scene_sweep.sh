@@ -52,7 +52,11 @@ evaluate() {  # name method data result seconds
 import json, math, sys
 name, method, data, path, seconds = sys.argv[1:6]
 truth = json.load(open(f"{data}/ground_truth.json"))["odom_from_cam"]
-r = json.load(open(path))
+try:
+    r = json.load(open(path))
+except (OSError, ValueError) as error:
+    print(f"{name:22s} {method:8s} no result ({error})")
+    sys.exit()
 def rpy(q):
     w, x, y, z = q
     R = [[1-2*(y*y+z*z), 2*(x*y-z*w), 2*(x*z+y*w)],

@@ -148,7 +148,7 @@ const OptionTable<JointAdjustmentSettings>& JointAdjustmentFlags() {
           "images, the wheel odometry and the extrinsic in metres. on: its "
           "extrinsic and one metric model without COLMAP's scale drift are "
           "reported; check: it checks the two-step estimate, which is "
-          "reported unless the adjustment contradicts it (more than 5 "
+          "reported unless the adjustment contradicts it (more than 3 "
           "sigma apart), then the adjustment's is; off: not run",
           {"on", "off", "check"},
           [](const J& o) { return ToString(o.use); },
