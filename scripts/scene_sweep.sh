@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Rendered scenes varied beyond the presets (camera height, pitch, mount
-# direction, drive length, odometry noise, floors that are not level or not
-# textured), each through `odomcal run` for its COLMAP model and then
+# direction, drive length, odometry noise, resolution, texture, floors that
+# are not level or not textured), each through `odomcal run` for its COLMAP model and then
 # `odomcal colmap` on that model with `--joint_adjustment off` (the two-step
 # calibration), `check` (the default) and `on`, the robot's wheel track
 # given: per scene and parameter the error and the stated sigma.
 # SWEEP_SKIP_RUN=1 keeps a scene's existing model (`odomcal colmap` only).
 # docs/joint_adjustment.md quotes the table.
 #
-#   scripts/scene_sweep.sh [FIRST_SCENE (default 1)] [LAST_SCENE (default 23)]
+#   scripts/scene_sweep.sh [FIRST_SCENE (default 1)] [LAST_SCENE (default 27)]
 #
 # Needs build/plugin/odomcal and colmap; about 2 min per scene on 2 cores.
 # Writes /tmp/odomcal_scene_sweep/ and prints one line per scene and method.
@@ -18,7 +18,7 @@ odomcal=$PWD/build/plugin/odomcal
 root=/tmp/odomcal_scene_sweep
 mkdir -p "$root"
 first=${1:-1}
-last=${2:-23}
+last=${2:-27}
 
 # name|preset|seed|render flags (mount: YAW,PITCH_DOWN,ROLL,X,Y,Z)
 scenes=(
@@ -45,6 +45,10 @@ scenes=(
   "forward_s4|small|13|"
   "forward_s5|small|14|"
   "left_1.5m_25down|default|3|--camera_mount 80,25,0,0.0,0.2,1.5"
+  "res_640x480|small|15|--image_size 640x480"
+  "res_1280x720|small|16|--image_size 1280x720"
+  "sparse_texture|small|17|--texture sparse"
+  "repetitive_texture|small|18|--texture repetitive"
 )
 
 evaluate() {  # name method data result seconds

@@ -66,6 +66,10 @@ class SceneBuilder {
         noise.seed = r.seed;
         noise.min_period_texels = options_.min_period_texels;
         noise.max_period_texels = options_.max_period_texels;
+        if (options_.repeat_period_texels > 0) {
+          textures[i] = RepeatedTile(r.width, r.height);
+          continue;
+        }
         textures[i] = MakeValueNoiseTexture(noise);
       }
     };
@@ -81,6 +85,29 @@ class SceneBuilder {
   }
 
  private:
+  // One tile of noise (the same seed for every surface) repeated over
+  // width x height texels.
+  Texture RepeatedTile(int width, int height) const {
+    const int period = options_.repeat_period_texels;
+    ValueNoiseOptions noise;
+    noise.width = period;
+    noise.height = period;
+    noise.seed = options_.seed;
+    noise.min_period_texels = options_.min_period_texels;
+    noise.max_period_texels = std::min(options_.max_period_texels, period);
+    const Texture tile = MakeValueNoiseTexture(noise);
+    std::vector<float> rgb(static_cast<size_t>(width) * height * 3);
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const Eigen::Vector3f texel = tile.Texel(0, x % period, y % period);
+        for (int c = 0; c < 3; ++c) {
+          rgb[(static_cast<size_t>(y) * width + x) * 3 + c] = texel[c];
+        }
+      }
+    }
+    return Texture(width, height, std::move(rgb));
+  }
+
   RoomSceneOptions options_;
   std::vector<TextureRequest> requests_;
   RoomScene scene_;
@@ -99,6 +126,13 @@ void RoomSceneOptions::Check() const {
   noise.min_period_texels = min_period_texels;
   noise.max_period_texels = max_period_texels;
   noise.Check();
+  const int repeat = repeat_period_texels;
+  if (repeat < 0 || (repeat > 0 && ((repeat & (repeat - 1)) != 0 ||
+                                    repeat < min_period_texels))) {
+    throw std::invalid_argument(
+        "RoomSceneOptions.repeat_period_texels must be 0 or a power of two "
+        ">= min_period_texels");
+  }
 }
 
 RoomScene BuildRoomScene(const RoomLayout& layout,

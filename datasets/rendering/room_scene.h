@@ -36,6 +36,11 @@ struct RoomSceneOptions {
   int min_period_texels = 2;
   int max_period_texels = 256;
   Eigen::Vector3f featureless_rgb = Eigen::Vector3f(0.55f, 0.55f, 0.55f);
+  // A repetitive scene: when > 0 (a power of two >= min_period_texels),
+  // every textured surface shows one tile of this many texels square,
+  // repeated (octaves up to the tile's size); 0: each surface its own
+  // noise.
+  int repeat_period_texels = 0;
   int num_threads = 2;  // texture generation
   void Check() const;   // throws std::invalid_argument naming the field
 };

@@ -1,5 +1,7 @@
 #include "odomcal/datasets/rendering/texture.h"
 
+#include "odomcal/datasets/rendering/dataset_presets.h"
+#include "odomcal/datasets/rendering/room_scene.h"
 #include "odomcal/datasets/rendering/value_noise.h"
 
 #include <gtest/gtest.h>
@@ -130,6 +132,39 @@ TEST(ValueNoise, MultiScaleHighContrast) {
     SCOPED_TRACE("level " + std::to_string(level));
     EXPECT_GT(std::sqrt(band / (w * h)), 0.02);
   }
+}
+
+// --texture repetitive: every textured surface shows the same tile, repeated
+// with its period; the default gives each surface its own noise.
+TEST(RoomScene, RepeatedTileOnEverySurface) {
+  RoomSceneOptions options;
+  options.seed = 5;
+  options.repeat_period_texels = 32;
+  const RoomScene scene =
+      BuildRoomScene(MakeDatasetPreset("small", 1).layout, options);
+  std::vector<const Texture*> textured;
+  for (const Texture& texture : scene.textures) {
+    if (texture.width() > 80 && texture.height() > 80) {
+      textured.push_back(&texture);
+    }
+  }
+  ASSERT_GE(textured.size(), 2u);
+  for (const Texture* texture : textured) {
+    EXPECT_EQ(texture->Texel(0, 3, 7), texture->Texel(0, 3 + 32, 7 + 64));
+    EXPECT_EQ(texture->Texel(0, 3, 7), textured[0]->Texel(0, 3, 7));
+  }
+  EXPECT_NE(textured[0]->Texel(0, 3, 7), textured[0]->Texel(0, 4, 7));
+
+  options.repeat_period_texels = 0;
+  const RoomScene own =
+      BuildRoomScene(MakeDatasetPreset("small", 1).layout, options);
+  ASSERT_GE(own.textures.size(), 2u);
+  EXPECT_NE(own.textures[0].Texel(0, 3, 7), own.textures[1].Texel(0, 3, 7));
+
+  options.repeat_period_texels = 24;  // not a power of two
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.repeat_period_texels = 1;  // below min_period_texels
+  EXPECT_THROW(options.Check(), std::invalid_argument);
 }
 
 }  // namespace

@@ -27,6 +27,37 @@
 namespace odomcal {
 namespace {
 
+// The camera at `size` ("WIDTHxHEIGHT") pixels: the focal lengths and the
+// principal point scaled with the width (the horizontal field of view and
+// square pixels kept), the principal point's vertical place relative to the
+// height kept. Throws std::invalid_argument naming the flag.
+CameraIntrinsics ResizedCamera(const CameraIntrinsics& camera,
+                               const std::string& size) {
+  int width = 0;
+  int height = 0;
+  char x = 0;
+  char rest = 0;
+  if (std::sscanf(size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 ||
+      x != 'x' || width < 64 || height < 64 || width > 8192 || height > 8192) {
+    throw std::invalid_argument("--image_size: '" + size +
+                                "' is not WIDTHxHEIGHT with each 64 to 8192");
+  }
+  CameraIntrinsics resized = camera;
+  const double scale = static_cast<double>(width) / camera.width;
+  resized.width = width;
+  resized.height = height;
+  resized.fx = camera.fx * scale;
+  resized.fy = camera.fy * scale;
+  resized.cx = camera.cx * scale;
+  resized.cy = camera.cy / camera.height * height;
+  try {
+    resized.Check();
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument("--image_size " + size + ": " + error.what());
+  }
+  return resized;
+}
+
 namespace fs = std::filesystem;
 
 // Refuses a non-empty output folder unless overwriting; then removes the
@@ -188,6 +219,20 @@ int RunRender(int argc, char** argv) {
                untextured_floor,
                "a flat-coloured floor, without features: a scene whose "
                "floor COLMAP cannot see");
+  std::string image_size;
+  app.add_option("--image_size",
+                 image_size,
+                 "WIDTHxHEIGHT pixels instead of the preset's (e.g. 1280x720): "
+                 "the horizontal field of view kept, square pixels, the "
+                 "principal point at the same relative place");
+  std::string texture = "dense";
+  app.add_option("--texture",
+                 texture,
+                 "room presets: dense (the preset's: 6 mm texels, detail "
+                 "from 1.2 cm), sparse (18 mm texels, detail from 14 cm: "
+                 "fewer features), repetitive (one 19 cm tile repeated on "
+                 "every surface)")
+      ->check(CLI::IsMember({"dense", "sparse", "repetitive"}));
   std::vector<double> camera_mount;
   app.add_option("--camera_mount",
                  camera_mount,
@@ -218,11 +263,26 @@ int RunRender(int argc, char** argv) {
       return std::chrono::duration<double>(Clock::now() - start).count();
     };
     RenderedDatasetOptions options = MakeDatasetPreset(preset, seed);
-    if (options.road && (floor_slope_deg != 0.0 || untextured_floor)) {
+    if (options.road &&
+        (floor_slope_deg != 0.0 || untextured_floor || texture != "dense")) {
       throw std::invalid_argument(
-          "--floor_slope_deg and --untextured_floor apply to the room "
-          "presets, not to '" +
+          "--floor_slope_deg, --untextured_floor and --texture apply to the "
+          "room presets, not to '" +
           preset + "'");
+    }
+    if (texture == "sparse") {
+      options.scene.texel_size_m = 0.018;
+      options.scene.min_period_texels = 8;
+    } else if (texture == "repetitive") {
+      options.scene.repeat_period_texels = 32;
+    }
+    if (!image_size.empty()) {
+      if (!rig_name.empty()) {
+        throw std::invalid_argument(
+            "--image_size sets the single camera's size; --rig " + rig_name +
+            " has its own cameras: drop one of the two");
+      }
+      options.camera = ResizedCamera(options.camera, image_size);
     }
     std::optional<RigLayout> rig;
     if (!rig_name.empty()) {
