@@ -121,13 +121,14 @@ class Excitation : public ScratchFolderTest {
     return path;
   }
 
-  // model/: the drive's camera poses of every image, as the mapper would
-  // register them (no points).
-  std::string WriteModel(const SimulatedDrive& drive) const {
+  // model/: the drive's camera poses of the first `num_images` images (all
+  // by default), as the mapper would register them (no points).
+  std::string WriteModel(const SimulatedDrive& drive,
+                         int num_images = kImages) const {
     ColmapModel model;
     model.cameras[1] = MakeColmapCamera(
         1, ColmapCameraModel::kPinhole, 320, 240, {260, 260, 160, 120});
-    for (int i = 0; i < kImages; ++i) {
+    for (int i = 0; i < num_images; ++i) {
       ColmapImage image;
       image.image_id = static_cast<uint32_t>(i + 1);
       image.camera_id = 1;
@@ -471,6 +472,44 @@ TEST_F(Excitation, ColmapListsOnlyOutputsWithContent) {
 
 // `run --force` through a (fake) COLMAP that reconstructs the straight
 // drive: the stage lists what it wrote, without the empty outputs.
+// A drive that turns enough, of which COLMAP's model holds three images:
+// the refusal says that the reconstruction, not the drive, lacks the motion
+// (its own advice, to drive turns, would send the user to the wrong place).
+TEST_F(Excitation, AModelThatLostTheTurnsIsBlamedNotTheDrive) {
+  const SimulatedDrive drive = WriteDrive(/*straight=*/false);
+  const std::string model = WriteModel(drive, 3);
+  const std::string path = WriteFakeColmap(
+      "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
+      " \"$3\"; fi\n"
+      "if [ \"$1\" = mapper ]; then\n"
+      "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && out=\"$2\"; "
+      "shift; done\n"
+      "  mkdir -p \"$out/0\" && cp " +
+      model +
+      "/* \"$out/0/\"\n"
+      "fi\n"
+      "exit 0\n");
+  const CommandResult run = RunOdomcal(RunCommand(), {{path}});
+  EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
+  EXPECT_NE(run.out.find("turns above 2 deg: enough to calibrate\n"),
+            std::string::npos)
+      << run.out;
+  const std::string lost =
+      "the motion was lost in the reconstruction, not in the drive";
+  EXPECT_NE(run.out.find("odomcal run: not a calibration (not_enough_motion)"),
+            std::string::npos)
+      << run.out;
+  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
+  EXPECT_NE(result["message"].get<std::string>().find(lost), std::string::npos)
+      << result["message"];
+  bool warned = false;
+  for (const auto& warning : result["warnings"]) {
+    warned |= warning.get<std::string>().rfind(
+                  "the odometry at the selected images turns enough (", 0) == 0;
+  }
+  EXPECT_TRUE(warned) << result["warnings"];
+}
+
 TEST_F(Excitation, RunListsOnlyOutputsWithContent) {
   const SimulatedDrive drive = WriteDrive(/*straight=*/true);
   const std::string model = WriteModel(drive);

@@ -87,6 +87,37 @@ std::string ExcitationLine(const ExcitationPrecheck& precheck,
   return line.str();
 }
 
+// A calibration of COLMAP's model refused for too little motion while the
+// odometry at the same images turns enough (the pre-check said so): the
+// model, not the drive, lacks the motion, and the refusal's advice ("drive
+// turns in both directions") would send the user to the wrong place.
+void SayWhenTheModelLostTheMotion(const ExcitationPrecheck& precheck,
+                                  const CalibrationOptions& options,
+                                  ReconstructionResult* result) {
+  CalibrationResult& calibration = result->calibration.check.result;
+  const CalibrationStatus status = calibration.status;
+  if (!precheck.determinable ||
+      (status != CalibrationStatus::kUnobservable &&
+       status != CalibrationStatus::kNotEnoughMotion)) {
+    return;
+  }
+  const CalibrationDiagnostics& odometry = precheck.verdict.diagnostics;
+  const CalibrationDiagnostics& model = calibration.diagnostics;
+  std::ostringstream text;
+  text << "the odometry at the selected images turns enough ("
+       << odometry.num_left_turns << " left and " << odometry.num_right_turns
+       << " right turns above " << FormatNumber(options.min_rotation_deg)
+       << " deg in " << precheck.association.pairs.size()
+       << " motion pairs, before COLMAP), COLMAP's model does not ("
+       << model.num_left_turns << " and " << model.num_right_turns << " in the "
+       << model.num_pairs_in
+       << " motion pairs it holds): the motion was lost in the reconstruction, "
+          "not in the drive; look at the images' texture (too little, "
+          "repetitive), the intrinsics and the mapper logs";
+  calibration.message += "; but " + text.str();
+  calibration.warnings.push_back(text.str());
+}
+
 // How many of the selected images made it into the calibration: in the
 // result's message (the summary line), as a warning when too few, and per
 // stretch in the run (the JSON's colmap.image_coverage).
@@ -559,6 +590,7 @@ ReconstructionResult ReconstructAndCalibrate(const ReconstructionOptions& run,
                        images,
                        &progress,
                        &result);
+  SayWhenTheModelLostTheMotion(precheck, inputs.calibration, &result);
   return result;
 }
 
