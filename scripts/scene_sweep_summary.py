@@ -51,7 +51,7 @@ for name in sorted(os.listdir(root)):
         r = json.load(open(path))
         q = (r.get("odom_from_cam") or {}).get("quaternion_wxyz")
         if r["status"] != "success" or q is None:
-            print(f"| {name} | {method} | {r['status']} | | | |")
+            print(f"| {name} | {method.replace('_', '-')} | {r['status']} | | | |")
             continue
         if method == "check" and (r.get("joint_adjustment") or {}).get("adopted"):
             adopted.append(name)
