@@ -8,7 +8,7 @@
 # SWEEP_SKIP_RUN=1 keeps a scene's existing model (`odomcal colmap` only).
 # docs/joint_adjustment.md quotes the table.
 #
-#   scripts/scene_sweep.sh [FIRST_SCENE (default 1)] [LAST_SCENE (default 27)]
+#   scripts/scene_sweep.sh [FIRST_SCENE (default 1)] [LAST_SCENE (default 29)]
 #
 # Needs build/plugin/odomcal and colmap; about 2 min per scene on 2 cores.
 # Writes /tmp/odomcal_scene_sweep/ and prints one line per scene and method.
@@ -18,7 +18,7 @@ odomcal=$PWD/build/plugin/odomcal
 root=/tmp/odomcal_scene_sweep
 mkdir -p "$root"
 first=${1:-1}
-last=${2:-27}
+last=${2:-29}
 
 # name|preset|seed|render flags (mount: YAW,PITCH_DOWN,ROLL,X,Y,Z)
 scenes=(
@@ -49,6 +49,8 @@ scenes=(
   "res_1280x720|small|16|--image_size 1280x720"
   "sparse_texture|small|17|--texture sparse"
   "repetitive_texture|small|18|--texture repetitive"
+  "odometry_10hz|small|19|--odometry_rate_hz 10"
+  "long_300|default|4|--num_images 300"
 )
 
 evaluate() {  # name method data result seconds

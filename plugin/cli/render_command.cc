@@ -10,6 +10,7 @@
 #include "odomcal/plugin/cli/command_line.h"
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/output/output_folder.h"
+#include "odomcal/solver/format_number.h"
 
 #include <CLI/CLI.hpp>
 
@@ -225,6 +226,12 @@ int RunRender(int argc, char** argv) {
                  "WIDTHxHEIGHT pixels instead of the preset's (e.g. 1280x720): "
                  "the horizontal field of view kept, square pixels, the "
                  "principal point at the same relative place");
+  double odometry_rate_hz = 0.0;
+  app.add_option("--odometry_rate_hz",
+                 odometry_rate_hz,
+                 "the wheel odometry's rate instead of the preset's 50 Hz "
+                 "(at least the camera's rate): a low-rate log")
+      ->check(CLI::Range(0.5, 1000.0));
   std::string texture = "dense";
   app.add_option("--texture",
                  texture,
@@ -269,6 +276,15 @@ int RunRender(int argc, char** argv) {
           "--floor_slope_deg, --untextured_floor and --texture apply to the "
           "room presets, not to '" +
           preset + "'");
+    }
+    if (odometry_rate_hz > 0.0) {
+      if (odometry_rate_hz < options.camera_rate_hz) {
+        throw std::invalid_argument(
+            "--odometry_rate_hz " + FormatNumber(odometry_rate_hz) +
+            " is below the camera's rate of the preset (" +
+            FormatNumber(options.camera_rate_hz) + " Hz)");
+      }
+      options.odometry_rate_hz = odometry_rate_hz;
     }
     if (texture == "sparse") {
       options.scene.texel_size_m = 0.018;
