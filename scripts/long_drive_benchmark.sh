@@ -91,8 +91,12 @@ if estimate and joint:
     sd = result["stddev"]
     stated = sd["rotation_axes_deg"] + [1000 * sd["translation_x_m"], 1000 * sd["translation_y_m"]]
     errors = axes(estimate)
-    print("  joint %s in %.0f s (jackknife %.0f s): error rx ry rz %s deg, x y %s mm; stated sigma %s deg, %s mm" % (
-        joint["status"], joint.get("time_s", 0.0), (joint.get("jackknife") or {}).get("time_s") or 0.0,
+    # --joint_adjustment check keeps the two-step estimate unless the
+    # adjustment contradicts it: then the result is the two-step's.
+    label = "joint" if joint.get("adopted", True) else "check (two-step kept, max %.1f sigma)" % (
+        joint.get("max_disagreement_sigmas") or 0.0)
+    print("  %s %s in %.0f s (jackknife %.0f s): error rx ry rz %s deg, x y %s mm; stated sigma %s deg, %s mm" % (
+        label, joint["status"], joint.get("time_s", 0.0), (joint.get("jackknife") or {}).get("time_s") or 0.0,
         " ".join("%+.4f" % e for e in errors[:3]), " ".join("%+.2f" % e for e in errors[3:]),
         " ".join("%.4f" % s for s in stated[:3]), " ".join("%.2f" % s for s in stated[3:])))
     two_step = result.get("diagnostics", {}).get("two_step")
