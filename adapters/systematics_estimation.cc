@@ -345,10 +345,16 @@ SystematicsEstimate EstimateSystematics(
         }
       }
       if (!offset_estimated(outcome)) {
-        // Held: the calibration at the given value, not at a start.
-        const std::string why = outcome.last ? outcome.offset_reason : "";
+        // Held: the calibration at the given value, not at a start. A
+        // refinement that ended without an estimate (reset) may still have
+        // said why (it did not settle).
+        const std::string why =
+            !outcome.offset_reason.empty()
+                ? outcome.offset_reason
+                : "the refinement with it free did not determine the "
+                  "extrinsic";
         outcome = refine(given_ns, false);
-        if (!why.empty()) outcome.offset_reason = why;
+        outcome.offset_reason = why;
       }
     }
   }

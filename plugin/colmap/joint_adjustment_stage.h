@@ -27,13 +27,15 @@
 
 namespace odomcal {
 
-// Runs the adjustment when inputs.joint_adjustment.use is kOn and the
-// two-step calibration gave an extrinsic and metric models; fills
-// run->joint. On success, run->check.result holds the adjustment's
-// extrinsic (the two-step one stays in run->joint) and run->metric_models
-// the one adjusted model ("0"). Where it cannot run (a camera model it does
-// not know, SE(3) odometry with z estimated) or does not succeed, the
-// two-step result stays, with a warning naming the reason.
+// Runs the adjustment when inputs.joint_adjustment.use is kOn or kCheck and
+// the two-step calibration gave an extrinsic and metric models; fills
+// run->joint. Where it is taken (kOn, or kCheck beyond
+// kJointContradictionSigmas of the two-step estimate), run->check.result
+// holds the adjustment's extrinsic (the two-step one stays in run->joint)
+// and run->metric_models the one adjusted model ("0"); a check within them
+// leaves both as they were. Where it cannot run (a camera model it does not
+// know, SE(3) odometry with z estimated) or does not succeed, the two-step
+// result stays, with a warning under kOn.
 // `stamp_of_image`: image name to time (camera clock). `progress`, when
 // set, hears where the adjustment is ("joint adjustment: pass 2, iteration
 // 14, 12 s").
