@@ -142,6 +142,23 @@ class Excitation : public ScratchFolderTest {
     return Path("model");
   }
 
+  // A fake COLMAP whose feature extractor leaves prepared.db and whose
+  // mapper writes `model` as its sub-model 0; the PATH to run it with.
+  std::string WriteMappingColmap(const std::string& model) const {
+    return WriteFakeColmap(
+        "if [ \"$1\" = feature_extractor ]; then cp " +
+        WritePreparedDatabase() +
+        " \"$3\"; fi\n"
+        "if [ \"$1\" = mapper ]; then\n"
+        "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && out=\"$2\"; "
+        "shift; done\n"
+        "  mkdir -p \"$out/0\" && cp " +
+        model +
+        "/* \"$out/0/\"\n"
+        "fi\n"
+        "exit 0\n");
+  }
+
   std::vector<std::string> RunCommand(
       const std::vector<std::string>& extra = {}) const {
     std::vector<std::string> arguments = {"run",
@@ -470,25 +487,13 @@ TEST_F(Excitation, ColmapListsOnlyOutputsWithContent) {
   EXPECT_FALSE(fs::exists(dir_ / "out" / "camera_in_odom.tum"));
 }
 
-// `run --force` through a (fake) COLMAP that reconstructs the straight
-// drive: the stage lists what it wrote, without the empty outputs.
 // A drive that turns enough, of which COLMAP's model holds three images:
 // the refusal says that the reconstruction, not the drive, lacks the motion
 // (its own advice, to drive turns, would send the user to the wrong place).
 TEST_F(Excitation, AModelThatLostTheTurnsIsBlamedNotTheDrive) {
   const SimulatedDrive drive = WriteDrive(/*straight=*/false);
   const std::string model = WriteModel(drive, 3);
-  const std::string path = WriteFakeColmap(
-      "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
-      " \"$3\"; fi\n"
-      "if [ \"$1\" = mapper ]; then\n"
-      "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && out=\"$2\"; "
-      "shift; done\n"
-      "  mkdir -p \"$out/0\" && cp " +
-      model +
-      "/* \"$out/0/\"\n"
-      "fi\n"
-      "exit 0\n");
+  const std::string path = WriteMappingColmap(model);
   const CommandResult run = RunOdomcal(RunCommand(), {{path}});
   EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
   EXPECT_NE(run.out.find("turns above 2 deg: enough to calibrate\n"),
@@ -510,20 +515,12 @@ TEST_F(Excitation, AModelThatLostTheTurnsIsBlamedNotTheDrive) {
   EXPECT_TRUE(warned) << result["warnings"];
 }
 
+// `run --force` through a (fake) COLMAP that reconstructs the straight
+// drive: the stage lists what it wrote, without the empty outputs.
 TEST_F(Excitation, RunListsOnlyOutputsWithContent) {
   const SimulatedDrive drive = WriteDrive(/*straight=*/true);
   const std::string model = WriteModel(drive);
-  const std::string path = WriteFakeColmap(
-      "if [ \"$1\" = feature_extractor ]; then cp " + WritePreparedDatabase() +
-      " \"$3\"; fi\n"
-      "if [ \"$1\" = mapper ]; then\n"
-      "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && out=\"$2\"; "
-      "shift; done\n"
-      "  mkdir -p \"$out/0\" && cp " +
-      model +
-      "/* \"$out/0/\"\n"
-      "fi\n"
-      "exit 0\n");
+  const std::string path = WriteMappingColmap(model);
   const CommandResult run = RunOdomcal(RunCommand({"--force"}), {{path}});
   EXPECT_EQ(run.exit_code, 3) << run.out << run.err;
   EXPECT_NE(run.out.find(" ... wrote calibration.json, calibration.yaml, "
