@@ -103,6 +103,16 @@ void SayWhenTheModelLostTheMotion(const ExcitationPrecheck& precheck,
   }
   const CalibrationDiagnostics& odometry = precheck.verdict.diagnostics;
   const CalibrationDiagnostics& model = calibration.diagnostics;
+  // Only where the model lost turns: half of them, or every turn of one
+  // direction (a refusal for other reasons, e.g. noisier poses than the
+  // noise model, is the calibration's to explain).
+  const bool lost_direction =
+      (odometry.num_left_turns > 0 && model.num_left_turns == 0) ||
+      (odometry.num_right_turns > 0 && model.num_right_turns == 0);
+  if (!lost_direction &&
+      2 * model.num_rotating_pairs >= odometry.num_rotating_pairs) {
+    return;
+  }
   std::ostringstream text;
   text << "the odometry at the selected images turns enough ("
        << odometry.num_left_turns << " left and " << odometry.num_right_turns
