@@ -558,7 +558,8 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
     return;
   }
   // Against the adjustment's covariance before any jackknife: the check
-  // needs its estimate only where it contradicts.
+  // needs its estimate only where it contradicts. The quantities beyond the
+  // threshold are the ones named.
   for (const ExtrinsicDisagreement& d :
        ExtrinsicDisagreements(joint.result.odom_from_cam,
                               joint.result.covariance,
@@ -567,11 +568,10 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
                               0.0)) {
     joint.max_disagreement_sigmas =
         std::max(joint.max_disagreement_sigmas, d.Sigmas());
+    if (d.Sigmas() > kJointContradictionSigmas) {
+      joint.disagreements.push_back(d);
+    }
   }
-  joint.disagreements = ExtrinsicDisagreements(joint.result.odom_from_cam,
-                                               joint.result.covariance,
-                                               joint.two_step_odom_from_cam,
-                                               joint.two_step_covariance);
   const bool contradicted =
       joint.max_disagreement_sigmas > kJointContradictionSigmas;
   for (const ExtrinsicDisagreement& disagreement : joint.disagreements) {
