@@ -15,25 +15,9 @@ import sys
 root = sys.argv[1] if len(sys.argv) > 1 else "/tmp/odomcal_scene_sweep"
 
 
-def matrix(q):
-    w, x, y, z = q
-    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
-
-
-def rotation_error_deg(estimate, truth):
-    """e with truth = Exp(e) * estimate, about the odometry's axes."""
-    Re, Rt = matrix(estimate), matrix(truth)
-    D = [[sum(Rt[i][k] * Re[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
-    a = math.acos(max(-1.0, min(1.0, (D[0][0] + D[1][1] + D[2][2] - 1) / 2)))
-    s = 0.5 if a < 1e-12 else a / (2 * math.sin(a))
-    return [math.degrees(s * (D[2][1] - D[1][2])), math.degrees(s * (D[0][2] - D[2][0])),
-            math.degrees(s * (D[1][0] - D[0][1]))]
-
-
 adopted = []
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from calibration_errors import errors_and_sigmas  # noqa: E402
 from colmap_images import camera_centres  # noqa: E402
 
 
@@ -84,21 +68,16 @@ for name in sorted(os.listdir(root)):
         if not os.path.exists(path):
             continue
         r = json.load(open(path))
-        q = (r.get("odom_from_cam") or {}).get("quaternion_wxyz")
-        if r["status"] != "success" or q is None:
+        measured = errors_and_sigmas(r, truth)
+        if measured is None:
             print(f"| {name} | {method.replace('_', '-')} | {r['status']} | | | | |")
             continue
         if method == "check" and (r.get("joint_adjustment") or {}).get("adopted"):
             adopted.append(name)
-        e = rotation_error_deg(q, truth["quaternion_wxyz"])
-        sd = r["stddev"]
-        sigmas = list(sd["rotation_axes_deg"]) + [
-            sd["translation_x_m"], sd["translation_y_m"], sd["translation_z_m"]]
-        t = r["odom_from_cam"]["translation_m"]
-        errors = e + [t[k] - truth["translation_m"][k] for k in range(3)]
+        errors, sigmas = measured
         cells = []
         for p, err, sig in zip(params, errors, sigmas):
-            if sig is None or sig <= 0:
+            if sig is None:
                 cells.append("held")
                 continue
             ratios[method][p].append(err / sig)
