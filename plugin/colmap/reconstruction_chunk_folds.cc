@@ -5,9 +5,12 @@
 #include "odomcal/plugin/colmap/reconstruction_stages.h"
 #include "odomcal/plugin/output/output_folder.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <vector>
 
 namespace odomcal::reconstruction {
 
@@ -38,30 +41,47 @@ bool SameModelFiles(const fs::path& a, const fs::path& b) {
 
 // The earliest stretch of input segment `segment` left out as folded, with
 // what posing it from the odometry needs from `calibration`; nothing without
-// such a stretch or without an estimate.
+// such a stretch, without an estimate or without the segment's scale.
 std::optional<FoldToRepose> FoldOfSegment(
     const ColmapCalibrationRun& calibration, int segment) {
   const StretchCheckResult& check = calibration.check;
-  if (!check.result.has_estimate) return std::nullopt;
-  std::optional<FoldToRepose> fold;
+  if (!check.result.has_estimate || segment < 0) return std::nullopt;
+  const InconsistentStretch* earliest = nullptr;
   for (const InconsistentStretch& stretch : check.stretches) {
     if (stretch.kept_as_segment || stretch.input_segment != segment ||
-        (fold && fold->first_stamp_ns <= stretch.first_stamp_ns)) {
+        (earliest != nullptr &&
+         earliest->first_stamp_ns <= stretch.first_stamp_ns)) {
       continue;
     }
-    fold = FoldToRepose{};
-    fold->first_stamp_ns = stretch.first_stamp_ns;
+    earliest = &stretch;
   }
-  if (!fold) return std::nullopt;
+  if (earliest == nullptr) return std::nullopt;
+  FoldToRepose fold;
+  fold.camera_time_offset_ns = calibration.systematics.camera_time_offset_ns;
+  fold.anchor_stamp_ns = earliest->first_stamp_ns;
+  // A fold from the segment's first image has no image before it to keep:
+  // the images after it are kept and the fold posed back from its end.
+  const std::vector<StampedPose>& poses =
+      calibration.segments.at(segment).trajectory.poses;
+  constexpr int64_t kStampToleranceNs = 1'000'000;
+  if (!poses.empty() &&
+      std::llabs(poses.front().stamp_ns + fold.camera_time_offset_ns -
+                 earliest->first_stamp_ns) <= kStampToleranceNs) {
+    fold.anchor_stamp_ns = earliest->last_stamp_ns;
+    fold.side = FoldSide::kBeforeAnchor;
+  }
+  fold.metres_per_unit = 0.0;
   for (size_t o = 0; o < check.input_segment_of_output_segment.size(); ++o) {
     if (check.input_segment_of_output_segment[o] == segment) {
-      fold->metres_per_unit = check.result.metric_scales.at(o);
+      fold.metres_per_unit = check.result.metric_scales.at(o);
       break;
     }
   }
-  fold->camera_time_offset_ns = calibration.systematics.camera_time_offset_ns;
-  fold->odom_from_cam = check.result.odom_from_cam;
-  fold->max_odometry_gap_s = calibration.association.max_odometry_gap_s;
+  if (!(fold.metres_per_unit > 0.0) || !std::isfinite(fold.metres_per_unit)) {
+    return std::nullopt;
+  }
+  fold.odom_from_cam = check.result.odom_from_cam;
+  fold.max_odometry_gap_s = calibration.association.max_odometry_gap_s;
   return fold;
 }
 
@@ -205,7 +225,12 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
                       (fs::path("mapper_attempts") / entry / name).string());
   }
   if (num_posed == 0) {
-    *why = "no folded stretch of it starts at an image with an odometry pose";
+    *why = calibration.check.result.has_estimate
+               ? "no folded stretch of it could be posed (it needs an image "
+                 "with an odometry pose to start from and the sub-model's "
+                 "metric scale)"
+               : "the calibration of the chunks' models has no estimate to "
+                 "pose it with";
   } else {
     std::string list;
     for (const std::string& note : notes) {

@@ -408,92 +408,108 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     return mapping;
   }
   ColmapCalibrationRun calibration = CalibrateCombination(run, round, chosen);
-  auto summarize =
-      [&](int seed, const ChunkCombination& combination, int chunk) {
-        MapperAttempt attempt =
-            SummarizeMapperAttempt(seed,
-                                   (workspace / combination.entry).string(),
-                                   calibration.segments,
-                                   calibration.check);
-        attempt.matching_round = round.index;
-        attempt.chunk = chunk;
-        attempt.initialization.clear();  // chunks started each their own way
-        return attempt;
-      };
-  mapping.attempts.push_back(summarize(0, chosen, -1));
+  auto summarize = [&](int seed,
+                       const ChunkCombination& combination,
+                       const ColmapCalibrationRun& calibrated,
+                       int chunk) {
+    MapperAttempt attempt =
+        SummarizeMapperAttempt(seed,
+                               (workspace / combination.entry).string(),
+                               calibrated.segments,
+                               calibrated.check);
+    attempt.matching_round = round.index;
+    attempt.chunk = chunk;
+    attempt.initialization.clear();  // chunks started each their own way
+    return attempt;
+  };
+  mapping.attempts.push_back(summarize(0, chosen, calibration, -1));
   mapping.chosen = 0;
   std::vector<int> folded =
       FoldedPairsOfChunks(calibration, chosen, chunks.size());
   // A chunk with a fold is first posed again from the odometry where the
   // fold starts (seconds, where a mapper run takes minutes, and it escapes
   // folds that no seed does: fold_reposing.h); the new model is kept when
-  // fewer motion pairs are left out as folded and no fewer are used.
-  for (size_t k = 0; k < chunks.size(); ++k) {
-    if (folded[k] == 0) continue;
-    StageClock clock(progress,
-                     4,
-                     "COLMAP chunk " + std::to_string(k + 1) +
-                         ": the folded stretch posed from the odometry, "
-                         "triangulated and adjusted again (" +
-                         std::to_string(folded[k]) +
-                         " motion pairs of it left out as folded)");
-    const std::string entry =
-        "chunk_" + std::to_string(k) + "_posed_from_odometry";
-    std::string why;
-    if (PoseChunkFoldsFromOdometry(
-            colmap, run, round, calibration, chosen, k, entry, &why) == 0) {
-      clock.Done("not posed: " + why);
-      continue;
+  // fewer motion pairs are left out as folded and no fewer are used. After
+  // the seeds, a chunk still folded is posed again where a seed's model
+  // was kept (the calibration that poses it is then another, and may
+  // have an estimate where the first had none), unless its model was
+  // posed already. `posed_from[k]`: chunk k's model that was posed.
+  std::vector<fs::path> posed_from(chunks.size());
+  const auto pose_folds_from_odometry = [&](const std::string& suffix) {
+    for (size_t k = 0; k < chunks.size(); ++k) {
+      if (folded[k] == 0 ||
+          (!posed_from[k].empty() && posed_from[k] == outputs[k])) {
+        continue;
+      }
+      StageClock clock(progress,
+                       4,
+                       "COLMAP chunk " + std::to_string(k + 1) +
+                           ": the folded stretch posed from the odometry, "
+                           "triangulated and adjusted again (" +
+                           std::to_string(folded[k]) +
+                           " motion pairs of it left out as folded)");
+      const std::string entry =
+          "chunk_" + std::to_string(k) + "_posed_from_odometry" + suffix;
+      std::string why;
+      if (PoseChunkFoldsFromOdometry(
+              colmap, run, round, calibration, chosen, k, entry, &why) == 0) {
+        clock.Done("not posed: " + why);
+        continue;
+      }
+      posed_from[k] = outputs[k];
+      std::vector<fs::path> candidate = outputs;
+      candidate[k] = MapperOutput(run, entry);
+      const ChunkCombination combination =
+          CombineChunkModels(run,
+                             "mapper_attempts/chunks_" + std::to_string(k) +
+                                 "_posed_from_odometry" + suffix,
+                             candidate,
+                             own);
+      ColmapCalibrationRun posed_calibration;
+      try {
+        posed_calibration = CalibrateCombination(run, round, combination);
+      } catch (const FormatError& failure) {
+        clock.Done(why + "; left out: " + failure.what());
+        continue;
+      }
+      MapperAttempt attempt =
+          SummarizeMapperAttempt(0,
+                                 (workspace / combination.entry).string(),
+                                 posed_calibration.segments,
+                                 posed_calibration.check);
+      attempt.matching_round = round.index;
+      attempt.chunk = static_cast<int>(k);
+      attempt.posed_from_odometry = true;
+      attempt.initialization.clear();
+      mapping.attempts.push_back(attempt);
+      const MapperAttempt& best = mapping.attempts[mapping.chosen];
+      const std::string pairs =
+          std::to_string(attempt.num_pairs_left_out) +
+          " motion pairs of the drive left out as folded (was " +
+          std::to_string(best.num_pairs_left_out) + "), " +
+          std::to_string(attempt.num_pairs_used) + " of " +
+          std::to_string(attempt.num_pairs) + " used (was " +
+          std::to_string(best.num_pairs_used) + ")";
+      if (attempt.num_pairs_left_out >= best.num_pairs_left_out ||
+          attempt.num_pairs_used < best.num_pairs_used) {
+        clock.Done(why + "; " + pairs + ": not better");
+        continue;
+      }
+      outputs = candidate;
+      chosen = combination;
+      calibration = std::move(posed_calibration);
+      mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
+      folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
+      clock.Done(why + "; " + pairs + ": this model kept");
     }
-    std::vector<fs::path> candidate = outputs;
-    candidate[k] = MapperOutput(run, entry);
-    const ChunkCombination combination = CombineChunkModels(
-        run,
-        "mapper_attempts/chunks_" + std::to_string(k) + "_posed_from_odometry",
-        candidate,
-        own);
-    ColmapCalibrationRun posed_calibration;
-    try {
-      posed_calibration = CalibrateCombination(run, round, combination);
-    } catch (const FormatError& failure) {
-      clock.Done(why + "; left out: " + failure.what());
-      continue;
-    }
-    MapperAttempt attempt =
-        SummarizeMapperAttempt(0,
-                               (workspace / combination.entry).string(),
-                               posed_calibration.segments,
-                               posed_calibration.check);
-    attempt.matching_round = round.index;
-    attempt.chunk = static_cast<int>(k);
-    attempt.posed_from_odometry = true;
-    attempt.initialization.clear();
-    mapping.attempts.push_back(attempt);
-    const MapperAttempt& best = mapping.attempts[mapping.chosen];
-    const std::string pairs =
-        std::to_string(attempt.num_pairs_left_out) +
-        " motion pairs of the drive left out as folded (was " +
-        std::to_string(best.num_pairs_left_out) + "), " +
-        std::to_string(attempt.num_pairs_used) + " of " +
-        std::to_string(attempt.num_pairs) + " used (was " +
-        std::to_string(best.num_pairs_used) + ")";
-    if (attempt.num_pairs_left_out >= best.num_pairs_left_out ||
-        attempt.num_pairs_used < best.num_pairs_used) {
-      clock.Done(why + "; " + pairs + ": not better");
-      continue;
-    }
-    outputs = candidate;
-    chosen = combination;
-    calibration = std::move(posed_calibration);
-    mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
-    folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
-    clock.Done(why + "; " + pairs + ": this model kept");
-  }
+  };
+  pose_folds_from_odometry("");
   // Every chunk with a fold now is mapped again with seed 1: those runs go
   // side by side from the start, and one whose fold an earlier chunk's new
   // model takes away is cancelled. Later seeds, and seed 1 of a fold that
   // only an earlier chunk's new model shows, are queued first when their
   // turn comes.
+  const int chosen_before_seeds = mapping.chosen;
   MapperQueue retries(colmap, run, at_once);
   std::vector<std::optional<size_t>> first_retry(chunks.size());
   for (size_t k = 0; k < chunks.size(); ++k) {
@@ -544,14 +560,15 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       }
       // A model already chosen: one that cannot be calibrated is left out,
       // as an extra mapper run's failure is (RunExtraMapper).
+      ColmapCalibrationRun seed_calibration;
       try {
-        calibration = CalibrateCombination(run, round, combination);
+        seed_calibration = CalibrateCombination(run, round, combination);
       } catch (const FormatError& failure) {
         clock.Done(note + "; left out: " + failure.what(), mapped.seconds);
         break;
       }
       mapping.attempts.push_back(
-          summarize(seed, combination, static_cast<int>(k)));
+          summarize(seed, combination, seed_calibration, static_cast<int>(k)));
       const MapperAttempt& attempt = mapping.attempts.back();
       const MapperAttempt& best = mapping.attempts[mapping.chosen];
       const std::string pairs =
@@ -570,6 +587,7 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
       }
       outputs = candidate;
       chosen = combination;
+      calibration = std::move(seed_calibration);
       mapping.chosen = static_cast<int>(mapping.attempts.size()) - 1;
       folded = FoldedPairsOfChunks(calibration, chosen, chunks.size());
       for (size_t j = k + 1; j < chunks.size(); ++j) {
@@ -582,6 +600,9 @@ ChunkedMapping MapInChunks(ColmapRunner* colmap,
     }
   }
   progress->SetNumImages(static_cast<int>(images.size()));
+  if (mapping.chosen != chosen_before_seeds) {
+    pose_folds_from_odometry("_after_seeds");
+  }
   return mapping;
 }
 
