@@ -211,8 +211,10 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
       }
     }
     ++num_posed;
-    notes.push_back(std::to_string(reposed->num_reposed) + " images from " +
-                    reposed->anchor_image + " on");
+    notes.push_back(std::to_string(reposed->num_reposed) +
+                    (fold->side == FoldSide::kAfterAnchor
+                         ? " images from " + reposed->anchor_image + " on"
+                         : " images up to " + reposed->anchor_image));
   }
   // Sub-models a run before this one wrote beyond this chunk's.
   std::vector<std::string> stale;
