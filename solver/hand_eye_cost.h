@@ -21,6 +21,23 @@
 
 namespace odomcal {
 
+// Whether the value part of every residual is finite. A cost functor
+// returns false where it is not (a trust-region step to a log-scale whose
+// exp overflows, far from any minimum): Ceres then rejects the step
+// quietly, where NaN residuals returned as a success make it log a warning
+// to stderr.
+template <typename T, int N>
+bool ResidualsFinite(const Eigen::Matrix<T, N, 1>& residuals) {
+  for (int i = 0; i < N; ++i) {
+    if constexpr (std::is_same_v<T, double>) {
+      if (!std::isfinite(residuals(i))) return false;
+    } else {
+      if (!std::isfinite(residuals(i).a)) return false;
+    }
+  }
+  return true;
+}
+
 // Residual, whitened:  W [ Log(q_A^-1 q q_B q^-1) ; R_A p + t_A - s R t_B - p ]
 // with p = [p_xy, p_z] and s = exp(log_scale). Parameters:
 // q (4, Eigen x,y,z,w order, on EigenQuaternionManifold), p_xy (2),
@@ -83,7 +100,7 @@ class HandEyeCost {
     Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
     if (!covariance_in_scale_) {
       out = sqrt_information_.cast<T>() * raw;
-      return true;
+      return ResidualsFinite<T, 6>(out);
     }
     const T ratio = scale / covariance_.scale;
     // Cov = L L^T: W = L^-1, so W r = L^-1 r.
@@ -107,7 +124,7 @@ class HandEyeCost {
       }
       out = l.template triangularView<Eigen::Lower>().solve(raw);
     }
-    return true;
+    return ResidualsFinite<T, 6>(out);
   }
 
  private:

@@ -154,6 +154,33 @@ TEST(ModelledStep, IsTheInverseVarianceMeanOfMeasurementAndPrediction) {
               1e-12);
 }
 
+// A trust-region step to a log-scale whose exp overflows is a failed
+// evaluation, not a success with NaN residuals (which Ceres logs to stderr).
+TEST(HandEyeCost, OverflowingScaleFailsTheEvaluation) {
+  auto rng = SeededRng(23);
+  MotionSimulatorOptions options;
+  options.num_pairs = 2;
+  const SimulatedMotions truth = SimulateMotions(options, &rng);
+  const MotionPair& pair = truth.pairs[0];
+  const Matrix6d w = HandEyeSqrtInformation(
+      pair, truth.odom_from_cam, truth.metric_scales[0], NoiseModel());
+  std::unique_ptr<ceres::CostFunction> cost(HandEyeCost::Create(pair, w));
+  const Eigen::Quaterniond& q = truth.odom_from_cam.rotation;
+  double q_xyzw[4] = {q.x(), q.y(), q.z(), q.w()};
+  double p_xy[2] = {0.3, -0.1};
+  double p_z[1] = {0.0};
+  double residuals[6];
+  double jacobian_q[24], jacobian_p[12], jacobian_s[6], jacobian_z[6];
+  double* jacobians[] = {jacobian_q, jacobian_p, jacobian_s, jacobian_z};
+  double log_scale[1] = {std::log(truth.metric_scales[0])};
+  const double* parameters[] = {q_xyzw, p_xy, log_scale, p_z};
+  EXPECT_TRUE(cost->Evaluate(parameters, residuals, nullptr));
+  EXPECT_TRUE(cost->Evaluate(parameters, residuals, jacobians));
+  log_scale[0] = 800.0;  // exp overflows
+  EXPECT_FALSE(cost->Evaluate(parameters, residuals, nullptr));
+  EXPECT_FALSE(cost->Evaluate(parameters, residuals, jacobians));
+}
+
 TEST(HandEyeCost, GradientCheckerPasses) {
   auto rng = SeededRng(22);
   MotionSimulatorOptions options;

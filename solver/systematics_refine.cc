@@ -30,9 +30,10 @@ const std::array<const char*, kNumSystematics> kSystematicsNames = {
 namespace {
 
 // The whitened hand-eye residual (hand_eye_cost.h) of odometry motion
-// (q_a, t_a) at the problem's extrinsic and scale parameters.
+// (q_a, t_a) at the problem's extrinsic and scale parameters; false where
+// it is not finite (ResidualsFinite).
 template <typename T>
-void WhitenedResidual(const Eigen::Quaternion<T>& q_a,
+bool WhitenedResidual(const Eigen::Quaternion<T>& q_a,
                       const Eigen::Matrix<T, 3, 1>& t_a,
                       const T* q_xyzw,
                       const T* p_xy,
@@ -54,6 +55,7 @@ void WhitenedResidual(const Eigen::Quaternion<T>& q_a,
   raw.template tail<3>() = q_a * p + t_a - scale * (q * t_b.cast<T>()) - p;
   Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residuals);
   out = sqrt_information.cast<T>() * raw;
+  return ResidualsFinite<T, 6>(out);
 }
 
 // Exp of the twist d xi (SE(3)): the rotation from its angle-axis, the
@@ -118,17 +120,16 @@ class Se3OffsetCost {
     const Eigen::Quaternion<T> q_a = q_i * q_logged * q_j;
     const Eigen::Matrix<T, 3, 1> t_a =
         t_i + q_i * (t_a_.cast<T>() + q_logged * t_j);
-    WhitenedResidual(q_a,
-                     t_a,
-                     q_xyzw,
-                     p_xy,
-                     log_scale,
-                     p_z,
-                     q_b_,
-                     t_b_,
-                     sqrt_information_,
-                     residuals);
-    return true;
+    return WhitenedResidual(q_a,
+                            t_a,
+                            q_xyzw,
+                            p_xy,
+                            log_scale,
+                            p_z,
+                            q_b_,
+                            t_b_,
+                            sqrt_information_,
+                            residuals);
   }
 
  private:
@@ -167,17 +168,16 @@ class SystematicsCost {
     const Eigen::Quaternion<T> q_a(
         cos(0.5 * a.yaw), T(0.0), T(0.0), sin(0.5 * a.yaw));
     const Eigen::Matrix<T, 3, 1> t_a(a.x, a.y, T(z_a_));
-    WhitenedResidual(q_a,
-                     t_a,
-                     q_xyzw,
-                     p_xy,
-                     log_scale,
-                     p_z,
-                     q_b_,
-                     t_b_,
-                     sqrt_information_,
-                     residuals);
-    return true;
+    return WhitenedResidual(q_a,
+                            t_a,
+                            q_xyzw,
+                            p_xy,
+                            log_scale,
+                            p_z,
+                            q_b_,
+                            t_b_,
+                            sqrt_information_,
+                            residuals);
   }
 
  private:
