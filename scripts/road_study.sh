@@ -2,7 +2,8 @@
 # The road drives of issue-sized coverage: per preset (`road`, `road_sloped`)
 # and seed, render the drive, run `odomcal run` on it with its planar wheel
 # odometry (defaults, true intrinsics), then `odomcal colmap` on the same
-# model with the car's SE(3) odometry (`odometry_se3.tum`); with
+# model with the car's SE(3) odometry (`odometry_se3.tum`) and with the
+# planar odometry and `--joint_adjustment on` (the default is `check`); with
 # ROAD_STUDY_REPEAT=1 a second `odomcal run` into a fresh workspace, to
 # compare the two. scripts/road_study_summary.py makes the tables of
 # docs/e2e_measurements.md from the results.
@@ -12,7 +13,7 @@
 # Needs build/plugin/odomcal (or $ODOMCAL) and colmap; 3-12 min per drive on
 # 2 cores. Writes $ROAD_STUDY_ROOT (default /tmp/odomcal_road_study):
 # NAME (the render), NAME_ws (the run, planar odometry), NAME_se3 (SE(3)),
-# NAME_repeat (the second run), with NAME = PRESET + SEED; a rerun reuses
+# NAME_on (the joint adjustment on), NAME_repeat (the second run), with NAME = PRESET + SEED; a rerun reuses
 # every finished COLMAP stage and calibrates again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -48,6 +49,12 @@ for preset in $presets; do
         --database_path "${data}_ws/database.db" --odometry "$data/odometry_se3.tum" \
         --image_timestamps "$data/image_timestamps.csv" --output_path "${data}_se3" \
         --overwrite > "$data.se3.log" 2>&1
+    fi
+    if [ -d "${data}_ws/sparse" ]; then
+      timed "$data.on" "$odomcal" colmap --model_path "${data}_ws/sparse" \
+        --database_path "${data}_ws/database.db" --odometry "$data/odometry.csv" \
+        --image_timestamps "$data/image_timestamps.csv" --joint_adjustment on \
+        --output_path "${data}_on" --overwrite > "$data.on.log" 2>&1
     fi
     if [ "${ROAD_STUDY_REPEAT:-0}" = 1 ]; then
       timed "$data.repeat" "$odomcal" "${run[@]}" --odometry "$data/odometry.csv" \

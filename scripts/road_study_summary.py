@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """The tables of scripts/road_study.sh from its results: per drive and
-odometry (planar: `odomcal run`; SE(3): `odomcal colmap` on the same model)
+odometry (planar: `odomcal run`; SE(3): `odomcal colmap` on the same model;
+planar, joint on: the same with `--joint_adjustment on`)
 the status, the error of roll/pitch/yaw (about the odometry's axes) and
 x/y/z against the truth and over the stated sigma; then per preset and
 odometry how many drives gave an answer and, per parameter, how many lie
@@ -52,7 +53,8 @@ for preset in presets:
         base = os.path.join(root, name)
         truth = json.load(open(os.path.join(base, "ground_truth.json")))["odom_from_cam"]
         for odometry, folder, timing in (("planar", "_ws", ".run.seconds"),
-                                         ("SE(3)", "_se3", ".se3.seconds")):
+                                         ("SE(3)", "_se3", ".se3.seconds"),
+                                         ("planar, joint on", "_on", ".on.seconds")):
             result = load(base + folder + "/calibration.json")
             if result is None:
                 continue

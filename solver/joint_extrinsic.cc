@@ -1,6 +1,7 @@
 #include "odomcal/solver/joint_extrinsic.h"
 
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/format_number.h"
 
 #include <cmath>
 
@@ -26,6 +27,44 @@ void AdoptJointExtrinsic(const JointAdjustmentResult& joint,
       (rpy * rotation * rpy.transpose()).diagonal().cwiseSqrt() * kRadToDeg;
   result->stddev_translation_xy_m =
       joint.covariance.bottomRightCorner<2, 2>().diagonal().cwiseSqrt();
+}
+
+void RefuseLooseAdoptedExtrinsic(const CalibrationOptions& limits,
+                                 CalibrationResult* result) {
+  std::string loose;
+  const auto name = [&loose](const std::string& quantity,
+                             double stddev,
+                             double limit,
+                             const char* unit) {
+    loose += (loose.empty() ? "" : ", ") + quantity + " (" +
+             FormatRounded(stddev, 3) + unit + " > " + FormatNumber(limit) +
+             unit + ")";
+  };
+  const double rotation_deg = result->stddev_rotation_axes_deg.maxCoeff();
+  if (!(rotation_deg <= limits.max_rotation_stddev_deg)) {
+    result->observability.rotation = Determination::kUndetermined;
+    name("rotation", rotation_deg, limits.max_rotation_stddev_deg, " deg");
+  }
+  for (int k = 0; k < 2; ++k) {
+    const double stddev_m = result->stddev_translation_xy_m[k];
+    if (stddev_m <= limits.max_translation_stddev_m) continue;
+    (k == 0 ? result->observability.translation_x
+            : result->observability.translation_y) =
+        Determination::kUndetermined;
+    name(k == 0 ? "translation_x" : "translation_y",
+         stddev_m,
+         limits.max_translation_stddev_m,
+         " m");
+  }
+  if (loose.empty()) return;
+  result->status = CalibrationStatus::kUnobservable;
+  result->message =
+      "the joint adjustment's estimate, reported because the images "
+      "contradict the two-step one, does not determine: " +
+      loose +
+      " (standard deviation above the limit); look at the reconstruction "
+      "(folds, scale drift) and drive turns of different sizes in both "
+      "directions";
 }
 
 double ExtrinsicDisagreement::Sigmas() const {

@@ -2,6 +2,7 @@
 // calibration result, and how far it lies from the two-step one.
 #pragma once
 
+#include "odomcal/solver/calibration_options.h"
 #include "odomcal/solver/calibration_result.h"
 #include "odomcal/solver/joint_adjustment.h"
 
@@ -20,6 +21,18 @@ namespace odomcal {
 // result must hold a covariance (the two-step calibration succeeded).
 void AdoptJointExtrinsic(const JointAdjustmentResult& joint,
                          CalibrationResult* result);
+
+// The adopted estimate must determine the extrinsic within the limits the
+// two-step calibration is held to (limits.max_rotation_stddev_deg on the
+// rotation axes, max_translation_stddev_m on x and y): an adjustment
+// adopted where the images contradict the two-step may itself be too loose
+// to use (on a road drive whose turns COLMAP folded, its jackknife left x
+// and y known to 0.5-0.8 m). Where it is not, result becomes kUnobservable
+// with the quantities undetermined and named in the message with their
+// standard deviations; else it is left as it is. Call after
+// AdoptJointExtrinsic.
+void RefuseLooseAdoptedExtrinsic(const CalibrationOptions& limits,
+                                 CalibrationResult* result);
 
 // One extrinsic quantity of the two estimates and their standard
 // deviations. Both rest on the same images and odometry, the adjustment on

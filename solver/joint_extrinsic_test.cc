@@ -73,6 +73,40 @@ TEST(AdoptJointExtrinsic, ReplacesTheExtrinsicBlockAndKeepsTheScales) {
   EXPECT_NEAR(result.stddev_rotation_axes_deg.z(), 3e-4 * kRadToDeg, 1e-12);
 }
 
+TEST(RefuseLooseAdoptedExtrinsic, NamesWhatIsBeyondTheCalibrationsLimits) {
+  CalibrationOptions limits;  // 2 deg, 0.05 m
+  CalibrationResult result;
+  result.status = CalibrationStatus::kSuccess;
+  result.has_estimate = true;
+  result.stddev_rotation_axes_deg = Eigen::Vector3d(0.5, 1.0, 1.9);
+  result.stddev_translation_xy_m = Eigen::Vector2d(0.049, 0.04);
+  RefuseLooseAdoptedExtrinsic(limits, &result);
+  EXPECT_EQ(result.status, CalibrationStatus::kSuccess);
+  EXPECT_TRUE(result.observability.ExtrinsicDetermined());
+
+  result.stddev_translation_xy_m = Eigen::Vector2d(0.497, 0.04);
+  RefuseLooseAdoptedExtrinsic(limits, &result);
+  EXPECT_EQ(result.status, CalibrationStatus::kUnobservable);
+  EXPECT_TRUE(result.has_estimate);
+  EXPECT_EQ(result.observability.translation_x, Determination::kUndetermined);
+  EXPECT_EQ(result.observability.translation_y, Determination::kEstimated);
+  EXPECT_EQ(result.observability.rotation, Determination::kEstimated);
+  EXPECT_NE(result.message.find("does not determine: translation_x (0.497 m "
+                                "> 0.05 m) (standard deviation"),
+            std::string::npos)
+      << result.message;
+
+  CalibrationResult rotation;
+  rotation.status = CalibrationStatus::kSuccess;
+  rotation.stddev_rotation_axes_deg = Eigen::Vector3d(0.5, 2.5, 0.1);
+  RefuseLooseAdoptedExtrinsic(limits, &rotation);
+  EXPECT_EQ(rotation.status, CalibrationStatus::kUnobservable);
+  EXPECT_EQ(rotation.observability.rotation, Determination::kUndetermined);
+  EXPECT_NE(rotation.message.find("rotation (2.5 deg > 2 deg)"),
+            std::string::npos)
+      << rotation.message;
+}
+
 // The sparse covariances against their dense formulas on a random
 // least-squares problem: (J^T J)^-1 and the sandwich
 // H^-1 (sum_c J_c^T r_c r_c^T J_c) H^-1 over clusters of rows.

@@ -616,6 +616,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   AlignWithOdometry(*run, input, &joint.result);
   CompareScales(*run, input, &joint);
   AdoptJointExtrinsic(joint.result, &result);
+  RefuseLooseAdoptedExtrinsic(inputs.calibration, &result);
   MetricSubModel adjusted;
   adjusted.name = "0";
   adjusted.output_segment = run->metric_models.front().output_segment;
