@@ -59,8 +59,8 @@ void RefuseLooseAdoptedExtrinsic(const CalibrationOptions& limits,
   if (loose.empty()) return;
   result->status = CalibrationStatus::kUnobservable;
   result->message =
-      "the joint adjustment's estimate, reported because the images "
-      "contradict the two-step one, does not determine: " +
+      "the joint adjustment's estimate (the one reported) does not "
+      "determine: " +
       loose +
       " (standard deviation above the limit); look at the reconstruction "
       "(folds, scale drift) and drive turns of different sizes in both "

@@ -68,6 +68,11 @@ struct JointAdjustmentRun {
   // The largest |joint - two-step| over the standard deviation of the
   // difference in roll, pitch, yaw, x, y (when it succeeded).
   double max_disagreement_sigmas = 0.0;
+  // kCheck beyond kJointContradictionSigmas: the same with the adjustment's
+  // covariance after its jackknife (negative when not measured). Within
+  // kJointContradictionSigmas the adjustment's own uncertainty covers the
+  // difference, and the two-step estimate stands.
+  double max_disagreement_sigmas_jackknifed = -1.0;
   std::string skipped;  // why it was not (empty when it ran or was off)
   JointAdjustmentResult result;
   // The jackknife over stretches of the drive that widened result's

@@ -58,6 +58,10 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   };
   if (!r.IsSuccess()) return out;
   out["max_disagreement_sigmas"] = joint.max_disagreement_sigmas;
+  out["max_disagreement_sigmas_jackknifed"] =
+      joint.max_disagreement_sigmas_jackknifed >= 0.0
+          ? json(joint.max_disagreement_sigmas_jackknifed)
+          : json(nullptr);
   out["contradiction_sigmas"] = kJointContradictionSigmas;
   json disagreements = json::array();
   for (const ExtrinsicDisagreement& d : joint.disagreements) {
@@ -176,7 +180,13 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
     out << "  joint adjustment check: the two-step estimate stands (the "
            "adjustment differs by at most "
         << FormatPrintf("%.1f", joint.max_disagreement_sigmas)
-        << " sigma of the difference, a contradiction is more than "
+        << " sigma of the difference";
+    if (joint.max_disagreement_sigmas_jackknifed >= 0.0) {
+      out << ", "
+          << FormatPrintf("%.1f", joint.max_disagreement_sigmas_jackknifed)
+          << " once its jackknife widened its own uncertainty";
+    }
+    out << ", a contradiction is more than "
         << FormatPrintf("%.0f", kJointContradictionSigmas) << "; "
         << joint.num_images << " images, " << joint.num_points << " points, "
         << joint.num_links << " odometry links; reprojection rms "
@@ -239,8 +249,14 @@ std::string JointAdjustmentHtml(const ColmapCalibrationRun& run) {
         << "<p>Run as a check of the two-step estimate: they differ by at "
            "most "
         << EscapeMarkup(FormatPrintf("%.1f", joint.max_disagreement_sigmas))
-        << " standard deviations of their difference (a contradiction is "
-           "more than "
+        << " standard deviations of their difference"
+        << (joint.max_disagreement_sigmas_jackknifed >= 0.0
+                ? EscapeMarkup(FormatPrintf(
+                      ", %.1f once the adjustment's jackknife over stretches "
+                      "of the drive widened its own uncertainty",
+                      joint.max_disagreement_sigmas_jackknifed))
+                : std::string())
+        << " (a contradiction is more than "
         << EscapeMarkup(FormatPrintf("%.0f", kJointContradictionSigmas))
         << "), so the two-step estimate is reported. "
            "<code>--joint_adjustment on</code> reports the adjustment's.</p>\n";
