@@ -3,7 +3,8 @@
 # and seed, render the drive, run `odomcal run` on it with its planar wheel
 # odometry (defaults, true intrinsics), then `odomcal colmap` on the same
 # model with the car's SE(3) odometry (`odometry_se3.tum`) and with the
-# planar odometry and `--joint_adjustment on` (the default is `check`); with
+# planar odometry and `--joint_adjustment on` (the default is `check`; not
+# with ROAD_STUDY_JOINT_ON=0); with
 # ROAD_STUDY_REPEAT=1 a second `odomcal run` into a fresh workspace, to
 # compare the two. scripts/road_study_summary.py makes the tables of
 # docs/e2e_measurements.md from the results.
@@ -50,7 +51,7 @@ for preset in $presets; do
         --image_timestamps "$data/image_timestamps.csv" --output_path "${data}_se3" \
         --overwrite > "$data.se3.log" 2>&1
     fi
-    if [ -d "${data}_ws/sparse" ]; then
+    if [ -d "${data}_ws/sparse" ] && [ "${ROAD_STUDY_JOINT_ON:-1}" = 1 ]; then
       timed "$data.on" "$odomcal" colmap --model_path "${data}_ws/sparse" \
         --database_path "${data}_ws/database.db" --odometry "$data/odometry.csv" \
         --image_timestamps "$data/image_timestamps.csv" --joint_adjustment on \

@@ -419,38 +419,6 @@ TEST_F(Robustness, ChunkWithAFoldedStretchIsPosedFromTheOdometry) {
   EXPECT_TRUE(again["colmap"]["mapper_attempts"][1]["chosen"].get<bool>());
 }
 
-// A fold from the chunk model's first own image (COLMAP started the model
-// inside it) has no image before it to keep: it is posed back from the
-// fold's last image.
-TEST_F(Robustness, ChunkFoldedFromItsFirstImageIsPosedBackFromTheFoldsEnd) {
-  constexpr int kImages = 60;
-  const SimulatedDrive drive = WriteImageFolder(kImages, "x");
-  WriteMapperModel(drive, 15, "seed_0/0");
-  WriteMapperModel(
-      drive, kImages, "seed_0/1", {24, 26, 28, 30, 32, 34, 36}, 15);
-  WriteMapperModel(drive, kImages, "triangulated", {}, 15, 30);
-  const std::string bin = WriteFakeColmapWithMapperModels(false, true);
-  const CommandResult run = RunInChunksOf50(bin, 2);
-  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
-  EXPECT_NE(run.out.find("8 images up to 000037.png; 0 motion pairs of the "
-                         "drive left out as folded (was "),
-            std::string::npos)
-      << run.out;
-  EXPECT_NE(run.out.find(": this model kept"), std::string::npos) << run.out;
-  const json result = json::parse(ReadFile(Path("ws/calibration.json")));
-  EXPECT_EQ(result["status"], "success");
-  const json& attempts = result["colmap"]["mapper_attempts"];
-  // Chunk 1's own images end in the fold (images 24-30, posed from image
-  // 23 on), chunk 2's begin in it (up to image 37).
-  ASSERT_EQ(attempts.size(), 3u) << attempts.dump(2);
-  EXPECT_EQ(attempts[1]["chunk"], 0);
-  EXPECT_EQ(attempts[2]["chunk"], 1);
-  EXPECT_TRUE(attempts[2]["posed_from_odometry"].get<bool>());
-  EXPECT_EQ(attempts[2]["num_pairs_left_out"], 0);
-  EXPECT_TRUE(attempts[2]["chosen"].get<bool>());
-  EXPECT_LT(ExtrinsicRotationError(result, drive), 0.1 * kPi / 180.0);
-}
-
 // The same, but the adjustment leaves the posed images without the points
 // that would hold them (29 each, one fewer than COLMAP's mapper registers an
 // image from): their poses would be the odometry's, agreeing with it by

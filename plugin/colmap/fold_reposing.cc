@@ -3,7 +3,6 @@
 #include "odomcal/adapters/association.h"
 
 #include <cmath>
-#include <cstddef>
 #include <cstdlib>
 #include <set>
 #include <stdexcept>
@@ -23,7 +22,7 @@ std::optional<ReposedModel> ReposeFoldFromOdometry(const ColmapModel& model,
   size_t anchor = poses.size();
   for (size_t i = 0; i < poses.size(); ++i) {
     if (std::llabs(poses[i].stamp_ns + fold.camera_time_offset_ns -
-                   fold.anchor_stamp_ns) <= kStampToleranceNs) {
+                   fold.first_stamp_ns) <= kStampToleranceNs) {
       anchor = i;
       break;
     }
@@ -47,15 +46,9 @@ std::optional<ReposedModel> ReposeFoldFromOdometry(const ColmapModel& model,
   reposed.model = model;
   reposed.anchor_image = anchor_image->second.name;
   // Images the segment does not hold (no timestamp) cannot be placed.
-  const bool after = fold.side == FoldSide::kAfterAnchor;
-  const auto anchor_it =
-      segment.image_ids.begin() + static_cast<std::ptrdiff_t>(anchor);
-  std::set<uint32_t> keep =
-      after ? std::set<uint32_t>(segment.image_ids.begin(), anchor_it + 1)
-            : std::set<uint32_t>(anchor_it, segment.image_ids.end());
-  const size_t first = after ? anchor + 1 : 0;
-  const size_t end = after ? poses.size() : anchor;
-  for (size_t i = first; i < end; ++i) {
+  std::set<uint32_t> keep(segment.image_ids.begin(),
+                          segment.image_ids.begin() + anchor + 1);
+  for (size_t i = anchor + 1; i < poses.size(); ++i) {
     const auto image = reposed.model.images.find(segment.image_ids[i]);
     const std::optional<Rigid3d> origin_from_odom = odometry_at(i);
     if (image == reposed.model.images.end() || !origin_from_odom) {

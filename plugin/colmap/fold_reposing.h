@@ -30,35 +30,24 @@
 namespace odomcal {
 
 struct ReposedModel {
-  // The sub-model with every image on the fold's side of the anchor placed
-  // by the odometry (cam_from_world in the sub-model's frame and units),
-  // those without an odometry pose left out, and no 3D points (every
+  // The sub-model with every image from the anchor on placed by the
+  // odometry (cam_from_world in the sub-model's frame and units), the
+  // images without an odometry pose left out, and no 3D points (every
   // points2D entry unlinked): the points of the fold are to be
   // triangulated again.
   ColmapModel model;
   std::string anchor_image;  // kept where COLMAP put it
   int num_reposed = 0;
   std::vector<uint32_t> reposed_image_ids;  // in time order
-  int num_left_out = 0;  // on the fold's side, without an odometry pose
-};
-
-// Which images of a sub-model the odometry poses again.
-enum class FoldSide {
-  // A fold inside the sub-model: the anchor is the first folded motion
-  // pair's first image, and everything after it is posed again, not only
-  // the stretch: the images after a fold hang off the folded ones.
-  kAfterAnchor,
-  // A fold from the sub-model's first image on (COLMAP started the model
-  // in it: a forward drive's first straight): the anchor is the folded
-  // stretch's last image, and everything before it is posed again.
-  kBeforeAnchor,
+  int num_left_out = 0;  // after the anchor, without an odometry pose
 };
 
 struct FoldToRepose {
-  // Odometry time (camera time + offset) of the anchor image, whose pose
-  // and the images on the other side of it are kept.
-  int64_t anchor_stamp_ns = 0;
-  FoldSide side = FoldSide::kAfterAnchor;
+  // Odometry time (camera time + offset) of the first folded motion pair's
+  // first image: the anchor, whose pose and everything before it are kept.
+  // Everything after it is posed again, not only the stretch: the images
+  // after a fold hang off the folded ones.
+  int64_t first_stamp_ns = 0;
   int64_t camera_time_offset_ns = 0;  // odometry_time = camera_time + this
   Rigid3d odom_from_cam;
   double metres_per_unit = 1.0;  // the sub-model's metric scale
@@ -67,10 +56,10 @@ struct FoldToRepose {
 
 // `segment` is `model`'s trajectory as ReadColmapSegments gives it (camera
 // times, image ids of `model`); `odometry` in odometry time. Returns
-// std::nullopt when no image of `segment` lies at fold.anchor_stamp_ns
-// (within 1 ms), when the anchor has no odometry pose, or when nothing on
-// the fold's side of it could be posed. Throws std::invalid_argument for a
-// scale that is not positive and finite.
+// std::nullopt when no image of `segment` lies at fold.first_stamp_ns
+// (within 1 ms), when the anchor has no odometry pose, or when nothing
+// after it could be posed. Throws std::invalid_argument for a scale that is
+// not positive and finite.
 std::optional<ReposedModel> ReposeFoldFromOdometry(const ColmapModel& model,
                                                    const ColmapSegment& segment,
                                                    const Trajectory& odometry,

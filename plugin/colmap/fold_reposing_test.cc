@@ -91,7 +91,7 @@ struct FoldScene {
 
   FoldToRepose Fold(int anchor) const {
     FoldToRepose fold;
-    fold.anchor_stamp_ns = odometry.poses[anchor].stamp_ns;
+    fold.first_stamp_ns = odometry.poses[anchor].stamp_ns;
     fold.camera_time_offset_ns = kOffsetNs;
     fold.odom_from_cam = odom_from_cam;
     fold.metres_per_unit = kMetresPerUnit;
@@ -158,45 +158,6 @@ TEST(FoldReposing, ImagesBeforeTheAnchorStayWhereColmapPutThem) {
             1e-9);
 }
 
-TEST(FoldReposing, AFoldFromTheFirstImageIsPosedBackFromItsEnd) {
-  const FoldScene scene;
-  // Everything up to sample 60 wrong (turned 3 deg, moved 1 unit about the
-  // rest): COLMAP started the model in the fold. Anchored at sample 60, the
-  // images before it get the truth's poses relative to it and the later
-  // ones stay as they were.
-  ColmapModel folded = scene.truth;
-  for (auto& [id, image] : folded.images) {
-    if (static_cast<int>(id) - 1 >= 60) continue;
-    image.cam_from_world.rotation =
-        Eigen::AngleAxisd(3.0 * kPi / 180.0, Eigen::Vector3d::UnitY()) *
-        image.cam_from_world.rotation;
-    image.cam_from_world.translation += Eigen::Vector3d(0.0, 1.0, 0.0);
-  }
-  FoldToRepose fold = scene.Fold(60);
-  fold.side = FoldSide::kBeforeAnchor;
-  const auto reposed =
-      ReposeFoldFromOdometry(folded, scene.segment, scene.odometry, fold);
-  ASSERT_TRUE(reposed.has_value());
-  EXPECT_EQ(reposed->anchor_image, "image_1060.png");
-  EXPECT_EQ(reposed->num_reposed, 12);
-  ASSERT_EQ(reposed->reposed_image_ids.size(), 12u);
-  EXPECT_EQ(reposed->reposed_image_ids.front(), 1u);
-  EXPECT_EQ(reposed->reposed_image_ids.back(), 56u);
-  ASSERT_EQ(reposed->model.images.size(), scene.truth.images.size());
-  for (const auto& [id, image] : reposed->model.images) {
-    EXPECT_LT(PoseDifference(image.cam_from_world,
-                             scene.truth.images.at(id).cam_from_world),
-              1e-9)
-        << image.name;
-  }
-  // The first image as the anchor: nothing before it to pose.
-  fold = scene.Fold(0);
-  fold.side = FoldSide::kBeforeAnchor;
-  EXPECT_FALSE(
-      ReposeFoldFromOdometry(folded, scene.segment, scene.odometry, fold)
-          .has_value());
-}
-
 TEST(FoldReposing, ImagesInAnOdometryGapAreLeftOut) {
   FoldScene scene;
   // No odometry from 14.6 s to 15.4 s: the image at 15 s has none.
@@ -214,7 +175,7 @@ TEST(FoldReposing, ImagesInAnOdometryGapAreLeftOut) {
 TEST(FoldReposing, NothingWithoutAnImageAtTheFoldsStart) {
   const FoldScene scene;
   FoldToRepose fold = scene.Fold(100);
-  fold.anchor_stamp_ns += 50'000'000;  // between two images
+  fold.first_stamp_ns += 50'000'000;  // between two images
   EXPECT_FALSE(
       ReposeFoldFromOdometry(scene.truth, scene.segment, scene.odometry, fold)
           .has_value());

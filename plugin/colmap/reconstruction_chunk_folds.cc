@@ -41,47 +41,35 @@ bool SameModelFiles(const fs::path& a, const fs::path& b) {
 
 // The earliest stretch of input segment `segment` left out as folded, with
 // what posing it from the odometry needs from `calibration`; nothing without
-// such a stretch, without an estimate or without the segment's scale.
+// such a stretch or without an estimate. A segment folded whole has no
+// scale: its posed images keep metres as units (any scale is a gauge for a
+// model posed whole, which the calibration then scales anew).
 std::optional<FoldToRepose> FoldOfSegment(
     const ColmapCalibrationRun& calibration, int segment) {
   const StretchCheckResult& check = calibration.check;
-  if (!check.result.has_estimate || segment < 0) return std::nullopt;
-  const InconsistentStretch* earliest = nullptr;
+  if (!check.result.has_estimate) return std::nullopt;
+  std::optional<FoldToRepose> fold;
   for (const InconsistentStretch& stretch : check.stretches) {
     if (stretch.kept_as_segment || stretch.input_segment != segment ||
-        (earliest != nullptr &&
-         earliest->first_stamp_ns <= stretch.first_stamp_ns)) {
+        (fold && fold->first_stamp_ns <= stretch.first_stamp_ns)) {
       continue;
     }
-    earliest = &stretch;
+    fold = FoldToRepose{};
+    fold->first_stamp_ns = stretch.first_stamp_ns;
   }
-  if (earliest == nullptr) return std::nullopt;
-  FoldToRepose fold;
-  fold.camera_time_offset_ns = calibration.systematics.camera_time_offset_ns;
-  fold.anchor_stamp_ns = earliest->first_stamp_ns;
-  // A fold from the segment's first image has no image before it to keep:
-  // the images after it are kept and the fold posed back from its end.
-  const std::vector<StampedPose>& poses =
-      calibration.segments.at(segment).trajectory.poses;
-  constexpr int64_t kStampToleranceNs = 1'000'000;
-  if (!poses.empty() &&
-      std::llabs(poses.front().stamp_ns + fold.camera_time_offset_ns -
-                 earliest->first_stamp_ns) <= kStampToleranceNs) {
-    fold.anchor_stamp_ns = earliest->last_stamp_ns;
-    fold.side = FoldSide::kBeforeAnchor;
-  }
-  fold.metres_per_unit = 0.0;
+  if (!fold) return std::nullopt;
   for (size_t o = 0; o < check.input_segment_of_output_segment.size(); ++o) {
     if (check.input_segment_of_output_segment[o] == segment) {
-      fold.metres_per_unit = check.result.metric_scales.at(o);
+      fold->metres_per_unit = check.result.metric_scales.at(o);
       break;
     }
   }
-  if (!(fold.metres_per_unit > 0.0) || !std::isfinite(fold.metres_per_unit)) {
+  if (!(fold->metres_per_unit > 0.0) || !std::isfinite(fold->metres_per_unit)) {
     return std::nullopt;
   }
-  fold.odom_from_cam = check.result.odom_from_cam;
-  fold.max_odometry_gap_s = calibration.association.max_odometry_gap_s;
+  fold->camera_time_offset_ns = calibration.systematics.camera_time_offset_ns;
+  fold->odom_from_cam = check.result.odom_from_cam;
+  fold->max_odometry_gap_s = calibration.association.max_odometry_gap_s;
   return fold;
 }
 
@@ -211,10 +199,8 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
       }
     }
     ++num_posed;
-    notes.push_back(std::to_string(reposed->num_reposed) +
-                    (fold->side == FoldSide::kAfterAnchor
-                         ? " images from " + reposed->anchor_image + " on"
-                         : " images up to " + reposed->anchor_image));
+    notes.push_back(std::to_string(reposed->num_reposed) + " images from " +
+                    reposed->anchor_image + " on");
   }
   // Sub-models a run before this one wrote beyond this chunk's.
   std::vector<std::string> stale;
@@ -228,9 +214,8 @@ int PoseChunkFoldsFromOdometry(ColmapRunner* colmap,
   }
   if (num_posed == 0) {
     *why = calibration.check.result.has_estimate
-               ? "no folded stretch of it could be posed (it needs an image "
-                 "with an odometry pose to start from and the sub-model's "
-                 "metric scale)"
+               ? "no folded stretch of it starts at an image with an "
+                 "odometry pose"
                : "the calibration of the chunks' models has no estimate to "
                  "pose it with";
   } else {
