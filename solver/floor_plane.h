@@ -34,6 +34,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -154,6 +155,15 @@ struct FloorPlane {
   double odometry_height_m = 0.0;
   double camera_height_stddev_m = 0.0;
   double camera_height_spread_m = 0.0;
+  // Set by the caller that fitted the same floor on a second model of the
+  // same images (the joint adjustment's, where the check kept the
+  // two-step's): that model's camera height minus this one's. The two
+  // models share the images and the points' tracks but not their shape, so
+  // the difference measures what neither fit's own variance holds (a road
+  // model's ground sitting a few millimetres high); camera_height_stddev_m
+  // then includes its square. NaN: not compared.
+  double camera_height_model_difference_m =
+      std::numeric_limits<double>::quiet_NaN();
   // Per segment: d camera_height_m / d metric_scale (metres per (metre per
   // unit)): the height in reconstruction units times the segment's share of
   // the cameras.

@@ -237,6 +237,21 @@ class RenderedEndToEnd : public ::testing::Test {
     EXPECT_LT(std::abs(z - z_true), 0.005) << run.log;
     EXPECT_LE(std::abs(z - z_true), 3.0 * sigma) << run.log;
     EXPECT_LT(tilt_error_deg, 0.2) << run.log;
+    // A check that agreed leaves the two-step estimate and fits the floor on
+    // the adjustment's model too: the two heights' difference is in z's
+    // sigma.
+    const json& joint = run.result["joint_adjustment"];
+    const json& difference =
+        run.result["floor_plane"]["camera_height_model_difference_m"];
+    if (joint.is_object() && joint["status"] == "success" &&
+        joint["use"] == "check" && !joint["adopted"].get<bool>()) {
+      ASSERT_TRUE(difference.is_number()) << run.log;
+      std::cout << "[ floor    ] the adjustment's model's camera height "
+                << 1000.0 * difference.get<double>() << " mm off" << std::endl;
+      EXPECT_GE(sigma, std::abs(difference.get<double>())) << run.log;
+    } else {
+      EXPECT_TRUE(difference.is_null()) << run.log;
+    }
   }
 
   fs::path dir_;

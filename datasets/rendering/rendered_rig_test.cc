@@ -112,6 +112,23 @@ TEST(RigLayout, BuiltInRigs) {
     EXPECT_EQ(*camera.rate_hz, rates_hz[c]);
     EXPECT_LE(camera.odom_from_cam.translation.head<2>().norm(), 0.26);
   }
+  const RigLayout four = MakeRigLayout("surround4");
+  ASSERT_EQ(four.cameras.size(), 4u);
+  const double four_yaws_deg[] = {0.0, 90.0, 180.0, -90.0};
+  std::set<double> phases;
+  for (size_t c = 0; c < 4; ++c) {
+    const RigCamera& camera = four.cameras[c];
+    const Eigen::Vector3d axis =
+        camera.odom_from_cam.rotation * Eigen::Vector3d::UnitZ();
+    const double yaw_deg = std::atan2(axis.y(), axis.x()) * 180.0 / M_PI;
+    EXPECT_NEAR(
+        std::abs(yaw_deg) > 179.0 ? 180.0 : yaw_deg, four_yaws_deg[c], 1e-9)
+        << camera.name;
+    EXPECT_FALSE(camera.rate_hz.has_value());  // the preset's
+    phases.insert(camera.phase_s);
+  }
+  EXPECT_EQ(phases.size(), 4u);  // no two capture together
+  EXPECT_NO_THROW(four.Check());
 }
 
 TEST(RenderedRig, CamerasCaptureAtTheirRatesAndPhasesWithinTheDrive) {

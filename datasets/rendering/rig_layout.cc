@@ -101,6 +101,9 @@ std::vector<RigLayoutInfo> RigLayouts() {
       {"surround3",
        "front_left (yaw +30 deg, 5 Hz), rear (180 deg, 4 Hz) and right (-90 "
        "deg, 5 Hz), unsynchronised: other phases, next to no overlap"},
+      {"surround4",
+       "front, left, rear and right (yaw 0, 90, 180, -90 deg) at the "
+       "preset's camera rate, unsynchronised: phases 0, 0.07, 0.14, 0.21 s"},
   };
 }
 
@@ -128,6 +131,17 @@ RigLayout MakeRigLayout(const std::string& name) {
     rig.cameras[1].phase_s = 0.07;
     rig.cameras[2].rate_hz = 5.0;
     rig.cameras[2].phase_s = 0.1;
+  } else if (name == "surround4") {
+    // The four sides of the robot (CamOdoCal's surround set), each at the
+    // preset's rate with a phase of its own: four views that hardly overlap.
+    rig.cameras = {
+        MountedCamera("front", 0.0, 0.0, Eigen::Vector3d(0.25, 0.0, 0.40)),
+        MountedCamera("left", 90.0, 0.0, Eigen::Vector3d(0.0, 0.20, 0.40)),
+        MountedCamera("rear", 180.0, 5.0, Eigen::Vector3d(-0.25, 0.0, 0.45)),
+        MountedCamera("right", -90.0, 0.0, Eigen::Vector3d(0.0, -0.20, 0.40))};
+    rig.cameras[1].phase_s = 0.07;
+    rig.cameras[2].phase_s = 0.14;
+    rig.cameras[3].phase_s = 0.21;
   } else {
     std::string names;
     for (const RigLayoutInfo& info : RigLayouts()) {

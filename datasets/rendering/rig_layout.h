@@ -16,6 +16,8 @@
 //              phase 0.07 s) and right (yaw -90 deg, 5 Hz, phase 0.1 s): next
 //              to no overlap between the views, and no two captures at the
 //              same instant
+//   surround4  front, left, rear and right (yaw 0, 90, 180, -90 deg) at the
+//              preset's camera rate, phases 0, 0.07, 0.14 and 0.21 s
 #pragma once
 
 #include "odomcal/datasets/rendering/camera_model.h"

@@ -520,10 +520,13 @@ ColmapCalibrationRun CalibrateColmapProject(
     }
   }
   // Before the floor: the floor is fitted in the adjusted model.
-  ApplyJointAdjustment(inputs, stamp_of_image, progress, &run);
+  std::optional<MetricSubModel> agreeing_joint_model;
+  ApplyJointAdjustment(
+      inputs, stamp_of_image, progress, &run, &agreeing_joint_model);
   ApplyFloorPlane(inputs.floor,
                   inputs.calibration.max_translation_stddev_m,
                   stamp_of_image,
+                  agreeing_joint_model ? &*agreeing_joint_model : nullptr,
                   &run);
   return run;
 }

@@ -106,6 +106,7 @@ FloorInput FloorInputOf(const std::vector<MetricSubModel>& models,
 void ApplyFloorPlane(const FloorPlaneOptions& options,
                      double max_translation_stddev_m,
                      const std::map<std::string, int64_t>& stamp_of_image,
+                     const MetricSubModel* agreeing_joint_model,
                      ColmapCalibrationRun* run) {
   CalibrationResult& result = run->check.result;
   if (options.use == FloorPlaneUse::kOff || run->metric_models.empty() ||
@@ -113,12 +114,30 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
     return;
   }
   const FloorInput input = FloorInputOf(run->metric_models, stamp_of_image);
-  const FloorPlane floor = FitFloorPlane(input.points,
-                                         input.cameras,
-                                         result.odom_from_cam,
-                                         RollPitchCovariance(result),
-                                         result.metric_scales,
-                                         options);
+  FloorPlane floor = FitFloorPlane(input.points,
+                                   input.cameras,
+                                   result.odom_from_cam,
+                                   RollPitchCovariance(result),
+                                   result.metric_scales,
+                                   options);
+  if (floor.Fitted() && agreeing_joint_model) {
+    const JointAdjustmentResult& joint = run->joint.result;
+    const FloorInput joint_input =
+        FloorInputOf({*agreeing_joint_model}, stamp_of_image);
+    const FloorPlane joint_floor =
+        FitFloorPlane(joint_input.points,
+                      joint_input.cameras,
+                      joint.odom_from_cam,
+                      joint.covariance.topLeftCorner<2, 2>(),
+                      result.metric_scales,
+                      options);
+    if (joint_floor.Fitted()) {
+      floor.camera_height_model_difference_m =
+          joint_floor.camera_height_m - floor.camera_height_m;
+      floor.camera_height_stddev_m = std::hypot(
+          floor.camera_height_stddev_m, floor.camera_height_model_difference_m);
+    }
+  }
   const double held_z = result.odom_from_cam.translation.z();
   result.floor_z_held_reason = SetTranslationZFromFloor(
       floor, options, max_translation_stddev_m, &result);

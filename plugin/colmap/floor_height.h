@@ -34,9 +34,15 @@ FloorInput FloorInputOf(const std::vector<MetricSubModel>& models,
 // deviation within max_translation_stddev_m), moves every metric model by
 // the change of z. A floor that is sloped, disagrees with the motion or
 // whose tilt is too uncertain to tell adds a warning.
+// `agreeing_joint_model`: the joint adjustment's model where its check
+// agreed (joint_adjustment_stage.h), or null. The floor is fitted on it too,
+// with the adjustment's extrinsic; where both fits see the floor, the
+// difference of their camera heights goes into the height's standard
+// deviation (FloorPlane::camera_height_model_difference_m).
 void ApplyFloorPlane(const FloorPlaneOptions& options,
                      double max_translation_stddev_m,
                      const std::map<std::string, int64_t>& stamp_of_image,
+                     const MetricSubModel* agreeing_joint_model,
                      ColmapCalibrationRun* run);
 
 }  // namespace odomcal

@@ -488,7 +488,9 @@ JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name) {
 void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
                           const std::map<std::string, int64_t>& stamp_of_image,
                           const CalibrationProgress& progress,
-                          ColmapCalibrationRun* run) {
+                          ColmapCalibrationRun* run,
+                          std::optional<MetricSubModel>* agreeing_model) {
+  if (agreeing_model) agreeing_model->reset();
   JointAdjustmentRun& joint = run->joint;
   CalibrationResult& result = run->check.result;
   if (inputs.joint_adjustment.use == JointAdjustmentUse::kOff) return;
@@ -591,6 +593,13 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   if (check && !contradicted) {  // the two-step estimate stands
     joint.jackknife.reason =
         "a check that agreed: the two-step estimate stands";
+    if (agreeing_model) {
+      MetricSubModel adjusted;
+      adjusted.name = "0";
+      adjusted.output_segment = run->metric_models.front().output_segment;
+      adjusted.model = AdjustedModel(input, joint.result);
+      *agreeing_model = std::move(adjusted);
+    }
     return;
   }
   std::vector<int> image_order(input.problem.images.size());

@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace odomcal {
@@ -39,9 +40,15 @@ namespace odomcal {
 // `stamp_of_image`: image name to time (camera clock). `progress`, when
 // set, hears where the adjustment is ("joint adjustment: pass 2, iteration
 // 14, 12 s").
-void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
-                          const std::map<std::string, int64_t>& stamp_of_image,
-                          const CalibrationProgress& progress,
-                          ColmapCalibrationRun* run);
+// `agreeing_model`, when given: under kCheck with an adjustment that agreed
+// (the two-step estimate stands), its model (metres; the odometry's frame
+// up to a planar motion), for a second fit of the floor (floor_height.h);
+// empty otherwise.
+void ApplyJointAdjustment(
+    const ColmapCalibrationInputs& inputs,
+    const std::map<std::string, int64_t>& stamp_of_image,
+    const CalibrationProgress& progress,
+    ColmapCalibrationRun* run,
+    std::optional<MetricSubModel>* agreeing_model = nullptr);
 
 }  // namespace odomcal

@@ -48,6 +48,10 @@ json FloorPlaneToJson(const CalibrationResult& result) {
   out["camera_height_m"] = f.camera_height_m;
   out["camera_height_stddev_m"] = f.camera_height_stddev_m;
   out["camera_height_spread_m"] = f.camera_height_spread_m;
+  out["camera_height_model_difference_m"] =
+      std::isfinite(f.camera_height_model_difference_m)
+          ? json(f.camera_height_model_difference_m)
+          : json(nullptr);
   out["odometry_height_m"] = f.odometry_height_m;
   out["floor_roll_deg"] = f.floor_roll_deg;
   out["floor_pitch_deg"] = f.floor_pitch_deg;
@@ -76,7 +80,15 @@ std::string FloorPlaneSummary(const CalibrationResult& result) {
   out << "  floor plane: " << f.num_inliers << " of " << f.num_candidates
       << " points, rms " << FormatPrintf("%.1f mm", 1000.0 * f.inlier_rms_m)
       << ", tilted " << FormatPrintf("%.2f deg", f.tilt_deg) << "; camera "
-      << FormatPrintf("%.2f cm", 100.0 * f.camera_height_m) << " above it\n";
+      << FormatPrintf("%.2f cm", 100.0 * f.camera_height_m) << " above it";
+  if (std::isfinite(f.camera_height_model_difference_m)) {
+    out << " ("
+        << FormatPrintf("%+.1f mm", 1000.0 * f.camera_height_model_difference_m)
+        << " on the joint adjustment's model; the height's sigma, "
+        << FormatPrintf("%.1f mm", 1000.0 * f.camera_height_stddev_m)
+        << ", includes the difference)";
+  }
+  out << "\n";
   out << "  floor roll/pitch " << FormatPrintf("%.3f", f.floor_roll_deg)
       << " / " << FormatPrintf("%.3f deg", f.floor_pitch_deg)
       << " (motion's corrected by "
