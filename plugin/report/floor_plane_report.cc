@@ -224,7 +224,19 @@ std::string FloorPlaneHtml(const ColmapCalibrationRun& run) {
           "below the cameras near the path (RANSAC, then a weighted "
           "least-squares refit). Blue: the camera centres, "
        << EscapeMarkup(FormatPrintf("%.2f cm", 100.0 * f.camera_height_m))
-       << " above the floor on average. Green dashed: the odometry frame's "
+       << " above the floor on average"
+       << (std::isfinite(f.camera_height_model_difference_m)
+               ? EscapeMarkup(
+                     " (" +
+                     FormatPrintf("%+.1f mm",
+                                  1000.0 * f.camera_height_model_difference_m) +
+                     " on the joint adjustment's model, a difference the "
+                     "height's standard deviation, " +
+                     FormatPrintf("%.1f mm",
+                                  1000.0 * f.camera_height_stddev_m) +
+                     ", includes)")
+               : std::string())
+       << ". Green dashed: the odometry frame's "
           "origin, --odometry_height_m above the floor. Status: "
        << EscapeMarkup(ToString(f.status))
        << (f.reason.empty() ? "" : " (" + EscapeMarkup(f.reason) + ")")
