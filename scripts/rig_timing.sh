@@ -2,8 +2,9 @@
 # The cost of a rig run: one rendered rig dataset (`odomcal render --rig`)
 # through `odomcal run --rig`, through `odomcal run` once per camera on its
 # own sub-folder, and through plain COLMAP on all its images (one camera per
-# sub-folder, exhaustive matching, the incremental mapper; what a user would
-# run without odomcal, which calibrates nothing). Per step: wall time and
+# sub-folder, the sequential matcher with its default overlap as in
+# scripts/long_drive_benchmark.sh --plain_colmap, the incremental mapper;
+# what a user would run without odomcal, which calibrates nothing). Per step: wall time and
 # peak resident memory (GNU time). docs/rigs.md quotes it.
 #
 #   scripts/rig_timing.sh DATA [STEPS (default "rig single colmap")]
@@ -79,11 +80,11 @@ colmap feature_extractor --database_path $ws/database.db --image_path $data/imag
   --ImageReader.single_camera_per_folder 1 --ImageReader.camera_model PINHOLE \
   --ImageReader.camera_params $params --SiftExtraction.use_gpu 0 \
   --SiftExtraction.max_num_features 2048
-colmap exhaustive_matcher --database_path $ws/database.db --SiftMatching.use_gpu 0
+colmap sequential_matcher --database_path $ws/database.db --SiftMatching.use_gpu 0
 colmap mapper --database_path $ws/database.db --image_path $data/images \
   --output_path $ws/sparse
 EOF
-      measure "plain COLMAP (extract, exhaustive match, map)" "$out/colmap.time" \
+      measure "plain COLMAP (extract, sequential match, map)" "$out/colmap.time" \
         bash "$ws/run.sh"
       ;;
     *)
