@@ -449,6 +449,18 @@ ColmapModel AdjustedModel(const JointInput& input,
   return model;
 }
 
+// The adjusted model as one metric model, "0", with the output segment of
+// the two-step's first (run.metric_models is not empty).
+MetricSubModel AdjustedMetricModel(const ColmapCalibrationRun& run,
+                                   const JointInput& input,
+                                   const JointAdjustmentResult& result) {
+  MetricSubModel adjusted;
+  adjusted.name = "0";
+  adjusted.output_segment = run.metric_models.front().output_segment;
+  adjusted.model = AdjustedModel(input, result);
+  return adjusted;
+}
+
 // One progress line.
 std::string JointProgressLine(const JointAdjustmentProgress& where,
                               double seconds) {
@@ -594,11 +606,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
     joint.jackknife.reason =
         "a check that agreed: the two-step estimate stands";
     if (agreeing_model) {
-      MetricSubModel adjusted;
-      adjusted.name = "0";
-      adjusted.output_segment = run->metric_models.front().output_segment;
-      adjusted.model = AdjustedModel(input, joint.result);
-      *agreeing_model = std::move(adjusted);
+      *agreeing_model = AdjustedMetricModel(*run, input, joint.result);
     }
     return;
   }
@@ -683,10 +691,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   CompareScales(*run, input, &joint);
   AdoptJointExtrinsic(joint.result, &result);
   RefuseLooseAdoptedExtrinsic(inputs.calibration, &result);
-  MetricSubModel adjusted;
-  adjusted.name = "0";
-  adjusted.output_segment = run->metric_models.front().output_segment;
-  adjusted.model = AdjustedModel(input, joint.result);
+  MetricSubModel adjusted = AdjustedMetricModel(*run, input, joint.result);
   run->metric_models.clear();
   run->metric_models.push_back(std::move(adjusted));
 }
