@@ -44,7 +44,8 @@ std::optional<ExtrinsicWithCovariance> ExtrinsicOf(
 }
 
 CameraPairTransform CameraPairOf(const ExtrinsicWithCovariance& a,
-                                 const ExtrinsicWithCovariance& b) {
+                                 const ExtrinsicWithCovariance& b,
+                                 const Matrix6d& a_b_covariance) {
   CameraPairTransform pair;
   pair.camb_from_cama = Inverse(b.odom_from_cam) * a.odom_from_cam;
   const Eigen::Matrix3d rb_t =
@@ -60,8 +61,10 @@ CameraPairTransform CameraPairOf(const ExtrinsicWithCovariance& a,
   jb.topLeftCorner<3, 3>() = -rb_t;
   jb.bottomLeftCorner<3, 3>() = rb_t * CrossProductMatrix(offset);
   jb.bottomRightCorner<3, 3>() = -rb_t;
-  pair.covariance =
-      ja * a.covariance * ja.transpose() + jb * b.covariance * jb.transpose();
+  const Matrix6d cross = ja * a_b_covariance * jb.transpose();
+  pair.covariance = ja * a.covariance * ja.transpose() +
+                    jb * b.covariance * jb.transpose() + cross +
+                    cross.transpose();
   pair.covariance = 0.5 * (pair.covariance + pair.covariance.transpose());
 
   const Eigen::Matrix3d rotation = pair.covariance.topLeftCorner<3, 3>();
@@ -75,9 +78,11 @@ CameraPairTransform CameraPairOf(const ExtrinsicWithCovariance& a,
       SqrtDiagonal(pair.covariance.bottomRightCorner<3, 3>());
 
   pair.odom_offset_m = offset;
-  pair.stddev_odom_offset_m =
-      SqrtDiagonal(a.covariance.bottomRightCorner<3, 3>() +
-                   b.covariance.bottomRightCorner<3, 3>());
+  const Eigen::Matrix3d offset_cross = a_b_covariance.bottomRightCorner<3, 3>();
+  pair.stddev_odom_offset_m = SqrtDiagonal(
+      a.covariance.bottomRightCorner<3, 3>() +
+      b.covariance.bottomRightCorner<3, 3>() - offset_cross -
+      offset_cross.transpose());
   pair.odom_offset_z_held = a.z_held || b.z_held;
   pair.angle_deg = RotationAngle(pair.camb_from_cama.rotation) * kRadToDeg;
   return pair;

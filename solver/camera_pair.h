@@ -2,10 +2,11 @@
 // one odometry: camB_from_camA = inverse(odom_from_camB) * odom_from_camA,
 // with its covariance carried from the two cameras' covariances.
 //
-// The two estimates are treated as independent (no cross terms): each
-// camera has its own trajectory and its own solve. They share the odometry,
-// whose errors correlate the two extrinsics; that correlation is not
-// estimated.
+// Two cameras calibrated apart (each its own trajectory and solve) are
+// treated as independent: they share the odometry, whose errors correlate
+// the two extrinsics, and that correlation is not known. Two cameras
+// adjusted together (a rig's joint adjustment: one trajectory) have their
+// cross covariance, which the pair's covariance then holds.
 //
 // Translation z of each extrinsic is held at a given height unless the
 // calibration estimated it (calibration_result.h): a held z carries no
@@ -56,7 +57,12 @@ struct CameraPairTransform {
   double angle_deg = 0.0;
 };
 
-CameraPairTransform CameraPairOf(const ExtrinsicWithCovariance& a,
-                                 const ExtrinsicWithCovariance& b);
+// `a_b_covariance`: the cross covariance of a's [rx, ry, rz, tx, ty, tz]
+// (rows) with b's (columns), zero for independent estimates.
+CameraPairTransform CameraPairOf(
+    const ExtrinsicWithCovariance& a,
+    const ExtrinsicWithCovariance& b,
+    const Eigen::Matrix<double, 6, 6>& a_b_covariance =
+        Eigen::Matrix<double, 6, 6>::Zero());
 
 }  // namespace odomcal

@@ -6,7 +6,9 @@
 //     the planar-motion model of the two-step calibration, in which the
 //     odometry frame moves in the origin's x-y plane;
 //   - the shared odom_from_cam, its translation z held (unobservable under
-//     planar motion);
+//     planar motion); on a rig, one odom_from_cam per mount (a camera's
+//     place on the robot), each image that of its mount, all tied to the
+//     one robot trajectory;
 //   - the 3D points, in metres in the origin frame;
 //   - the camera intrinsics when options.refine_intrinsics (else held).
 // Residuals:
@@ -65,6 +67,9 @@ struct JointCamera {
 struct JointImage {
   int camera = 0;               // index into JointAdjustmentProblem::cameras
   PlanarPose origin_from_odom;  // starting value
+  // Which odom_from_cam the image was taken through: 0 is
+  // JointAdjustmentProblem::odom_from_cam, k > 0 other_mounts[k - 1].
+  int mount = 0;
 };
 
 struct JointObservation {
@@ -106,6 +111,12 @@ struct JointAdjustmentProblem {
   std::vector<JointObservation> observations;
   std::vector<OdometryLink> links;
   Rigid3d odom_from_cam;  // starting value; its translation z is held
+  // A rig's further cameras: the starting odom_from_cam of mounts 1, 2, ...
+  // (JointImage::mount), each with its translation z held. Every mount
+  // needs images. Their robot poses share one trajectory: the odometry
+  // links join images of any mounts (unsynchronised cameras: each image at
+  // its own time).
+  std::vector<Rigid3d> other_mounts;
   // When set, the links are re-integrated from their samples with refined
   // systematics, whose uncertainty then enters the extrinsic's covariance.
   std::optional<JointSystematics> systematics;
@@ -173,6 +184,14 @@ struct JointAdjustmentResult {
   // larger.
   Eigen::Matrix<double, 5, 1> covariance_widening =
       Eigen::Matrix<double, 5, 1>::Ones();
+  // The other mounts' odom_from_cam (JointAdjustmentProblem::other_mounts).
+  std::vector<Rigid3d> other_mounts;
+  // Every mount's [rx, ry, rz, tx, ty], mount by mount (mount 0 first:
+  // `covariance` is its top-left block), with the cross terms between
+  // mounts (one trajectory and, where they share points, one scene);
+  // widened per row as `covariance`, by `mounts_covariance_widening`.
+  Eigen::MatrixXd mounts_covariance;
+  Eigen::VectorXd mounts_covariance_widening;
   std::vector<PlanarPose> origin_from_odom;  // per image
   std::vector<Eigen::Vector3d> points;       // metres, origin frame
   std::vector<JointCamera> cameras;          // refined or as given

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace odomcal {
 namespace internal {
@@ -28,6 +29,8 @@ std::string CheckProblem(const JointAdjustmentProblem& problem) {
       }
     }
   }
+  const int num_mounts = 1 + static_cast<int>(problem.other_mounts.size());
+  std::vector<char> mount_seen(num_mounts, 0);
   for (size_t i = 0; i < problem.images.size(); ++i) {
     const JointImage& image = problem.images[i];
     if (image.camera < 0 ||
@@ -35,6 +38,14 @@ std::string CheckProblem(const JointAdjustmentProblem& problem) {
       return "image " + std::to_string(i) + ": no camera " +
              std::to_string(image.camera);
     }
+    if (image.mount < 0 || image.mount >= num_mounts) {
+      return "image " + std::to_string(i) + ": no mount " +
+             std::to_string(image.mount);
+    }
+    mount_seen[image.mount] = 1;
+  }
+  for (int m = 0; m < num_mounts; ++m) {
+    if (!mount_seen[m]) return "mount " + std::to_string(m) + " has no image";
   }
   const int num_images = static_cast<int>(problem.images.size());
   const int num_points = static_cast<int>(problem.points.size());
@@ -57,6 +68,9 @@ std::string CheckProblem(const JointAdjustmentProblem& problem) {
     }
   }
   if (!IsFinite(problem.odom_from_cam)) return "a non-finite extrinsic";
+  for (const Rigid3d& mount : problem.other_mounts) {
+    if (!IsFinite(mount)) return "a non-finite extrinsic";
+  }
   if (problem.systematics) {
     for (const OdometryLink& link : problem.links) {
       if (!link.samples) {

@@ -8,17 +8,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace odomcal::internal {
 
 bool JointProblem::ExtrinsicCovariance(JointAdjustmentResult* result) {
-  std::vector<double*> blocks = {quaternion_, t_xy_};
+  // A mount whose images kept no observation has no block: undetermined.
+  std::vector<double*> blocks;
+  for (Mount& mount : mounts_) {
+    if (!problem_->HasParameterBlock(mount.quaternion)) return false;
+    blocks.push_back(mount.quaternion);
+    blocks.push_back(mount.t_xy);
+  }
   const auto free = [&](double* block) {
     return problem_->HasParameterBlock(block) &&
            !problem_->IsParameterBlockConstant(block);
   };
-  // After the extrinsic: the offset's change, then the free intrinsics.
-  int num_wanted = 5;
+  // After the mounts: the offset's change, then the free intrinsics.
+  const int num_extrinsic = 5 * static_cast<int>(mounts_.size());
+  int num_wanted = num_extrinsic;
   const bool offset_free = free(&offset_change_s_);
   if (offset_free) {
     blocks.push_back(&offset_change_s_);
@@ -29,13 +37,11 @@ bool JointProblem::ExtrinsicCovariance(JointAdjustmentResult* result) {
     blocks.push_back(intrinsics_);
     num_wanted += problem_->ParameterBlockTangentSize(intrinsics_);
   }
+  const std::set<const double*> leading(blocks.begin(), blocks.end());
   std::vector<double*> others;
   problem_->GetParameterBlocks(&others);
   for (double* block : others) {
-    if (block == quaternion_ || block == t_xy_ || block == &offset_change_s_ ||
-        block == intrinsics_) {
-      continue;
-    }
+    if (leading.count(block) != 0) continue;
     if (problem_->IsParameterBlockConstant(block)) continue;
     blocks.push_back(block);
   }
@@ -83,25 +89,28 @@ bool JointProblem::ExtrinsicCovariance(JointAdjustmentResult* result) {
     widening[k] = std::max(
         1.0, std::sqrt(covariances.robust(k, k) / covariances.model(k, k)));
   }
-  const Eigen::MatrixXd leading =
+  const Eigen::MatrixXd widened =
       widening.asDiagonal() * covariances.model * widening.asDiagonal();
+  result->mounts_covariance_widening = widening.head(num_extrinsic);
   result->covariance_widening = widening.head<5>();
   // Ceres' quaternion tangent delta is half the rotation vector.
-  Eigen::Matrix<double, 5, 5> to_reported =
-      Eigen::Matrix<double, 5, 5>::Identity();
-  to_reported.topLeftCorner<3, 3>() *= 2.0;
-  result->covariance =
-      to_reported * leading.topLeftCorner<5, 5>() * to_reported.transpose();
-  int row = 5;
+  Eigen::VectorXd to_reported = Eigen::VectorXd::Ones(num_extrinsic);
+  for (int m = 0; m < num_extrinsic; m += 5) to_reported.segment<3>(m) *= 2.0;
+  result->mounts_covariance =
+      to_reported.asDiagonal() *
+      widened.topLeftCorner(num_extrinsic, num_extrinsic) *
+      to_reported.asDiagonal();
+  result->covariance = result->mounts_covariance.topLeftCorner<5, 5>();
+  int row = num_extrinsic;
   if (offset_free) {
-    result->time_offset_change_stddev_s = std::sqrt(leading(row, row));
+    result->time_offset_change_stddev_s = std::sqrt(widened(row, row));
     ++row;
   }
   if (intrinsics_free) {
     // The subset manifold's tangent lists the free intrinsics in order.
     for (int k = 0; k < 3; ++k) {
       if (!input_.systematics->refine_intrinsics[k]) continue;
-      result->intrinsics_stddev[k] = std::sqrt(leading(row, row));
+      result->intrinsics_stddev[k] = std::sqrt(widened(row, row));
       ++row;
     }
   }

@@ -1,6 +1,6 @@
 // The joint adjustment's problem (internal: not installed; Ceres types stay
 // out of the public headers). The model: joint_adjustment.h. Ceres problem:
-// per image a pose block (3), the extrinsic as [q (4,
+// per image a pose block (3), per mount the extrinsic as [q (4,
 // EigenQuaternionManifold), t_xy (2), t_z (1, constant)], per point a block
 // (3), per camera an intrinsics block (held unless refined). Solved with the
 // sparse Schur complement (points eliminated first), two or three times:
@@ -85,8 +85,9 @@ class JointProblem {
   // given covariances, at the current values.
   double OdometryRms() const;
 
-  // Marginal covariance of [rotation (3), t_xy (2)] (joint_adjustment.h), and
-  // the standard deviations of the refined systematics.
+  // Marginal covariance of every mount's [rotation (3), t_xy (2)]
+  // (joint_adjustment.h), and the standard deviations of the refined
+  // systematics.
   bool ExtrinsicCovariance(JointAdjustmentResult* result);
 
   void WriteResult(JointAdjustmentResult* result) const;
@@ -106,9 +107,14 @@ class JointProblem {
   std::vector<std::array<double, 3>> poses_;
   std::vector<Eigen::Vector3d> points_;
   std::vector<std::vector<double>> params_;
-  double quaternion_[4] = {0.0, 0.0, 0.0, 1.0};
-  double t_xy_[2] = {0.0, 0.0};
-  double t_z_ = 0.0;
+  // One camera's place on the robot: odom_from_cam as Ceres blocks.
+  struct Mount {
+    double quaternion[4] = {0.0, 0.0, 0.0, 1.0};  // x, y, z, w (Eigen's)
+    double t_xy[2] = {0.0, 0.0};
+    double t_z = 0.0;
+  };
+  // Sized once (Ceres holds pointers into it): mount 0, then other_mounts.
+  std::vector<Mount> mounts_;
   double odometry_factor_ = 1.0;  // variance factor on the links
   // The odometry's systematics (JointAdjustmentProblem::systematics).
   double intrinsics_[3] = {1.0, 0.0, 0.0};

@@ -10,16 +10,23 @@
 namespace odomcal {
 namespace {
 
-using Vector5d = Eigen::Matrix<double, 5, 1>;
-
-// The extrinsic as a deviation from `reference`, in the covariance's
-// coordinates: left rotation perturbation, then translation x, y.
-Vector5d DeviationFrom(const Rigid3d& reference, const Rigid3d& estimate) {
-  Vector5d deviation;
-  deviation.head<3>() =
-      LogRotation(estimate.rotation * reference.rotation.inverse());
-  deviation.tail<2>() =
-      (estimate.translation - reference.translation).head<2>();
+// Every mount's extrinsic as a deviation from `reference`'s, in the
+// covariance's coordinates: per mount, left rotation perturbation, then
+// translation x, y.
+Eigen::VectorXd DeviationFrom(const JointAdjustmentResult& reference,
+                              const JointAdjustmentResult& estimate) {
+  const auto mount = [](const JointAdjustmentResult& result, size_t m) {
+    return m == 0 ? result.odom_from_cam : result.other_mounts.at(m - 1);
+  };
+  const size_t num_mounts = 1 + reference.other_mounts.size();
+  Eigen::VectorXd deviation(5 * num_mounts);
+  for (size_t m = 0; m < num_mounts; ++m) {
+    const Rigid3d a = mount(reference, m);
+    const Rigid3d b = mount(estimate, m);
+    const Eigen::Index row = static_cast<Eigen::Index>(5 * m);
+    deviation.segment<3>(row) = LogRotation(b.rotation * a.rotation.inverse());
+    deviation.segment<2>(row + 3) = (b.translation - a.translation).head<2>();
+  }
   return deviation;
 }
 
@@ -62,6 +69,7 @@ JointAdjustmentProblem WithoutBlock(const JointAdjustmentProblem& problem,
     reduced.links.push_back(std::move(link));
   }
   reduced.odom_from_cam = full.odom_from_cam;
+  reduced.other_mounts = full.other_mounts;
   reduced.systematics = problem.systematics;
   if (reduced.systematics) {
     reduced.systematics->intrinsics = full.intrinsics;
@@ -111,7 +119,7 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
   resolve.compute_covariance = false;
   // The full solve's outliers are already out; the rest stays in.
   resolve.max_reprojection_sigmas = std::numeric_limits<double>::max();
-  std::vector<Vector5d> deviations;
+  std::vector<Eigen::VectorXd> deviations;
   std::string first_failure;
   for (size_t b = 0; b < num_blocks; ++b) {
     const size_t begin = b * num_images / num_blocks;
@@ -137,8 +145,7 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
       }
       continue;
     }
-    deviations.push_back(
-        DeviationFrom(result->odom_from_cam, replicate.odom_from_cam));
+    deviations.push_back(DeviationFrom(*result, replicate));
   }
   out.time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -151,26 +158,40 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
     return out;
   }
   const double g = static_cast<double>(deviations.size());
-  Vector5d mean = Vector5d::Zero();
-  for (const Vector5d& deviation : deviations) mean += deviation / g;
-  for (const Vector5d& deviation : deviations) {
-    out.covariance += (deviation - mean) * (deviation - mean).transpose();
+  const Eigen::Index n = deviations.front().size();
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(n);
+  for (const Eigen::VectorXd& deviation : deviations) mean += deviation / g;
+  out.mounts_covariance = Eigen::MatrixXd::Zero(n, n);
+  for (const Eigen::VectorXd& deviation : deviations) {
+    out.mounts_covariance +=
+        (deviation - mean) * (deviation - mean).transpose();
   }
-  out.covariance *= (g - 1.0) / g;
+  out.mounts_covariance *= (g - 1.0) / g;
+  out.covariance = out.mounts_covariance.topLeftCorner<5, 5>();
   out.ran = true;
 
-  // The model's covariance: the stated one without its widening.
-  const Vector5d widening = result->covariance_widening;
-  const Eigen::Matrix<double, 5, 5> model =
-      widening.cwiseInverse().asDiagonal() * result->covariance *
-      widening.cwiseInverse().asDiagonal();
-  Vector5d wider = widening;
-  for (int k = 0; k < 5; ++k) {
-    out.ratio[k] = std::sqrt(out.covariance(k, k) / model(k, k));
-    wider[k] = std::max(wider[k], out.ratio[k]);
+  // The model's covariance: the stated one without its widening (a result
+  // of one mount may hold only the 5 x 5 block).
+  if (result->mounts_covariance.rows() != n) {
+    result->mounts_covariance = result->covariance;
+    result->mounts_covariance_widening = result->covariance_widening;
   }
-  result->covariance_widening = wider;
-  result->covariance = wider.asDiagonal() * model * wider.asDiagonal();
+  const Eigen::VectorXd widening = result->mounts_covariance_widening;
+  const Eigen::MatrixXd model = widening.cwiseInverse().asDiagonal() *
+                                result->mounts_covariance *
+                                widening.cwiseInverse().asDiagonal();
+  out.mounts_ratio.resize(n);
+  Eigen::VectorXd wider = widening;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    out.mounts_ratio[k] =
+        std::sqrt(out.mounts_covariance(k, k) / model(k, k));
+    wider[k] = std::max(wider[k], out.mounts_ratio[k]);
+  }
+  out.ratio = out.mounts_ratio.head<5>();
+  result->mounts_covariance_widening = wider;
+  result->mounts_covariance = wider.asDiagonal() * model * wider.asDiagonal();
+  result->covariance_widening = wider.head<5>();
+  result->covariance = result->mounts_covariance.topLeftCorner<5, 5>();
   return out;
 }
 

@@ -46,13 +46,18 @@ struct JointJackknife {
   Eigen::Matrix<double, 5, 5> covariance = Eigen::Matrix<double, 5, 5>::Zero();
   // Per component, the jackknife standard deviation over the model's.
   Eigen::Matrix<double, 5, 1> ratio = Eigen::Matrix<double, 5, 1>::Zero();
+  // On a rig: the same over every mount (mount 0 first, as
+  // JointAdjustmentResult::mounts_covariance); covariance and ratio are
+  // mount 0's.
+  Eigen::MatrixXd mounts_covariance;
+  Eigen::VectorXd mounts_ratio;
   double time_s = 0.0;
 };
 
 // `image_order`: the problem's image indices in time order (the blocks are
 // runs of it). `result`: AdjustJointly(problem, options)'s successful
-// result; its covariance and covariance_widening are widened in place where
-// the jackknife's is larger. A block whose re-solve fails is left out; with
+// result; its covariances (mount 0's and every mount's) and their widening
+// are widened in place where the jackknife's is larger. A block whose re-solve fails is left out; with
 // fewer than 3 blocks left the jackknife does not run (`reason`) and
 // `result` is unchanged.
 JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,

@@ -52,11 +52,12 @@ JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
   statistics.rms = std::sqrt(sum_squares / (2.0 * statistics.num_inliers));
   // Each point takes 3 of its observations' degrees of freedom, each free
   // pose 3 (the odometry's share of the poses is small beside the
-  // images').
+  // images'), each mount 5.
   int num_free_poses = 0;
   for (const char held : held_) num_free_poses += held ? 0 : 1;
   const double dof = 2.0 * statistics.num_inliers - 3.0 * num_points -
-                     3.0 * num_free_poses - 5.0;
+                     3.0 * num_free_poses -
+                     5.0 * static_cast<double>(mounts_.size());
   statistics.sigma = dof > 0.0 ? std::sqrt(sum_squares / dof) : statistics.rms;
   return statistics;
 }

@@ -71,11 +71,16 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
   for (const JointCamera& camera : input.cameras) {
     params_.push_back(camera.params);
   }
-  const Eigen::Quaterniond q = input.odom_from_cam.rotation.normalized();
-  for (int k = 0; k < 4; ++k) quaternion_[k] = q.coeffs()[k];
-  t_xy_[0] = input.odom_from_cam.translation.x();
-  t_xy_[1] = input.odom_from_cam.translation.y();
-  t_z_ = input.odom_from_cam.translation.z();
+  mounts_.resize(1 + input.other_mounts.size());
+  for (size_t m = 0; m < mounts_.size(); ++m) {
+    const Rigid3d& start =
+        m == 0 ? input.odom_from_cam : input.other_mounts[m - 1];
+    const Eigen::Quaterniond q = start.rotation.normalized();
+    for (int k = 0; k < 4; ++k) mounts_[m].quaternion[k] = q.coeffs()[k];
+    mounts_[m].t_xy[0] = start.translation.x();
+    mounts_[m].t_xy[1] = start.translation.y();
+    mounts_[m].t_z = start.translation.z();
+  }
   used_.assign(input.observations.size(), 1);
   // A point on or behind a camera that sees it cannot be projected: the
   // observation is left out from the start (Ceres would stop at it).
@@ -155,7 +160,9 @@ void JointProblem::Build(double pixel_sigma) {
   for (size_t k = 0; k < input_.observations.size(); ++k) {
     if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
     const JointObservation& observation = input_.observations[k];
-    const int camera = input_.images[observation.image].camera;
+    const JointImage& image = input_.images[observation.image];
+    const int camera = image.camera;
+    Mount& mount = mounts_[image.mount];
     ceres::LossFunction* loss = nullptr;
     if (options_.loss == RobustLoss::kHuber) {
       loss = new ceres::HuberLoss(options_.loss_scale);
@@ -167,9 +174,9 @@ void JointProblem::Build(double pixel_sigma) {
             input_.cameras[camera].model, observation.pixel, pixel_sigma),
         loss,
         poses_[observation.image].data(),
-        quaternion_,
-        t_xy_,
-        &t_z_,
+        mount.quaternion,
+        mount.t_xy,
+        &mount.t_z,
         points_[observation.point].data(),
         params_[camera].data());
     residual_blocks_.push_back(id);
@@ -222,9 +229,11 @@ void JointProblem::Build(double pixel_sigma) {
       problem_->SetParameterBlockConstant(&offset_change_s_);
     }
   }
-  if (problem_->HasParameterBlock(quaternion_)) {
-    problem_->SetManifold(quaternion_, &quaternion_manifold_);
-    problem_->SetParameterBlockConstant(&t_z_);
+  for (Mount& mount : mounts_) {
+    if (problem_->HasParameterBlock(mount.quaternion)) {
+      problem_->SetManifold(mount.quaternion, &quaternion_manifold_);
+      problem_->SetParameterBlockConstant(&mount.t_z);
+    }
   }
   for (size_t i = 0; i < poses_.size(); ++i) {
     if (held_[i] && problem_->HasParameterBlock(poses_[i].data())) {
@@ -262,11 +271,13 @@ ceres::Solver::Summary JointProblem::Solve(
 bool JointProblem::ReprojectionResidual(size_t k,
                                         Eigen::Vector2d* residual) const {
   const JointObservation& observation = input_.observations[k];
-  const int camera = input_.images[observation.image].camera;
+  const JointImage& image = input_.images[observation.image];
+  const int camera = image.camera;
+  const Mount& mount = mounts_[image.mount];
   const double* parameters[] = {poses_[observation.image].data(),
-                                quaternion_,
-                                t_xy_,
-                                &t_z_,
+                                mount.quaternion,
+                                mount.t_xy,
+                                &mount.t_z,
                                 points_[observation.point].data(),
                                 params_[camera].data()};
   return ReprojectionResidualFor(input_.cameras[camera].model,
@@ -276,10 +287,18 @@ bool JointProblem::ReprojectionResidual(size_t k,
 }
 
 void JointProblem::WriteResult(JointAdjustmentResult* result) const {
-  Eigen::Quaterniond q;
-  q.coeffs() << quaternion_[0], quaternion_[1], quaternion_[2], quaternion_[3];
-  result->odom_from_cam.rotation = q.normalized();
-  result->odom_from_cam.translation = Eigen::Vector3d(t_xy_[0], t_xy_[1], t_z_);
+  const auto odom_from_cam = [](const Mount& mount) {
+    Eigen::Quaterniond q;
+    q.coeffs() << mount.quaternion[0], mount.quaternion[1],
+        mount.quaternion[2], mount.quaternion[3];
+    return Rigid3d{q.normalized(),
+                   Eigen::Vector3d(mount.t_xy[0], mount.t_xy[1], mount.t_z)};
+  };
+  result->odom_from_cam = odom_from_cam(mounts_[0]);
+  result->other_mounts.clear();
+  for (size_t m = 1; m < mounts_.size(); ++m) {
+    result->other_mounts.push_back(odom_from_cam(mounts_[m]));
+  }
   result->origin_from_odom.clear();
   for (const auto& pose : poses_) {
     result->origin_from_odom.push_back({pose[0], pose[1], pose[2]});

@@ -26,12 +26,20 @@ struct JointSceneOptions {
   // The starting values' size grows by this much from the drive's start to
   // its end; the extrinsic starts 0.5 deg and 2 cm off.
   double drift = 0.05;
+  // A rig: a second camera (mount 1) at the robot's rear, looking back and
+  // 5 deg down, its images halfway in time between the first camera's (not
+  // synchronised); the odometry links the images of both in time order. It
+  // sees the same points as the first camera when rear_shares_points (one
+  // model of both), else copies of its own (a model of its own).
+  bool rear_camera = false;
+  bool rear_shares_points = true;
   unsigned seed = 1;
 };
 
 struct JointScene {
   JointAdjustmentProblem problem;
   Rigid3d odom_from_cam;                // the truth
+  Rigid3d rear_odom_from_cam;           // the truth, with rear_camera
   std::vector<PlanarPose> poses;        // the truth, per image
   std::vector<Eigen::Vector3d> points;  // the truth
 };
@@ -39,6 +47,9 @@ struct JointScene {
 // A 640 x 480 SIMPLE_RADIAL camera (COLMAP's pixel convention) sees points
 // 0.5-12 m ahead; the odometry between consecutive images has 2 mm + 1 %
 // per axis and 0.2 deg + 1 % of the turn, as its link covariance says.
+// With rear_camera, the problem's images are the first camera's, then the
+// rear camera's (one fewer), and `poses` holds the rear images' poses after
+// the first camera's.
 JointScene SimulateJointScene(const JointSceneOptions& options);
 
 }  // namespace odomcal
