@@ -79,10 +79,10 @@ CameraPairTransform CameraPairOf(const ExtrinsicWithCovariance& a,
 
   pair.odom_offset_m = offset;
   const Eigen::Matrix3d offset_cross = a_b_covariance.bottomRightCorner<3, 3>();
-  pair.stddev_odom_offset_m = SqrtDiagonal(
-      a.covariance.bottomRightCorner<3, 3>() +
-      b.covariance.bottomRightCorner<3, 3>() - offset_cross -
-      offset_cross.transpose());
+  pair.stddev_odom_offset_m =
+      SqrtDiagonal(a.covariance.bottomRightCorner<3, 3>() +
+                   b.covariance.bottomRightCorner<3, 3>() - offset_cross -
+                   offset_cross.transpose());
   pair.odom_offset_z_held = a.z_held || b.z_held;
   pair.angle_deg = RotationAngle(pair.camb_from_cama.rotation) * kRadToDeg;
   return pair;

@@ -126,9 +126,8 @@ TEST(CameraPair, CrossTermsOfOneAdjustmentMatchSampling) {
       square(r + 6, c) = square(r, c) + square(r + 6, c) / 3.0;
     }
   }
-  const Eigen::Matrix<double, 12, 12> joint = scale.asDiagonal() *
-                                              (square * square.transpose()) *
-                                              scale.asDiagonal();
+  const Eigen::Matrix<double, 12, 12> joint =
+      scale.asDiagonal() * (square * square.transpose()) * scale.asDiagonal();
   a.covariance = joint.topLeftCorner<6, 6>();
   b.covariance = joint.bottomRightCorner<6, 6>();
   const Matrix6d cross = joint.topRightCorner<6, 6>();
@@ -165,7 +164,8 @@ TEST(CameraPair, CrossTermsOfOneAdjustmentMatchSampling) {
     // The shared part cancels (in rotation; the translation keeps the
     // lever of the common rotation): treating them as independent
     // overstates.
-    EXPECT_LT(pair.covariance(r, r), (r < 3 ? 0.2 : 0.8) * apart.covariance(r, r))
+    EXPECT_LT(pair.covariance(r, r),
+              (r < 3 ? 0.2 : 0.8) * apart.covariance(r, r))
         << "row " << r;
   }
   for (int k = 0; k < 3; ++k) {

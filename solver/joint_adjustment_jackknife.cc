@@ -183,8 +183,7 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
   out.mounts_ratio.resize(n);
   Eigen::VectorXd wider = widening;
   for (Eigen::Index k = 0; k < n; ++k) {
-    out.mounts_ratio[k] =
-        std::sqrt(out.mounts_covariance(k, k) / model(k, k));
+    out.mounts_ratio[k] = std::sqrt(out.mounts_covariance(k, k) / model(k, k));
     wider[k] = std::max(wider[k], out.mounts_ratio[k]);
   }
   out.ratio = out.mounts_ratio.head<5>();

@@ -57,9 +57,9 @@ struct JointJackknife {
 // `image_order`: the problem's image indices in time order (the blocks are
 // runs of it). `result`: AdjustJointly(problem, options)'s successful
 // result; its covariances (mount 0's and every mount's) and their widening
-// are widened in place where the jackknife's is larger. A block whose re-solve fails is left out; with
-// fewer than 3 blocks left the jackknife does not run (`reason`) and
-// `result` is unchanged.
+// are widened in place where the jackknife's is larger. A block whose re-solve
+// fails is left out; with fewer than 3 blocks left the jackknife does not run
+// (`reason`) and `result` is unchanged.
 JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
                                        const JointAdjustmentOptions& options,
                                        const std::vector<int>& image_order,

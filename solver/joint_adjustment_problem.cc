@@ -289,8 +289,8 @@ bool JointProblem::ReprojectionResidual(size_t k,
 void JointProblem::WriteResult(JointAdjustmentResult* result) const {
   const auto odom_from_cam = [](const Mount& mount) {
     Eigen::Quaterniond q;
-    q.coeffs() << mount.quaternion[0], mount.quaternion[1],
-        mount.quaternion[2], mount.quaternion[3];
+    q.coeffs() << mount.quaternion[0], mount.quaternion[1], mount.quaternion[2],
+        mount.quaternion[3];
     return Rigid3d{q.normalized(),
                    Eigen::Vector3d(mount.t_xy[0], mount.t_xy[1], mount.t_z)};
   };

@@ -49,10 +49,9 @@ ExtrinsicWithCovariance MountWithCovariance(const Rigid3d& odom_from_cam,
 // axes over its standard deviation, per axis.
 Eigen::Vector3d PairRotationSigmas(const CameraPairTransform& pair,
                                    const JointScene& scene) {
-  const Rigid3d truth =
-      Inverse(scene.rear_odom_from_cam) * scene.odom_from_cam;
-  const Eigen::Vector3d error = LogRotation(
-      pair.camb_from_cama.rotation * truth.rotation.conjugate());
+  const Rigid3d truth = Inverse(scene.rear_odom_from_cam) * scene.odom_from_cam;
+  const Eigen::Vector3d error =
+      LogRotation(pair.camb_from_cama.rotation * truth.rotation.conjugate());
   return error.cwiseQuotient(
       pair.covariance.topLeftCorner<3, 3>().diagonal().cwiseSqrt());
 }
@@ -70,8 +69,8 @@ TEST(AdjustJointlyRig, EstimatesEveryMountOnOneTrajectory) {
   EXPECT_EQ(result.other_mounts[0].translation.z(), 0.6);  // held
   EXPECT_TRUE(
       result.covariance.isApprox(result.mounts_covariance.topLeftCorner(5, 5)));
-  EXPECT_TRUE(result.mounts_covariance.isApprox(
-      result.mounts_covariance.transpose()));
+  EXPECT_TRUE(
+      result.mounts_covariance.isApprox(result.mounts_covariance.transpose()));
   EXPECT_GT(result.mounts_covariance.llt().info() == Eigen::Success, 0);
   const std::vector<std::pair<Rigid3d, Rigid3d>> mounts = {
       {result.odom_from_cam, scene.odom_from_cam},
@@ -80,8 +79,8 @@ TEST(AdjustJointlyRig, EstimatesEveryMountOnOneTrajectory) {
     const Eigen::Matrix<double, 5, 1> error =
         MountError(mounts[m].first, mounts[m].second);
     for (int k = 0; k < 5; ++k) {
-      const double sigma = std::sqrt(result.mounts_covariance(5 * m + k,
-                                                              5 * m + k));
+      const double sigma =
+          std::sqrt(result.mounts_covariance(5 * m + k, 5 * m + k));
       EXPECT_GT(sigma, 0.0);
       EXPECT_LT(std::abs(error[k]), 4.0 * sigma)
           << "mount " << m << " component " << k;

@@ -122,33 +122,29 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
     }
   };
   for (int i = 0; i < num_images; ++i) {
-    observe(i,
-            i,
-            Inverse(scene.poses[i].ToRigid3d() * scene.odom_from_cam),
-            0);
+    observe(i, i, Inverse(scene.poses[i].ToRigid3d() * scene.odom_from_cam), 0);
   }
   // The link of the odometry from pose a to pose b, with its noise.
-  const auto link_between = [&](int image_i,
-                                int image_j,
-                                const PlanarPose& a,
-                                const PlanarPose& b) {
-    const PlanarPose motion =
-        PlanarFromRigid(Inverse(a.ToRigid3d()) * b.ToRigid3d());
-    const double length = std::hypot(motion.x, motion.y);
-    const double xy_sigma = 0.002 + 0.01 * length;
-    const double yaw_sigma = 0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
-    OdometryLink link;
-    link.image_i = image_i;
-    link.image_j = image_j;
-    link.covariance =
-        Eigen::Vector3d(
-            xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
-            .asDiagonal();
-    link.odom_i_from_odom_j = {motion.x + xy_sigma * normal(random),
-                               motion.y + xy_sigma * normal(random),
-                               motion.yaw_rad + yaw_sigma * normal(random)};
-    problem.links.push_back(link);
-  };
+  const auto link_between =
+      [&](int image_i, int image_j, const PlanarPose& a, const PlanarPose& b) {
+        const PlanarPose motion =
+            PlanarFromRigid(Inverse(a.ToRigid3d()) * b.ToRigid3d());
+        const double length = std::hypot(motion.x, motion.y);
+        const double xy_sigma = 0.002 + 0.01 * length;
+        const double yaw_sigma =
+            0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
+        OdometryLink link;
+        link.image_i = image_i;
+        link.image_j = image_j;
+        link.covariance =
+            Eigen::Vector3d(
+                xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
+                .asDiagonal();
+        link.odom_i_from_odom_j = {motion.x + xy_sigma * normal(random),
+                                   motion.y + xy_sigma * normal(random),
+                                   motion.yaw_rad + yaw_sigma * normal(random)};
+        problem.links.push_back(link);
+      };
   if (options.rear_camera) {
     // Its images (camera 1, mount 1), its points (copies unless shared),
     // its observations, then the links through both cameras' images in
@@ -173,10 +169,10 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
         const size_t image = k / static_cast<size_t>(per_image);
         const double fraction =
             static_cast<double>(image) / static_cast<double>(num_images);
-        problem.points.push_back(
-            drifted(scene.points[k], fraction) +
-            0.01 *
-                Eigen::Vector3d(normal(random), normal(random), normal(random)));
+        problem.points.push_back(drifted(scene.points[k], fraction) +
+                                 0.01 * Eigen::Vector3d(normal(random),
+                                                        normal(random),
+                                                        normal(random)));
       }
     }
     problem.other_mounts.push_back(
