@@ -7,13 +7,17 @@
 #
 #   scripts/rig_study.sh [SEEDS (default "1 2 3")] [PRESET (default small)]
 #
-# Needs build/plugin/odomcal and colmap. Writes /tmp/odomcal_rig_study/.
+# RIG_STUDY_FLAGS adds flags to every run (e.g. "--joint_adjustment on": the
+# cameras adjusted together), RIG_STUDY_SKIP_CAPPED=1 leaves out the capped
+# drive. A rerun into the same workspace reuses its COLMAP stages. Needs
+# build/plugin/odomcal (or $ODOMCAL) and colmap. Writes
+# $RIG_STUDY_ROOT (default /tmp/odomcal_rig_study/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-odomcal=$PWD/build/plugin/odomcal
+odomcal=${ODOMCAL:-$PWD/build/plugin/odomcal}
 seeds=${1:-1 2 3}
 preset=${2:-small}
-root=/tmp/odomcal_rig_study
+root=${RIG_STUDY_ROOT:-/tmp/odomcal_rig_study}
 mkdir -p "$root"
 
 run_rig() {  # data_dir workspace
@@ -23,7 +27,8 @@ run_rig() {  # data_dir workspace
     "$data/cameras.txt" | tr '\n' ' ')
   local start=$(date +%s.%N)
   "$odomcal" run --rig --image_path "$data/images" --odometry "$data/odometry.csv" \
-    --camera_model PINHOLE $flags --workspace_path "$ws" > "$ws.log" 2>&1 || true
+    --camera_model PINHOLE $flags ${RIG_STUDY_FLAGS:-} --workspace_path "$ws" \
+    > "$ws.log" 2>&1 || true
   echo "$(date +%s.%N) - $start" | bc
 }
 
@@ -62,8 +67,22 @@ for pair in result["camera_pairs"]:
     Ra, ta = truths[a]; Rb, tb = truths[b]
     R_true = Rb.T @ Ra; t_true = Rb.T @ (ta - tb)
     R, t = transform(pair["camb_from_cama"])
+    # Left perturbation about camB's axes, and the translation in camB.
+    E = R @ R_true.T
+    psi = np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]])
+    psi *= np.arccos(np.clip((np.trace(E) - 1) / 2, -1, 1)) / max(
+        np.linalg.norm(psi), 1e-300)
+    sd = pair["stddev"]
+    r_sigmas = np.abs(psi) / np.radians(sd["rotation_axes_deg"])
+    t_sigmas = np.abs(t - t_true) / np.array(sd["translation_m"])
+    if pair["odom_offset_z_held"]:
+        t_sigmas = t_sigmas[:0]  # the held heights' difference: not measured
     print(f"  {b}_from_{a}: rotation {angle(R_true.T @ R):.3f} deg, "
-          f"translation {1000*np.linalg.norm(t - t_true):.1f} mm")
+          f"translation {1000*np.linalg.norm(t - t_true):.1f} mm; "
+          f"3 sigma rotation {3*max(sd['rotation_axes_deg']):.3f} deg; "
+          f"largest error/sigma rotation {r_sigmas.max():.1f}"
+          + (f", translation {t_sigmas.max():.1f}" if len(t_sigmas) else "")
+          + (" (adjusted together)" if pair.get("adjusted_together") else ""))
 PY
 }
 
@@ -76,6 +95,7 @@ for seed in $seeds; do
   evaluate "$data" "$ws" "$seconds" "seed $seed"
 done
 
+[ "${RIG_STUDY_SKIP_CAPPED:-0}" = 1 ] && exit 0
 seed=$(echo $seeds | cut -d' ' -f1)
 data=$root/${preset}_surround3_capped_seed$seed
 [ -d "$data" ] || "$odomcal" render --preset "$preset" --rig surround3 --seed "$seed" \

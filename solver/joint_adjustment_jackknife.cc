@@ -10,26 +10,6 @@
 namespace odomcal {
 namespace {
 
-// Every mount's extrinsic as a deviation from `reference`'s, in the
-// covariance's coordinates: per mount, left rotation perturbation, then
-// translation x, y.
-Eigen::VectorXd DeviationFrom(const JointAdjustmentResult& reference,
-                              const JointAdjustmentResult& estimate) {
-  const auto mount = [](const JointAdjustmentResult& result, size_t m) {
-    return m == 0 ? result.odom_from_cam : result.other_mounts.at(m - 1);
-  };
-  const size_t num_mounts = 1 + reference.other_mounts.size();
-  Eigen::VectorXd deviation(5 * num_mounts);
-  for (size_t m = 0; m < num_mounts; ++m) {
-    const Rigid3d a = mount(reference, m);
-    const Rigid3d b = mount(estimate, m);
-    const Eigen::Index row = static_cast<Eigen::Index>(5 * m);
-    deviation.segment<3>(row) = LogRotation(b.rotation * a.rotation.inverse());
-    deviation.segment<2>(row + 3) = (b.translation - a.translation).head<2>();
-  }
-  return deviation;
-}
-
 // The problem without the images in [begin, end) of image_order (their
 // feature observations and the links that touch them), nor the
 // observations the full solve left out; started at the full solution, the
@@ -79,6 +59,23 @@ JointAdjustmentProblem WithoutBlock(const JointAdjustmentProblem& problem,
 }
 
 }  // namespace
+
+Eigen::VectorXd MountDeviations(const JointAdjustmentResult& reference,
+                                const JointAdjustmentResult& estimate) {
+  const auto mount = [](const JointAdjustmentResult& result, size_t m) {
+    return m == 0 ? result.odom_from_cam : result.other_mounts.at(m - 1);
+  };
+  const size_t num_mounts = 1 + reference.other_mounts.size();
+  Eigen::VectorXd deviation(5 * num_mounts);
+  for (size_t m = 0; m < num_mounts; ++m) {
+    const Rigid3d a = mount(reference, m);
+    const Rigid3d b = mount(estimate, m);
+    const Eigen::Index row = static_cast<Eigen::Index>(5 * m);
+    deviation.segment<3>(row) = LogRotation(b.rotation * a.rotation.inverse());
+    deviation.segment<2>(row + 3) = (b.translation - a.translation).head<2>();
+  }
+  return deviation;
+}
 
 void JointJackknifeOptions::Check() const {
   if (num_blocks < 0 || num_blocks == 1 || num_blocks == 2) {
@@ -145,7 +142,7 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
       }
       continue;
     }
-    deviations.push_back(DeviationFrom(*result, replicate));
+    deviations.push_back(MountDeviations(*result, replicate));
   }
   out.time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)

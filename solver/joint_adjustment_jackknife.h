@@ -54,6 +54,13 @@ struct JointJackknife {
   double time_s = 0.0;
 };
 
+// Every mount's extrinsic in `estimate` as a deviation from `reference`'s,
+// in the covariance's coordinates (JointAdjustmentResult::
+// mounts_covariance): per mount, the left rotation perturbation, then
+// translation x, y. Both results must have the same mounts.
+Eigen::VectorXd MountDeviations(const JointAdjustmentResult& reference,
+                                const JointAdjustmentResult& estimate);
+
 // `image_order`: the problem's image indices in time order (the blocks are
 // runs of it). `result`: AdjustJointly(problem, options)'s successful
 // result; its covariances (mount 0's and every mount's) and their widening

@@ -98,8 +98,10 @@ RigCalibrationRun RigCalibrationOf(const ColmapRigRun& rig,
     camera_run.extrinsic = ExtrinsicOf(camera_run.run.result);
     out.cameras.push_back(std::move(camera_run));
   }
-  PairCalibratedCameras(&out);
   out.findings = SharedScaleWarnings(rig);
+  // Every camera has the project's options (and its own camera ids).
+  AdoptRigJointAdjustment(
+      rig.joint, rig.cameras.at(rig.reference).inputs.calibration, &out);
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
+#include "odomcal/solver/joint_extrinsic.h"
 
 #include <map>
 #include <set>
@@ -154,15 +155,57 @@ RigCalibrationRun CalibrateRig(const std::vector<NamedCamera>& cameras,
 void PairCalibratedCameras(RigCalibrationRun* rig) {
   rig->pairs.clear();
   const std::vector<RigCameraRun>& cameras = rig->cameras;
+  const RigJointAdjustment& joint = rig->joint;
   for (size_t a = 0; a < cameras.size(); ++a) {
     for (size_t b = a + 1; b < cameras.size(); ++b) {
       if (!cameras[a].Calibrated() || !cameras[b].Calibrated()) continue;
-      rig->pairs.push_back(
-          {static_cast<int>(a),
-           static_cast<int>(b),
-           CameraPairOf(*cameras[a].extrinsic, *cameras[b].extrinsic)});
+      RigCameraPair pair;
+      pair.camera_a = static_cast<int>(a);
+      pair.camera_b = static_cast<int>(b);
+      const int mount_a = joint.MountOf(pair.camera_a);
+      const int mount_b = joint.MountOf(pair.camera_b);
+      Eigen::Matrix<double, 6, 6> cross = Eigen::Matrix<double, 6, 6>::Zero();
+      if (joint.Succeeded() && mount_a >= 0 && mount_b >= 0) {
+        cross.topLeftCorner<5, 5>() =
+            joint.result.mounts_covariance.block<5, 5>(5 * mount_a,
+                                                       5 * mount_b);
+        pair.adjusted_together = true;
+      }
+      pair.transform =
+          CameraPairOf(*cameras[a].extrinsic, *cameras[b].extrinsic, cross);
+      rig->pairs.push_back(pair);
     }
   }
+}
+
+void AdoptRigJointAdjustment(const RigJointAdjustment& joint,
+                             const CalibrationOptions& limits,
+                             RigCalibrationRun* rig) {
+  rig->joint = joint;
+  if (joint.ran && !joint.result.IsSuccess()) {
+    rig->findings.push_back("the rig's joint adjustment failed (" +
+                            std::string(ToString(joint.result.status)) +
+                            "): " + joint.result.message +
+                            "; each camera's own result stands");
+  } else if (!joint.ran && !joint.skipped.empty()) {
+    rig->findings.push_back("the rig's joint adjustment not run: " +
+                            joint.skipped);
+  }
+  if (joint.Succeeded()) {
+    for (size_t mount = 0; mount < joint.cameras.size(); ++mount) {
+      RigCameraRun& camera = rig->cameras.at(joint.cameras[mount]);
+      JointAdjustmentResult one;
+      one.odom_from_cam = mount == 0 ? joint.result.odom_from_cam
+                                     : joint.result.other_mounts[mount - 1];
+      const Eigen::Index row = static_cast<Eigen::Index>(5 * mount);
+      one.covariance = joint.result.mounts_covariance.block<5, 5>(row, row);
+      CalibrationResult& result = camera.run.result;
+      AdoptJointExtrinsic(one, &result);
+      RefuseLooseAdoptedExtrinsic(limits, &result);
+      camera.extrinsic = ExtrinsicOf(result);
+    }
+  }
+  PairCalibratedCameras(rig);
 }
 
 }  // namespace odomcal

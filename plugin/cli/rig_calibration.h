@@ -9,6 +9,7 @@
 
 #include "odomcal/adapters/trajectory.h"
 #include "odomcal/plugin/cli/calibrate_command.h"
+#include "odomcal/plugin/colmap/rig_joint_adjustment.h"
 #include "odomcal/solver/camera_pair.h"
 
 #include <optional>
@@ -69,6 +70,9 @@ struct RigCameraPair {
   int camera_a = 0;  // index into RigCalibrationRun::cameras
   int camera_b = 0;
   CameraPairTransform transform;  // camB_from_camA
+  // Both cameras from the rig's joint adjustment: the transform's
+  // covariance holds their cross terms (else they count as independent).
+  bool adjusted_together = false;
 };
 
 struct RigCalibrationRun {
@@ -78,6 +82,9 @@ struct RigCalibrationRun {
   std::vector<RigCameraPair> pairs;
   // The rig's own findings (cameras that disagree on a shared scale).
   std::vector<std::string> findings;
+  // `--joint_adjustment on` on a COLMAP rig: the cameras adjusted together
+  // (their extrinsics are the adjustment's where it succeeded).
+  RigJointAdjustment joint;
 
   int NumCalibrated() const;
   // "camera rear not calibrated (not_enough_motion): ..." per camera that
@@ -85,8 +92,19 @@ struct RigCalibrationRun {
   std::vector<std::string> Warnings() const;
 };
 
-// Fills rig->pairs from its calibrated cameras.
+// Fills rig->pairs from its calibrated cameras (with the cross terms of
+// rig->joint for two cameras it adjusted).
 void PairCalibratedCameras(RigCalibrationRun* rig);
+
+// Takes `joint` into the rig: where it succeeded, each of its cameras'
+// rotation and translation x/y and their covariance become the
+// adjustment's (AdoptJointExtrinsic; refused as kUnobservable beyond
+// `limits`, RefuseLooseAdoptedExtrinsic), with a note in its warnings;
+// where it did not, a warning says why and the cameras stay as calibrated.
+// Then pairs the cameras again.
+void AdoptRigJointAdjustment(const RigJointAdjustment& joint,
+                             const CalibrationOptions& limits,
+                             RigCalibrationRun* rig);
 
 // Calibrates every camera against `odometry` with `inputs`' options (its
 // paths are not used). Throws std::invalid_argument for bad options and for

@@ -86,14 +86,50 @@ json PairToJson(const RigCalibrationRun& rig, const RigCameraPair& pair) {
       {"covariance",
        {{"order", {"rx", "ry", "rz", "tx", "ty", "tz"}},
         {"perturbation",
-         "rotation: left, R = Exp(psi) * R_hat, psi in radians about camB's "
-         "axes; translation: additive, metres, in camB's frame; from the two "
-         "cameras' covariances as independent estimates (no cross terms)"},
+         std::string("rotation: left, R = Exp(psi) * R_hat, psi in radians "
+                     "about camB's axes; translation: additive, metres, in "
+                     "camB's frame; ") +
+             (pair.adjusted_together
+                  ? "from the rig's joint adjustment, with the two "
+                    "cameras' cross terms"
+                  : "from the two cameras' covariances as independent "
+                    "estimates (no cross terms)")},
         {"matrix", rows}}},
       {"odom_offset_m", offset},
       {"stddev_odom_offset_m", offset_stddev},
       {"odom_offset_z_held", t.odom_offset_z_held},
+      {"adjusted_together", pair.adjusted_together},
   };
+}
+
+// The rig's joint adjustment (`--joint_adjustment on`); null when it was
+// not asked for.
+json RigJointToJson(const RigCalibrationRun& rig) {
+  const RigJointAdjustment& joint = rig.joint;
+  if (!joint.ran && joint.skipped.empty()) return nullptr;
+  json cameras = json::array();
+  for (const int camera : joint.cameras) {
+    cameras.push_back(rig.cameras.at(camera).name);
+  }
+  json out = {{"ran", joint.ran},
+              {"status",
+               joint.ran ? json(ToString(joint.result.status)) : json(nullptr)},
+              {"message", joint.ran ? joint.result.message : joint.skipped},
+              {"cameras", cameras},
+              {"num_images", joint.num_images},
+              {"num_points", joint.num_points},
+              {"num_links", joint.num_links},
+              {"num_links_across_cameras", joint.num_links_across_cameras},
+              {"pixel_sigma", nullptr},
+              {"odometry_sigma_ratio", nullptr},
+              {"jackknife_blocks", nullptr}};
+  if (joint.Succeeded()) {
+    out["pixel_sigma"] = joint.result.pixel_sigma;
+    out["odometry_sigma_ratio"] = joint.result.odometry_sigma_ratio;
+    out["jackknife_blocks"] =
+        joint.jackknife.ran ? json(joint.jackknife.num_blocks) : json(nullptr);
+  }
+  return out;
 }
 
 }  // namespace
@@ -180,6 +216,7 @@ void AddRigToJson(const RigCalibrationRun& rig, json* result) {
     pairs.push_back(PairToJson(rig, pair));
   }
   out["camera_pairs"] = pairs;
+  out["rig_joint_adjustment"] = RigJointToJson(rig);
   out["inputs"]["cameras"] = input_cameras;
   out["inputs"]["reference_camera"] = rig.cameras[rig.reference].name;
 }
@@ -226,6 +263,20 @@ std::string RigCalibrationSummary(const RigCalibrationRun& rig) {
       out << ": " << camera.Reason();
     }
     out << "\n";
+  }
+  if (rig.joint.Succeeded()) {
+    std::string names;
+    for (const int camera : rig.joint.cameras) {
+      names += (names.empty() ? "" : ", ") + rig.cameras.at(camera).name;
+    }
+    out << "  rig joint adjustment: " << names << " adjusted together ("
+        << rig.joint.num_images << " images, " << rig.joint.num_points
+        << " points, " << rig.joint.num_links << " odometry links, "
+        << rig.joint.num_links_across_cameras
+        << Printf(" across cameras; reprojection rms %.2f px",
+                  rig.joint.result.reprojection_rms_px_after)
+        << "): their rotation and x/y are its, and the transforms between "
+           "them carry its cross terms\n";
   }
   for (const RigCameraPair& pair : rig.pairs) {
     const CameraPairTransform& t = pair.transform;

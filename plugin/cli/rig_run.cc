@@ -181,7 +181,12 @@ int RunRigReconstruction(
     rig.cameras.push_back(std::move(camera_run));
     as_rig.cameras.push_back(std::move(summary));
   }
-  PairCalibratedCameras(&as_rig);
+  if (run.project.joint_adjustment.use == JointAdjustmentUse::kOn) {
+    std::cout << "rig joint adjustment of the calibrated cameras ...\n"
+              << std::flush;
+  }
+  AdjustColmapRigJointly(run.project, {}, &rig);
+  AdoptRigJointAdjustment(rig.joint, run.project.calibration, &as_rig);
   const std::vector<std::string> written = WriteColmapRigOutputs(
       rig, as_rig, run.workspace_path, /*write_camera_folders=*/false);
   std::cout << RigCalibrationSummary(as_rig);

@@ -112,7 +112,19 @@ ColmapRigRun CalibrateColmapRig(const ColmapCalibrationInputs& inputs,
       }
     }
   }
+  AdjustColmapRigJointly(inputs, progress, &rig);
   return rig;
+}
+
+void AdjustColmapRigJointly(const ColmapCalibrationInputs& inputs,
+                            const CalibrationProgress& progress,
+                            ColmapRigRun* rig) {
+  if (inputs.joint_adjustment.use != JointAdjustmentUse::kOn) return;
+  std::vector<const ColmapCalibrationRun*> runs;
+  for (const ColmapRigCameraRun& camera : rig->cameras) {
+    runs.push_back(camera.run ? &*camera.run : nullptr);
+  }
+  rig->joint = AdjustRigJointly(runs, inputs, progress);
 }
 
 std::vector<std::string> SharedScaleWarnings(const ColmapRigRun& rig) {

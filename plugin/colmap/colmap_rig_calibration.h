@@ -3,11 +3,14 @@
 // (CalibrateColmapProject with the camera's camera_ids), each with its own
 // clock offset, floor height and metric model; then, where two cameras'
 // images share a sub-model, their metric scales compared: one model has one
-// scale, so two cameras that disagree on it cannot both be right.
+// scale, so two cameras that disagree on it cannot both be right. With
+// `--joint_adjustment on`, the calibrated cameras are then adjusted together
+// (rig_joint_adjustment.h).
 #pragma once
 
 #include "odomcal/adapters/colmap_cameras.h"
 #include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/rig_joint_adjustment.h"
 
 #include <optional>
 #include <string>
@@ -44,7 +47,16 @@ struct ColmapRigRun {
   int reference = 0;
   // Every sub-model two calibrated cameras both hold as one segment.
   std::vector<SharedSubModelScale> shared_scales;
+  // `--joint_adjustment on`: every calibrated camera adjusted together (not
+  // run otherwise: ran false, skipped empty).
+  RigJointAdjustment joint;
 };
+
+// Under `--joint_adjustment on` (inputs.joint_adjustment.use), adjusts the
+// rig's calibrated cameras together into rig->joint.
+void AdjustColmapRigJointly(const ColmapCalibrationInputs& inputs,
+                            const CalibrationProgress& progress,
+                            ColmapRigRun* rig);
 
 // Calibrates every camera of `cameras` (FindColmapProjectCameras) with
 // `inputs`' options. `reference` indexes `cameras.cameras`. Throws

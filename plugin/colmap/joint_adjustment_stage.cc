@@ -3,7 +3,7 @@
 #include "odomcal/adapters/association.h"
 #include "odomcal/adapters/odometry_increments.h"
 #include "odomcal/adapters/odometry_interpolation_error.h"
-#include "odomcal/plugin/colmap/odometry_inputs.h"
+#include "odomcal/plugin/colmap/joint_input.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
 #include "odomcal/solver/hand_eye_residual.h"
@@ -29,222 +29,6 @@ namespace {
 // part of the two-step model, for the scale comparison.
 constexpr int kMinStretchImages = 10;
 constexpr int kMaxStretchesPerPart = 10;
-
-std::optional<ProjectionModel> ProjectionOf(ColmapCameraModel model) {
-  switch (model) {
-    case ColmapCameraModel::kSimplePinhole:
-      return ProjectionModel::kSimplePinhole;
-    case ColmapCameraModel::kPinhole:
-      return ProjectionModel::kPinhole;
-    case ColmapCameraModel::kSimpleRadial:
-      return ProjectionModel::kSimpleRadial;
-    case ColmapCameraModel::kRadial:
-      return ProjectionModel::kRadial;
-    case ColmapCameraModel::kOpenCV:
-      return ProjectionModel::kOpenCV;
-    default:
-      return std::nullopt;
-  }
-}
-
-// The (x, y, yaw) part of a MotionCovariance ([rotation; translation]).
-Eigen::Matrix3d PlanarCovariance(const MotionCovariance& covariance) {
-  constexpr int kIndex[3] = {3, 4, 2};
-  Eigen::Matrix3d planar;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      planar(r, c) = covariance(kIndex[r], kIndex[c]);
-    }
-  }
-  return planar;
-}
-
-// The problem and where each of its parts came from.
-struct JointInput {
-  JointAdjustmentProblem problem;
-  std::vector<std::string> image_names;  // per joint image
-  std::vector<int64_t> image_stamps_ns;  // odometry clock
-  std::vector<const ColmapImage*> source_images;
-  std::vector<const ColmapCamera*> source_cameras;
-  std::vector<const ColmapPoint3D*> source_points;
-  std::vector<uint32_t> observation_point2D;  // index into the image's list
-  // Per link, the motion pair it was made from (stamps on the odometry's
-  // clock), for attaching the logged odometry.
-  MotionPairs link_pairs;
-  int num_joining_links = 0;
-};
-
-OdometryLink LinkOf(const MotionPair& pair,
-                    int image_i,
-                    int image_j,
-                    const CalibrationResult& fit,
-                    const NoiseModel& given) {
-  MotionPair weighted = pair;
-  NoiseModel noise = given;
-  if (fit.noise_estimate) {
-    weighted = ScaleCovariances({pair}, *fit.noise_estimate)[0];
-    noise = fit.noise_estimate->noise;
-  }
-  OdometryLink link;
-  link.image_i = image_i;
-  link.image_j = image_j;
-  link.odom_i_from_odom_j = PlanarFromRigid(pair.odom_i_from_odom_j);
-  link.covariance = PlanarCovariance(
-      OdometryCovariance(weighted, noise, MeasuredStep(weighted)));
-  return link;
-}
-
-// The images, points and cameras of the metric models; "" or why the
-// adjustment cannot take them.
-std::string AddModels(const ColmapCalibrationRun& run,
-                      const std::map<std::string, int64_t>& stamp_of_image,
-                      JointInput* input) {
-  JointAdjustmentProblem& problem = input->problem;
-  const Rigid3d cam_from_odom = Inverse(run.check.result.odom_from_cam);
-  std::map<std::string, int> image_index;
-  std::map<std::pair<int, uint32_t>, int> camera_index;
-  std::map<std::pair<int, int64_t>, int> point_index;
-  std::set<std::pair<int, int>> observed;  // (joint image, input segment)
-  for (const MetricSubModel& metric : run.metric_models) {
-    const int k =
-        run.check.input_segment_of_output_segment.at(metric.output_segment);
-    for (const auto& [image_id, image] : metric.model.images) {
-      const auto stamp = stamp_of_image.find(image.name);
-      if (stamp == stamp_of_image.end()) continue;
-      auto [where, inserted] = image_index.emplace(
-          image.name, static_cast<int>(problem.images.size()));
-      const int i = where->second;
-      if (inserted) {
-        const ColmapCamera& camera = metric.model.cameras.at(image.camera_id);
-        const auto projection = ProjectionOf(camera.model);
-        if (!projection) {
-          return std::string("camera model ") +
-                 ColmapCameraModelName(camera.model) +
-                 " is not one it projects (SIMPLE_PINHOLE, PINHOLE, "
-                 "SIMPLE_RADIAL, RADIAL, OPENCV)";
-        }
-        auto [camera_where, new_camera] =
-            camera_index.emplace(std::make_pair(k, image.camera_id),
-                                 static_cast<int>(problem.cameras.size()));
-        if (new_camera) {
-          problem.cameras.push_back({*projection, camera.params});
-          input->source_cameras.push_back(&camera);
-        }
-        JointImage joint_image;
-        joint_image.camera = camera_where->second;
-        joint_image.origin_from_odom =
-            PlanarFromRigid(Inverse(image.cam_from_world) * cam_from_odom);
-        problem.images.push_back(joint_image);
-        input->image_names.push_back(image.name);
-        input->image_stamps_ns.push_back(stamp->second +
-                                         run.systematics.camera_time_offset_ns);
-        input->source_images.push_back(&image);
-      }
-      // A part of a sub-model shares its points with the other parts: the
-      // image's observations are added once per sub-model.
-      if (!observed.insert({i, k}).second) continue;
-      if (image.points2D.size() != input->source_images[i]->points2D.size()) {
-        continue;  // another reconstruction with another keypoint list
-      }
-      for (size_t idx = 0; idx < image.points2D.size(); ++idx) {
-        const ColmapPoint2D& point2D = image.points2D[idx];
-        if (point2D.point3D_id == kColmapNoPoint3D) continue;
-        const auto point = metric.model.points3D.find(point2D.point3D_id);
-        if (point == metric.model.points3D.end()) continue;
-        auto [point_where, new_point] =
-            point_index.emplace(std::make_pair(k, point2D.point3D_id),
-                                static_cast<int>(problem.points.size()));
-        if (new_point) {
-          problem.points.push_back(point->second.xyz);
-          input->source_points.push_back(&point->second);
-        }
-        problem.observations.push_back({i, point_where->second, point2D.xy});
-        input->observation_point2D.push_back(static_cast<uint32_t>(idx));
-      }
-    }
-  }
-  if (problem.images.empty()) return "the metric models hold no timed image";
-  return "";
-}
-
-// The calibration's motion pairs as links, and one link between
-// consecutive pieces of the drive.
-void AddLinks(const ColmapCalibrationInputs& inputs,
-              const ColmapCalibrationRun& run,
-              JointInput* input) {
-  const CalibrationResult& fit = run.check.result;
-  std::map<int64_t, int> image_at;
-  for (size_t i = 0; i < input->image_stamps_ns.size(); ++i) {
-    image_at.emplace(input->image_stamps_ns[i], static_cast<int>(i));
-  }
-  std::set<std::pair<int, int>> linked;
-  const std::vector<char>& contradicts = run.check.contradicts_odometry;
-  for (size_t p = 0; p < run.check.pairs.size(); ++p) {
-    if (p < contradicts.size() && contradicts[p] != 0) continue;
-    const MotionPair& pair = run.check.pairs[p];
-    const auto i = image_at.find(pair.stamp_i_ns);
-    const auto j = image_at.find(pair.stamp_j_ns);
-    if (i == image_at.end() || j == image_at.end() || i->second == j->second)
-      continue;
-    if (!linked.insert({i->second, j->second}).second) continue;
-    input->problem.links.push_back(
-        LinkOf(pair, i->second, j->second, fit, inputs.calibration.noise));
-    input->link_pairs.push_back(pair);
-  }
-  // Pieces: images joined by links or shared points, in time order.
-  const int num_images = static_cast<int>(input->image_names.size());
-  std::vector<int> piece(num_images);
-  for (int i = 0; i < num_images; ++i) piece[i] = i;
-  const auto find = [&piece](int i) {
-    while (piece[i] != i) i = piece[i] = piece[piece[i]];
-    return i;
-  };
-  for (const OdometryLink& link : input->problem.links) {
-    piece[find(link.image_i)] = find(link.image_j);
-  }
-  std::vector<int> first_image_of_point(input->problem.points.size(), -1);
-  for (const JointObservation& observation : input->problem.observations) {
-    int& first = first_image_of_point[observation.point];
-    if (first < 0) {
-      first = observation.image;
-    } else {
-      piece[find(first)] = find(observation.image);
-    }
-  }
-  std::vector<int> by_time(num_images);
-  for (int i = 0; i < num_images; ++i) by_time[i] = i;
-  std::sort(by_time.begin(), by_time.end(), [&](int a, int b) {
-    return input->image_stamps_ns[a] < input->image_stamps_ns[b];
-  });
-  const double gap_s = run.association.max_odometry_gap_s;
-  for (size_t n = 0; n + 1 < by_time.size(); ++n) {
-    const int a = by_time[n];
-    const int b = by_time[n + 1];
-    if (find(a) == find(b)) continue;
-    const int64_t stamp_a = input->image_stamps_ns[a];
-    const int64_t stamp_b = input->image_stamps_ns[b];
-    const auto origin_from_odom_a =
-        InterpolateOdometry(run.odometry, stamp_a, gap_s, nullptr);
-    const auto origin_from_odom_b =
-        InterpolateOdometry(run.odometry, stamp_b, gap_s, nullptr);
-    if (!origin_from_odom_a || !origin_from_odom_b) continue;
-    MotionPair pair;
-    pair.odom_i_from_odom_j =
-        Inverse(*origin_from_odom_a) * *origin_from_odom_b;
-    pair.stamp_i_ns = stamp_a;
-    pair.stamp_j_ns = stamp_b;
-    pair.odom_interpolation_covariance = RelativeMotionInterpolationCovariance(
-        *origin_from_odom_a,
-        OdometryInterpolationCovariance(run.odometry, stamp_a),
-        *origin_from_odom_b,
-        OdometryInterpolationCovariance(run.odometry, stamp_b));
-    input->problem.links.push_back(
-        LinkOf(pair, a, b, fit, inputs.calibration.noise));
-    input->link_pairs.push_back(pair);
-    ++input->num_joining_links;
-    piece[find(a)] = find(b);
-  }
-}
 
 // The adjustment holds one pose per component where it started: its
 // placement in the origin frame is a choice of gauge. Placed as the
@@ -295,32 +79,6 @@ void AlignWithOdometry(const ColmapCalibrationRun& run,
   for (Eigen::Vector3d& point : result->points) {
     point.head<2>() = rotation * point.head<2>() + shift;
   }
-}
-
-// The odometry's systematics refined in the adjustment where the two-step
-// estimated them, from the logged odometry (before its intrinsics
-// correction) between each link's images: a planar log only.
-void AddSystematics(const ColmapCalibrationInputs& inputs,
-                    const ColmapCalibrationRun& run,
-                    JointInput* input) {
-  const SystematicsEstimate& estimate = run.systematics;
-  const bool any =
-      estimate.time_offset_estimated || estimate.intrinsics_estimated[0] ||
-      estimate.intrinsics_estimated[1] || estimate.intrinsics_estimated[2];
-  if (!any || !run.odometry.planar) return;
-  const Trajectory logged = ReadOdometryOf(inputs);
-  if (!logged.planar) return;
-  MotionPairs pairs = input->link_pairs;
-  AttachOdometrySamples(logged, &pairs);
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    if (!pairs[k].odometry_samples) return;
-    input->problem.links[k].samples = pairs[k].odometry_samples;
-  }
-  JointSystematics systematics;
-  systematics.intrinsics = estimate.intrinsics;
-  systematics.refine_intrinsics = estimate.intrinsics_estimated;
-  systematics.refine_time_offset = estimate.time_offset_estimated;
-  input->problem.systematics = systematics;
 }
 
 Eigen::Vector3d CentreOf(const PlanarPose& origin_from_odom,
@@ -462,9 +220,12 @@ MetricSubModel AdjustedMetricModel(const ColmapCalibrationRun& run,
 }
 
 // One progress line.
+}  // namespace
+
 std::string JointProgressLine(const JointAdjustmentProgress& where,
-                              double seconds) {
-  std::string line = "joint adjustment: ";
+                              double seconds,
+                              const std::string& label) {
+  std::string line = label + ": ";
   if (where.num_replicates > 0) {
     line += "jackknife re-solve " + std::to_string(where.replicate) + " of " +
             std::to_string(where.num_replicates);
@@ -474,8 +235,6 @@ std::string JointProgressLine(const JointAdjustmentProgress& where,
   return line + ", iteration " + std::to_string(where.iteration) + ", " +
          FormatPrintf("%.0f s", seconds);
 }
-
-}  // namespace
 
 std::string ToString(JointAdjustmentUse use) {
   switch (use) {
@@ -532,13 +291,13 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   }
   JointInput input;
   input.problem.odom_from_cam = result.odom_from_cam;
-  if (const std::string why = AddModels(*run, stamp_of_image, &input);
+  if (const std::string why = AddMetricModels(*run, stamp_of_image, &input);
       !why.empty()) {
     skip(why);
     return;
   }
-  AddLinks(inputs, *run, &input);
-  AddSystematics(inputs, *run, &input);
+  AddOdometryLinks(inputs, *run, &input);
+  AddOdometrySystematics(inputs, *run, /*refine_time_offset=*/true, &input);
   JointAdjustmentOptions options = inputs.joint_adjustment.options;
   options.num_threads =
       std::max(1, static_cast<int>(std::thread::hardware_concurrency()));

@@ -51,4 +51,10 @@ void ApplyJointAdjustment(
     ColmapCalibrationRun* run,
     std::optional<MetricSubModel>* agreeing_model = nullptr);
 
+// "joint adjustment: pass 2, iteration 14, 12 s" (or "jackknife re-solve 3
+// of 8, ..."), with `label` first.
+std::string JointProgressLine(const JointAdjustmentProgress& where,
+                              double seconds,
+                              const std::string& label = "joint adjustment");
+
 }  // namespace odomcal

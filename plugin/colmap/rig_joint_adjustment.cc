@@ -1,0 +1,268 @@
+#include "odomcal/plugin/colmap/rig_joint_adjustment.h"
+
+#include "odomcal/plugin/colmap/joint_adjustment_stage.h"
+#include "odomcal/plugin/colmap/joint_input.h"
+#include "odomcal/solver/camera_pair.h"
+#include "odomcal/solver/joint_adjustment_jackknife.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <thread>
+#include <utility>
+
+namespace odomcal {
+namespace {
+
+// Image name to time (camera clock) of one camera's calibrated segments.
+std::map<std::string, int64_t> StampsOfImages(const ColmapCalibrationRun& run) {
+  std::map<std::string, int64_t> stamps;
+  for (const ColmapSegment& segment : run.segments) {
+    for (size_t i = 0; i < segment.trajectory.poses.size(); ++i) {
+      stamps.emplace(segment.image_names.at(i),
+                     segment.trajectory.poses[i].stamp_ns);
+    }
+  }
+  return stamps;
+}
+
+// `part` appended to `all` as mount `mount`: its images, cameras, points
+// and observations re-indexed (its links are not taken: see the header).
+void Append(const JointInput& part, int mount, JointInput* all) {
+  JointAdjustmentProblem& problem = all->problem;
+  const int image_offset = static_cast<int>(problem.images.size());
+  const int camera_offset = static_cast<int>(problem.cameras.size());
+  const int point_offset = static_cast<int>(problem.points.size());
+  for (JointImage image : part.problem.images) {
+    image.camera += camera_offset;
+    image.mount = mount;
+    problem.images.push_back(image);
+  }
+  problem.cameras.insert(problem.cameras.end(),
+                         part.problem.cameras.begin(),
+                         part.problem.cameras.end());
+  problem.points.insert(problem.points.end(),
+                        part.problem.points.begin(),
+                        part.problem.points.end());
+  for (JointObservation observation : part.problem.observations) {
+    observation.image += image_offset;
+    observation.point += point_offset;
+    problem.observations.push_back(observation);
+  }
+  all->image_names.insert(
+      all->image_names.end(), part.image_names.begin(), part.image_names.end());
+  all->image_stamps_ns.insert(all->image_stamps_ns.end(),
+                              part.image_stamps_ns.begin(),
+                              part.image_stamps_ns.end());
+}
+
+// One link per stretch between consecutive images in `order` (time order),
+// each mount's image times moved by shift_ns[mount]; the links and
+// link_pairs of `all` replaced. Returns the links between two mounts.
+int ChainImagesInTime(const std::vector<int>& order,
+                      const std::vector<int>& mount_of_image,
+                      const std::vector<int64_t>& shift_ns,
+                      const ColmapCalibrationRun& odometry_run,
+                      const NoiseModel& noise,
+                      JointInput* all) {
+  all->problem.links.clear();
+  all->link_pairs.clear();
+  int across = 0;
+  for (size_t n = 0; n + 1 < order.size(); ++n) {
+    int a = order[n];
+    int b = order[n + 1];
+    int64_t stamp_a = all->image_stamps_ns[a] + shift_ns[mount_of_image[a]];
+    int64_t stamp_b = all->image_stamps_ns[b] + shift_ns[mount_of_image[b]];
+    if (stamp_b < stamp_a) {  // a shift moved b before a
+      std::swap(a, b);
+      std::swap(stamp_a, stamp_b);
+    }
+    const std::optional<MotionPair> pair =
+        OdometryMotionBetween(odometry_run, stamp_a, stamp_b);
+    if (!pair) continue;
+    all->problem.links.push_back(
+        LinkOf(*pair, a, b, odometry_run.check.result, noise));
+    all->link_pairs.push_back(*pair);
+    if (mount_of_image[a] != mount_of_image[b]) ++across;
+  }
+  return across;
+}
+
+// Each camera's clock offset is held at its own estimate in the
+// adjustment; its uncertainty moves the robot's poses at that camera's
+// images along the trajectory, and with them the extrinsics of every
+// mount. Propagated to first order: per camera, the adjustment solved
+// again (from its solution, at its noise levels) with that camera's images
+// moved by a few of the offset's standard deviations; the change scaled to
+// one standard deviation, its outer product added to the covariance
+// (offsets independent between cameras). Returns how many it propagated.
+int AddClockOffsetUncertainty(
+    const std::vector<const ColmapCalibrationRun*>& runs,
+    const ColmapCalibrationInputs& inputs,
+    const std::vector<int>& order,
+    const std::vector<int>& mount_of_image,
+    const JointAdjustmentOptions& options,
+    JointInput all,
+    RigJointAdjustment* out) {
+  JointAdjustmentResult& result = out->result;
+  const int num_mounts = static_cast<int>(out->cameras.size());
+  JointAdjustmentOptions resolve = options;
+  resolve.pixel_sigma = result.pixel_sigma;
+  resolve.estimate_odometry_noise = false;
+  resolve.compute_covariance = false;
+  resolve.max_reprojection_sigmas = std::numeric_limits<double>::max();
+  resolve.progress = nullptr;
+  // Started at the solution, without the observations it left out.
+  JointAdjustmentProblem& problem = all.problem;
+  for (size_t i = 0; i < problem.images.size(); ++i) {
+    problem.images[i].origin_from_odom = result.origin_from_odom[i];
+  }
+  problem.points = result.points;
+  problem.cameras = result.cameras;
+  problem.odom_from_cam = result.odom_from_cam;
+  problem.other_mounts = result.other_mounts;
+  std::vector<JointObservation> kept;
+  for (size_t k = 0; k < problem.observations.size(); ++k) {
+    if (result.observation_error_px[k] >= 0.0) {
+      kept.push_back(problem.observations[k]);
+    }
+  }
+  problem.observations = std::move(kept);
+  if (problem.systematics) {
+    problem.systematics->intrinsics = result.intrinsics;
+  }
+  const ColmapCalibrationRun& first = *runs[out->cameras[0]];
+  const double factor =
+      result.odometry_sigma_ratio * result.odometry_sigma_ratio;
+  Eigen::MatrixXd added = Eigen::MatrixXd::Zero(5 * num_mounts, 5 * num_mounts);
+  int propagated = 0;
+  for (int mount = 0; mount < num_mounts; ++mount) {
+    const double stddev_s =
+        runs[out->cameras[mount]]->systematics.camera_time_offset_stddev_s;
+    if (!(stddev_s > 0.0)) continue;
+    constexpr double kStepSigmas = 3.0;
+    constexpr double kMinStepS = 5e-4;
+    const double step_s = std::max(kStepSigmas * stddev_s, kMinStepS);
+    std::vector<int64_t> shift_ns(num_mounts, 0);
+    shift_ns[mount] = std::llround(step_s * 1e9);
+    ChainImagesInTime(
+        order, mount_of_image, shift_ns, first, inputs.calibration.noise, &all);
+    for (OdometryLink& link : problem.links) link.covariance *= factor;
+    // The moved links' logged odometry (a link without it fails the
+    // re-solve, and the camera is not propagated).
+    if (problem.systematics) {
+      AddOdometrySystematics(inputs, first, /*refine_time_offset=*/false, &all);
+    }
+    const JointAdjustmentResult moved = AdjustJointly(problem, resolve);
+    if (!moved.IsSuccess()) continue;
+    const Eigen::VectorXd change =
+        MountDeviations(result, moved) * (stddev_s / step_s);
+    added += change * change.transpose();
+    ++propagated;
+  }
+  result.mounts_covariance += added;
+  result.covariance = result.mounts_covariance.topLeftCorner<5, 5>();
+  return propagated;
+}
+
+}  // namespace
+
+int RigJointAdjustment::MountOf(int camera) const {
+  const auto it = std::find(cameras.begin(), cameras.end(), camera);
+  return it == cameras.end() ? -1 : static_cast<int>(it - cameras.begin());
+}
+
+RigJointAdjustment AdjustRigJointly(
+    const std::vector<const ColmapCalibrationRun*>& runs,
+    const ColmapCalibrationInputs& inputs,
+    const CalibrationProgress& progress) {
+  RigJointAdjustment out;
+  JointInput all;
+  std::vector<int> mount_of_image;
+  std::string left_out;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const ColmapCalibrationRun* run = runs[k];
+    if (run == nullptr || !ExtrinsicOf(run->check.result) ||
+        run->metric_models.empty()) {
+      continue;
+    }
+    JointInput part;
+    part.problem.odom_from_cam = run->check.result.odom_from_cam;
+    if (const std::string why =
+            AddMetricModels(*run, StampsOfImages(*run), &part);
+        !why.empty()) {
+      left_out += (left_out.empty() ? "" : "; ") + std::string("camera ") +
+                  std::to_string(k) + ": " + why;
+      continue;
+    }
+    const int mount = static_cast<int>(out.cameras.size());
+    if (mount == 0) {
+      all.problem.odom_from_cam = part.problem.odom_from_cam;
+    } else {
+      all.problem.other_mounts.push_back(part.problem.odom_from_cam);
+    }
+    out.cameras.push_back(static_cast<int>(k));
+    Append(part, mount, &all);
+    mount_of_image.resize(all.problem.images.size(), mount);
+  }
+  if (out.cameras.size() < 2) {
+    out.skipped = "fewer than two cameras calibrated with metric models" +
+                  (left_out.empty() ? std::string() : " (" + left_out + ")");
+    return out;
+  }
+  // One chain of links through every image in time order, from the first
+  // camera's odometry and noise model (the odometry is one; each camera's
+  // run holds it at that camera's clock offset, already in the stamps).
+  const ColmapCalibrationRun& first = *runs[out.cameras[0]];
+  std::vector<int> order(all.problem.images.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return all.image_stamps_ns[a] < all.image_stamps_ns[b];
+  });
+  out.num_links_across_cameras =
+      ChainImagesInTime(order,
+                        mount_of_image,
+                        std::vector<int64_t>(out.cameras.size(), 0),
+                        first,
+                        inputs.calibration.noise,
+                        &all);
+  // The odometry's intrinsics refined as one camera's adjustment refines
+  // them, from the first camera's estimate; each camera's clock offset
+  // stays its own estimate (one change common to all would not fit them),
+  // its uncertainty propagated below.
+  AddOdometrySystematics(inputs, first, /*refine_time_offset=*/false, &all);
+  out.num_images = static_cast<int>(all.problem.images.size());
+  out.num_points = static_cast<int>(all.problem.points.size());
+  out.num_links = static_cast<int>(all.problem.links.size());
+
+  JointAdjustmentOptions options = inputs.joint_adjustment.options;
+  options.num_threads =
+      std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (progress) {
+    const auto start = std::chrono::steady_clock::now();
+    options.progress = [&progress,
+                        start](const JointAdjustmentProgress& where) {
+      progress(JointProgressLine(where,
+                                 std::chrono::duration<double>(
+                                     std::chrono::steady_clock::now() - start)
+                                     .count(),
+                                 "rig joint adjustment"));
+    };
+  }
+  out.ran = true;
+  out.result = AdjustJointly(all.problem, options);
+  if (!out.result.IsSuccess()) return out;
+  out.jackknife = JackknifeJointExtrinsic(all.problem,
+                                          options,
+                                          order,
+                                          inputs.joint_adjustment.jackknife,
+                                          &out.result);
+  out.num_clock_offsets_propagated = AddClockOffsetUncertainty(
+      runs, inputs, order, mount_of_image, options, std::move(all), &out);
+  return out;
+}
+
+}  // namespace odomcal

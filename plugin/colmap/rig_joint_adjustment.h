@@ -1,0 +1,68 @@
+// One joint adjustment of a rig's cameras (`--joint_adjustment on` with two
+// or more calibrated cameras): every camera's images, points and extrinsic
+// (a mount of solver/joint_adjustment.h each) with the one odometry, the
+// robot's poses at every camera's image times on one trajectory.
+//
+// Each camera is first calibrated on its own (colmap_rig_calibration.h); its
+// metric models (metres, the odometry's frame) and extrinsic start the
+// adjustment. The cameras are not synchronised in general: the odometry
+// links every image to the next in time, whichever camera took it, so that
+// each stretch of the odometry is one link (links between a camera's own
+// images would count the odometry between them twice). Cameras in models of
+// their own meet through that trajectory; cameras whose images share points
+// meet through them too.
+//
+// Each camera's clock offset stays its own calibration's estimate; its
+// uncertainty, which moves that camera's robot poses along the drive, is
+// propagated into the covariance (a re-solve per camera with its offset
+// moved). After the jackknife, which widens per row.
+//
+// What it adds to the cameras calibrated apart: the cross covariance of the
+// extrinsics (the trajectory's errors are common to all), so that each
+// camera-to-camera transform carries the uncertainty of the rig, not of two
+// independent estimates; and each camera's extrinsic adjusted with the
+// images of all.
+#pragma once
+
+#include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/solver/joint_adjustment.h"
+#include "odomcal/solver/joint_adjustment_jackknife.h"
+
+#include <string>
+#include <vector>
+
+namespace odomcal {
+
+struct RigJointAdjustment {
+  bool ran = false;     // the adjustment was attempted
+  std::string skipped;  // why not (fewer than two calibrated cameras, ...)
+  // Per mount (mount 0 first), the index of its camera among the runs.
+  std::vector<int> cameras;
+  // Success, or why not (result.status, result.message).
+  JointAdjustmentResult result;
+  JointJackknife jackknife;
+  int num_images = 0;
+  int num_points = 0;
+  int num_links = 0;
+  // Links between images of two different cameras.
+  int num_links_across_cameras = 0;
+  // Cameras whose clock offset's uncertainty (held at each camera's own
+  // estimate in the adjustment) was propagated into the covariance.
+  int num_clock_offsets_propagated = 0;
+
+  bool Succeeded() const { return ran && result.IsSuccess(); }
+  // Mount of camera `camera` (index among the runs), or -1.
+  int MountOf(int camera) const;
+};
+
+// `runs`: per camera of the rig, its calibration, or null where it has
+// none; a camera takes part when its calibration succeeded with rotation, x
+// and y estimated and it has metric models. `inputs`: the project's
+// (odometry noise model, joint adjustment settings and limits). `progress`,
+// when set, hears the adjustment's iterations.
+RigJointAdjustment AdjustRigJointly(
+    const std::vector<const ColmapCalibrationRun*>& runs,
+    const ColmapCalibrationInputs& inputs,
+    const CalibrationProgress& progress = {});
+
+}  // namespace odomcal
