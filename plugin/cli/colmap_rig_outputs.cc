@@ -65,7 +65,8 @@ RigReport ColmapRigReport(const ColmapRigRun& rig,
     }
   }
   for (const RigCameraPair& pair : as_rig.pairs) {
-    report.pairs.push_back({pair.camera_a, pair.camera_b, pair.transform});
+    report.pairs.push_back(
+        {pair.camera_a, pair.camera_b, pair.transform, pair.adjusted_together});
   }
   report.shared_scales = rig.shared_scales;
   return report;

@@ -167,8 +167,8 @@ void PairCalibratedCameras(RigCalibrationRun* rig) {
       Eigen::Matrix<double, 6, 6> cross = Eigen::Matrix<double, 6, 6>::Zero();
       if (joint.Succeeded() && mount_a >= 0 && mount_b >= 0) {
         cross.topLeftCorner<5, 5>() =
-            joint.result.mounts_covariance.block<5, 5>(5 * mount_a,
-                                                       5 * mount_b);
+            joint.result.mounts_covariance.block<5, 5>(
+                Eigen::Index{5} * mount_a, Eigen::Index{5} * mount_b);
         pair.adjusted_together = true;
       }
       pair.transform =

@@ -137,7 +137,8 @@ int AddClockOffsetUncertainty(
   const ColmapCalibrationRun& first = *runs[out->cameras[0]];
   const double factor =
       result.odometry_sigma_ratio * result.odometry_sigma_ratio;
-  Eigen::MatrixXd added = Eigen::MatrixXd::Zero(5 * num_mounts, 5 * num_mounts);
+  const Eigen::Index size = Eigen::Index{5} * num_mounts;
+  Eigen::MatrixXd added = Eigen::MatrixXd::Zero(size, size);
   int propagated = 0;
   for (int mount = 0; mount < num_mounts; ++mount) {
     const double stddev_s =

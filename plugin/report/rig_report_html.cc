@@ -433,9 +433,18 @@ std::string RigReportHtml(const RigReport& rig) {
             "Rotation angle: the angle between the two cameras' "
             "orientations; translation: camera A's optical centre in camera "
             "B's frame (x right, y down, z forward), distance its length. "
-            "3-sigma bounds from the two cameras' covariances as independent "
-            "estimates (their shared odometry's errors are not in them); "
-            "heights held: the translation follows from the two held z "
+         << (std::any_of(rig.pairs.begin(),
+                         rig.pairs.end(),
+                         [](const RigReportPair& pair) {
+                           return pair.adjusted_together;
+                         })
+                 ? "3-sigma bounds from the rig's joint adjustment of the "
+                   "cameras together, with their cross terms (the "
+                   "trajectory's errors common to both cancel); "
+                 : "3-sigma bounds from the two cameras' covariances as "
+                   "independent estimates (their shared odometry's errors "
+                   "are not in them); ")
+         << "heights held: the translation follows from the two held z "
             "values along the odometry's z axis, not from a "
             "measurement.</p>\n";
   }

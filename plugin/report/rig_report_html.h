@@ -39,6 +39,8 @@ struct RigReportPair {
   int camera_a = 0;  // indices into RigReport::cameras
   int camera_b = 0;
   CameraPairTransform transform;  // camB_from_camA
+  // From the rig's joint adjustment: the covariance holds the cross terms.
+  bool adjusted_together = false;
 };
 
 struct RigReport {
