@@ -399,6 +399,11 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
   EXPECT_EQ(joint["cameras"], json::array({"front", "rear", "right"}));
   EXPECT_GT(joint["num_links_across_cameras"].get<int>(),
             joint["num_links"].get<int>() / 2);
+  const std::string report = ReadFile(dir_ / "out" / "report.html");
+  EXPECT_NE(report.find("Then adjusted together with the odometry"),
+            std::string::npos);
+  EXPECT_NE(report.find("3-sigma bounds from the rig's joint adjustment"),
+            std::string::npos);
   // 15 camera and 18 pair errors over their sigmas. With honest sigmas
   // about 1 in 10 such runs has one beyond 3 by chance: each within 4, and
   // their root mean square near 1 (an understated sigma shows in it).

@@ -69,6 +69,11 @@ RigReport ColmapRigReport(const ColmapRigRun& rig,
         {pair.camera_a, pair.camera_b, pair.transform, pair.adjusted_together});
   }
   report.shared_scales = rig.shared_scales;
+  if (as_rig.joint.Succeeded()) {
+    for (const int camera : as_rig.joint.cameras) {
+      report.adjusted_together.push_back(as_rig.cameras.at(camera).name);
+    }
+  }
   return report;
 }
 

@@ -397,7 +397,19 @@ std::string RigReportHtml(const RigReport& rig) {
        << " cameras calibrated, each from its own images against the one "
           "odometry. The estimate above is the reference camera's ("
        << EscapeMarkup(rig.cameras[rig.reference].name)
-       << "); each camera's own report has its plots.</p>\n";
+       << "); each camera's own report has its plots.";
+  if (!rig.adjusted_together.empty()) {
+    std::string names;
+    for (const std::string& name : rig.adjusted_together) {
+      names += (names.empty() ? "" : ", ") + EscapeMarkup(name);
+    }
+    html << " Then adjusted together with the odometry (the rig's joint "
+            "adjustment, <code>--joint_adjustment on</code>): "
+         << names
+         << ". Their rotation, x and y below are its; each camera's own "
+            "report keeps its own calibration.";
+  }
+  html << "</p>\n";
   html << "<table class=\"rig-cameras\"><tr><th>camera</th><th>status</th>"
           "<th>roll, pitch, yaw [deg]</th><th>x, y, z [cm]</th>"
           "<th>clock offset [ms]</th><th>metric scale [m/unit]</th>"

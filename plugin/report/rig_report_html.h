@@ -47,6 +47,9 @@ struct RigReport {
   std::vector<RigReportCamera> cameras;
   int reference = 0;
   std::vector<RigReportPair> pairs;  // every two calibrated cameras
+  // The cameras the rig's joint adjustment adjusted together (names); empty
+  // when it did not run or failed.
+  std::vector<std::string> adjusted_together;
   // Indices into `cameras`.
   std::vector<SharedSubModelScale> shared_scales;
 };
