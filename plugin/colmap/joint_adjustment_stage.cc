@@ -220,8 +220,6 @@ MetricSubModel AdjustedMetricModel(const ColmapCalibrationRun& run,
 }
 
 // One progress line.
-}  // namespace
-
 std::string JointProgressLine(const JointAdjustmentProgress& where,
                               double seconds,
                               const std::string& label) {
@@ -234,6 +232,29 @@ std::string JointProgressLine(const JointAdjustmentProgress& where,
   }
   return line + ", iteration " + std::to_string(where.iteration) + ", " +
          FormatPrintf("%.0f s", seconds);
+}
+
+}  // namespace
+
+JointAdjustmentOptions JointOptionsWithProgress(
+    const JointAdjustmentSettings& settings,
+    const CalibrationProgress& progress,
+    const std::string& label) {
+  JointAdjustmentOptions options = settings.options;
+  options.num_threads =
+      std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (progress) {
+    const auto start = std::chrono::steady_clock::now();
+    options.progress = [progress, start, label](
+                           const JointAdjustmentProgress& where) {
+      progress(JointProgressLine(where,
+                                 std::chrono::duration<double>(
+                                     std::chrono::steady_clock::now() - start)
+                                     .count(),
+                                 label));
+    };
+  }
+  return options;
 }
 
 std::string ToString(JointAdjustmentUse use) {
@@ -298,21 +319,8 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   }
   AddOdometryLinks(inputs, *run, &input);
   AddOdometrySystematics(inputs, *run, /*refine_time_offset=*/true, &input);
-  JointAdjustmentOptions options = inputs.joint_adjustment.options;
-  options.num_threads =
-      std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  if (progress) {
-    // Seconds since the stage started (the solver's count restarts with
-    // the jackknife).
-    const auto start = std::chrono::steady_clock::now();
-    options.progress = [&progress,
-                        start](const JointAdjustmentProgress& where) {
-      progress(JointProgressLine(where,
-                                 std::chrono::duration<double>(
-                                     std::chrono::steady_clock::now() - start)
-                                     .count()));
-    };
-  }
+  const JointAdjustmentOptions options = JointOptionsWithProgress(
+      inputs.joint_adjustment, progress, "joint adjustment");
   joint.ran = true;
   joint.num_images = static_cast<int>(input.problem.images.size());
   joint.num_points = static_cast<int>(input.problem.points.size());

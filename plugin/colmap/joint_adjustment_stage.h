@@ -51,10 +51,13 @@ void ApplyJointAdjustment(
     ColmapCalibrationRun* run,
     std::optional<MetricSubModel>* agreeing_model = nullptr);
 
-// "joint adjustment: pass 2, iteration 14, 12 s" (or "jackknife re-solve 3
-// of 8, ..."), with `label` first.
-std::string JointProgressLine(const JointAdjustmentProgress& where,
-                              double seconds,
-                              const std::string& label = "joint adjustment");
+// The settings' adjustment options on every core, with `progress` (when
+// set) hearing "<label>: pass 2, iteration 14, 12 s" (or "jackknife
+// re-solve 3 of 8, ...") after each iteration, seconds counted from this
+// call (the solver's own count restarts with the jackknife).
+JointAdjustmentOptions JointOptionsWithProgress(
+    const JointAdjustmentSettings& settings,
+    const CalibrationProgress& progress,
+    const std::string& label);
 
 }  // namespace odomcal

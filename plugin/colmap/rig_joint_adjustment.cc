@@ -6,12 +6,10 @@
 #include "odomcal/solver/joint_adjustment_jackknife.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <numeric>
-#include <thread>
 #include <utility>
 
 namespace odomcal {
@@ -239,20 +237,8 @@ RigJointAdjustment AdjustRigJointly(
   out.num_points = static_cast<int>(all.problem.points.size());
   out.num_links = static_cast<int>(all.problem.links.size());
 
-  JointAdjustmentOptions options = inputs.joint_adjustment.options;
-  options.num_threads =
-      std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  if (progress) {
-    const auto start = std::chrono::steady_clock::now();
-    options.progress = [&progress,
-                        start](const JointAdjustmentProgress& where) {
-      progress(JointProgressLine(where,
-                                 std::chrono::duration<double>(
-                                     std::chrono::steady_clock::now() - start)
-                                     .count(),
-                                 "rig joint adjustment"));
-    };
-  }
+  const JointAdjustmentOptions options = JointOptionsWithProgress(
+      inputs.joint_adjustment, progress, "rig joint adjustment");
   out.ran = true;
   out.result = AdjustJointly(all.problem, options);
   if (!out.result.IsSuccess()) return out;
