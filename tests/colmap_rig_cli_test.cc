@@ -399,6 +399,8 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
   EXPECT_EQ(joint["cameras"], json::array({"front", "rear", "right"}));
   EXPECT_GT(joint["num_links_across_cameras"].get<int>(),
             joint["num_links"].get<int>() / 2);
+  // Each camera's estimated clock offset, held, enters by its uncertainty.
+  EXPECT_EQ(joint["num_clock_offsets_propagated"], 3);
   const std::string report = ReadFile(dir_ / "out" / "report.html");
   EXPECT_NE(report.find("Then adjusted together with the odometry"),
             std::string::npos);

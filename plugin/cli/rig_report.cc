@@ -111,18 +111,20 @@ json RigJointToJson(const RigCalibrationRun& rig) {
   for (const int camera : joint.cameras) {
     cameras.push_back(rig.cameras.at(camera).name);
   }
-  json out = {{"ran", joint.ran},
-              {"status",
-               joint.ran ? json(ToString(joint.result.status)) : json(nullptr)},
-              {"message", joint.ran ? joint.result.message : joint.skipped},
-              {"cameras", cameras},
-              {"num_images", joint.num_images},
-              {"num_points", joint.num_points},
-              {"num_links", joint.num_links},
-              {"num_links_across_cameras", joint.num_links_across_cameras},
-              {"pixel_sigma", nullptr},
-              {"odometry_sigma_ratio", nullptr},
-              {"jackknife_blocks", nullptr}};
+  json out = {
+      {"ran", joint.ran},
+      {"status",
+       joint.ran ? json(ToString(joint.result.status)) : json(nullptr)},
+      {"message", joint.ran ? joint.result.message : joint.skipped},
+      {"cameras", cameras},
+      {"num_images", joint.num_images},
+      {"num_points", joint.num_points},
+      {"num_links", joint.num_links},
+      {"num_links_across_cameras", joint.num_links_across_cameras},
+      {"num_clock_offsets_propagated", joint.num_clock_offsets_propagated},
+      {"pixel_sigma", nullptr},
+      {"odometry_sigma_ratio", nullptr},
+      {"jackknife_blocks", nullptr}};
   if (joint.Succeeded()) {
     out["pixel_sigma"] = joint.result.pixel_sigma;
     out["odometry_sigma_ratio"] = joint.result.odometry_sigma_ratio;

@@ -94,9 +94,10 @@ int ChainImagesInTime(const std::vector<int>& order,
 // images along the trajectory, and with them the extrinsics of every
 // mount. Propagated to first order: per camera, the adjustment solved
 // again (from its solution, at its noise levels) with that camera's images
-// moved by a few of the offset's standard deviations; the change scaled to
-// one standard deviation, its outer product added to the covariance
-// (offsets independent between cameras). Returns how many it propagated.
+// moved forward and back by a few of the offset's standard deviations; the
+// change scaled to one standard deviation, its outer product added to the
+// covariance (offsets independent between cameras). Returns how many it
+// propagated.
 int AddClockOffsetUncertainty(
     const std::vector<const ColmapCalibrationRun*>& runs,
     const ColmapCalibrationInputs& inputs,
@@ -145,20 +146,32 @@ int AddClockOffsetUncertainty(
     constexpr double kStepSigmas = 3.0;
     constexpr double kMinStepS = 5e-4;
     const double step_s = std::max(kStepSigmas * stddev_s, kMinStepS);
-    std::vector<int64_t> shift_ns(num_mounts, 0);
-    shift_ns[mount] = std::llround(step_s * 1e9);
-    ChainImagesInTime(
-        order, mount_of_image, shift_ns, first, inputs.calibration.noise, &all);
-    for (OdometryLink& link : problem.links) link.covariance *= factor;
-    // The moved links' logged odometry (a link without it fails the
-    // re-solve, and the camera is not propagated).
-    if (problem.systematics) {
-      AddOdometrySystematics(inputs, first, /*refine_time_offset=*/false, &all);
+    // Central differences: the re-solves' own departure from the solution
+    // (held noise levels, no outlier pass) cancels.
+    std::vector<Eigen::VectorXd> moved_by;
+    for (const double sign : {1.0, -1.0}) {
+      std::vector<int64_t> shift_ns(num_mounts, 0);
+      shift_ns[mount] = std::llround(sign * step_s * 1e9);
+      ChainImagesInTime(order,
+                        mount_of_image,
+                        shift_ns,
+                        first,
+                        inputs.calibration.noise,
+                        &all);
+      for (OdometryLink& link : problem.links) link.covariance *= factor;
+      // The moved links' logged odometry (a link without it fails the
+      // re-solve, and the camera is not propagated).
+      if (problem.systematics) {
+        AddOdometrySystematics(
+            inputs, first, /*refine_time_offset=*/false, &all);
+      }
+      const JointAdjustmentResult moved = AdjustJointly(problem, resolve);
+      if (!moved.IsSuccess()) break;
+      moved_by.push_back(MountDeviations(result, moved));
     }
-    const JointAdjustmentResult moved = AdjustJointly(problem, resolve);
-    if (!moved.IsSuccess()) continue;
+    if (moved_by.size() != 2) continue;
     const Eigen::VectorXd change =
-        MountDeviations(result, moved) * (stddev_s / step_s);
+        (moved_by[0] - moved_by[1]) * (0.5 * stddev_s / step_s);
     added += change * change.transpose();
     ++propagated;
   }
