@@ -121,10 +121,12 @@ void AdjustColmapRigJointly(const ColmapCalibrationInputs& inputs,
                             ColmapRigRun* rig) {
   if (inputs.joint_adjustment.use != JointAdjustmentUse::kOn) return;
   std::vector<const ColmapCalibrationRun*> runs;
+  std::vector<std::string> names;
   for (const ColmapRigCameraRun& camera : rig->cameras) {
     runs.push_back(camera.run ? &*camera.run : nullptr);
+    names.push_back(camera.camera.name);
   }
-  rig->joint = AdjustRigJointly(runs, inputs, progress);
+  rig->joint = AdjustRigJointly(runs, names, inputs, progress);
 }
 
 std::vector<std::string> SharedScaleWarnings(const ColmapRigRun& rig) {

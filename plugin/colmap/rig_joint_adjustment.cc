@@ -189,6 +189,7 @@ int RigJointAdjustment::MountOf(int camera) const {
 
 RigJointAdjustment AdjustRigJointly(
     const std::vector<const ColmapCalibrationRun*>& runs,
+    const std::vector<std::string>& names,
     const ColmapCalibrationInputs& inputs,
     const CalibrationProgress& progress) {
   RigJointAdjustment out;
@@ -201,13 +202,21 @@ RigJointAdjustment AdjustRigJointly(
         run->metric_models.empty()) {
       continue;
     }
+    if (run->check.result.observability.translation_z_source ==
+        TranslationZSource::kMotion) {
+      // As one camera's adjustment: planar robot poses cannot follow the
+      // tilts that determined z.
+      left_out += (left_out.empty() ? "" : "; ") + names.at(k) +
+                  ": it models planar motion, and the SE(3) odometry's tilts "
+                  "determine z here";
+      continue;
+    }
     JointInput part;
     part.problem.odom_from_cam = run->check.result.odom_from_cam;
     if (const std::string why =
             AddMetricModels(*run, StampsOfImages(*run), &part);
         !why.empty()) {
-      left_out += (left_out.empty() ? "" : "; ") + std::string("camera ") +
-                  std::to_string(k) + ": " + why;
+      left_out += (left_out.empty() ? "" : "; ") + names.at(k) + ": " + why;
       continue;
     }
     const int mount = static_cast<int>(out.cameras.size());

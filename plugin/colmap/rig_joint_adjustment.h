@@ -55,13 +55,16 @@ struct RigJointAdjustment {
   int MountOf(int camera) const;
 };
 
-// `runs`: per camera of the rig, its calibration, or null where it has
+// `runs`: per camera of the rig (`names`: theirs, for the messages), its
+// calibration, or null where it has
 // none; a camera takes part when its calibration succeeded with rotation, x
-// and y estimated and it has metric models. `inputs`: the project's
-// (odometry noise model, joint adjustment settings and limits). `progress`,
-// when set, hears the adjustment's iterations.
+// and y estimated and it has metric models, unless SE(3) odometry's tilts
+// determined its z (the adjustment models planar motion). `inputs`: the
+// project's (odometry noise model, joint adjustment settings and limits).
+// `progress`, when set, hears the adjustment's iterations.
 RigJointAdjustment AdjustRigJointly(
     const std::vector<const ColmapCalibrationRun*>& runs,
+    const std::vector<std::string>& names,
     const ColmapCalibrationInputs& inputs,
     const CalibrationProgress& progress = {});
 
