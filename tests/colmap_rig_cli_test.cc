@@ -399,6 +399,9 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
   EXPECT_EQ(joint["cameras"], json::array({"front", "rear", "right"}));
   EXPECT_GT(joint["num_links_across_cameras"].get<int>(),
             joint["num_links"].get<int>() / 2);
+  // The project's points seen by several cameras are one point each.
+  EXPECT_GT(joint["num_points_across_cameras"].get<int>(), 0);
+  EXPECT_NE(out.find("seen by several cameras"), std::string::npos) << out;
   // Each camera's estimated clock offset, held, enters by its uncertainty.
   EXPECT_EQ(joint["num_clock_offsets_propagated"], 3);
   const std::string report = ReadFile(dir_ / "out" / "report.html");

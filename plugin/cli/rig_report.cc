@@ -119,6 +119,7 @@ json RigJointToJson(const RigCalibrationRun& rig) {
       {"cameras", cameras},
       {"num_images", joint.num_images},
       {"num_points", joint.num_points},
+      {"num_points_across_cameras", joint.num_points_across_cameras},
       {"num_links", joint.num_links},
       {"num_links_across_cameras", joint.num_links_across_cameras},
       {"num_clock_offsets_propagated", joint.num_clock_offsets_propagated},
@@ -273,8 +274,9 @@ std::string RigCalibrationSummary(const RigCalibrationRun& rig) {
     }
     out << "  rig joint adjustment: " << names << " adjusted together ("
         << rig.joint.num_images << " images, " << rig.joint.num_points
-        << " points, " << rig.joint.num_links << " odometry links, "
-        << rig.joint.num_links_across_cameras
+        << " points (" << rig.joint.num_points_across_cameras
+        << " seen by several cameras), " << rig.joint.num_links
+        << " odometry links, " << rig.joint.num_links_across_cameras
         << Printf(" across cameras; reprojection rms %.2f px",
                   rig.joint.result.reprojection_rms_px_after)
         << "): their rotation and x/y are its, and the transforms between "

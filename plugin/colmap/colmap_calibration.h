@@ -27,10 +27,13 @@
 #include "odomcal/solver/similarity_alignment.h"
 #include "odomcal/solver/stretch_consistency.h"
 
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace odomcal {
@@ -65,6 +68,10 @@ struct ColmapCalibrationInputs {
   void Check() const;
 };
 
+// A point of a COLMAP reconstruction: its model folder and point3D id, the
+// same for every camera whose images see it.
+using ReconstructionPoint = std::pair<std::string, int64_t>;
+
 // One sub-model in metres in the odometry's origin frame.
 struct MetricSubModel {
   // Folder name: the sub-model's ("0", "1", ...), or "<sub-model>_<part>"
@@ -75,6 +82,10 @@ struct MetricSubModel {
   // joint adjustment's model, whose every pose and point was adjusted.
   std::optional<Sim3d> origin_from_sfm;
   ColmapModel model;  // transformed copy
+  // The joint adjustment's model numbers its points anew: per point3D id,
+  // the reconstruction's point it is. Empty for a transformed copy, whose
+  // ids are the reconstruction's.
+  std::map<int64_t, ReconstructionPoint> reconstruction_points;
 };
 
 struct ColmapCalibrationRun {

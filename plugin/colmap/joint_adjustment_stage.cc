@@ -146,11 +146,14 @@ void CompareScales(const ColmapCalibrationRun& run,
 }
 
 // The adjusted model as one COLMAP model: cameras numbered from 1 in the
-// problem's order, images likewise, points numbered from 1; an observation
-// the adjustment did not use is no longer a point's, a point seen in fewer
-// than two images is left out.
-ColmapModel AdjustedModel(const JointInput& input,
-                          const JointAdjustmentResult& result) {
+// problem's order, images likewise, points numbered from 1 (the
+// reconstruction's point each one is into *reconstruction_points); an
+// observation the adjustment did not use is no longer a point's, a point seen
+// in fewer than two images is left out.
+ColmapModel AdjustedModel(
+    const JointInput& input,
+    const JointAdjustmentResult& result,
+    std::map<int64_t, ReconstructionPoint>* reconstruction_points) {
   ColmapModel model;
   for (size_t c = 0; c < input.source_cameras.size(); ++c) {
     ColmapCamera camera = *input.source_cameras[c];
@@ -198,6 +201,9 @@ ColmapModel AdjustedModel(const JointInput& input,
       }
       continue;
     }
+    if (input.reconstruction_points[p]) {
+      reconstruction_points->emplace(next_id, *input.reconstruction_points[p]);
+    }
     point.point3D_id = next_id++;
     point.xyz = result.points[p];
     point.rgb = input.source_points[p]->rgb;
@@ -215,7 +221,8 @@ MetricSubModel AdjustedMetricModel(const ColmapCalibrationRun& run,
   MetricSubModel adjusted;
   adjusted.name = "0";
   adjusted.output_segment = run.metric_models.front().output_segment;
-  adjusted.model = AdjustedModel(input, result);
+  adjusted.model =
+      AdjustedModel(input, result, &adjusted.reconstruction_points);
   return adjusted;
 }
 

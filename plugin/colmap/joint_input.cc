@@ -10,6 +10,7 @@
 #include "odomcal/solver/noise_estimation.h"
 
 #include <algorithm>
+#include <memory>
 #include <set>
 #include <utility>
 
@@ -43,6 +44,21 @@ Eigen::Matrix3d PlanarCovariance(const MotionCovariance& covariance) {
     }
   }
   return planar;
+}
+
+// The reconstruction's point that point `id` of `metric` (from input
+// segment k) is, where known.
+std::optional<ReconstructionPoint> ReconstructionPointOf(
+    const ColmapCalibrationRun& run,
+    const MetricSubModel& metric,
+    int k,
+    int64_t id) {
+  if (metric.origin_from_sfm) {
+    return ReconstructionPoint(run.segments.at(k).model_path, id);
+  }
+  const auto point = metric.reconstruction_points.find(id);
+  if (point == metric.reconstruction_points.end()) return std::nullopt;
+  return point->second;
 }
 
 }  // namespace
@@ -150,6 +166,8 @@ std::string AddMetricModels(
         if (new_point) {
           problem.points.push_back(point->second.xyz);
           input->source_points.push_back(&point->second);
+          input->reconstruction_points.push_back(
+              ReconstructionPointOf(run, metric, k, point2D.point3D_id));
         }
         problem.observations.push_back({i, point_where->second, point2D.xy});
         input->observation_point2D.push_back(static_cast<uint32_t>(idx));
@@ -232,10 +250,13 @@ void AddOdometrySystematics(const ColmapCalibrationInputs& inputs,
                    estimate.intrinsics_estimated[1] ||
                    estimate.intrinsics_estimated[2];
   if (!any || !run.odometry.planar) return;
-  const Trajectory logged = ReadOdometryOf(inputs);
-  if (!logged.planar) return;
+  if (!input->logged_odometry) {
+    input->logged_odometry =
+        std::make_shared<const Trajectory>(ReadOdometryOf(inputs));
+  }
+  if (!input->logged_odometry->planar) return;
   MotionPairs pairs = input->link_pairs;
-  AttachOdometrySamples(logged, &pairs);
+  AttachOdometrySamples(*input->logged_odometry, &pairs);
   for (size_t k = 0; k < pairs.size(); ++k) {
     if (!pairs[k].odometry_samples) return;
     input->problem.links[k].samples = pairs[k].odometry_samples;

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,11 +25,17 @@ struct JointInput {
   std::vector<const ColmapImage*> source_images;
   std::vector<const ColmapCamera*> source_cameras;
   std::vector<const ColmapPoint3D*> source_points;
+  // Per point, the reconstruction's point it is (whichever camera's
+  // calibration it came through), or none where that is not known.
+  std::vector<std::optional<ReconstructionPoint>> reconstruction_points;
   std::vector<uint32_t> observation_point2D;  // index into the image's list
   // Per link, the motion pair it was made from (stamps on the odometry's
   // clock), for attaching the logged odometry.
   MotionPairs link_pairs;
   int num_joining_links = 0;
+  // The odometry as logged, read once by AddOdometrySystematics and kept
+  // for the problems built again from this input.
+  std::shared_ptr<const Trajectory> logged_odometry;
 };
 
 // The odometry's planar motion between two image times (odometry clock) as
@@ -69,7 +76,8 @@ void AddOdometryLinks(const ColmapCalibrationInputs& inputs,
 // estimated them (its intrinsics, and its clock offset when
 // `refine_time_offset`), from the logged odometry (before its intrinsics
 // correction) between each link's images: a planar log only. Call after
-// the links are added (input->link_pairs).
+// the links are added (input->link_pairs). Reads the log into
+// input->logged_odometry unless it holds it.
 void AddOdometrySystematics(const ColmapCalibrationInputs& inputs,
                             const ColmapCalibrationRun& run,
                             bool refine_time_offset,

@@ -27,13 +27,25 @@ std::map<std::string, int64_t> StampsOfImages(const ColmapCalibrationRun& run) {
   return stamps;
 }
 
+// The points of `all` by the reconstruction's point they are, and per
+// point of `all` the number of observations of the camera whose estimate of
+// it starts the adjustment.
+struct SharedPoints {
+  std::map<ReconstructionPoint, int> index;
+  std::vector<int> observations;
+};
+
 // `part` appended to `all` as mount `mount`: its images, cameras, points
 // and observations re-indexed (its links are not taken: see the header).
-void Append(const JointInput& part, int mount, JointInput* all) {
+// A point `all` already holds from another camera of the same
+// reconstruction stays one point, seen by both cameras' images.
+void Append(const JointInput& part,
+            int mount,
+            SharedPoints* points,
+            JointInput* all) {
   JointAdjustmentProblem& problem = all->problem;
   const int image_offset = static_cast<int>(problem.images.size());
   const int camera_offset = static_cast<int>(problem.cameras.size());
-  const int point_offset = static_cast<int>(problem.points.size());
   for (JointImage image : part.problem.images) {
     image.camera += camera_offset;
     image.mount = mount;
@@ -42,12 +54,31 @@ void Append(const JointInput& part, int mount, JointInput* all) {
   problem.cameras.insert(problem.cameras.end(),
                          part.problem.cameras.begin(),
                          part.problem.cameras.end());
-  problem.points.insert(problem.points.end(),
-                        part.problem.points.begin(),
-                        part.problem.points.end());
+  // A point shared with another camera starts at the estimate of the camera
+  // that saw it in more images (one camera's estimate of a point it sees
+  // nearly along its rays can lie far off).
+  std::vector<int> observations(part.problem.points.size(), 0);
+  for (const JointObservation& observation : part.problem.observations) {
+    ++observations[observation.point];
+  }
+  std::vector<int> point_of(part.problem.points.size());
+  for (size_t p = 0; p < part.problem.points.size(); ++p) {
+    const int next = static_cast<int>(problem.points.size());
+    const std::optional<ReconstructionPoint>& key =
+        part.reconstruction_points.at(p);
+    point_of[p] = key ? points->index.emplace(*key, next).first->second : next;
+    if (point_of[p] == next) {
+      problem.points.push_back(part.problem.points[p]);
+      all->reconstruction_points.push_back(key);
+      points->observations.push_back(observations[p]);
+    } else if (observations[p] > points->observations[point_of[p]]) {
+      problem.points[point_of[p]] = part.problem.points[p];
+      points->observations[point_of[p]] = observations[p];
+    }
+  }
   for (JointObservation observation : part.problem.observations) {
     observation.image += image_offset;
-    observation.point += point_offset;
+    observation.point = point_of[observation.point];
     problem.observations.push_back(observation);
   }
   all->image_names.insert(
@@ -55,6 +86,22 @@ void Append(const JointInput& part, int mount, JointInput* all) {
   all->image_stamps_ns.insert(all->image_stamps_ns.end(),
                               part.image_stamps_ns.begin(),
                               part.image_stamps_ns.end());
+}
+
+// Points observed by images of two or more mounts.
+int PointsAcrossMounts(const JointAdjustmentProblem& problem) {
+  std::vector<int> first_mount(problem.points.size(), -1);
+  std::vector<char> across(problem.points.size(), 0);
+  for (const JointObservation& observation : problem.observations) {
+    const int mount = problem.images[observation.image].mount;
+    int& first = first_mount[observation.point];
+    if (first < 0) {
+      first = mount;
+    } else if (first != mount) {
+      across[observation.point] = 1;
+    }
+  }
+  return static_cast<int>(std::count(across.begin(), across.end(), 1));
 }
 
 // One link per stretch between consecutive images in `order` (time order),
@@ -194,6 +241,7 @@ RigJointAdjustment AdjustRigJointly(
     const CalibrationProgress& progress) {
   RigJointAdjustment out;
   JointInput all;
+  SharedPoints points;
   std::vector<int> mount_of_image;
   std::string left_out;
   for (size_t k = 0; k < runs.size(); ++k) {
@@ -226,7 +274,7 @@ RigJointAdjustment AdjustRigJointly(
       all.problem.other_mounts.push_back(part.problem.odom_from_cam);
     }
     out.cameras.push_back(static_cast<int>(k));
-    Append(part, mount, &all);
+    Append(part, mount, &points, &all);
     mount_of_image.resize(all.problem.images.size(), mount);
   }
   if (out.cameras.size() < 2) {
@@ -257,6 +305,7 @@ RigJointAdjustment AdjustRigJointly(
   AddOdometrySystematics(inputs, first, /*refine_time_offset=*/false, &all);
   out.num_images = static_cast<int>(all.problem.images.size());
   out.num_points = static_cast<int>(all.problem.points.size());
+  out.num_points_across_cameras = PointsAcrossMounts(all.problem);
   out.num_links = static_cast<int>(all.problem.links.size());
 
   const JointAdjustmentOptions options = JointOptionsWithProgress(

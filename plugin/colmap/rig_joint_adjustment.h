@@ -10,7 +10,9 @@
 // each stretch of the odometry is one link (links between a camera's own
 // images would count the odometry between them twice). Cameras in models of
 // their own meet through that trajectory; cameras whose images share points
-// meet through them too.
+// of one reconstruction (a COLMAP project of several cameras: one point3D
+// id in one model folder) meet through them too: each such point is one
+// point of the adjustment, seen by every camera's images that observe it.
 //
 // Each camera's clock offset stays its own calibration's estimate; its
 // uncertainty, which moves that camera's robot poses along the drive, is
@@ -43,6 +45,8 @@ struct RigJointAdjustment {
   JointJackknife jackknife;
   int num_images = 0;
   int num_points = 0;
+  // Points observed by images of two or more cameras.
+  int num_points_across_cameras = 0;
   int num_links = 0;
   // Links between images of two different cameras.
   int num_links_across_cameras = 0;
