@@ -407,6 +407,9 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
   const std::string report = ReadFile(dir_ / "out" / "report.html");
   EXPECT_NE(report.find("Then adjusted together with the odometry"),
             std::string::npos);
+  EXPECT_NE(report.find("points of the reconstruction are seen by several "
+                        "cameras' images"),
+            std::string::npos);
   EXPECT_NE(report.find("3-sigma bounds from the rig's joint adjustment"),
             std::string::npos);
   // 15 camera and 18 pair errors over their sigmas. With honest sigmas

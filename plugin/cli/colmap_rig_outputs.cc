@@ -73,6 +73,7 @@ RigReport ColmapRigReport(const ColmapRigRun& rig,
     for (const int camera : as_rig.joint.cameras) {
       report.adjusted_together.push_back(as_rig.cameras.at(camera).name);
     }
+    report.num_points_across_cameras = as_rig.joint.num_points_across_cameras;
   }
   return report;
 }

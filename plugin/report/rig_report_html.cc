@@ -408,6 +408,12 @@ std::string RigReportHtml(const RigReport& rig) {
          << names
          << ". Their rotation, x and y below are its; each camera's own "
             "report keeps its own calibration.";
+    if (rig.num_points_across_cameras > 0) {
+      html << " " << rig.num_points_across_cameras
+           << " points of the reconstruction are seen by several cameras' "
+              "images: one point each, which ties those cameras together "
+              "directly.";
+    }
   }
   html << "</p>\n";
   html << "<table class=\"rig-cameras\"><tr><th>camera</th><th>status</th>"

@@ -50,6 +50,9 @@ struct RigReport {
   // The cameras the rig's joint adjustment adjusted together (names); empty
   // when it did not run or failed.
   std::vector<std::string> adjusted_together;
+  // Points of one COLMAP model that the adjustment's images of two or more
+  // cameras see (one point each).
+  int num_points_across_cameras = 0;
   // Indices into `cameras`.
   std::vector<SharedSubModelScale> shared_scales;
 };
