@@ -47,7 +47,7 @@ if [ ! -d "$ws/sparse/0" ]; then
 fi
 
 for use in check on; do
-  out=$ws/odomcal_$use
+  out=$data.odomcal_$use
   start=$(date +%s.%N)
   "$odomcal" colmap --model_path "$ws/sparse" --database_path "$ws/database.db" \
     --odometry "$data/odometry.csv" --image_timestamps "$data/image_timestamps.csv" \
