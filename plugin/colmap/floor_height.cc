@@ -1,6 +1,7 @@
 #include "odomcal/plugin/colmap/floor_height.h"
 
 #include "odomcal/solver/floor_translation_z.h"
+#include "odomcal/solver/format_number.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +23,29 @@ double FocalLengthPx(const ColmapCamera& camera) {
     return std::max<double>(camera.width, camera.height);
   }
   return 0.5 * (camera.params[indices->fx] + camera.params[indices->fy]);
+}
+
+// fx / fy of the models' camera furthest from square pixels (1 where every
+// camera has one focal length).
+double PixelAspectFurthestFromOne(const std::vector<MetricSubModel>& models) {
+  double furthest = 1.0;
+  for (const MetricSubModel& metric : models) {
+    for (const auto& [id, camera] : metric.model.cameras) {
+      const auto indices = ColmapCameraModelPinholeIndices(camera.model);
+      if (!indices || indices->fx == indices->fy ||
+          camera.params.size() <=
+              static_cast<size_t>(std::max(indices->fx, indices->fy))) {
+        continue;
+      }
+      const double aspect =
+          camera.params[indices->fx] / camera.params[indices->fy];
+      if (std::isfinite(aspect) && aspect > 0.0 &&
+          std::abs(aspect - 1.0) > std::abs(furthest - 1.0)) {
+        furthest = aspect;
+      }
+    }
+  }
+  return furthest;
 }
 
 }  // namespace
@@ -136,6 +160,27 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
           joint_floor.camera_height_m - floor.camera_height_m;
       floor.camera_height_stddev_m = std::hypot(
           floor.camera_height_stddev_m, floor.camera_height_model_difference_m);
+    }
+  }
+  floor.pixel_aspect = PixelAspectFurthestFromOne(run->metric_models);
+  if (floor.Fitted() && floor.pixel_aspect != 1.0) {
+    floor.camera_height_pixel_aspect_m =
+        std::abs(floor.pixel_aspect - 1.0) * floor.camera_height_m;
+    const double own = floor.camera_height_stddev_m;
+    floor.camera_height_stddev_m =
+        std::hypot(own, floor.camera_height_pixel_aspect_m);
+    if (floor.camera_height_pixel_aspect_m > own) {
+      result.warnings.push_back(
+          "floor plane: the model's camera has fx / fy = " +
+          FormatPrintf("%.4f", floor.pixel_aspect) +
+          ", and motion in a plane does not fix the focal length along its "
+          "normal apart from the one across it: the camera height from the "
+          "floor is uncertain by " +
+          FormatPrintf("%.1f mm", 1000.0 * floor.camera_height_pixel_aspect_m) +
+          " more than its own " + FormatPrintf("%.1f mm", 1000.0 * own) +
+          ". Give the camera's intrinsics and keep them fixed in the bundle "
+          "adjustment (COLMAP: --Mapper.ba_refine_focal_length 0), or map "
+          "with a camera model of one focal length");
     }
   }
   const double held_z = result.odom_from_cam.translation.z();

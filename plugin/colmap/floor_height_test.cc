@@ -106,6 +106,41 @@ TEST(FloorHeight, ZFromTheFloorWithoutASecondModel) {
   EXPECT_LT(result.stddev_translation_z_m, 5e-4);
 }
 
+// A COLMAP bundle adjustment that moved fy 18 % from fx (planar motion
+// does not fix it) stretched the model's vertical: the height's sigma holds
+// that stretch, so z is not set from the floor (0.07 m > 0.05 m), and a
+// warning names the aspect; square pixels add nothing.
+TEST(FloorHeight, AModelWithUnequalFocalLengthsWidensTheHeight) {
+  ColmapCalibrationRun square = CalibratedRun(ForwardCamera());
+  ApplyFloorPlane(FloorPlaneOptions(), 0.05, {}, nullptr, &square);
+  ASSERT_TRUE(square.check.result.floor_plane->Fitted());
+  EXPECT_EQ(square.check.result.floor_plane->camera_height_pixel_aspect_m, 0.0);
+  EXPECT_EQ(square.check.result.floor_plane->pixel_aspect, 1.0);
+
+  ColmapCalibrationRun run = CalibratedRun(ForwardCamera());
+  run.metric_models[0].model.cameras.at(1).params = {
+      260.0, 220.0, 160.0, 120.0};
+  ApplyFloorPlane(FloorPlaneOptions(), 0.05, {}, nullptr, &run);
+  const CalibrationResult& result = run.check.result;
+  ASSERT_TRUE(result.floor_plane.has_value());
+  const FloorPlane& floor = *result.floor_plane;
+  ASSERT_TRUE(floor.Fitted()) << floor.reason;
+  EXPECT_NEAR(floor.pixel_aspect, 260.0 / 220.0, 1e-12);
+  EXPECT_NEAR(floor.camera_height_pixel_aspect_m,
+              (260.0 / 220.0 - 1.0) * floor.camera_height_m,
+              1e-12);
+  EXPECT_GE(floor.camera_height_stddev_m, floor.camera_height_pixel_aspect_m);
+  EXPECT_EQ(result.odom_from_cam.translation.z(), 0.0);  // held
+  EXPECT_NE(result.floor_z_held_reason.find("--max_translation_stddev_m"),
+            std::string::npos)
+      << result.floor_z_held_reason;
+  bool named = false;
+  for (const std::string& warning : result.warnings) {
+    named = named || warning.find("fx / fy = 1.1818") != std::string::npos;
+  }
+  EXPECT_TRUE(named);
+}
+
 TEST(FloorHeight, TheAgreeingModelsOtherHeightWidensZ) {
   const Rigid3d odom_from_cam = ForwardCamera();
   ColmapCalibrationRun run = CalibratedRun(odom_from_cam);

@@ -52,6 +52,8 @@ json FloorPlaneToJson(const CalibrationResult& result) {
       std::isfinite(f.camera_height_model_difference_m)
           ? json(f.camera_height_model_difference_m)
           : json(nullptr);
+  out["camera_height_pixel_aspect_m"] = f.camera_height_pixel_aspect_m;
+  out["pixel_aspect"] = f.pixel_aspect;
   out["odometry_height_m"] = f.odometry_height_m;
   out["floor_roll_deg"] = f.floor_roll_deg;
   out["floor_pitch_deg"] = f.floor_pitch_deg;
@@ -87,6 +89,12 @@ std::string FloorPlaneSummary(const CalibrationResult& result) {
         << " on the joint adjustment's model; the height's sigma, "
         << FormatPrintf("%.1f mm", 1000.0 * f.camera_height_stddev_m)
         << ", includes the difference)";
+  }
+  if (f.camera_height_pixel_aspect_m > 0.0) {
+    out << " (fx / fy " << FormatPrintf("%.4f", f.pixel_aspect)
+        << ": the height's sigma includes "
+        << FormatPrintf("%.1f mm", 1000.0 * f.camera_height_pixel_aspect_m)
+        << " for it)";
   }
   out << "\n";
   out << "  floor roll/pitch " << FormatPrintf("%.3f", f.floor_roll_deg)
