@@ -165,14 +165,15 @@ struct FloorPlane {
   double camera_height_model_difference_m =
       std::numeric_limits<double>::quiet_NaN();
   // Set by the caller whose model's cameras have two focal lengths: the
-  // camera height times the largest |fx / fy - 1| among them. Motion in a
-  // plane fixes the focal length across it (fx of a level camera) but not
-  // the one along its normal: a bundle adjustment that moved fy away from
-  // fx stretched the model's vertical, and the camera height with it, by
-  // about fy / fx. camera_height_stddev_m then includes its square. 0: one
-  // focal length, or square pixels.
+  // camera height times |pixel_aspect_change - 1|. Motion in a plane fixes
+  // the focal length across it (fx of a level camera) but not the one along
+  // its normal: a bundle adjustment that moved fy against fx stretched the
+  // model's vertical, and the camera height with it, by about that change.
+  // camera_height_stddev_m then includes its square. 0: no change.
   double camera_height_pixel_aspect_m = 0.0;
-  double pixel_aspect = 1.0;  // fx / fy of the camera furthest from 1
+  // fx / fy of the model's camera over its value before the bundle
+  // adjustment (the database's, else square pixels), furthest from 1.
+  double pixel_aspect_change = 1.0;
   // Per segment: d camera_height_m / d metric_scale (metres per (metre per
   // unit)): the height in reconstruction units times the segment's share of
   // the cameras.

@@ -259,6 +259,15 @@ ColmapCalibrationRun CalibrateColmapProject(
                            inputs.camera_ids.count(image.camera_id) != 0;
       run.num_database_images += counted ? 1 : 0;
     }
+    for (const ColmapDatabaseCamera& row :
+         ReadColmapDatabaseCameras(inputs.database_path)) {
+      const ColmapCamera& camera = row.camera;
+      const auto indices = ColmapCameraModelPinholeIndices(camera.model);
+      if (indices && indices->fx != indices->fy) {
+        run.database_pixel_aspects[camera.camera_id] =
+            camera.params.at(indices->fx) / camera.params.at(indices->fy);
+      }
+    }
   }
   run.odometry = ReadOdometryOf(inputs);
   CheckOdometrySpeed(run.odometry);

@@ -92,7 +92,10 @@ struct ColmapCalibrationRun {
   std::vector<ColmapSegment> segments;  // one per sub-model, but for:
   std::vector<DuplicateSegment> duplicate_segments;  // left out
   Trajectory odometry;
-  int num_database_images = -1;   // -1: no database given
+  int num_database_images = -1;  // -1: no database given
+  // fx / fy of the database's cameras of two focal lengths, by camera id:
+  // the intrinsics before COLMAP's bundle adjustment (the floor compares).
+  std::map<uint32_t, double> database_pixel_aspects;
   AssociationResult association;  // the motion pairs and their counts
   StretchCheckResult check;       // result, pairs used, stretches
   std::vector<MetricSubModel> metric_models;

@@ -25,9 +25,18 @@ double FocalLengthPx(const ColmapCamera& camera) {
   return 0.5 * (camera.params[indices->fx] + camera.params[indices->fy]);
 }
 
-// fx / fy of the models' camera furthest from square pixels (1 where every
-// camera has one focal length).
-double PixelAspectFurthestFromOne(const std::vector<MetricSubModel>& models) {
+// Among the models' cameras of two focal lengths, the fx / fy furthest from
+// its value before the bundle adjustment, over that value: the database's
+// camera of the same id, else the one value every database camera has, else
+// square pixels (1). 1 where no camera has two focal lengths.
+double PixelAspectChange(const std::vector<MetricSubModel>& models,
+                         const std::map<uint32_t, double>& database_aspects) {
+  // The one value of every database camera, else square pixels.
+  double common =
+      database_aspects.empty() ? 1.0 : database_aspects.begin()->second;
+  for (const auto& [id, aspect] : database_aspects) {
+    if (aspect != common) common = 1.0;
+  }
   double furthest = 1.0;
   for (const MetricSubModel& metric : models) {
     for (const auto& [id, camera] : metric.model.cameras) {
@@ -37,11 +46,18 @@ double PixelAspectFurthestFromOne(const std::vector<MetricSubModel>& models) {
               static_cast<size_t>(std::max(indices->fx, indices->fy))) {
         continue;
       }
-      const double aspect =
-          camera.params[indices->fx] / camera.params[indices->fy];
-      if (std::isfinite(aspect) && aspect > 0.0 &&
-          std::abs(aspect - 1.0) > std::abs(furthest - 1.0)) {
-        furthest = aspect;
+      const auto given = database_aspects.find(id);
+      // The joint adjustment's model numbers its cameras anew: only the
+      // common value is theirs for sure.
+      const double before =
+          metric.origin_from_sfm && given != database_aspects.end()
+              ? given->second
+              : common;
+      const double change =
+          camera.params[indices->fx] / camera.params[indices->fy] / before;
+      if (std::isfinite(change) && change > 0.0 &&
+          std::abs(change - 1.0) > std::abs(furthest - 1.0)) {
+        furthest = change;
       }
     }
   }
@@ -162,18 +178,20 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
           floor.camera_height_stddev_m, floor.camera_height_model_difference_m);
     }
   }
-  floor.pixel_aspect = PixelAspectFurthestFromOne(run->metric_models);
-  if (floor.Fitted() && floor.pixel_aspect != 1.0) {
+  floor.pixel_aspect_change =
+      PixelAspectChange(run->metric_models, run->database_pixel_aspects);
+  if (floor.Fitted() && floor.pixel_aspect_change != 1.0) {
     floor.camera_height_pixel_aspect_m =
-        std::abs(floor.pixel_aspect - 1.0) * floor.camera_height_m;
+        std::abs(floor.pixel_aspect_change - 1.0) * floor.camera_height_m;
     const double own = floor.camera_height_stddev_m;
     floor.camera_height_stddev_m =
         std::hypot(own, floor.camera_height_pixel_aspect_m);
     if (floor.camera_height_pixel_aspect_m > own) {
       result.warnings.push_back(
-          "floor plane: the model's camera has fx / fy = " +
-          FormatPrintf("%.4f", floor.pixel_aspect) +
-          ", and motion in a plane does not fix the focal length along its "
+          "floor plane: the model's camera has fx / fy " +
+          FormatPrintf("%.4f", floor.pixel_aspect_change) +
+          " times its value before the bundle adjustment (or square pixels), "
+          "and motion in a plane does not fix the focal length along its "
           "normal apart from the one across it: the camera height from the "
           "floor is uncertain by " +
           FormatPrintf("%.1f mm", 1000.0 * floor.camera_height_pixel_aspect_m) +

@@ -107,15 +107,16 @@ TEST(FloorHeight, ZFromTheFloorWithoutASecondModel) {
 }
 
 // A COLMAP bundle adjustment that moved fy 18 % from fx (planar motion
-// does not fix it) stretched the model's vertical: the height's sigma holds
-// that stretch, so z is not set from the floor (0.07 m > 0.05 m), and a
-// warning names the aspect; square pixels add nothing.
+// does not fix it; no database: square pixels before) stretched the model's
+// vertical: the height's sigma holds that stretch, so z is not set from the
+// floor (0.07 m > 0.05 m), and a warning names the aspect; square pixels add
+// nothing.
 TEST(FloorHeight, AModelWithUnequalFocalLengthsWidensTheHeight) {
   ColmapCalibrationRun square = CalibratedRun(ForwardCamera());
   ApplyFloorPlane(FloorPlaneOptions(), 0.05, {}, nullptr, &square);
   ASSERT_TRUE(square.check.result.floor_plane->Fitted());
   EXPECT_EQ(square.check.result.floor_plane->camera_height_pixel_aspect_m, 0.0);
-  EXPECT_EQ(square.check.result.floor_plane->pixel_aspect, 1.0);
+  EXPECT_EQ(square.check.result.floor_plane->pixel_aspect_change, 1.0);
 
   ColmapCalibrationRun run = CalibratedRun(ForwardCamera());
   run.metric_models[0].model.cameras.at(1).params = {
@@ -125,7 +126,7 @@ TEST(FloorHeight, AModelWithUnequalFocalLengthsWidensTheHeight) {
   ASSERT_TRUE(result.floor_plane.has_value());
   const FloorPlane& floor = *result.floor_plane;
   ASSERT_TRUE(floor.Fitted()) << floor.reason;
-  EXPECT_NEAR(floor.pixel_aspect, 260.0 / 220.0, 1e-12);
+  EXPECT_NEAR(floor.pixel_aspect_change, 260.0 / 220.0, 1e-12);
   EXPECT_NEAR(floor.camera_height_pixel_aspect_m,
               (260.0 / 220.0 - 1.0) * floor.camera_height_m,
               1e-12);
@@ -136,9 +137,26 @@ TEST(FloorHeight, AModelWithUnequalFocalLengthsWidensTheHeight) {
       << result.floor_z_held_reason;
   bool named = false;
   for (const std::string& warning : result.warnings) {
-    named = named || warning.find("fx / fy = 1.1818") != std::string::npos;
+    named = named || warning.find("fx / fy 1.1818 times") != std::string::npos;
   }
   EXPECT_TRUE(named);
+}
+
+// The same camera, given so (the database holds fx / fy 260 / 220 before
+// the bundle adjustment): nothing moved, nothing added.
+TEST(FloorHeight, UnequalFocalLengthsAsGivenAddNothing) {
+  ColmapCalibrationRun run = CalibratedRun(ForwardCamera());
+  run.metric_models[0].model.cameras.at(1).params = {
+      260.0, 220.0, 160.0, 120.0};
+  run.metric_models[0].origin_from_sfm = Sim3d();
+  run.database_pixel_aspects[1] = 260.0 / 220.0;
+  ApplyFloorPlane(FloorPlaneOptions(), 0.05, {}, nullptr, &run);
+  const FloorPlane& floor = *run.check.result.floor_plane;
+  ASSERT_TRUE(floor.Fitted()) << floor.reason;
+  EXPECT_EQ(floor.pixel_aspect_change, 1.0);
+  EXPECT_EQ(floor.camera_height_pixel_aspect_m, 0.0);
+  EXPECT_NEAR(
+      run.check.result.odom_from_cam.translation.z(), kCameraHeightM, 5e-4);
 }
 
 TEST(FloorHeight, TheAgreeingModelsOtherHeightWidensZ) {

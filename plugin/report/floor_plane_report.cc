@@ -53,7 +53,7 @@ json FloorPlaneToJson(const CalibrationResult& result) {
           ? json(f.camera_height_model_difference_m)
           : json(nullptr);
   out["camera_height_pixel_aspect_m"] = f.camera_height_pixel_aspect_m;
-  out["pixel_aspect"] = f.pixel_aspect;
+  out["pixel_aspect_change"] = f.pixel_aspect_change;
   out["odometry_height_m"] = f.odometry_height_m;
   out["floor_roll_deg"] = f.floor_roll_deg;
   out["floor_pitch_deg"] = f.floor_pitch_deg;
@@ -91,8 +91,9 @@ std::string FloorPlaneSummary(const CalibrationResult& result) {
         << ", includes the difference)";
   }
   if (f.camera_height_pixel_aspect_m > 0.0) {
-    out << " (fx / fy " << FormatPrintf("%.4f", f.pixel_aspect)
-        << ": the height's sigma includes "
+    out << " (fx / fy " << FormatPrintf("%.4f", f.pixel_aspect_change)
+        << " times its value before the bundle adjustment: the height's "
+           "sigma includes "
         << FormatPrintf("%.1f mm", 1000.0 * f.camera_height_pixel_aspect_m)
         << " for it)";
   }
