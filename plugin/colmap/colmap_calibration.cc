@@ -223,6 +223,31 @@ bool ContradictedBetweenKeyframes(
   return num_references > 0;
 }
 
+// fx / fy of the database's cameras of two focal lengths, by camera id;
+// none from a cameras table it cannot read (the floor then compares with
+// square pixels; the images table, which the run needs, was read).
+std::map<uint32_t, double> DatabasePixelAspects(
+    const std::string& database_path) {
+  std::map<uint32_t, double> aspects;
+  std::vector<ColmapDatabaseCamera> rows;
+  try {
+    rows = ReadColmapDatabaseCameras(database_path);
+  } catch (const FormatError&) {
+    return aspects;
+  }
+  for (const ColmapDatabaseCamera& row : rows) {
+    const ColmapCamera& camera = row.camera;
+    const auto indices = ColmapCameraModelPinholeIndices(camera.model);
+    if (indices && indices->fx != indices->fy &&
+        camera.params.size() >
+            static_cast<size_t>(std::max(indices->fx, indices->fy))) {
+      aspects[camera.camera_id] =
+          camera.params[indices->fx] / camera.params[indices->fy];
+    }
+  }
+  return aspects;
+}
+
 }  // namespace
 
 void ColmapCalibrationInputs::Check() const {
@@ -259,15 +284,7 @@ ColmapCalibrationRun CalibrateColmapProject(
                            inputs.camera_ids.count(image.camera_id) != 0;
       run.num_database_images += counted ? 1 : 0;
     }
-    for (const ColmapDatabaseCamera& row :
-         ReadColmapDatabaseCameras(inputs.database_path)) {
-      const ColmapCamera& camera = row.camera;
-      const auto indices = ColmapCameraModelPinholeIndices(camera.model);
-      if (indices && indices->fx != indices->fy) {
-        run.database_pixel_aspects[camera.camera_id] =
-            camera.params.at(indices->fx) / camera.params.at(indices->fy);
-      }
-    }
+    run.database_pixel_aspects = DatabasePixelAspects(inputs.database_path);
   }
   run.odometry = ReadOdometryOf(inputs);
   CheckOdometrySpeed(run.odometry);
