@@ -236,13 +236,8 @@ std::map<uint32_t, double> DatabasePixelAspects(
     return aspects;
   }
   for (const ColmapDatabaseCamera& row : rows) {
-    const ColmapCamera& camera = row.camera;
-    const auto indices = ColmapCameraModelPinholeIndices(camera.model);
-    if (indices && indices->fx != indices->fy &&
-        camera.params.size() >
-            static_cast<size_t>(std::max(indices->fx, indices->fy))) {
-      aspects[camera.camera_id] =
-          camera.params[indices->fx] / camera.params[indices->fy];
+    if (const std::optional<double> aspect = PixelAspectOf(row.camera)) {
+      aspects[row.camera.camera_id] = *aspect;
     }
   }
   return aspects;

@@ -40,12 +40,8 @@ double PixelAspectChange(const std::vector<MetricSubModel>& models,
   double furthest = 1.0;
   for (const MetricSubModel& metric : models) {
     for (const auto& [id, camera] : metric.model.cameras) {
-      const auto indices = ColmapCameraModelPinholeIndices(camera.model);
-      if (!indices || indices->fx == indices->fy ||
-          camera.params.size() <=
-              static_cast<size_t>(std::max(indices->fx, indices->fy))) {
-        continue;
-      }
+      const std::optional<double> aspect = PixelAspectOf(camera);
+      if (!aspect) continue;
       const auto given = database_aspects.find(id);
       // The joint adjustment's model numbers its cameras anew: only the
       // common value is theirs for sure.
@@ -53,18 +49,26 @@ double PixelAspectChange(const std::vector<MetricSubModel>& models,
           metric.origin_from_sfm && given != database_aspects.end()
               ? given->second
               : common;
-      const double change =
-          camera.params[indices->fx] / camera.params[indices->fy] / before;
-      if (std::isfinite(change) && change > 0.0 &&
-          std::abs(change - 1.0) > std::abs(furthest - 1.0)) {
-        furthest = change;
-      }
+      const double change = *aspect / before;
+      if (std::abs(change - 1.0) > std::abs(furthest - 1.0)) furthest = change;
     }
   }
   return furthest;
 }
 
 }  // namespace
+
+std::optional<double> PixelAspectOf(const ColmapCamera& camera) {
+  const auto indices = ColmapCameraModelPinholeIndices(camera.model);
+  if (!indices || indices->fx == indices->fy ||
+      camera.params.size() <=
+          static_cast<size_t>(std::max(indices->fx, indices->fy))) {
+    return std::nullopt;
+  }
+  const double aspect = camera.params[indices->fx] / camera.params[indices->fy];
+  if (!std::isfinite(aspect) || !(aspect > 0.0)) return std::nullopt;
+  return aspect;
+}
 
 FloorInput FloorInputOf(const std::vector<MetricSubModel>& models,
                         const std::map<std::string, int64_t>& stamp_of_image) {

@@ -9,10 +9,15 @@
 #include "odomcal/solver/floor_plane.h"
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace odomcal {
+
+// fx / fy of a camera of two focal lengths (PINHOLE, OPENCV, ...); none for
+// one focal length or params that do not give a positive finite ratio.
+std::optional<double> PixelAspectOf(const ColmapCamera& camera);
 
 // What the floor-plane fit takes from `models`: their registered cameras
 // in time order (`stamp_of_image`: image name to time; names missing from
