@@ -23,6 +23,11 @@ def transform(t):
     return R, np.array(t["translation_m"])
 def angle(R):
     return np.degrees(np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1)))
+def left_perturbation(E):
+    # The rotation vector phi of E = Exp(phi), radians.
+    psi = np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]])
+    return psi * np.arccos(np.clip((np.trace(E) - 1) / 2, -1, 1)) / max(
+        np.linalg.norm(psi), 1e-300)
 truths = {c["name"]: transform(c["odom_from_cam"]) for c in truth["cameras"]}
 print(f"{label}: {float(seconds):.0f} s")
 for camera in result["cameras"]:
@@ -34,19 +39,21 @@ for camera in result["cameras"]:
     Rt, tt = truths[name]
     e = 1000 * (t - tt)
     sd = camera["stddev"]
+    # Left perturbation about the odometry's axes, as the covariance's.
+    sigmas = np.concatenate([
+        np.abs(left_perturbation(R @ Rt.T)) / np.radians(sd["rotation_axes_deg"]),
+        np.abs(e[:2]) / (1000 * np.array([sd["translation_x_m"], sd["translation_y_m"]]))])
     print(f"  {name:11s} rotation {angle(Rt.T @ R):.3f} deg, x {e[0]:+.1f} y {e[1]:+.1f} "
           f"z {e[2]:+.1f} mm (z {camera['translation_z_source']}), "
-          f"3 sigma x {3000*sd['translation_x_m']:.1f} y {3000*sd['translation_y_m']:.1f} mm")
+          f"3 sigma x {3000*sd['translation_x_m']:.1f} y {3000*sd['translation_y_m']:.1f} mm; "
+          f"largest error/sigma rotation {sigmas[:3].max():.1f}, x/y {sigmas[3:].max():.1f}")
 for pair in result["camera_pairs"]:
     a, b = pair["camera_a"], pair["camera_b"]
     Ra, ta = truths[a]; Rb, tb = truths[b]
     R_true = Rb.T @ Ra; t_true = Rb.T @ (ta - tb)
     R, t = transform(pair["camb_from_cama"])
     # Left perturbation about camB's axes, and the translation in camB.
-    E = R @ R_true.T
-    psi = np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]])
-    psi *= np.arccos(np.clip((np.trace(E) - 1) / 2, -1, 1)) / max(
-        np.linalg.norm(psi), 1e-300)
+    psi = left_perturbation(R @ R_true.T)
     sd = pair["stddev"]
     r_sigmas = np.abs(psi) / np.radians(sd["rotation_axes_deg"])
     t_sigmas = np.abs(t - t_true) / np.array(sd["translation_m"])

@@ -51,6 +51,14 @@ constexpr int ProjectionNumParams(ProjectionModel model) {
 // COLMAP's name of the model, e.g. "SIMPLE_RADIAL".
 const char* ProjectionModelName(ProjectionModel model);
 
+// The index of cx in the parameters (cy follows it).
+constexpr int PrincipalPointIndex(ProjectionModel model) {
+  return model == ProjectionModel::kPinhole ||
+                 model == ProjectionModel::kOpenCV
+             ? 2
+             : 1;
+}
+
 // Pixel coordinates of the camera-frame point (x, y, z), z > 0. False
 // (pixel untouched) for a point on or behind the camera plane.
 template <ProjectionModel kModel, typename T>

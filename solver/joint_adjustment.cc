@@ -36,8 +36,10 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
     result.message = why;
     return result;
   }
-  if (joint.NumPointsSeenTwice() == 0) {
-    result.message = "no point is seen in two images";
+  if (joint.NumDeterminedPoints() == 0) {
+    result.message =
+        "no point is seen in two images whose rays meet at the minimum "
+        "triangulation angle";
     return result;
   }
   // Pass 0 measures the start; each pass estimates the pixel sigma (and the

@@ -10,7 +10,10 @@
 //     place on the robot), each image that of its mount, all tied to the
 //     one robot trajectory;
 //   - the 3D points, in metres in the origin frame;
-//   - the camera intrinsics when options.refine_intrinsics (else held).
+//   - the camera intrinsics when options.refine_intrinsics (else held),
+//     but the principal point, held as COLMAP's bundle adjustment holds it.
+// A point enters when two of its images' rays meet at
+// options.min_triangulation_angle_deg or more.
 // Residuals:
 //   - reprojection: observed pixel minus the projection of the point through
 //     cam_from_odom * Inverse(origin_from_odom_i), divided by the pixel
@@ -143,6 +146,12 @@ struct JointAdjustmentOptions {
   // Observations whose residual exceeds this many pixel sigmas after the
   // first solve are left out of the second (and reported).
   double max_reprojection_sigmas = 5.0;
+  // A point whose rays (from the starting poses of the images that see it)
+  // meet at less than this angle, degrees, stays out of the problem: its
+  // depth rests on the pixel noise alone, and a track seen from one place
+  // (a camera turning on the spot) leaves it undetermined. COLMAP's
+  // mapper filters at the same angle (Mapper.filter_min_tri_angle).
+  double min_triangulation_angle_deg = 1.5;
   bool refine_intrinsics = false;
   // Scale the links' covariances by one factor estimated from their
   // residuals (the images tie the poses, so the odometry's residuals show

@@ -93,6 +93,11 @@ void JointAdjustmentOptions::Check() const {
   positive(pixel_sigma, "pixel_sigma");
   positive(loss_scale, "loss_scale");
   positive(max_reprojection_sigmas, "max_reprojection_sigmas");
+  if (!(min_triangulation_angle_deg >= 0.0 &&
+        min_triangulation_angle_deg < 90.0)) {
+    throw std::invalid_argument(
+        "min_triangulation_angle_deg must be in [0, 90)");
+  }
   if (max_num_iterations < 1) {
     throw std::invalid_argument("max_num_iterations must be at least 1");
   }

@@ -45,9 +45,10 @@ class JointProblem {
   // Empty string, or why the problem has no determined scale.
   std::string FindGauge();
 
-  // A point seen in fewer than two images is not determined by them: it
-  // and its observation stay out of the problem.
-  void FindPointsSeenTwice();
+  // A point is determined by the images when two of its used observations'
+  // rays (at the starting values) meet at min_triangulation_angle_deg or
+  // more; the others and their observations stay out of the problem.
+  void FindDeterminedPoints();
 
   // Builds the Ceres problem over the observations in use.
   void Build(double pixel_sigma);
@@ -92,9 +93,9 @@ class JointProblem {
 
   void WriteResult(JointAdjustmentResult* result) const;
 
-  int NumPointsSeenTwice() const {
+  int NumDeterminedPoints() const {
     return static_cast<int>(
-        std::count(seen_twice_.begin(), seen_twice_.end(), 1));
+        std::count(determined_.begin(), determined_.end(), 1));
   }
 
   int NumUnused() const {
@@ -120,8 +121,13 @@ class JointProblem {
   double intrinsics_[3] = {1.0, 0.0, 0.0};
   double offset_change_s_ = 0.0;
   std::unique_ptr<ceres::SubsetManifold> intrinsics_manifold_;
+  // Per camera, refined intrinsics with the principal point held.
+  std::vector<std::unique_ptr<ceres::SubsetManifold>> params_manifolds_;
   std::vector<char> used_;
-  std::vector<char> seen_twice_;  // per point, among the used observations
+  // Per observation, the unit ray from its camera to its point in the
+  // origin frame at the starting values.
+  std::vector<Eigen::Vector3d> start_rays_;
+  std::vector<char> determined_;  // per point, among the used observations
   // The residual blocks of the built problem and their clusters (the
   // observations of a point, or one link), for the robust covariance.
   std::vector<ceres::ResidualBlockId> residual_blocks_;

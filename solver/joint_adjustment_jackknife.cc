@@ -1,5 +1,7 @@
 #include "odomcal/solver/joint_adjustment_jackknife.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -186,7 +188,23 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
   out.ratio = out.mounts_ratio.head<5>();
   result->mounts_covariance_widening = wider;
   result->mounts_covariance = wider.asDiagonal() * model * wider.asDiagonal();
-  result->covariance_widening = wider.head<5>();
+  if (n > 5) {
+    // On a rig the widening per standard deviation keeps the model's
+    // correlations between cameras, so a camera-to-camera difference could
+    // stay narrower than the jackknife's spread of it. Adding the positive
+    // part of (jackknife - stated) makes the stated covariance at least the
+    // jackknife's in every direction: a^T (C + (V - C)_+) a >= a^T V a.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> excess(
+        out.mounts_covariance - result->mounts_covariance);
+    const Eigen::VectorXd positive = excess.eigenvalues().cwiseMax(0.0);
+    result->mounts_covariance += excess.eigenvectors() * positive.asDiagonal() *
+                                 excess.eigenvectors().transpose();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      result->mounts_covariance_widening[k] =
+          std::sqrt(result->mounts_covariance(k, k) / model(k, k));
+    }
+  }
+  result->covariance_widening = result->mounts_covariance_widening.head<5>();
   result->covariance = result->mounts_covariance.topLeftCorner<5, 5>();
   return out;
 }

@@ -13,7 +13,7 @@ JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
   std::vector<double> norms(input_.observations.size(), -1.0);
   std::vector<double> used_norms;
   for (size_t k = 0; k < input_.observations.size(); ++k) {
-    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    if (!used_[k] || !determined_[input_.observations[k].point]) continue;
     Eigen::Vector2d residual;
     if (!ReprojectionResidual(k, &residual)) continue;
     norms[k] = residual.norm();
@@ -32,7 +32,7 @@ JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
   std::vector<char> point_seen(input_.points.size(), 0);
   int num_points = 0;
   for (size_t k = 0; k < norms.size(); ++k) {
-    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    if (!used_[k] || !determined_[input_.observations[k].point]) continue;
     if (norms[k] < 0.0 || norms[k] > threshold) {
       if (mark_outliers) {
         used_[k] = 0;

@@ -1,5 +1,6 @@
 // JointProblem's parameters, gauge, Ceres problem, solve and result
 // (joint_adjustment_internal.h).
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/joint_adjustment_cost.h"
 #include "odomcal/solver/joint_adjustment_internal.h"
 
@@ -88,7 +89,20 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
     Eigen::Vector2d residual;
     if (!ReprojectionResidual(k, &residual)) used_[k] = 0;
   }
-  FindPointsSeenTwice();
+  start_rays_.reserve(input.observations.size());
+  for (const JointObservation& observation : input.observations) {
+    const JointImage& image = input.images[observation.image];
+    const Rigid3d& odom_from_cam = image.mount == 0
+                                       ? input.odom_from_cam
+                                       : input.other_mounts[image.mount - 1];
+    const Eigen::Vector3d center =
+        image.origin_from_odom.ToRigid3d() * odom_from_cam.translation;
+    const Eigen::Vector3d ray = input.points[observation.point] - center;
+    const double norm = ray.norm();
+    start_rays_.push_back(norm > 0.0 ? Eigen::Vector3d(ray / norm)
+                                     : Eigen::Vector3d::Zero());
+  }
+  FindDeterminedPoints();
   if (input.systematics) {
     const OdometryIntrinsics& start = input.systematics->intrinsics;
     intrinsics_[0] = start.yaw_scale;
@@ -135,17 +149,28 @@ std::string JointProblem::FindGauge() {
   return "";
 }
 
-void JointProblem::FindPointsSeenTwice() {
-  std::vector<int> first_image(input_.points.size(), -1);
-  seen_twice_.assign(input_.points.size(), 0);
+void JointProblem::FindDeterminedPoints() {
+  // Rays meet at >= the angle when their dot product is <= its cosine.
+  const double max_cosine =
+      std::cos(options_.min_triangulation_angle_deg * kDegToRad);
+  std::vector<std::vector<size_t>> observations_of_point(input_.points.size());
   for (size_t k = 0; k < input_.observations.size(); ++k) {
-    if (!used_[k]) continue;
-    const JointObservation& observation = input_.observations[k];
-    int& first = first_image[observation.point];
-    if (first < 0) {
-      first = observation.image;
-    } else if (first != observation.image) {
-      seen_twice_[observation.point] = 1;
+    if (used_[k])
+      observations_of_point[input_.observations[k].point].push_back(k);
+  }
+  determined_.assign(input_.points.size(), 0);
+  for (size_t p = 0; p < observations_of_point.size(); ++p) {
+    const std::vector<size_t>& track = observations_of_point[p];
+    for (size_t a = 0; a < track.size() && !determined_[p]; ++a) {
+      const JointObservation& first = input_.observations[track[a]];
+      for (size_t b = a + 1; b < track.size(); ++b) {
+        const JointObservation& second = input_.observations[track[b]];
+        if (first.image != second.image &&
+            start_rays_[track[a]].dot(start_rays_[track[b]]) <= max_cosine) {
+          determined_[p] = 1;
+          break;
+        }
+      }
     }
   }
 }
@@ -156,9 +181,9 @@ void JointProblem::Build(double pixel_sigma) {
   problem_ = std::make_unique<ceres::Problem>(problem_options);
   residual_blocks_.clear();
   cluster_of_block_.clear();
-  FindPointsSeenTwice();
+  FindDeterminedPoints();
   for (size_t k = 0; k < input_.observations.size(); ++k) {
-    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    if (!used_[k] || !determined_[input_.observations[k].point]) continue;
     const JointObservation& observation = input_.observations[k];
     const JointImage& image = input_.images[observation.image];
     const int camera = image.camera;
@@ -240,11 +265,20 @@ void JointProblem::Build(double pixel_sigma) {
       problem_->SetParameterBlockConstant(poses_[i].data());
     }
   }
-  for (auto& params : params_) {
-    if (!options_.refine_intrinsics &&
-        problem_->HasParameterBlock(params.data())) {
-      problem_->SetParameterBlockConstant(params.data());
+  params_manifolds_.clear();
+  for (size_t c = 0; c < params_.size(); ++c) {
+    double* params = params_[c].data();
+    if (!problem_->HasParameterBlock(params)) continue;
+    if (!options_.refine_intrinsics) {
+      problem_->SetParameterBlockConstant(params);
+      continue;
     }
+    // The principal point held, as COLMAP's bundle adjustment holds it:
+    // on planar motion it trades against the camera's pitch and yaw.
+    const int cx = PrincipalPointIndex(input_.cameras[c].model);
+    params_manifolds_.push_back(std::make_unique<ceres::SubsetManifold>(
+        static_cast<int>(params_[c].size()), std::vector<int>{cx, cx + 1}));
+    problem_->SetManifold(params, params_manifolds_.back().get());
   }
 }
 
@@ -318,7 +352,7 @@ void JointProblem::WriteResult(JointAdjustmentResult* result) const {
   }
   result->observation_error_px.assign(input_.observations.size(), -1.0);
   for (size_t k = 0; k < input_.observations.size(); ++k) {
-    if (!used_[k] || !seen_twice_[input_.observations[k].point]) continue;
+    if (!used_[k] || !determined_[input_.observations[k].point]) continue;
     Eigen::Vector2d residual;
     if (ReprojectionResidual(k, &residual)) {
       result->observation_error_px[k] = residual.norm();

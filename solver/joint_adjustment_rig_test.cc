@@ -8,6 +8,7 @@
 #include "odomcal/solver/joint_adjustment_jackknife.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -142,6 +143,13 @@ TEST(AdjustJointlyRig, JackknifeWidensEveryMount) {
   }
   EXPECT_TRUE(
       result.covariance.isApprox(result.mounts_covariance.topLeftCorner(5, 5)));
+  // At least the jackknife's spread in every direction, a difference
+  // between the cameras too (a camera-to-camera transform), not only on
+  // the diagonal: C - V has no negative eigenvalue.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> excess(
+      result.mounts_covariance - jackknife.mounts_covariance);
+  EXPECT_GE(excess.eigenvalues().minCoeff(),
+            -1e-9 * jackknife.mounts_covariance.norm());
 }
 
 TEST(AdjustJointlyRig, RefusesAMountWithoutImagesOrAnImageWithoutAMount) {

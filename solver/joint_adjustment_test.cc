@@ -129,6 +129,53 @@ TEST(AdjustJointly, LeavesOutAPointBehindItsCameras) {
   EXPECT_EQ(result.observation_error_px.back(), -1.0);
 }
 
+TEST(AdjustJointly, LeavesOutAPointSeenAlongParallelRays) {
+  JointScene scene = MakeScene(6, 0.5, 0.0);
+  JointAdjustmentProblem& problem = scene.problem;
+  // 5 km ahead of the first two images, a few decimetres apart: their rays
+  // meet at thousandths of a degree, and the point's depth rests on the
+  // pixel noise alone.
+  const Rigid3d origin_from_cam =
+      problem.images[0].origin_from_odom.ToRigid3d() * problem.odom_from_cam;
+  problem.points.push_back(origin_from_cam * Eigen::Vector3d(0.0, 0.0, 5000.0));
+  const int far = static_cast<int>(problem.points.size()) - 1;
+  for (int image = 0; image < 2; ++image) {
+    const Rigid3d cam_from_origin = Inverse(
+        problem.images[image].origin_from_odom.ToRigid3d() *
+        problem.odom_from_cam);
+    const Eigen::Vector3d in_cam = cam_from_origin * problem.points[far];
+    Eigen::Vector2d pixel;
+    ASSERT_TRUE(ProjectToPixel<ProjectionModel::kSimpleRadial>(
+        problem.cameras[0].params.data(), in_cam.data(), pixel.data()));
+    problem.observations.push_back({image, far, pixel});
+  }
+  const JointAdjustmentResult result =
+      AdjustJointly(problem, JointAdjustmentOptions());
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  EXPECT_EQ(result.observation_error_px.back(), -1.0);
+  JointAdjustmentOptions every_point;
+  every_point.min_triangulation_angle_deg = 0.0;
+  const JointAdjustmentResult with_it = AdjustJointly(problem, every_point);
+  ASSERT_TRUE(with_it.IsSuccess()) << with_it.message;
+  EXPECT_GE(with_it.observation_error_px.back(), 0.0);
+}
+
+TEST(AdjustJointly, RefinesTheFocalLengthAndHoldsThePrincipalPoint) {
+  JointScene scene = MakeScene(7, 0.5, 0.0);
+  JointAdjustmentProblem& problem = scene.problem;
+  ASSERT_EQ(problem.cameras[0].model, ProjectionModel::kSimpleRadial);
+  const std::vector<double> truth = problem.cameras[0].params;
+  problem.cameras[0].params[0] *= 1.01;  // f 1 % long
+  JointAdjustmentOptions options;
+  options.refine_intrinsics = true;
+  const JointAdjustmentResult result = AdjustJointly(problem, options);
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  const std::vector<double>& refined = result.cameras[0].params;
+  EXPECT_LT(std::abs(refined[0] - truth[0]), 0.2 * 0.01 * truth[0]);
+  EXPECT_EQ(refined[1], truth[1]);  // cx, cy: COLMAP's bundle adjustment
+  EXPECT_EQ(refined[2], truth[2]);  // holds them too
+}
+
 TEST(AdjustJointly, RefusesImagesWithoutAnOdometryLink) {
   JointScene scene = MakeScene(3, 0.5, 0.0);
   // Cut the drive in two: no link between the halves, and no point seen
@@ -164,6 +211,9 @@ TEST(AdjustJointly, RefusesInvalidInput) {
   options.pixel_sigma = 0.0;
   EXPECT_THROW(AdjustJointly(MakeScene(4, 0.5, 0.0).problem, options),
                std::invalid_argument);
+  options = JointAdjustmentOptions();
+  options.min_triangulation_angle_deg = 90.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
 }
 
 // The images in time order, as the problem lists them.

@@ -402,7 +402,8 @@ class CalibrateProjectTest(unittest.TestCase):
         self.assertEqual(result["options"]["joint_adjustment"], "on")
         self.assertEqual(result["joint_adjustment"]["status"], "invalid_input")
         self.assertEqual(result["joint_adjustment"]["message"],
-                         "no point is seen in two images")
+                         "no point is seen in two images whose rays meet at "
+                         "the minimum triangulation angle")
         self.assertIsNone(result["diagnostics"]["two_step"])
         self.assertEqual(result["odom_from_cam"], off["odom_from_cam"])
         self.assertIsNone(off["joint_adjustment"])
@@ -422,7 +423,8 @@ class CalibrateProjectTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as folder:
             model, odometry_path, stamps = write_colmap_project(folder, camera, odometry)
             images_path = os.path.join(model, "0", "images.txt")
-            lines = [line for line in open(images_path) if line.strip()]
+            with open(images_path) as f:
+                lines = [line for line in f if line.strip()]
             with open(images_path, "w") as f, open(stamps, "w") as times:
                 times.write("image_name,timestamp\n")
                 for k, (sub_folder, camera_id) in enumerate((("front", 1), ("rear", 2))):
