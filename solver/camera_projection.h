@@ -53,8 +53,7 @@ const char* ProjectionModelName(ProjectionModel model);
 
 // The index of cx in the parameters (cy follows it).
 constexpr int PrincipalPointIndex(ProjectionModel model) {
-  return model == ProjectionModel::kPinhole ||
-                 model == ProjectionModel::kOpenCV
+  return model == ProjectionModel::kPinhole || model == ProjectionModel::kOpenCV
              ? 2
              : 1;
 }

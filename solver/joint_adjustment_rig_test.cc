@@ -7,8 +7,8 @@
 #include "odomcal/solver/joint_adjustment.h"
 #include "odomcal/solver/joint_adjustment_jackknife.h"
 
-#include <Eigen/Geometry>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cmath>

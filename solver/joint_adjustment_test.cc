@@ -140,9 +140,9 @@ TEST(AdjustJointly, LeavesOutAPointSeenAlongParallelRays) {
   problem.points.push_back(origin_from_cam * Eigen::Vector3d(0.0, 0.0, 5000.0));
   const int far = static_cast<int>(problem.points.size()) - 1;
   for (int image = 0; image < 2; ++image) {
-    const Rigid3d cam_from_origin = Inverse(
-        problem.images[image].origin_from_odom.ToRigid3d() *
-        problem.odom_from_cam);
+    const Rigid3d cam_from_origin =
+        Inverse(problem.images[image].origin_from_odom.ToRigid3d() *
+                problem.odom_from_cam);
     const Eigen::Vector3d in_cam = cam_from_origin * problem.points[far];
     Eigen::Vector2d pixel;
     ASSERT_TRUE(ProjectToPixel<ProjectionModel::kSimpleRadial>(
