@@ -10,8 +10,9 @@
 //     place on the robot), each image that of its mount, all tied to the
 //     one robot trajectory;
 //   - the 3D points, in metres in the origin frame;
-//   - the camera intrinsics when options.refine_intrinsics (else held),
-//     but the principal point, held as COLMAP's bundle adjustment holds it.
+//   - the camera intrinsics when options.refine_intrinsics (else held):
+//     one scale on the focal length(s) and the distortion, the principal
+//     point held (camera_intrinsics_manifold.h).
 // A point enters when two of its images' rays meet at
 // options.min_triangulation_angle_deg or more.
 // Residuals:
@@ -65,6 +66,9 @@ struct JointCamera {
   // ProjectionNumParams(model) values in COLMAP's order and pixel
   // convention (camera_projection.h).
   std::vector<double> params;
+  // Held even with JointAdjustmentOptions::refine_intrinsics (intrinsics
+  // known: given and kept fixed).
+  bool held = false;
 };
 
 struct JointImage {

@@ -16,6 +16,7 @@
 //   - joint_adjustment_extrinsic_covariance.cc: the extrinsic's covariance.
 #pragma once
 
+#include "odomcal/solver/camera_intrinsics_manifold.h"
 #include "odomcal/solver/joint_adjustment.h"
 
 #include <Eigen/Core>
@@ -121,8 +122,8 @@ class JointProblem {
   double intrinsics_[3] = {1.0, 0.0, 0.0};
   double offset_change_s_ = 0.0;
   std::unique_ptr<ceres::SubsetManifold> intrinsics_manifold_;
-  // Per camera, refined intrinsics with the principal point held.
-  std::vector<std::unique_ptr<ceres::SubsetManifold>> params_manifolds_;
+  // Per camera, what of its intrinsics is refined (when refined).
+  std::vector<std::unique_ptr<CameraIntrinsicsManifold>> params_manifolds_;
   std::vector<char> used_;
   // Per observation, the unit ray from its camera to its point in the
   // origin frame at the starting values.

@@ -1,6 +1,7 @@
 // JointProblem's parameters, gauge, Ceres problem, solve and result
 // (joint_adjustment_internal.h).
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/camera_intrinsics_manifold.h"
 #include "odomcal/solver/joint_adjustment_cost.h"
 #include "odomcal/solver/joint_adjustment_internal.h"
 
@@ -269,15 +270,12 @@ void JointProblem::Build(double pixel_sigma) {
   for (size_t c = 0; c < params_.size(); ++c) {
     double* params = params_[c].data();
     if (!problem_->HasParameterBlock(params)) continue;
-    if (!options_.refine_intrinsics) {
+    if (!options_.refine_intrinsics || input_.cameras[c].held) {
       problem_->SetParameterBlockConstant(params);
       continue;
     }
-    // The principal point held, as COLMAP's bundle adjustment holds it:
-    // on planar motion it trades against the camera's pitch and yaw.
-    const int cx = PrincipalPointIndex(input_.cameras[c].model);
-    params_manifolds_.push_back(std::make_unique<ceres::SubsetManifold>(
-        static_cast<int>(params_[c].size()), std::vector<int>{cx, cx + 1}));
+    params_manifolds_.push_back(
+        std::make_unique<CameraIntrinsicsManifold>(input_.cameras[c].model));
     problem_->SetManifold(params, params_manifolds_.back().get());
   }
 }

@@ -2,6 +2,7 @@
 
 #include "odomcal/datasets/simulation/joint_scene.h"
 #include "odomcal/solver/angles.h"
+#include "odomcal/solver/camera_intrinsics_manifold.h"
 #include "odomcal/solver/joint_adjustment_jackknife.h"
 
 #include <Eigen/Cholesky>
@@ -174,6 +175,57 @@ TEST(AdjustJointly, RefinesTheFocalLengthAndHoldsThePrincipalPoint) {
   EXPECT_LT(std::abs(refined[0] - truth[0]), 0.2 * 0.01 * truth[0]);
   EXPECT_EQ(refined[1], truth[1]);  // cx, cy: COLMAP's bundle adjustment
   EXPECT_EQ(refined[2], truth[2]);  // holds them too
+}
+
+TEST(CameraIntrinsicsManifold,
+     ScalesBothFocalLengthsAndHoldsThePrincipalPoint) {
+  const internal::CameraIntrinsicsManifold opencv(ProjectionModel::kOpenCV);
+  ASSERT_EQ(opencv.AmbientSize(), 8);
+  ASSERT_EQ(opencv.TangentSize(), 5);  // focal scale, k1, k2, p1, p2
+  const double x[8] = {500.0, 400.0, 320.5, 240.5, -0.1, 0.01, 0.001, 0.002};
+  const double delta[5] = {0.02, 0.01, -0.005, 0.0001, -0.0002};
+  double moved[8];
+  ASSERT_TRUE(opencv.Plus(x, delta, moved));
+  EXPECT_DOUBLE_EQ(moved[0] / moved[1], x[0] / x[1]);  // aspect kept
+  EXPECT_DOUBLE_EQ(moved[0], x[0] * 1.02);
+  EXPECT_EQ(moved[2], x[2]);
+  EXPECT_EQ(moved[3], x[3]);
+  EXPECT_DOUBLE_EQ(moved[5], x[5] - 0.005);
+  double back[5];
+  ASSERT_TRUE(opencv.Minus(moved, x, back));
+  for (int k = 0; k < 5; ++k) EXPECT_NEAR(back[k], delta[k], 1e-15);
+  // The Jacobians against central differences of Plus and Minus at 0.
+  double plus_jacobian[8 * 5];
+  double minus_jacobian[5 * 8];
+  ASSERT_TRUE(opencv.PlusJacobian(x, plus_jacobian));
+  ASSERT_TRUE(opencv.MinusJacobian(x, minus_jacobian));
+  constexpr double kStep = 1e-7;
+  for (int j = 0; j < 5; ++j) {
+    double step[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+    step[j] = kStep;
+    double ahead[8], behind[8];
+    opencv.Plus(x, step, ahead);
+    step[j] = -kStep;
+    opencv.Plus(x, step, behind);
+    for (int k = 0; k < 8; ++k) {
+      EXPECT_NEAR(plus_jacobian[k * 5 + j],
+                  (ahead[k] - behind[k]) / (2.0 * kStep),
+                  1e-6 * (1.0 + std::abs(x[k])));
+    }
+  }
+  double product[5 * 5] = {};
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 0; c < 5; ++c) {
+      for (int k = 0; k < 8; ++k) {
+        product[r * 5 + c] +=
+            minus_jacobian[r * 8 + k] * plus_jacobian[k * 5 + c];
+      }
+      EXPECT_NEAR(product[r * 5 + c], r == c ? 1.0 : 0.0, 1e-12);
+    }
+  }
+  const internal::CameraIntrinsicsManifold pinhole(
+      ProjectionModel::kSimplePinhole);
+  EXPECT_EQ(pinhole.TangentSize(), 1);
 }
 
 TEST(AdjustJointly, RefusesImagesWithoutAnOdometryLink) {

@@ -223,24 +223,22 @@ bool ContradictedBetweenKeyframes(
   return num_references > 0;
 }
 
-// fx / fy of the database's cameras of two focal lengths, by camera id;
-// none from a cameras table it cannot read (the floor then compares with
-// square pixels; the images table, which the run needs, was read).
-std::map<uint32_t, double> DatabasePixelAspects(
+// The database's cameras by camera id; none from a cameras table it cannot
+// read (the floor then compares with square pixels and the joint adjustment
+// holds the intrinsics; the images table, which the run needs, was read).
+std::map<uint32_t, ColmapCamera> DatabaseCameras(
     const std::string& database_path) {
-  std::map<uint32_t, double> aspects;
+  std::map<uint32_t, ColmapCamera> cameras;
   std::vector<ColmapDatabaseCamera> rows;
   try {
     rows = ReadColmapDatabaseCameras(database_path);
   } catch (const FormatError&) {
-    return aspects;
+    return cameras;
   }
   for (const ColmapDatabaseCamera& row : rows) {
-    if (const std::optional<double> aspect = PixelAspectOf(row.camera)) {
-      aspects[row.camera.camera_id] = *aspect;
-    }
+    cameras[row.camera.camera_id] = row.camera;
   }
-  return aspects;
+  return cameras;
 }
 
 }  // namespace
@@ -279,7 +277,7 @@ ColmapCalibrationRun CalibrateColmapProject(
                            inputs.camera_ids.count(image.camera_id) != 0;
       run.num_database_images += counted ? 1 : 0;
     }
-    run.database_pixel_aspects = DatabasePixelAspects(inputs.database_path);
+    run.database_cameras = DatabaseCameras(inputs.database_path);
   }
   run.odometry = ReadOdometryOf(inputs);
   CheckOdometrySpeed(run.odometry);

@@ -93,9 +93,10 @@ struct ColmapCalibrationRun {
   std::vector<DuplicateSegment> duplicate_segments;  // left out
   Trajectory odometry;
   int num_database_images = -1;  // -1: no database given
-  // fx / fy of the database's cameras of two focal lengths, by camera id:
-  // the intrinsics before COLMAP's bundle adjustment (the floor compares).
-  std::map<uint32_t, double> database_pixel_aspects;
+  // The database's cameras by camera id: the intrinsics before COLMAP's
+  // bundle adjustment (the floor and the joint adjustment compare); empty
+  // without a database or from a cameras table the run cannot read.
+  std::map<uint32_t, ColmapCamera> database_cameras;
   AssociationResult association;  // the motion pairs and their counts
   StretchCheckResult check;       // result, pairs used, stretches
   std::vector<MetricSubModel> metric_models;

@@ -29,8 +29,15 @@ double FocalLengthPx(const ColmapCamera& camera) {
 // its value before the bundle adjustment, over that value: the database's
 // camera of the same id, else the one value every database camera has, else
 // square pixels (1). 1 where no camera has two focal lengths.
-double PixelAspectChange(const std::vector<MetricSubModel>& models,
-                         const std::map<uint32_t, double>& database_aspects) {
+double PixelAspectChange(
+    const std::vector<MetricSubModel>& models,
+    const std::map<uint32_t, ColmapCamera>& database_cameras) {
+  std::map<uint32_t, double> database_aspects;
+  for (const auto& [id, camera] : database_cameras) {
+    if (const std::optional<double> aspect = PixelAspectOf(camera)) {
+      database_aspects[id] = *aspect;
+    }
+  }
   // The one value of every database camera, else square pixels.
   double common =
       database_aspects.empty() ? 1.0 : database_aspects.begin()->second;
@@ -183,7 +190,7 @@ void ApplyFloorPlane(const FloorPlaneOptions& options,
     }
   }
   floor.pixel_aspect_change =
-      PixelAspectChange(run->metric_models, run->database_pixel_aspects);
+      PixelAspectChange(run->metric_models, run->database_cameras);
   if (floor.Fitted() && floor.pixel_aspect_change != 1.0) {
     floor.camera_height_pixel_aspect_m =
         std::abs(floor.pixel_aspect_change - 1.0) * floor.camera_height_m;

@@ -149,7 +149,7 @@ TEST(FloorHeight, UnequalFocalLengthsAsGivenAddNothing) {
   run.metric_models[0].model.cameras.at(1).params = {
       260.0, 220.0, 160.0, 120.0};
   run.metric_models[0].origin_from_sfm = Sim3d();
-  run.database_pixel_aspects[1] = 260.0 / 220.0;
+  run.database_cameras[1] = run.metric_models[0].model.cameras.at(1);
   ApplyFloorPlane(FloorPlaneOptions(), 0.05, {}, nullptr, &run);
   const FloorPlane& floor = *run.check.result.floor_plane;
   ASSERT_TRUE(floor.Fitted()) << floor.reason;

@@ -27,8 +27,21 @@ std::string ToString(JointAdjustmentUse use);  // "on", "off", "check"
 // Throws std::invalid_argument naming the value.
 JointAdjustmentUse JointAdjustmentUseFromString(const std::string& name);
 
+// The camera intrinsics in the adjustment (`--joint_intrinsics`): held;
+// refined (focal scale and distortion, camera_intrinsics_manifold.h); or
+// kAuto: refined where COLMAP's bundle adjustment changed them from the
+// database's camera (their error is then unknown, and held it biases the
+// extrinsic at a sigma that does not contain it), held where the model's are
+// the database's (given and kept fixed) or no database is given.
+enum class JointIntrinsics { kHeld, kRefined, kAuto };
+std::string ToString(JointIntrinsics intrinsics);  // "held", "refined", "auto"
+// Throws std::invalid_argument naming the value.
+JointIntrinsics JointIntrinsicsFromString(const std::string& name);
+
 struct JointAdjustmentSettings {
   JointAdjustmentUse use = JointAdjustmentUse::kCheck;
+  JointIntrinsics intrinsics = JointIntrinsics::kAuto;
+  // Its refine_intrinsics is set from `intrinsics` when the adjustment runs.
   JointAdjustmentOptions options;
   JointJackknifeOptions jackknife;
   void Check() const {

@@ -248,6 +248,7 @@ JointAdjustmentOptions JointOptionsWithProgress(
     const CalibrationProgress& progress,
     const std::string& label) {
   JointAdjustmentOptions options = settings.options;
+  options.refine_intrinsics = settings.intrinsics != JointIntrinsics::kHeld;
   options.num_threads =
       std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (progress) {
@@ -262,6 +263,26 @@ JointAdjustmentOptions JointOptionsWithProgress(
     };
   }
   return options;
+}
+
+std::string ToString(JointIntrinsics intrinsics) {
+  switch (intrinsics) {
+    case JointIntrinsics::kHeld:
+      return "held";
+    case JointIntrinsics::kRefined:
+      return "refined";
+    case JointIntrinsics::kAuto:
+      return "auto";
+  }
+  return "unknown";
+}
+
+JointIntrinsics JointIntrinsicsFromString(const std::string& name) {
+  if (name == "held") return JointIntrinsics::kHeld;
+  if (name == "refined") return JointIntrinsics::kRefined;
+  if (name == "auto") return JointIntrinsics::kAuto;
+  throw std::invalid_argument("joint_intrinsics: '" + name +
+                              "' is not held, refined or auto");
 }
 
 std::string ToString(JointAdjustmentUse use) {
@@ -319,7 +340,8 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   }
   JointInput input;
   input.problem.odom_from_cam = result.odom_from_cam;
-  if (const std::string why = AddMetricModels(*run, stamp_of_image, &input);
+  if (const std::string why = AddMetricModels(
+          *run, stamp_of_image, inputs.joint_adjustment.intrinsics, &input);
       !why.empty()) {
     skip(why);
     return;

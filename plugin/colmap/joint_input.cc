@@ -10,6 +10,7 @@
 #include "odomcal/solver/noise_estimation.h"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <set>
 #include <utility>
@@ -104,9 +105,38 @@ std::optional<MotionPair> OdometryMotionBetween(const ColmapCalibrationRun& run,
   return pair;
 }
 
+namespace {
+
+// Whether `camera` (of `metric`'s model) differs from the database's camera
+// of its id: COLMAP's bundle adjustment refined it. False where that is not
+// known: no database camera, or a model that numbers its cameras anew (the
+// joint adjustment's, without origin_from_sfm).
+bool ChangedByBundleAdjustment(
+    const MetricSubModel& metric,
+    const ColmapCamera& camera,
+    const std::map<uint32_t, ColmapCamera>& database_cameras) {
+  if (!metric.origin_from_sfm) return false;
+  const auto given = database_cameras.find(camera.camera_id);
+  if (given == database_cameras.end() || given->second.model != camera.model ||
+      given->second.params.size() != camera.params.size()) {
+    return false;
+  }
+  for (size_t k = 0; k < camera.params.size(); ++k) {
+    const double before = given->second.params[k];
+    if (std::abs(camera.params[k] - before) >
+        1e-9 * std::max(1.0, std::abs(before))) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 std::string AddMetricModels(
     const ColmapCalibrationRun& run,
     const std::map<std::string, int64_t>& stamp_of_image,
+    JointIntrinsics intrinsics,
     JointInput* input) {
   JointAdjustmentProblem& problem = input->problem;
   const Rigid3d cam_from_odom = Inverse(run.check.result.odom_from_cam);
@@ -136,7 +166,11 @@ std::string AddMetricModels(
             camera_index.emplace(std::make_pair(k, image.camera_id),
                                  static_cast<int>(problem.cameras.size()));
         if (new_camera) {
-          problem.cameras.push_back({*projection, camera.params});
+          JointCamera joint_camera{*projection, camera.params};
+          joint_camera.held =
+              intrinsics == JointIntrinsics::kAuto &&
+              !ChangedByBundleAdjustment(metric, camera, run.database_cameras);
+          problem.cameras.push_back(joint_camera);
           input->source_cameras.push_back(&camera);
         }
         JointImage joint_image;

@@ -58,10 +58,13 @@ std::optional<MotionPair> OdometryMotionBetween(const ColmapCalibrationRun& run,
 // calibration's cam_from_odom), points (metres) and cameras of
 // run.metric_models, appended to input; "" or why the adjustment cannot
 // take them (a camera model it does not project, no timed image).
-// `stamp_of_image`: image name to time (camera clock).
+// `stamp_of_image`: image name to time (camera clock). `intrinsics`: with
+// kAuto a camera is held (JointCamera::held) unless COLMAP's bundle
+// adjustment changed its intrinsics from run.database_cameras'.
 std::string AddMetricModels(
     const ColmapCalibrationRun& run,
     const std::map<std::string, int64_t>& stamp_of_image,
+    JointIntrinsics intrinsics,
     JointInput* input);
 
 // The calibration's motion pairs the odometry does not contradict, as

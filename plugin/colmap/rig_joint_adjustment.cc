@@ -263,7 +263,10 @@ RigJointAdjustment AdjustRigJointly(
     JointInput part;
     part.problem.odom_from_cam = run->check.result.odom_from_cam;
     if (const std::string why =
-            AddMetricModels(*run, StampsOfImages(*run), &part);
+            AddMetricModels(*run,
+                            StampsOfImages(*run),
+                            inputs.joint_adjustment.intrinsics,
+                            &part);
         !why.empty()) {
       left_out += (left_out.empty() ? "" : "; ") + names.at(k) + ": " + why;
       continue;

@@ -157,15 +157,14 @@ const OptionTable<JointAdjustmentSettings>& JointAdjustmentFlags() {
           }),
       ChoiceRow<J>(
           "joint_intrinsics",
-          "the camera intrinsics in the joint adjustment: held as COLMAP "
-          "estimated them, or refined",
-          {"held", "refined"},
-          [](const J& o) {
-            return std::string(o.options.refine_intrinsics ? "refined"
-                                                           : "held");
-          },
+          "the camera intrinsics in the joint adjustment: held as the model "
+          "has them; refined (focal length and distortion, the principal "
+          "point held); auto: refined where COLMAP's bundle adjustment "
+          "changed them from the database's camera, else held",
+          {"auto", "held", "refined"},
+          [](const J& o) { return ToString(o.intrinsics); },
           [](J* o, const std::string& name) {
-            o->options.refine_intrinsics = name == "refined";
+            o->intrinsics = JointIntrinsicsFromString(name);
           }),
       NumberRow<J>(
           "joint_max_reprojection_sigmas",
