@@ -8,6 +8,7 @@
 
 #include "odomcal/adapters/association.h"
 #include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/joint_input.h"
 #include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/plugin/report/report_testing.h"
 #include "odomcal/solver/angles.h"
@@ -237,6 +238,38 @@ TEST_F(JointAdjustmentStageTest, AModelWithoutPointsIsNamedNotAdjusted) {
   }
   EXPECT_TRUE(named);
   EXPECT_TRUE(run.check.result.has_estimate);
+}
+
+// --joint_intrinsics auto: a camera is refined where the model's intrinsics
+// differ from the database's (COLMAP's bundle adjustment changed them),
+// held where they are the database's or there is no database.
+TEST_F(JointAdjustmentStageTest, AutoRefinesOnlyIntrinsicsColmapChanged) {
+  ColmapCalibrationInputs inputs = WriteSimulatedColmapProject(
+      (dir_ / "project").string(), DriftingProject(TestSeed(11)));
+  inputs.joint_adjustment.use = JointAdjustmentUse::kOff;
+  ColmapCalibrationRun run = CalibrateColmapProject(inputs);
+  ASSERT_TRUE(run.check.result.has_estimate) << run.check.result.message;
+  ASSERT_FALSE(run.metric_models.empty());
+  const auto held = [&](JointIntrinsics intrinsics) {
+    JointInput input;
+    input.problem.odom_from_cam = run.check.result.odom_from_cam;
+    EXPECT_EQ(AddMetricModels(run, StampOfImage(run), intrinsics, &input), "");
+    EXPECT_FALSE(input.problem.cameras.empty());
+    bool all_held = true;
+    for (const JointCamera& camera : input.problem.cameras) {
+      all_held = all_held && camera.held;
+    }
+    return all_held;
+  };
+  EXPECT_TRUE(run.database_cameras.empty());  // no database given
+  EXPECT_TRUE(held(JointIntrinsics::kAuto));
+  for (const auto& [id, camera] : run.metric_models[0].model.cameras) {
+    run.database_cameras[id] = camera;  // as given: not changed
+  }
+  EXPECT_TRUE(held(JointIntrinsics::kAuto));
+  for (auto& [id, camera] : run.database_cameras) camera.params[0] *= 1.01;
+  EXPECT_FALSE(held(JointIntrinsics::kAuto));
+  EXPECT_FALSE(held(JointIntrinsics::kRefined));
 }
 
 }  // namespace

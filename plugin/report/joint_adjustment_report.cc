@@ -87,6 +87,15 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   out["num_observations_left_out"] = r.num_observations_left_out;
   out["pixel_sigma_px"] = r.pixel_sigma;
   out["odometry_sigma_ratio"] = r.odometry_sigma_ratio;
+  out["camera_intrinsics"] = json::array();
+  for (size_t c = 0; c < joint.cameras_before.size() && c < r.cameras.size();
+       ++c) {
+    out["camera_intrinsics"].push_back(
+        {{"model", ProjectionModelName(r.cameras[c].model)},
+         {"refined", static_cast<bool>(joint.intrinsics_refined.at(c))},
+         {"params_before", joint.cameras_before[c].params},
+         {"params", r.cameras[c].params}});
+  }
   out["covariance_widening"] = {r.covariance_widening[0],
                                 r.covariance_widening[1],
                                 r.covariance_widening[2],
@@ -219,6 +228,15 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
         << "a jackknife over " << joint.jackknife.num_blocks
         << " stretches: " << Joined("%.2f", {w[0], w[1], w[2], w[3], w[4]})
         << "\n";
+  }
+  for (size_t c = 0; c < joint.cameras_before.size() && c < r.cameras.size();
+       ++c) {
+    if (!joint.intrinsics_refined.at(c)) continue;
+    out << "  joint camera intrinsics refined (" +
+               std::string(ProjectionModelName(r.cameras[c].model)) +
+               "; the principal point held): focal length "
+        << FormatPrintf("%.2f", joint.cameras_before[c].params[0]) << " -> "
+        << FormatPrintf("%.2f px", r.cameras[c].params[0]) << "\n";
   }
   if (joint.refined_systematics) {
     out << "  joint systematics (3 sigma): clock offset changed by "
