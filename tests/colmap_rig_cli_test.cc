@@ -27,6 +27,7 @@
 #include <fstream>
 #include <iostream>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -404,6 +405,15 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
   EXPECT_NE(out.find("seen by several cameras"), std::string::npos) << out;
   // Each camera's estimated clock offset, held, enters by its uncertainty.
   EXPECT_EQ(joint["num_clock_offsets_propagated"], 3);
+  // No database: whether COLMAP changed the intrinsics is not known, so
+  // --joint_intrinsics auto holds them, and says so per camera.
+  std::set<std::string> with_intrinsics;
+  for (const json& camera : joint["camera_intrinsics"]) {
+    with_intrinsics.insert(camera["camera"].get<std::string>());
+    EXPECT_FALSE(camera["refined"].get<bool>());
+    EXPECT_EQ(camera["params"], camera["params_before"]);
+  }
+  EXPECT_EQ(with_intrinsics, std::set<std::string>({"front", "rear", "right"}));
   const std::string report = ReadFile(dir_ / "out" / "report.html");
   EXPECT_NE(report.find("Then adjusted together with the odometry"),
             std::string::npos);

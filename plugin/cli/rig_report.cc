@@ -2,6 +2,7 @@
 
 #include "odomcal/plugin/output/output_file.h"
 #include "odomcal/plugin/report/calibration_report.h"
+#include "odomcal/plugin/report/joint_adjustment_report.h"
 #include "odomcal/plugin/report/robot_outputs.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/format_number.h"
@@ -131,6 +132,13 @@ json RigJointToJson(const RigCalibrationRun& rig) {
     out["odometry_sigma_ratio"] = joint.result.odometry_sigma_ratio;
     out["jackknife_blocks"] =
         joint.jackknife.ran ? json(joint.jackknife.num_blocks) : json(nullptr);
+    out["camera_intrinsics"] = JointCameraIntrinsicsToJson(
+        joint.cameras_before, joint.intrinsics_refined, joint.result.cameras);
+    for (size_t c = 0; c < out["camera_intrinsics"].size(); ++c) {
+      const int mount = joint.mount_of_camera.at(c);
+      out["camera_intrinsics"][c]["camera"] =
+          rig.cameras.at(joint.cameras.at(mount)).name;
+    }
   }
   return out;
 }

@@ -107,7 +107,7 @@ struct JointAdjustmentRun {
   // The cameras as the adjustment started (JointCamera::held set by
   // --joint_intrinsics) and whether their intrinsics were refined.
   std::vector<JointCamera> cameras_before;
-  std::vector<bool> intrinsics_refined;
+  std::vector<char> intrinsics_refined;
   std::vector<JointStretchScale> stretches;
   // The largest |joint_scale / two_step_scale - 1| over the stretches.
   double max_scale_change = 0.0;

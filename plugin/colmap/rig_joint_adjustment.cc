@@ -280,6 +280,7 @@ RigJointAdjustment AdjustRigJointly(
     out.cameras.push_back(static_cast<int>(k));
     Append(part, mount, &points, &all);
     mount_of_image.resize(all.problem.images.size(), mount);
+    out.mount_of_camera.resize(all.problem.cameras.size(), mount);
   }
   if (out.cameras.size() < 2) {
     out.skipped = "fewer than two cameras calibrated with metric models" +
@@ -315,6 +316,10 @@ RigJointAdjustment AdjustRigJointly(
   const JointAdjustmentOptions options = JointOptionsWithProgress(
       inputs.joint_adjustment, progress, "rig joint adjustment");
   out.ran = true;
+  out.cameras_before = all.problem.cameras;
+  for (const JointCamera& camera : all.problem.cameras) {
+    out.intrinsics_refined.push_back(options.refine_intrinsics && !camera.held);
+  }
   out.result = AdjustJointly(all.problem, options);
   if (!out.result.IsSuccess()) return out;
   out.jackknife = JackknifeJointExtrinsic(all.problem,

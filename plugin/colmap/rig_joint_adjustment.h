@@ -53,6 +53,12 @@ struct RigJointAdjustment {
   // Cameras whose clock offset's uncertainty (held at each camera's own
   // estimate in the adjustment) was propagated into the covariance.
   int num_clock_offsets_propagated = 0;
+  // The adjustment's cameras as it started (JointCamera::held by
+  // --joint_intrinsics), the mount each belongs to, and whether their
+  // intrinsics were refined (result.cameras: after).
+  std::vector<JointCamera> cameras_before;
+  std::vector<int> mount_of_camera;
+  std::vector<char> intrinsics_refined;
 
   bool Succeeded() const { return ran && result.IsSuccess(); }
   // Mount of camera `camera` (index among the runs), or -1.

@@ -37,6 +37,19 @@ bool IsAngle(const ExtrinsicDisagreement& disagreement) {
 
 }  // namespace
 
+json JointCameraIntrinsicsToJson(const std::vector<JointCamera>& before,
+                                 const std::vector<char>& refined,
+                                 const std::vector<JointCamera>& after) {
+  json out = json::array();
+  for (size_t c = 0; c < before.size() && c < after.size(); ++c) {
+    out.push_back({{"model", ProjectionModelName(after[c].model)},
+                   {"refined", static_cast<bool>(refined.at(c))},
+                   {"params_before", before[c].params},
+                   {"params", after[c].params}});
+  }
+  return out;
+}
+
 json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   const JointAdjustmentRun& joint = run.joint;
   if (!joint.requested) return nullptr;
@@ -87,15 +100,8 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   out["num_observations_left_out"] = r.num_observations_left_out;
   out["pixel_sigma_px"] = r.pixel_sigma;
   out["odometry_sigma_ratio"] = r.odometry_sigma_ratio;
-  out["camera_intrinsics"] = json::array();
-  for (size_t c = 0; c < joint.cameras_before.size() && c < r.cameras.size();
-       ++c) {
-    out["camera_intrinsics"].push_back(
-        {{"model", ProjectionModelName(r.cameras[c].model)},
-         {"refined", static_cast<bool>(joint.intrinsics_refined.at(c))},
-         {"params_before", joint.cameras_before[c].params},
-         {"params", r.cameras[c].params}});
-  }
+  out["camera_intrinsics"] = JointCameraIntrinsicsToJson(
+      joint.cameras_before, joint.intrinsics_refined, r.cameras);
   out["covariance_widening"] = {r.covariance_widening[0],
                                 r.covariance_widening[1],
                                 r.covariance_widening[2],

@@ -7,11 +7,20 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace odomcal {
 
 // `joint_adjustment` of the result JSON; null when --joint_adjustment off.
 nlohmann::json JointAdjustmentToJson(const ColmapCalibrationRun& run);
+
+// `camera_intrinsics` of an adjustment: per camera its projection model,
+// whether its intrinsics were refined, and its parameters before and after
+// (`before`, `refined` and `after` of one length).
+nlohmann::json JointCameraIntrinsicsToJson(
+    const std::vector<JointCamera>& before,
+    const std::vector<char>& refined,
+    const std::vector<JointCamera>& after);
 
 // `diagnostics.two_step`: the two-step extrinsic and its standard deviations
 // when the joint adjustment replaced it; null otherwise.
