@@ -74,6 +74,7 @@ constexpr double kJointContradictionSigmas = 3.0;
 struct JointAdjustmentRun {
   bool requested = false;  // --joint_adjustment on or check
   JointAdjustmentUse use = JointAdjustmentUse::kOff;
+  JointIntrinsics intrinsics = JointIntrinsics::kAuto;  // as asked
   bool ran = false;  // the adjustment was attempted
   // The adjustment's extrinsic and model are the result's (kOn, or kCheck
   // with a contradiction); false: the two-step's stay.

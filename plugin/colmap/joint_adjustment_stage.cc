@@ -316,6 +316,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   if (inputs.joint_adjustment.use == JointAdjustmentUse::kOff) return;
   joint.requested = true;
   joint.use = inputs.joint_adjustment.use;
+  joint.intrinsics = inputs.joint_adjustment.intrinsics;
   const bool check = joint.use == JointAdjustmentUse::kCheck;
   const std::string name =
       check ? "joint adjustment check" : "joint adjustment";

@@ -244,6 +244,13 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
         << FormatPrintf("%.2f", joint.cameras_before[c].params[0]) << " -> "
         << FormatPrintf("%.2f px", r.cameras[c].params[0]) << "\n";
   }
+  if (joint.intrinsics == JointIntrinsics::kAuto &&
+      run.database_cameras.empty()) {
+    out << "  joint camera intrinsics held as the model has them: without the "
+           "database's cameras (--database_path) it is not known whether "
+           "COLMAP's bundle adjustment changed them (--joint_intrinsics "
+           "refined refines them)\n";
+  }
   if (joint.refined_systematics) {
     out << "  joint systematics (3 sigma): clock offset changed by "
         << FormatPrintf("%+.2f", 1e3 * r.time_offset_change_s) << " +- "
