@@ -1,6 +1,7 @@
 #include "odomcal/solver/camera_intrinsics_manifold.h"
 
 #include <cmath>
+#include <cstddef>
 
 namespace odomcal::internal {
 
@@ -33,11 +34,12 @@ bool CameraIntrinsicsManifold::Plus(const double* x,
 bool CameraIntrinsicsManifold::PlusJacobian(const double* x,
                                             double* jacobian) const {
   // Row-major, ambient x tangent, at delta = 0.
-  const int tangent = TangentSize();
-  for (int k = 0; k < num_params_ * tangent; ++k) jacobian[k] = 0.0;
+  const std::ptrdiff_t tangent = TangentSize();
+  for (std::ptrdiff_t k = 0; k < num_params_ * tangent; ++k) jacobian[k] = 0.0;
   for (const int k : focal_) jacobian[k * tangent] = x[k];
   for (size_t j = 0; j < distortion_.size(); ++j) {
-    jacobian[distortion_[j] * tangent + 1 + static_cast<int>(j)] = 1.0;
+    jacobian[distortion_[j] * tangent + 1 + static_cast<std::ptrdiff_t>(j)] =
+        1.0;
   }
   return true;
 }
