@@ -16,7 +16,10 @@
 //
 // The stated covariance keeps the model's correlations and widens each
 // standard deviation to the largest of the model's, the sandwich's and the
-// jackknife's.
+// jackknife's. On a rig (several mounts) the positive part of the
+// jackknife's covariance minus that is added too, so that every combination,
+// a camera-to-camera difference among them, is at least the jackknife's
+// spread of it.
 #pragma once
 
 #include "odomcal/solver/joint_adjustment.h"
