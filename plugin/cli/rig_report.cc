@@ -133,7 +133,7 @@ json RigJointToJson(const RigCalibrationRun& rig) {
     out["jackknife_blocks"] =
         joint.jackknife.ran ? json(joint.jackknife.num_blocks) : json(nullptr);
     out["camera_intrinsics"] = JointCameraIntrinsicsToJson(
-        joint.cameras_before, joint.intrinsics_refined, joint.result.cameras);
+        joint.cameras_before, joint.refine_intrinsics, joint.result.cameras);
     for (size_t c = 0; c < out["camera_intrinsics"].size(); ++c) {
       const int mount = joint.mount_of_camera.at(c);
       out["camera_intrinsics"][c]["camera"] =

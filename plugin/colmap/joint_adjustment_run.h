@@ -106,9 +106,10 @@ struct JointAdjustmentRun {
   // estimated).
   bool refined_systematics = false;
   // The cameras as the adjustment started (JointCamera::held set by
-  // --joint_intrinsics) and whether their intrinsics were refined.
+  // --joint_intrinsics) and its option: a camera's intrinsics were refined
+  // where refine_intrinsics and not held.
   std::vector<JointCamera> cameras_before;
-  std::vector<char> intrinsics_refined;
+  bool refine_intrinsics = false;
   std::vector<JointStretchScale> stretches;
   // The largest |joint_scale / two_step_scale - 1| over the stretches.
   double max_scale_change = 0.0;

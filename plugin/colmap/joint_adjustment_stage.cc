@@ -358,10 +358,7 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   joint.num_joining_links = input.num_joining_links;
   joint.refined_systematics = input.problem.systematics.has_value();
   joint.cameras_before = input.problem.cameras;
-  for (const JointCamera& camera : input.problem.cameras) {
-    joint.intrinsics_refined.push_back(options.refine_intrinsics &&
-                                       !camera.held);
-  }
+  joint.refine_intrinsics = options.refine_intrinsics;
   joint.two_step_odom_from_cam = result.odom_from_cam;
   joint.two_step_covariance = result.covariance->topLeftCorner<5, 5>();
   joint.result = AdjustJointly(input.problem, options);

@@ -317,9 +317,7 @@ RigJointAdjustment AdjustRigJointly(
       inputs.joint_adjustment, progress, "rig joint adjustment");
   out.ran = true;
   out.cameras_before = all.problem.cameras;
-  for (const JointCamera& camera : all.problem.cameras) {
-    out.intrinsics_refined.push_back(options.refine_intrinsics && !camera.held);
-  }
+  out.refine_intrinsics = options.refine_intrinsics;
   out.result = AdjustJointly(all.problem, options);
   if (!out.result.IsSuccess()) return out;
   out.jackknife = JackknifeJointExtrinsic(all.problem,

@@ -54,11 +54,11 @@ struct RigJointAdjustment {
   // estimate in the adjustment) was propagated into the covariance.
   int num_clock_offsets_propagated = 0;
   // The adjustment's cameras as it started (JointCamera::held by
-  // --joint_intrinsics), the mount each belongs to, and whether their
-  // intrinsics were refined (result.cameras: after).
+  // --joint_intrinsics; result.cameras: after), the mount each belongs to,
+  // and its option (refined where set and not held).
   std::vector<JointCamera> cameras_before;
   std::vector<int> mount_of_camera;
-  std::vector<char> intrinsics_refined;
+  bool refine_intrinsics = false;
 
   bool Succeeded() const { return ran && result.IsSuccess(); }
   // Mount of camera `camera` (index among the runs), or -1.

@@ -38,12 +38,12 @@ bool IsAngle(const ExtrinsicDisagreement& disagreement) {
 }  // namespace
 
 json JointCameraIntrinsicsToJson(const std::vector<JointCamera>& before,
-                                 const std::vector<char>& refined,
+                                 bool refine_intrinsics,
                                  const std::vector<JointCamera>& after) {
   json out = json::array();
   for (size_t c = 0; c < before.size() && c < after.size(); ++c) {
     out.push_back({{"model", ProjectionModelName(after[c].model)},
-                   {"refined", static_cast<bool>(refined.at(c))},
+                   {"refined", refine_intrinsics && !before[c].held},
                    {"params_before", before[c].params},
                    {"params", after[c].params}});
   }
@@ -101,7 +101,7 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   out["pixel_sigma_px"] = r.pixel_sigma;
   out["odometry_sigma_ratio"] = r.odometry_sigma_ratio;
   out["camera_intrinsics"] = JointCameraIntrinsicsToJson(
-      joint.cameras_before, joint.intrinsics_refined, r.cameras);
+      joint.cameras_before, joint.refine_intrinsics, r.cameras);
   out["covariance_widening"] = {r.covariance_widening[0],
                                 r.covariance_widening[1],
                                 r.covariance_widening[2],
@@ -237,7 +237,7 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
   }
   for (size_t c = 0; c < joint.cameras_before.size() && c < r.cameras.size();
        ++c) {
-    if (!joint.intrinsics_refined.at(c)) continue;
+    if (!joint.refine_intrinsics || joint.cameras_before[c].held) continue;
     out << "  joint camera intrinsics refined (" +
                std::string(ProjectionModelName(r.cameras[c].model)) +
                "; the principal point held): focal length "

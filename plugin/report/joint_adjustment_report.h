@@ -15,11 +15,11 @@ namespace odomcal {
 nlohmann::json JointAdjustmentToJson(const ColmapCalibrationRun& run);
 
 // `camera_intrinsics` of an adjustment: per camera its projection model,
-// whether its intrinsics were refined, and its parameters before and after
-// (`before`, `refined` and `after` of one length).
+// whether its intrinsics were refined (`refine_intrinsics` and not held),
+// and its parameters before and after (`before` and `after` of one length).
 nlohmann::json JointCameraIntrinsicsToJson(
     const std::vector<JointCamera>& before,
-    const std::vector<char>& refined,
+    bool refine_intrinsics,
     const std::vector<JointCamera>& after);
 
 // `diagnostics.two_step`: the two-step extrinsic and its standard deviations
