@@ -2,9 +2,12 @@
 // in metres in the odometry's origin frame.
 //
 // Unknowns:
-//   - per image, the robot's planar pose origin_from_odom_i = (x, y, yaw):
-//     the planar-motion model of the two-step calibration, in which the
-//     odometry frame moves in the origin's x-y plane;
+//   - per image, the robot's pose origin_from_odom_i: with planar odometry
+//     (RobotMotionModel::kPlanar) its (x, y, yaw), the planar-motion model
+//     of the two-step calibration, in which the odometry frame moves in the
+//     origin's x-y plane; with SE(3) odometry (kSE3) the whole pose,
+//     (x, y, z) and yaw, pitch, roll (R = Rz(yaw) Ry(pitch) Rx(roll)), so
+//     that the robot follows a road that pitches and banks;
 //   - the shared odom_from_cam, its translation z held (unobservable under
 //     planar motion); on a rig, one odom_from_cam per mount (a camera's
 //     place on the robot), each image that of its mount, all tied to the
@@ -19,18 +22,19 @@
 //   - reprojection: observed pixel minus the projection of the point through
 //     cam_from_odom * Inverse(origin_from_odom_i), divided by the pixel
 //     sigma, under a robust loss;
-//   - odometry: for each link, the planar motion the poses imply minus the
-//     measured one (x, y in the first pose's frame, yaw), whitened by the
-//     link's covariance.
+//   - odometry: for each link, the motion the poses imply minus the
+//     measured one, whitened by the link's covariance: planar (x, y in the
+//     first pose's frame, yaw), or with kSE3 the rotation's and the
+//     translation's difference (OdometryLink::motion_3d).
 // The images tie the long spans (COLMAP's model has no drift within the
 // images' overlap) and the odometry fixes the metric scale and what the
 // images leave weak; each fixes what the other cannot, so the metric model
 // carries neither COLMAP's scale drift nor the odometry's.
 //
-// Gauge: the problem is invariant to one planar motion of everything per
-// connected component (images joined by links or shared points); the first
-// image of each component keeps its starting pose. The extrinsic does not
-// depend on that choice.
+// Gauge: the problem is invariant to one planar motion (kSE3: one rigid
+// motion) of everything per connected component (images joined by links or
+// shared points); the first image of each component keeps its starting
+// pose. The extrinsic does not depend on that choice.
 //
 // Covariance of the extrinsic: the inverse of the Gauss-Newton information
 // J^T J at the solution, over all unknowns (poses, points, intrinsics when
@@ -71,9 +75,18 @@ struct JointCamera {
   bool held = false;
 };
 
+// The robot's poses and the odometry's links (see the top).
+enum class RobotMotionModel {
+  kPlanar,  // (x, y, yaw); links OdometryLink::odom_i_from_odom_j
+  kSE3,     // the whole pose; links OdometryLink::motion_3d
+};
+const char* ToString(RobotMotionModel model);
+
 struct JointImage {
-  int camera = 0;               // index into JointAdjustmentProblem::cameras
-  PlanarPose origin_from_odom;  // starting value
+  int camera = 0;  // index into JointAdjustmentProblem::cameras
+  // Starting value; with RobotMotionModel::kPlanar only its x, y and yaw
+  // (PlanarFromRigid) are used.
+  Rigid3d origin_from_odom;
   // Which odom_from_cam the image was taken through: 0 is
   // JointAdjustmentProblem::odom_from_cam, k > 0 other_mounts[k - 1].
   int mount = 0;
@@ -83,6 +96,16 @@ struct JointObservation {
   int image = 0;                                    // index into images
   int point = 0;                                    // index into points
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // the camera's convention
+};
+
+// The odometry's whole motion between two images' times (kSE3 links) and
+// its covariance, order [rotation (3), translation (3)], the rotation as a
+// left perturbation R = Exp(phi) R_hat in radians, the translation in
+// metres (MotionCovariance, motion_pair.h).
+struct OdometryMotion3d {
+  Rigid3d odom_i_from_odom_j;
+  Eigen::Matrix<double, 6, 6> covariance =
+      Eigen::Matrix<double, 6, 6>::Identity();
 };
 
 // The odometry's planar motion from image_i's time to image_j's, and its
@@ -97,6 +120,9 @@ struct OdometryLink {
   // JointAdjustmentProblem::systematics, which then measures the link by
   // re-integrating it (odom_i_from_odom_j is not used).
   std::optional<OdometrySamples> samples;
+  // The whole motion: required with RobotMotionModel::kSE3, which measures
+  // the link by it (the planar fields are not used).
+  std::optional<OdometryMotion3d> motion_3d;
 };
 
 // The odometry's systematic errors refined with everything else: its
@@ -117,6 +143,10 @@ struct JointAdjustmentProblem {
   std::vector<Eigen::Vector3d> points;  // starting values, metres, origin
   std::vector<JointObservation> observations;
   std::vector<OdometryLink> links;
+  // kSE3 where the odometry measures the whole motion (a 3-D log): the
+  // robot's poses then tilt with the ground. Not with systematics (a planar
+  // log's).
+  RobotMotionModel motion_model = RobotMotionModel::kPlanar;
   Rigid3d odom_from_cam;  // starting value; its translation z is held
   // A rig's further cameras: the starting odom_from_cam of mounts 1, 2, ...
   // (JointImage::mount), each with its translation z held. Every mount
@@ -205,9 +235,10 @@ struct JointAdjustmentResult {
   // widened per row as `covariance`, by `mounts_covariance_widening`.
   Eigen::MatrixXd mounts_covariance;
   Eigen::VectorXd mounts_covariance_widening;
-  std::vector<PlanarPose> origin_from_odom;  // per image
-  std::vector<Eigen::Vector3d> points;       // metres, origin frame
-  std::vector<JointCamera> cameras;          // refined or as given
+  // Per image; level (z, roll and pitch 0) with RobotMotionModel::kPlanar.
+  std::vector<Rigid3d> origin_from_odom;
+  std::vector<Eigen::Vector3d> points;  // metres, origin frame
+  std::vector<JointCamera> cameras;     // refined or as given
   // With systematics: the refined intrinsics, the clock offset's change
   // (odometry_time = camera_time + the given offset + this) and their
   // standard deviations (0 where held).

@@ -57,15 +57,38 @@ std::string CheckProblem(const JointAdjustmentProblem& problem) {
              "non-finite pixel";
     }
   }
+  const bool se3 = problem.motion_model == RobotMotionModel::kSE3;
   for (const OdometryLink& link : problem.links) {
-    Eigen::Matrix3d unused;
     if (link.image_i < 0 || link.image_i >= num_images || link.image_j < 0 ||
         link.image_j >= num_images || link.image_i == link.image_j) {
       return "an odometry link names a missing image or one image twice";
     }
+    if (se3) {
+      Eigen::Matrix<double, 6, 6> unused;
+      if (!link.motion_3d) {
+        return "an odometry link without the whole motion, which the SE(3) "
+               "robot poses need";
+      }
+      if (!IsFinite(link.motion_3d->odom_i_from_odom_j) ||
+          !SqrtInformation(link.motion_3d->covariance, &unused)) {
+        return "an odometry link's SE(3) motion is not finite or its "
+               "covariance not positive definite";
+      }
+      continue;
+    }
+    Eigen::Matrix3d unused;
     if (!SqrtInformation(link.covariance, &unused)) {
       return "an odometry link's covariance is not positive definite";
     }
+  }
+  for (const JointImage& image : problem.images) {
+    if (!IsFinite(image.origin_from_odom)) {
+      return "an image's starting pose is not finite";
+    }
+  }
+  if (se3 && problem.systematics) {
+    return "the odometry's systematics are refined on a planar log only, "
+           "not with SE(3) robot poses";
   }
   if (!IsFinite(problem.odom_from_cam)) return "a non-finite extrinsic";
   for (const Rigid3d& mount : problem.other_mounts) {
@@ -104,6 +127,16 @@ void JointAdjustmentOptions::Check() const {
   if (num_threads < 1) {
     throw std::invalid_argument("num_threads must be at least 1");
   }
+}
+
+const char* ToString(RobotMotionModel model) {
+  switch (model) {
+    case RobotMotionModel::kPlanar:
+      return "planar";
+    case RobotMotionModel::kSE3:
+      return "se3";
+  }
+  return "unknown";
 }
 
 const char* ToString(JointAdjustmentStatus status) {

@@ -1,6 +1,7 @@
 // The joint adjustment's problem (internal: not installed; Ceres types stay
 // out of the public headers). The model: joint_adjustment.h. Ceres problem:
-// per image a pose block (3), per mount the extrinsic as [q (4,
+// per image a pose block (3: x, y, yaw) and with RobotMotionModel::kSE3 a
+// tilt block (3: z, roll, pitch), per mount the extrinsic as [q (4,
 // EigenQuaternionManifold), t_xy (2), t_z (1, constant)], per point a block
 // (3), per camera an intrinsics block (held unless refined). Solved with the
 // sparse Schur complement (points eliminated first), two or three times:
@@ -94,6 +95,9 @@ class JointProblem {
 
   void WriteResult(JointAdjustmentResult* result) const;
 
+  // Image i's robot pose at the current values.
+  Rigid3d PoseOf(size_t i) const;
+
   int NumDeterminedPoints() const {
     return static_cast<int>(
         std::count(determined_.begin(), determined_.end(), 1));
@@ -106,7 +110,10 @@ class JointProblem {
  private:
   const JointAdjustmentProblem& input_;
   const JointAdjustmentOptions& options_;
-  std::vector<std::array<double, 3>> poses_;
+  // Whole robot poses (RobotMotionModel::kSE3): tilts_ are parameters.
+  bool tilted_ = false;
+  std::vector<std::array<double, 3>> poses_;  // x, y, yaw
+  std::vector<std::array<double, 3>> tilts_;  // z, roll, pitch
   std::vector<Eigen::Vector3d> points_;
   std::vector<std::vector<double>> params_;
   // One camera's place on the robot: odom_from_cam as Ceres blocks.

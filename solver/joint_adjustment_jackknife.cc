@@ -48,8 +48,10 @@ JointAdjustmentProblem WithoutBlock(const JointAdjustmentProblem& problem,
     link.image_i = new_index[link.image_i];
     link.image_j = new_index[link.image_j];
     link.covariance *= factor;
+    if (link.motion_3d) link.motion_3d->covariance *= factor;
     reduced.links.push_back(std::move(link));
   }
+  reduced.motion_model = problem.motion_model;
   reduced.odom_from_cam = full.odom_from_cam;
   reduced.other_mounts = full.other_mounts;
   reduced.systematics = problem.systematics;

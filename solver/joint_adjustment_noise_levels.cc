@@ -51,23 +51,26 @@ JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
   if (statistics.num_inliers == 0) return statistics;
   statistics.rms = std::sqrt(sum_squares / (2.0 * statistics.num_inliers));
   // Each point takes 3 of its observations' degrees of freedom, each free
-  // pose 3 (the odometry's share of the poses is small beside the
-  // images'), each mount 5.
+  // pose 3 (6 when tilted; the odometry's share of the poses is small
+  // beside the images'), each mount 5.
   int num_free_poses = 0;
   for (const char held : held_) num_free_poses += held ? 0 : 1;
+  const double pose_dof = tilted_ ? 6.0 : 3.0;
   const double dof = 2.0 * statistics.num_inliers - 3.0 * num_points -
-                     3.0 * num_free_poses -
+                     pose_dof * num_free_poses -
                      5.0 * static_cast<double>(mounts_.size());
   statistics.sigma = dof > 0.0 ? std::sqrt(sum_squares / dof) : statistics.rms;
   return statistics;
 }
 
 double JointProblem::EstimateOdometryFactor() {
-  const double dof = 3.0 * static_cast<double>(input_.links.size()) - 3.0;
+  const double per_link = tilted_ ? 6.0 : 3.0;
+  const double dof = per_link * static_cast<double>(input_.links.size()) - 3.0;
   constexpr double kMinDof = 30.0;
   if (dof < kMinDof) return odometry_factor_;
   const double rms = OdometryRms();
-  const double sum = rms * rms * 3.0 * static_cast<double>(input_.links.size());
+  const double sum =
+      rms * rms * per_link * static_cast<double>(input_.links.size());
   odometry_factor_ =
       std::clamp(sum / dof, kMinOdometryFactor, kMaxOdometryFactor);
   return odometry_factor_;
@@ -76,6 +79,19 @@ double JointProblem::EstimateOdometryFactor() {
 double JointProblem::OdometryRms() const {
   double sum = 0.0;
   for (const OdometryLink& link : input_.links) {
+    if (tilted_) {
+      Eigen::Matrix<double, 6, 6> w6;
+      SqrtInformation(link.motion_3d->covariance, &w6);
+      const Se3OdometryLinkCost cost(link.motion_3d->odom_i_from_odom_j, w6);
+      Eigen::Matrix<double, 6, 1> residual;
+      cost(poses_[link.image_i].data(),
+           tilts_[link.image_i].data(),
+           poses_[link.image_j].data(),
+           tilts_[link.image_j].data(),
+           residual.data());
+      sum += residual.squaredNorm();
+      continue;
+    }
     Eigen::Matrix3d w;
     SqrtInformation(link.covariance, &w);
     Eigen::Vector3d residual;
@@ -95,7 +111,8 @@ double JointProblem::OdometryRms() const {
     }
     sum += residual.squaredNorm();
   }
-  return std::sqrt(sum / (3.0 * input_.links.size()));
+  const double per_link = tilted_ ? 6.0 : 3.0;
+  return std::sqrt(sum / (per_link * static_cast<double>(input_.links.size())));
 }
 
 }  // namespace odomcal::internal

@@ -62,12 +62,26 @@ class ImageComponents {
 
 JointProblem::JointProblem(const JointAdjustmentProblem& input,
                            const JointAdjustmentOptions& options)
-    : input_(input), options_(options) {
+    : input_(input),
+      options_(options),
+      tilted_(input.motion_model == RobotMotionModel::kSE3) {
   poses_.reserve(input.images.size());
+  tilts_.reserve(input.images.size());
   for (const JointImage& image : input.images) {
-    poses_.push_back({image.origin_from_odom.x,
-                      image.origin_from_odom.y,
-                      image.origin_from_odom.yaw_rad});
+    if (tilted_) {
+      // origin_from_odom = (x, y, z), Rz(yaw) Ry(pitch) Rx(roll).
+      const Eigen::Matrix3d r = image.origin_from_odom.rotation.normalized()
+                                    .toRotationMatrix();
+      const Eigen::Vector3d& t = image.origin_from_odom.translation;
+      poses_.push_back({t.x(), t.y(), std::atan2(r(1, 0), r(0, 0))});
+      tilts_.push_back({t.z(),
+                        std::atan2(r(2, 1), r(2, 2)),
+                        std::asin(std::clamp(-r(2, 0), -1.0, 1.0))});
+    } else {
+      const PlanarPose planar = PlanarFromRigid(image.origin_from_odom);
+      poses_.push_back({planar.x, planar.y, planar.yaw_rad});
+      tilts_.push_back({0.0, 0.0, 0.0});
+    }
   }
   points_ = input.points;
   for (const JointCamera& camera : input.cameras) {
@@ -97,7 +111,7 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
                                        ? input.odom_from_cam
                                        : input.other_mounts[image.mount - 1];
     const Eigen::Vector3d center =
-        image.origin_from_odom.ToRigid3d() * odom_from_cam.translation;
+        PoseOf(observation.image) * odom_from_cam.translation;
     const Eigen::Vector3d ray = input.points[observation.point] - center;
     const double norm = ray.norm();
     start_rays_.push_back(norm > 0.0 ? Eigen::Vector3d(ray / norm)
@@ -195,16 +209,21 @@ void JointProblem::Build(double pixel_sigma) {
     } else if (options_.loss == RobustLoss::kCauchy) {
       loss = new ceres::CauchyLoss(options_.loss_scale);
     }
+    std::vector<double*> blocks = {poses_[observation.image].data()};
+    if (tilted_) blocks.push_back(tilts_[observation.image].data());
+    blocks.insert(blocks.end(),
+                  {mount.quaternion,
+                   mount.t_xy,
+                   &mount.t_z,
+                   points_[observation.point].data(),
+                   params_[camera].data()});
     const ceres::ResidualBlockId id = problem_->AddResidualBlock(
-        ReprojectionCostFor(
-            input_.cameras[camera].model, observation.pixel, pixel_sigma),
+        ReprojectionCostFor(input_.cameras[camera].model,
+                            tilted_,
+                            observation.pixel,
+                            pixel_sigma),
         loss,
-        poses_[observation.image].data(),
-        mount.quaternion,
-        mount.t_xy,
-        &mount.t_z,
-        points_[observation.point].data(),
-        params_[camera].data());
+        blocks);
     residual_blocks_.push_back(id);
     cluster_of_block_.push_back(observation.point);
   }
@@ -214,7 +233,19 @@ void JointProblem::Build(double pixel_sigma) {
     SqrtInformation(link.covariance, &w);
     w /= std::sqrt(odometry_factor_);
     ceres::ResidualBlockId id = nullptr;
-    if (input_.systematics) {
+    if (tilted_) {
+      Eigen::Matrix<double, 6, 6> w6;
+      SqrtInformation(link.motion_3d->covariance, &w6);
+      w6 /= std::sqrt(odometry_factor_);
+      id = problem_->AddResidualBlock(
+          new ceres::AutoDiffCostFunction<Se3OdometryLinkCost, 6, 3, 3, 3, 3>(
+              new Se3OdometryLinkCost(link.motion_3d->odom_i_from_odom_j, w6)),
+          nullptr,
+          poses_[link.image_i].data(),
+          tilts_[link.image_i].data(),
+          poses_[link.image_j].data(),
+          tilts_[link.image_j].data());
+    } else if (input_.systematics) {
       id = problem_->AddResidualBlock(
           new ceres::
               AutoDiffCostFunction<SystematicOdometryLinkCost, 3, 3, 3, 3, 1>(
@@ -262,8 +293,12 @@ void JointProblem::Build(double pixel_sigma) {
     }
   }
   for (size_t i = 0; i < poses_.size(); ++i) {
-    if (held_[i] && problem_->HasParameterBlock(poses_[i].data())) {
+    if (!held_[i]) continue;
+    if (problem_->HasParameterBlock(poses_[i].data())) {
       problem_->SetParameterBlockConstant(poses_[i].data());
+    }
+    if (tilted_ && problem_->HasParameterBlock(tilts_[i].data())) {
+      problem_->SetParameterBlockConstant(tilts_[i].data());
     }
   }
   params_manifolds_.clear();
@@ -306,16 +341,29 @@ bool JointProblem::ReprojectionResidual(size_t k,
   const JointImage& image = input_.images[observation.image];
   const int camera = image.camera;
   const Mount& mount = mounts_[image.mount];
-  const double* parameters[] = {poses_[observation.image].data(),
-                                mount.quaternion,
-                                mount.t_xy,
-                                &mount.t_z,
-                                points_[observation.point].data(),
-                                params_[camera].data()};
+  // In ReprojectionCost's order, the tilt after the pose when tilted.
+  std::array<const double*, 7> parameters{};
+  size_t n = 0;
+  parameters[n++] = poses_[observation.image].data();
+  if (tilted_) parameters[n++] = tilts_[observation.image].data();
+  parameters[n++] = mount.quaternion;
+  parameters[n++] = mount.t_xy;
+  parameters[n++] = &mount.t_z;
+  parameters[n++] = points_[observation.point].data();
+  parameters[n] = params_[camera].data();
   return ReprojectionResidualFor(input_.cameras[camera].model,
+                                 tilted_,
                                  observation.pixel,
-                                 parameters,
+                                 parameters.data(),
                                  residual->data());
+}
+
+Rigid3d JointProblem::PoseOf(size_t i) const {
+  const std::array<double, 3>& pose = poses_[i];
+  const std::array<double, 3>& tilt = tilts_[i];
+  const Eigen::Matrix3d rotation =
+      OriginFromOdomRotation(pose.data(), tilt.data());
+  return {Eigen::Quaterniond(rotation), {pose[0], pose[1], tilt[0]}};
 }
 
 void JointProblem::WriteResult(JointAdjustmentResult* result) const {
@@ -332,8 +380,8 @@ void JointProblem::WriteResult(JointAdjustmentResult* result) const {
     result->other_mounts.push_back(odom_from_cam(mounts_[m]));
   }
   result->origin_from_odom.clear();
-  for (const auto& pose : poses_) {
-    result->origin_from_odom.push_back({pose[0], pose[1], pose[2]});
+  for (size_t i = 0; i < poses_.size(); ++i) {
+    result->origin_from_odom.push_back(PoseOf(i));
   }
   result->points = points_;
   result->cameras = input_.cameras;

@@ -87,8 +87,10 @@ TEST(AdjustJointly, RemovesTheModelsScaleDriftAndStatesItsUncertainty) {
   for (size_t i = 0; i < scene.poses.size(); ++i) {
     worst =
         std::max(worst,
-                 std::hypot(result.origin_from_odom[i].x - scene.poses[i].x,
-                            result.origin_from_odom[i].y - scene.poses[i].y));
+                 (result.origin_from_odom[i].translation -
+                  scene.poses[i].translation)
+                     .head<2>()
+                     .norm());
   }
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(result.reprojection_rms_px_after,
@@ -118,7 +120,7 @@ TEST(AdjustJointly, LeavesOutAPointBehindItsCameras) {
   JointAdjustmentProblem& problem = scene.problem;
   // 3 m behind the first camera, "seen" by the first two images.
   const Rigid3d origin_from_cam =
-      problem.images[0].origin_from_odom.ToRigid3d() * problem.odom_from_cam;
+      problem.images[0].origin_from_odom * problem.odom_from_cam;
   problem.points.push_back(origin_from_cam * Eigen::Vector3d(0.0, 0.0, -3.0));
   const int behind = static_cast<int>(problem.points.size()) - 1;
   problem.observations.push_back({0, behind, Eigen::Vector2d(320.0, 240.0)});
@@ -137,12 +139,12 @@ TEST(AdjustJointly, LeavesOutAPointSeenAlongParallelRays) {
   // meet at thousandths of a degree, and the point's depth rests on the
   // pixel noise alone.
   const Rigid3d origin_from_cam =
-      problem.images[0].origin_from_odom.ToRigid3d() * problem.odom_from_cam;
+      problem.images[0].origin_from_odom * problem.odom_from_cam;
   problem.points.push_back(origin_from_cam * Eigen::Vector3d(0.0, 0.0, 5000.0));
   const int far = static_cast<int>(problem.points.size()) - 1;
   for (int image = 0; image < 2; ++image) {
     const Rigid3d cam_from_origin =
-        Inverse(problem.images[image].origin_from_odom.ToRigid3d() *
+        Inverse(problem.images[image].origin_from_odom *
                 problem.odom_from_cam);
     const Eigen::Vector3d in_cam = cam_from_origin * problem.points[far];
     Eigen::Vector2d pixel;

@@ -29,11 +29,32 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
       scene.odom_from_cam.rotation;
   scene.rear_odom_from_cam.translation = Eigen::Vector3d(-0.4, 0.1, 0.6);
   const int num_images = options.num_images;
+  // The pose of the robot at a planar pose on the ground: its height and
+  // its pitch and roll from the ground's slope there.
+  const double slope = std::tan(options.ground_slope_deg * kDegToRad);
+  constexpr double kWavelength = 20.0;
+  const double amplitude = slope * kWavelength / (2.0 * kPi);
+  const auto on_ground = [&](const PlanarPose& planar) {
+    const double phase_x = 2.0 * kPi * planar.x / kWavelength;
+    const double phase_y = 2.0 * kPi * planar.y / kWavelength;
+    const double z = amplitude * (std::sin(phase_x) + 0.8 * std::cos(phase_y));
+    const double gx = slope * std::cos(phase_x);
+    const double gy = -0.8 * slope * std::sin(phase_y);
+    const double c = std::cos(planar.yaw_rad);
+    const double s = std::sin(planar.yaw_rad);
+    const double pitch = -std::atan(c * gx + s * gy);
+    const double roll = std::atan(-s * gx + c * gy);
+    return Rigid3d{
+        Eigen::AngleAxisd(planar.yaw_rad, Eigen::Vector3d::UnitZ()) *
+            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()),
+        Eigen::Vector3d(planar.x, planar.y, z)};
+  };
   PlanarPose pose;
   // Halfway between consecutive poses in time: the rear camera's.
   std::vector<PlanarPose> rear_poses;
   for (int i = 0; i < num_images; ++i) {
-    scene.poses.push_back(pose);
+    scene.poses.push_back(on_ground(pose));
     const double turn = 0.25 * std::sin(0.12 * i);
     if (i + 1 < num_images) {
       PlanarPose half = pose;
@@ -47,13 +68,12 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
     pose.yaw_rad += turn;
   }
   const int per_image = options.points_per_image;
-  for (const PlanarPose& p : scene.poses) {
+  for (const Rigid3d& p : scene.poses) {
     for (int k = 0; k < per_image; ++k) {
       const double ahead = 1.0 + 6.0 * uniform(random);
       const double side = (uniform(random) - 0.5) * 10.0;
       const double height = -0.3 + 2.5 * uniform(random);
-      scene.points.push_back(p.ToRigid3d() *
-                             Eigen::Vector3d(ahead, side, height));
+      scene.points.push_back(p * Eigen::Vector3d(ahead, side, height));
     }
   }
   JointAdjustmentProblem& problem = scene.problem;
@@ -64,12 +84,19 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
                            x.y() * (1.0 + options.drift * fraction),
                            x.z());
   };
+  // A starting pose: the truth drifted, turned by 0.1 deg about each axis.
+  const auto start_of = [&](const Rigid3d& truth, double fraction) {
+    const Eigen::Vector3d turn =
+        0.002 * Eigen::Vector3d(normal(random), normal(random), normal(random));
+    return Rigid3d{Eigen::AngleAxisd(turn.norm(), turn.normalized()) *
+                       truth.rotation,
+                   drifted(truth.translation, fraction)};
+  };
   for (int i = 0; i < num_images; ++i) {
     const double fraction = static_cast<double>(i) / num_images;
-    const Eigen::Vector3d xy = drifted(
-        Eigen::Vector3d(scene.poses[i].x, scene.poses[i].y, 0.0), fraction);
-    problem.images.push_back(
-        {0, {xy.x(), xy.y(), scene.poses[i].yaw_rad + 0.002 * normal(random)}});
+    JointImage image;
+    image.origin_from_odom = start_of(scene.poses[i], fraction);
+    problem.images.push_back(image);
   }
   for (size_t k = 0; k < scene.points.size(); ++k) {
     // The drift of the image the point was placed ahead of.
@@ -122,20 +149,41 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
     }
   };
   for (int i = 0; i < num_images; ++i) {
-    observe(i, i, Inverse(scene.poses[i].ToRigid3d() * scene.odom_from_cam), 0);
+    observe(i, i, Inverse(scene.poses[i] * scene.odom_from_cam), 0);
   }
-  // The link of the odometry from pose a to pose b, with its noise.
+  if (options.se3_odometry) problem.motion_model = RobotMotionModel::kSE3;
+  // The link of the odometry from pose a to pose b, with its noise: the
+  // planar part of the motion, or with se3_odometry the whole of it.
   const auto link_between =
-      [&](int image_i, int image_j, const PlanarPose& a, const PlanarPose& b) {
-        const PlanarPose motion =
-            PlanarFromRigid(Inverse(a.ToRigid3d()) * b.ToRigid3d());
-        const double length = std::hypot(motion.x, motion.y);
+      [&](int image_i, int image_j, const Rigid3d& a, const Rigid3d& b) {
+        const Rigid3d truth = Inverse(a) * b;
+        const PlanarPose motion = PlanarFromRigid(truth);
+        const double length = truth.translation.norm();
         const double xy_sigma = 0.002 + 0.01 * length;
         const double yaw_sigma =
             0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
         OdometryLink link;
         link.image_i = image_i;
         link.image_j = image_j;
+        if (options.se3_odometry) {
+          const double tilt_sigma =
+              0.05 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
+          Eigen::Matrix<double, 6, 1> sigmas;
+          sigmas << tilt_sigma, tilt_sigma, yaw_sigma, xy_sigma, xy_sigma,
+              xy_sigma;
+          Eigen::Matrix<double, 6, 1> error;
+          for (int k = 0; k < 6; ++k) error[k] = sigmas[k] * normal(random);
+          const Eigen::Vector3d phi = error.head<3>();
+          OdometryMotion3d measured;
+          measured.odom_i_from_odom_j = {
+              Eigen::AngleAxisd(phi.norm(),
+                                phi.norm() > 0.0 ? Eigen::Vector3d(phi.normalized())
+                                                 : Eigen::Vector3d::UnitZ()) *
+                  truth.rotation,
+              truth.translation + error.tail<3>()};
+          measured.covariance = sigmas.cwiseAbs2().asDiagonal();
+          link.motion_3d = measured;
+        }
         link.covariance =
             Eigen::Vector3d(
                 xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
@@ -151,15 +199,16 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
     // time order.
     problem.cameras.push_back(problem.cameras[0]);
     const int rear_first = num_images;
-    for (size_t r = 0; r < rear_poses.size(); ++r) {
+    std::vector<Rigid3d> rear_truth;
+    for (const PlanarPose& rear : rear_poses) {
+      rear_truth.push_back(on_ground(rear));
+    }
+    for (size_t r = 0; r < rear_truth.size(); ++r) {
       const double fraction = (static_cast<double>(r) + 0.5) / num_images;
-      const Eigen::Vector3d xy = drifted(
-          Eigen::Vector3d(rear_poses[r].x, rear_poses[r].y, 0.0), fraction);
       JointImage image;
       image.camera = 1;
       image.mount = 1;
-      image.origin_from_odom = {
-          xy.x(), xy.y(), rear_poses[r].yaw_rad + 0.002 * normal(random)};
+      image.origin_from_odom = start_of(rear_truth[r], fraction);
       problem.images.push_back(image);
     }
     int rear_point_offset = 0;
@@ -181,17 +230,17 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
              scene.rear_odom_from_cam.rotation,
          scene.rear_odom_from_cam.translation +
              Eigen::Vector3d(-0.02, 0.01, 0.0)});
-    for (size_t r = 0; r < rear_poses.size(); ++r) {
+    for (size_t r = 0; r < rear_truth.size(); ++r) {
       observe(rear_first + static_cast<int>(r),
               static_cast<int>(r),
-              Inverse(rear_poses[r].ToRigid3d() * scene.rear_odom_from_cam),
+              Inverse(rear_truth[r] * scene.rear_odom_from_cam),
               rear_point_offset);
     }
     for (int i = 0; i + 1 < num_images; ++i) {
-      link_between(i, rear_first + i, scene.poses[i], rear_poses[i]);
-      link_between(rear_first + i, i + 1, rear_poses[i], scene.poses[i + 1]);
+      link_between(i, rear_first + i, scene.poses[i], rear_truth[i]);
+      link_between(rear_first + i, i + 1, rear_truth[i], scene.poses[i + 1]);
     }
-    scene.poses.insert(scene.poses.end(), rear_poses.begin(), rear_poses.end());
+    scene.poses.insert(scene.poses.end(), rear_truth.begin(), rear_truth.end());
   } else {
     for (int i = 0; i + 1 < num_images; ++i) {
       link_between(i, i + 1, scene.poses[i], scene.poses[i + 1]);

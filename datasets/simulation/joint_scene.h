@@ -1,4 +1,4 @@
-// A planar drive past random points for the joint adjustment
+// A drive past random points for the joint adjustment
 // (solver/joint_adjustment.h): a forward camera sees the points, wheel
 // odometry links consecutive images, and the starting values carry a
 // COLMAP-like scale drift (the model's size grows along the drive). Used by
@@ -33,6 +33,13 @@ struct JointSceneOptions {
   // model of both), else copies of its own (a model of its own).
   bool rear_camera = false;
   bool rear_shares_points = true;
+  // Ground that pitches and banks (slopes up to this many degrees along x
+  // and y, 20 m waves), on which the robot rides: its poses are SE(3). 0: a
+  // level floor.
+  double ground_slope_deg = 0.0;
+  // The odometry measures the whole motion (RobotMotionModel::kSE3, its
+  // tilt to 0.05 deg + 1 % of the turn per link); else its planar part.
+  bool se3_odometry = false;
   unsigned seed = 1;
 };
 
@@ -40,7 +47,7 @@ struct JointScene {
   JointAdjustmentProblem problem;
   Rigid3d odom_from_cam;                // the truth
   Rigid3d rear_odom_from_cam;           // the truth, with rear_camera
-  std::vector<PlanarPose> poses;        // the truth, per image
+  std::vector<Rigid3d> poses;           // the truth, per image
   std::vector<Eigen::Vector3d> points;  // the truth
 };
 

@@ -46,8 +46,7 @@ void AlignWithOdometry(const ColmapCalibrationRun& run,
                             run.association.max_odometry_gap_s,
                             nullptr);
     if (!origin_from_odom) continue;
-    adjusted.emplace_back(result->origin_from_odom[i].x,
-                          result->origin_from_odom[i].y);
+    adjusted.push_back(result->origin_from_odom[i].translation.head<2>());
     odometry.push_back(origin_from_odom->translation.head<2>());
   }
   if (adjusted.size() < 2) return;
@@ -69,21 +68,14 @@ void AlignWithOdometry(const ColmapCalibrationRun& run,
   const double yaw = std::atan2(cross, dot);
   const Eigen::Rotation2Dd rotation(yaw);
   const Eigen::Vector2d shift = mean_odometry - rotation * mean_adjusted;
-  for (PlanarPose& pose : result->origin_from_odom) {
-    const Eigen::Vector2d xy =
-        rotation * Eigen::Vector2d(pose.x, pose.y) + shift;
-    pose.x = xy.x();
-    pose.y = xy.y();
-    pose.yaw_rad = std::remainder(pose.yaw_rad + yaw, 2.0 * kPi);
-  }
-  for (Eigen::Vector3d& point : result->points) {
-    point.head<2>() = rotation * point.head<2>() + shift;
-  }
+  const Rigid3d placement = PlanarPose{shift.x(), shift.y(), yaw}.ToRigid3d();
+  for (Rigid3d& pose : result->origin_from_odom) pose = placement * pose;
+  for (Eigen::Vector3d& point : result->points) point = placement * point;
 }
 
-Eigen::Vector3d CentreOf(const PlanarPose& origin_from_odom,
+Eigen::Vector3d CentreOf(const Rigid3d& origin_from_odom,
                          const Rigid3d& odom_from_cam) {
-  return (origin_from_odom.ToRigid3d() * odom_from_cam).translation;
+  return (origin_from_odom * odom_from_cam).translation;
 }
 
 // The two-step scale and the adjusted model's, per stretch of each part.
@@ -166,7 +158,7 @@ ColmapModel AdjustedModel(
     image.image_id = static_cast<uint32_t>(i + 1);
     image.camera_id = static_cast<uint32_t>(input.problem.images[i].camera + 1);
     image.cam_from_world =
-        Inverse(result.origin_from_odom[i].ToRigid3d() * result.odom_from_cam);
+        Inverse(result.origin_from_odom[i] * result.odom_from_cam);
     for (ColmapPoint2D& point2D : image.points2D) {
       point2D.point3D_id = kColmapNoPoint3D;
     }

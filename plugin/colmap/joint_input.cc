@@ -8,6 +8,7 @@
 #include "odomcal/plugin/colmap/odometry_inputs.h"
 #include "odomcal/solver/hand_eye_residual.h"
 #include "odomcal/solver/noise_estimation.h"
+#include "odomcal/solver/planarity_check.h"
 
 #include <algorithm>
 #include <cmath>
@@ -79,8 +80,19 @@ OdometryLink LinkOf(const MotionPair& pair,
   link.image_i = image_i;
   link.image_j = image_j;
   link.odom_i_from_odom_j = PlanarFromRigid(pair.odom_i_from_odom_j);
-  link.covariance = PlanarCovariance(
-      OdometryCovariance(weighted, noise, MeasuredStep(weighted)));
+  const StepSize step = MeasuredStep(weighted);
+  link.covariance =
+      PlanarCovariance(OdometryCovariance(weighted, noise, step));
+  // The whole motion, for SE(3) robot poses. A noise model without a tilt
+  // error of its own (a planar log's, or one the estimation left at 0)
+  // gives the tilt the yaw's constant part: a 3-D log measures its tilt at
+  // least as well as its heading.
+  NoiseModel whole = noise;
+  whole.odom_tilt_sigma_deg =
+      std::max(whole.odom_tilt_sigma_deg, whole.odom_yaw_sigma_deg);
+  link.motion_3d =
+      OdometryMotion3d{pair.odom_i_from_odom_j,
+                       OdometryCovariance(weighted, whole, step)};
   return link;
 }
 
@@ -176,7 +188,7 @@ std::string AddMetricModels(
         JointImage joint_image;
         joint_image.camera = camera_where->second;
         joint_image.origin_from_odom =
-            PlanarFromRigid(Inverse(image.cam_from_world) * cam_from_odom);
+            Inverse(image.cam_from_world) * cam_from_odom;
         problem.images.push_back(joint_image);
         input->image_names.push_back(image.name);
         input->image_stamps_ns.push_back(stamp->second +
@@ -272,6 +284,12 @@ void AddOdometryLinks(const ColmapCalibrationInputs& inputs,
     ++input->num_joining_links;
     piece[find(a)] = find(b);
   }
+  input->problem.motion_model = MotionModelOf(input->link_pairs);
+}
+
+RobotMotionModel MotionModelOf(const MotionPairs& links) {
+  return IsPlanarOdometry(links) ? RobotMotionModel::kPlanar
+                                 : RobotMotionModel::kSE3;
 }
 
 void AddOdometrySystematics(const ColmapCalibrationInputs& inputs,

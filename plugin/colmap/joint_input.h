@@ -38,9 +38,10 @@ struct JointInput {
   std::shared_ptr<const Trajectory> logged_odometry;
 };
 
-// The odometry's planar motion between two image times (odometry clock) as
-// a link between images i and j, its covariance the calibration's noise
-// model (the estimated one when `fit` estimated it).
+// The odometry's motion between two image times (odometry clock) as a link
+// between images i and j, planar and whole (OdometryLink::motion_3d), its
+// covariance the calibration's noise model (the estimated one when `fit`
+// estimated it).
 OdometryLink LinkOf(const MotionPair& pair,
                     int image_i,
                     int image_j,
@@ -70,10 +71,15 @@ std::string AddMetricModels(
 // The calibration's motion pairs the odometry does not contradict, as
 // links; then one link from the odometry between consecutive pieces of the
 // drive (sub-models, or parts the checks cut), so that they become one
-// model.
+// model. Sets the problem's motion model (MotionModelOf).
 void AddOdometryLinks(const ColmapCalibrationInputs& inputs,
                       const ColmapCalibrationRun& run,
                       JointInput* input);
+
+// SE(3) robot poses where the links' odometry leaves the plane (a 3-D log
+// whose tilts and height follow the ground), planar ones where every link
+// is planar (IsPlanarMotion: a planar log, or a 3-D one of a level floor).
+RobotMotionModel MotionModelOf(const MotionPairs& links);
 
 // The odometry's systematics refined in the adjustment where the two-step
 // estimated them (its intrinsics, and its clock offset when

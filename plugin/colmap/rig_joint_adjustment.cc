@@ -307,6 +307,7 @@ RigJointAdjustment AdjustRigJointly(
   // them, from the first camera's estimate; each camera's clock offset
   // stays its own estimate (one change common to all would not fit them),
   // its uncertainty propagated below.
+  all.problem.motion_model = MotionModelOf(all.link_pairs);
   AddOdometrySystematics(inputs, first, /*refine_time_offset=*/false, &all);
   out.num_images = static_cast<int>(all.problem.images.size());
   out.num_points = static_cast<int>(all.problem.points.size());
