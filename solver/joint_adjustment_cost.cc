@@ -25,9 +25,15 @@ ceres::CostFunction* CreateReprojectionCost(bool tilted,
                                            kNumParams>(
         new TiltedReprojectionCost<kModel>(pixel, pixel_sigma));
   }
-  return new ceres::
-      AutoDiffCostFunction<ReprojectionCost<kModel>, 2, 3, 4, 2, 1, 3, kNumParams>(
-          new ReprojectionCost<kModel>(pixel, pixel_sigma));
+  return new ceres::AutoDiffCostFunction<ReprojectionCost<kModel>,
+                                         2,
+                                         3,
+                                         4,
+                                         2,
+                                         1,
+                                         3,
+                                         kNumParams>(
+      new ReprojectionCost<kModel>(pixel, pixel_sigma));
 }
 
 }  // namespace

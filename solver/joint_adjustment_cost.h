@@ -276,10 +276,10 @@ struct Se3OdometryLinkCost {
         OriginFromOdomRotation(pose_i, tilt_i);
     const Eigen::Matrix<T, 3, 3> rotation_ij =
         rotation_i.transpose() * OriginFromOdomRotation(pose_j, tilt_j);
-    const Eigen::Matrix<T, 3, 1> delta(pose_j[0] - pose_i[0],
-                                       pose_j[1] - pose_i[1],
-                                       tilt_j[0] - tilt_i[0]);
-    const Eigen::Matrix<T, 3, 1> translation_ij = rotation_i.transpose() * delta;
+    const Eigen::Matrix<T, 3, 1> delta(
+        pose_j[0] - pose_i[0], pose_j[1] - pose_i[1], tilt_j[0] - tilt_i[0]);
+    const Eigen::Matrix<T, 3, 1> translation_ij =
+        rotation_i.transpose() * delta;
     const Eigen::Matrix<T, 3, 3> difference =
         rotation_ij * measured_rotation_.cast<T>().transpose();
     Eigen::Matrix<T, 6, 1> error;

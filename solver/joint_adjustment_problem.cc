@@ -70,8 +70,8 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
   for (const JointImage& image : input.images) {
     if (tilted_) {
       // origin_from_odom = (x, y, z), Rz(yaw) Ry(pitch) Rx(roll).
-      const Eigen::Matrix3d r = image.origin_from_odom.rotation.normalized()
-                                    .toRotationMatrix();
+      const Eigen::Matrix3d r =
+          image.origin_from_odom.rotation.normalized().toRotationMatrix();
       const Eigen::Vector3d& t = image.origin_from_odom.translation;
       poses_.push_back({t.x(), t.y(), std::atan2(r(1, 0), r(0, 0))});
       tilts_.push_back({t.z(),

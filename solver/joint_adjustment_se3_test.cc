@@ -60,17 +60,17 @@ TEST(AdjustJointlySe3, FollowsARobotThatPitchesAndBanks) {
     double largest_true_tilt = 0.0;
     for (size_t i = 0; i < scene.poses.size(); ++i) {
       const Rigid3d& pose = result.origin_from_odom[i];
-      worst_position = std::max(
-          worst_position,
-          (pose.translation - scene.poses[i].translation).norm());
+      worst_position =
+          std::max(worst_position,
+                   (pose.translation - scene.poses[i].translation).norm());
       // The odometry's z axis, which tilts with the ground.
       const Eigen::Vector3d up = pose.rotation * Eigen::Vector3d::UnitZ();
       const Eigen::Vector3d true_up =
           scene.poses[i].rotation * Eigen::Vector3d::UnitZ();
       worst_tilt =
           std::max(worst_tilt, std::acos(std::min(1.0, up.dot(true_up))));
-      largest_true_tilt = std::max(largest_true_tilt,
-                                   std::acos(std::min(1.0, true_up.z())));
+      largest_true_tilt =
+          std::max(largest_true_tilt, std::acos(std::min(1.0, true_up.z())));
     }
     EXPECT_LT(worst_position, 0.05) << "seed " << seed;
     // Tilts of 2-4 deg followed to a fraction of a degree (the odometry's

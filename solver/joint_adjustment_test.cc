@@ -85,12 +85,11 @@ TEST(AdjustJointly, RemovesTheModelsScaleDriftAndStatesItsUncertainty) {
   // The drift (5 % at the end, about 1 m) is gone from the poses.
   double worst = 0.0;
   for (size_t i = 0; i < scene.poses.size(); ++i) {
-    worst =
-        std::max(worst,
-                 (result.origin_from_odom[i].translation -
-                  scene.poses[i].translation)
-                     .head<2>()
-                     .norm());
+    worst = std::max(
+        worst,
+        (result.origin_from_odom[i].translation - scene.poses[i].translation)
+            .head<2>()
+            .norm());
   }
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(result.reprojection_rms_px_after,
@@ -144,8 +143,7 @@ TEST(AdjustJointly, LeavesOutAPointSeenAlongParallelRays) {
   const int far = static_cast<int>(problem.points.size()) - 1;
   for (int image = 0; image < 2; ++image) {
     const Rigid3d cam_from_origin =
-        Inverse(problem.images[image].origin_from_odom *
-                problem.odom_from_cam);
+        Inverse(problem.images[image].origin_from_odom * problem.odom_from_cam);
     const Eigen::Vector3d in_cam = cam_from_origin * problem.points[far];
     Eigen::Vector2d pixel;
     ASSERT_TRUE(ProjectToPixel<ProjectionModel::kSimpleRadial>(

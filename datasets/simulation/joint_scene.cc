@@ -44,11 +44,10 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
     const double s = std::sin(planar.yaw_rad);
     const double pitch = -std::atan(c * gx + s * gy);
     const double roll = std::atan(-s * gx + c * gy);
-    return Rigid3d{
-        Eigen::AngleAxisd(planar.yaw_rad, Eigen::Vector3d::UnitZ()) *
-            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()),
-        Eigen::Vector3d(planar.x, planar.y, z)};
+    return Rigid3d{Eigen::AngleAxisd(planar.yaw_rad, Eigen::Vector3d::UnitZ()) *
+                       Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                       Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()),
+                   Eigen::Vector3d(planar.x, planar.y, z)};
   };
   PlanarPose pose;
   // Halfway between consecutive poses in time: the rear camera's.
@@ -88,9 +87,9 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
   const auto start_of = [&](const Rigid3d& truth, double fraction) {
     const Eigen::Vector3d turn =
         0.002 * Eigen::Vector3d(normal(random), normal(random), normal(random));
-    return Rigid3d{Eigen::AngleAxisd(turn.norm(), turn.normalized()) *
-                       truth.rotation,
-                   drifted(truth.translation, fraction)};
+    return Rigid3d{
+        Eigen::AngleAxisd(turn.norm(), turn.normalized()) * truth.rotation,
+        drifted(truth.translation, fraction)};
   };
   for (int i = 0; i < num_images; ++i) {
     const double fraction = static_cast<double>(i) / num_images;
@@ -154,45 +153,45 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
   if (options.se3_odometry) problem.motion_model = RobotMotionModel::kSE3;
   // The link of the odometry from pose a to pose b, with its noise: the
   // planar part of the motion, or with se3_odometry the whole of it.
-  const auto link_between =
-      [&](int image_i, int image_j, const Rigid3d& a, const Rigid3d& b) {
-        const Rigid3d truth = Inverse(a) * b;
-        const PlanarPose motion = PlanarFromRigid(truth);
-        const double length = truth.translation.norm();
-        const double xy_sigma = 0.002 + 0.01 * length;
-        const double yaw_sigma =
-            0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
-        OdometryLink link;
-        link.image_i = image_i;
-        link.image_j = image_j;
-        if (options.se3_odometry) {
-          const double tilt_sigma =
-              0.05 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
-          Eigen::Matrix<double, 6, 1> sigmas;
-          sigmas << tilt_sigma, tilt_sigma, yaw_sigma, xy_sigma, xy_sigma,
-              xy_sigma;
-          Eigen::Matrix<double, 6, 1> error;
-          for (int k = 0; k < 6; ++k) error[k] = sigmas[k] * normal(random);
-          const Eigen::Vector3d phi = error.head<3>();
-          OdometryMotion3d measured;
-          measured.odom_i_from_odom_j = {
-              Eigen::AngleAxisd(phi.norm(),
-                                phi.norm() > 0.0 ? Eigen::Vector3d(phi.normalized())
-                                                 : Eigen::Vector3d::UnitZ()) *
-                  truth.rotation,
-              truth.translation + error.tail<3>()};
-          measured.covariance = sigmas.cwiseAbs2().asDiagonal();
-          link.motion_3d = measured;
-        }
-        link.covariance =
-            Eigen::Vector3d(
-                xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
-                .asDiagonal();
-        link.odom_i_from_odom_j = {motion.x + xy_sigma * normal(random),
-                                   motion.y + xy_sigma * normal(random),
-                                   motion.yaw_rad + yaw_sigma * normal(random)};
-        problem.links.push_back(link);
-      };
+  const auto link_between = [&](int image_i,
+                                int image_j,
+                                const Rigid3d& a,
+                                const Rigid3d& b) {
+    const Rigid3d truth = Inverse(a) * b;
+    const PlanarPose motion = PlanarFromRigid(truth);
+    const double length = truth.translation.norm();
+    const double xy_sigma = 0.002 + 0.01 * length;
+    const double yaw_sigma = 0.2 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
+    OdometryLink link;
+    link.image_i = image_i;
+    link.image_j = image_j;
+    if (options.se3_odometry) {
+      const double tilt_sigma =
+          0.05 * kDegToRad + 0.01 * std::abs(motion.yaw_rad);
+      Eigen::Matrix<double, 6, 1> sigmas;
+      sigmas << tilt_sigma, tilt_sigma, yaw_sigma, xy_sigma, xy_sigma, xy_sigma;
+      Eigen::Matrix<double, 6, 1> error;
+      for (int k = 0; k < 6; ++k) error[k] = sigmas[k] * normal(random);
+      const Eigen::Vector3d phi = error.head<3>();
+      OdometryMotion3d measured;
+      measured.odom_i_from_odom_j = {
+          Eigen::AngleAxisd(phi.norm(),
+                            phi.norm() > 0.0 ? Eigen::Vector3d(phi.normalized())
+                                             : Eigen::Vector3d::UnitZ()) *
+              truth.rotation,
+          truth.translation + error.tail<3>()};
+      measured.covariance = sigmas.cwiseAbs2().asDiagonal();
+      link.motion_3d = measured;
+    }
+    link.covariance =
+        Eigen::Vector3d(
+            xy_sigma * xy_sigma, xy_sigma * xy_sigma, yaw_sigma * yaw_sigma)
+            .asDiagonal();
+    link.odom_i_from_odom_j = {motion.x + xy_sigma * normal(random),
+                               motion.y + xy_sigma * normal(random),
+                               motion.yaw_rad + yaw_sigma * normal(random)};
+    problem.links.push_back(link);
+  };
   if (options.rear_camera) {
     // Its images (camera 1, mount 1), its points (copies unless shared),
     // its observations, then the links through both cameras' images in

@@ -81,8 +81,7 @@ OdometryLink LinkOf(const MotionPair& pair,
   link.image_j = image_j;
   link.odom_i_from_odom_j = PlanarFromRigid(pair.odom_i_from_odom_j);
   const StepSize step = MeasuredStep(weighted);
-  link.covariance =
-      PlanarCovariance(OdometryCovariance(weighted, noise, step));
+  link.covariance = PlanarCovariance(OdometryCovariance(weighted, noise, step));
   // The whole motion, for SE(3) robot poses. A noise model without a tilt
   // error of its own (a planar log's, or one the estimation left at 0)
   // gives the tilt the yaw's constant part: a 3-D log measures its tilt at
@@ -90,9 +89,8 @@ OdometryLink LinkOf(const MotionPair& pair,
   NoiseModel whole = noise;
   whole.odom_tilt_sigma_deg =
       std::max(whole.odom_tilt_sigma_deg, whole.odom_yaw_sigma_deg);
-  link.motion_3d =
-      OdometryMotion3d{pair.odom_i_from_odom_j,
-                       OdometryCovariance(weighted, whole, step)};
+  link.motion_3d = OdometryMotion3d{pair.odom_i_from_odom_j,
+                                    OdometryCovariance(weighted, whole, step)};
   return link;
 }
 
