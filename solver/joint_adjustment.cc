@@ -81,6 +81,12 @@ JointAdjustmentResult AdjustJointly(const JointAdjustmentProblem& problem,
           change,
           std::abs(std::sqrt(joint.EstimateOdometryFactor() / factor) - 1.0));
     }
+    if (options.estimate_ground_tilt_rate &&
+        problem.motion_model == RobotMotionModel::kOnGround) {
+      const double rate = joint.GroundRate();
+      change =
+          std::max(change, std::abs(joint.EstimateGroundRate() / rate - 1.0));
+    }
     if (change < kSigmaTolerance && statistics.num_marked == 0) break;
   }
   // The final problem at the estimated sigma, for the covariance.

@@ -2,12 +2,12 @@
 // in metres in the odometry's origin frame.
 //
 // Unknowns:
-//   - per image, the robot's pose origin_from_odom_i: with planar odometry
-//     (RobotMotionModel::kPlanar) its (x, y, yaw), the planar-motion model
-//     of the two-step calibration, in which the odometry frame moves in the
-//     origin's x-y plane; with SE(3) odometry (kSE3) the whole pose,
-//     (x, y, z) and yaw, pitch, roll (R = Rz(yaw) Ry(pitch) Rx(roll)), so
-//     that the robot follows a road that pitches and banks;
+//   - per image, the robot's pose origin_from_odom_i: with kPlanar its
+//     (x, y, yaw), the planar-motion model of the two-step calibration, in
+//     which the odometry frame moves in the origin's x-y plane; with kSE3
+//     (a 3-D log) and kOnGround (a planar log on ground that may pitch and
+//     bank) the whole pose, (x, y, z) and yaw, pitch, roll
+//     (R = Rz(yaw) Ry(pitch) Rx(roll)), so that the robot follows the road;
 //   - the shared odom_from_cam, its translation z held (unobservable under
 //     planar motion); on a rig, one odom_from_cam per mount (a camera's
 //     place on the robot), each image that of its mount, all tied to the
@@ -25,7 +25,12 @@
 //   - odometry: for each link, the motion the poses imply minus the
 //     measured one, whitened by the link's covariance: planar (x, y in the
 //     first pose's frame, yaw), or with kSE3 the rotation's and the
-//     translation's difference (OdometryLink::motion_3d).
+//     translation's difference (OdometryLink::motion_3d); with kOnGround
+//     the planar part as measured, and the tilt change and the height
+//     between the link's poses, which a planar log does not measure, over
+//     the ground's bounds (GroundBoundsOf, joint_adjustment_cost.h): the
+//     robot moves in its own x-y plane, the ground's tilt rate (deg per
+//     metre) estimated from the residuals as the odometry's level is.
 // The images tie the long spans (COLMAP's model has no drift within the
 // images' overlap) and the odometry fixes the metric scale and what the
 // images leave weak; each fixes what the other cannot, so the metric model
@@ -77,8 +82,9 @@ struct JointCamera {
 
 // The robot's poses and the odometry's links (see the top).
 enum class RobotMotionModel {
-  kPlanar,  // (x, y, yaw); links OdometryLink::odom_i_from_odom_j
-  kSE3,     // the whole pose; links OdometryLink::motion_3d
+  kPlanar,    // (x, y, yaw); links OdometryLink::odom_i_from_odom_j
+  kSE3,       // the whole pose; links OdometryLink::motion_3d
+  kOnGround,  // the whole pose; links OdometryLink::odom_i_from_odom_j
 };
 const char* ToString(RobotMotionModel model);
 
@@ -143,9 +149,9 @@ struct JointAdjustmentProblem {
   std::vector<Eigen::Vector3d> points;  // starting values, metres, origin
   std::vector<JointObservation> observations;
   std::vector<OdometryLink> links;
-  // kSE3 where the odometry measures the whole motion (a 3-D log): the
-  // robot's poses then tilt with the ground. Not with systematics (a planar
-  // log's).
+  // kSE3 where the odometry measures the whole motion (a 3-D log), not
+  // with systematics (a planar log's); kOnGround where a planar log's robot
+  // may tilt with the ground.
   RobotMotionModel motion_model = RobotMotionModel::kPlanar;
   Rigid3d odom_from_cam;  // starting value; its translation z is held
   // A rig's further cameras: the starting odom_from_cam of mounts 1, 2, ...
@@ -191,6 +197,11 @@ struct JointAdjustmentOptions {
   // residuals (the images tie the poses, so the odometry's residuals show
   // its real level); held at the given covariances otherwise.
   bool estimate_odometry_noise = true;
+  // RobotMotionModel::kOnGround: the ground's tilt rate, degrees of tilt
+  // change per metre of travel, at the start; estimated from the links'
+  // out-of-plane residuals (within [0.001, 20]) unless held.
+  double ground_tilt_rate_deg_per_m = 1.0;
+  bool estimate_ground_tilt_rate = true;
   int max_num_iterations = 100;
   int num_threads = 1;
   // The extrinsic's covariance at the solution (off for re-solves whose
@@ -235,8 +246,16 @@ struct JointAdjustmentResult {
   // widened per row as `covariance`, by `mounts_covariance_widening`.
   Eigen::MatrixXd mounts_covariance;
   Eigen::VectorXd mounts_covariance_widening;
+  // The problem's model of the robot's poses.
+  RobotMotionModel motion_model = RobotMotionModel::kPlanar;
   // Per image; level (z, roll and pitch 0) with RobotMotionModel::kPlanar.
   std::vector<Rigid3d> origin_from_odom;
+  // With whole poses: the largest angle between an image's odometry z axis
+  // and the origin's (the gauge image's start), degrees: how far the
+  // ground pitched and banked along the drive.
+  double max_robot_tilt_deg = 0.0;
+  // kOnGround: the ground's tilt rate at the solution (estimated or held).
+  double ground_tilt_rate_deg_per_m = 0.0;
   std::vector<Eigen::Vector3d> points;  // metres, origin frame
   std::vector<JointCamera> cameras;     // refined or as given
   // With systematics: the refined intrinsics, the clock offset's change

@@ -116,6 +116,7 @@ void JointAdjustmentOptions::Check() const {
   positive(pixel_sigma, "pixel_sigma");
   positive(loss_scale, "loss_scale");
   positive(max_reprojection_sigmas, "max_reprojection_sigmas");
+  positive(ground_tilt_rate_deg_per_m, "ground_tilt_rate_deg_per_m");
   if (!(min_triangulation_angle_deg >= 0.0 &&
         min_triangulation_angle_deg < 90.0)) {
     throw std::invalid_argument(
@@ -135,6 +136,8 @@ const char* ToString(RobotMotionModel model) {
       return "planar";
     case RobotMotionModel::kSE3:
       return "se3";
+    case RobotMotionModel::kOnGround:
+      return "on_ground";
   }
   return "unknown";
 }

@@ -2,8 +2,12 @@
 // (joint_adjustment_cost.h).
 #include "odomcal/solver/joint_adjustment_cost.h"
 
+#include "odomcal/solver/angles.h"
+
 #include <Eigen/Cholesky>
 #include <ceres/autodiff_cost_function.h>
+
+#include <cmath>
 
 namespace odomcal::internal {
 namespace {
@@ -89,6 +93,16 @@ bool SqrtInformationOf(const Eigen::Matrix<double, kSize, kSize>& covariance,
 }
 
 }  // namespace
+
+GroundBounds GroundBoundsOf(double tilt_rate_rad_per_m, double length_m) {
+  // A link of no length still moves the robot on its suspension: 0.01 deg
+  // and 0.1 mm.
+  constexpr double kMinTiltSigmaRad = 0.01 * kDegToRad;
+  constexpr double kMinHeightSigmaM = 1e-4;
+  const double tilt = tilt_rate_rad_per_m * length_m;
+  return {std::hypot(tilt, kMinTiltSigmaRad),
+          std::hypot(0.5 * tilt * length_m, kMinHeightSigmaM)};
+}
 
 bool SqrtInformation(const Eigen::Matrix3d& covariance, Eigen::Matrix3d* w) {
   return SqrtInformationOf<3>(covariance, w);

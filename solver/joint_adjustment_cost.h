@@ -296,6 +296,126 @@ struct Se3OdometryLinkCost {
   Eigen::Matrix<double, 6, 6> sqrt_information_;
 };
 
+// The out-of-plane bounds of a planar log's link on ground that pitches
+// and banks (RobotMotionModel::kOnGround): the standard deviation of the
+// tilt change (rad, about x and y) and of the height (m, along the first
+// pose's z) between the link's poses, from the ground's tilt rate g (rad per
+// metre of travel) and the link's length L: g L and g L^2 / 2 (the chord of
+// an arc that turns by g L), each with a floor for a link of no length.
+struct GroundBounds {
+  double tilt_sigma_rad = 0.0;
+  double height_sigma_m = 0.0;
+};
+GroundBounds GroundBoundsOf(double tilt_rate_rad_per_m, double length_m);
+
+// Whitened residual of a planar log's link between whole poses: the
+// motion the poses imply, odom_i_from_odom_j (rotation vector phi,
+// translation t), against the measured planar one: [t_x, t_y, phi_z] minus
+// the measurement, whitened by its sqrt information; then phi_x, phi_y and
+// t_z over the ground's bounds (the log does not measure them; the ground
+// keeps them small).
+template <typename T>
+void GroundLinkResidual(const T* pose_i,
+                        const T* tilt_i,
+                        const T* pose_j,
+                        const T* tilt_j,
+                        const T* measured,
+                        const Eigen::Matrix3d& sqrt_information,
+                        const GroundBounds& bounds,
+                        T* residual) {
+  const Eigen::Matrix<T, 3, 3> rotation_i =
+      OriginFromOdomRotation(pose_i, tilt_i);
+  const Eigen::Matrix<T, 3, 3> rotation_ij =
+      rotation_i.transpose() * OriginFromOdomRotation(pose_j, tilt_j);
+  const Eigen::Matrix<T, 3, 1> delta(
+      pose_j[0] - pose_i[0], pose_j[1] - pose_i[1], tilt_j[0] - tilt_i[0]);
+  const Eigen::Matrix<T, 3, 1> translation_ij = rotation_i.transpose() * delta;
+  T phi[3];
+  ceres::RotationMatrixToAngleAxis(
+      ceres::ColumnMajorAdapter3x3(rotation_ij.data()), phi);
+  const Eigen::Matrix<T, 3, 1> in_plane(translation_ij[0] - measured[0],
+                                        translation_ij[1] - measured[1],
+                                        WrapAngle(phi[2] - measured[2]));
+  Eigen::Map<Eigen::Matrix<T, 3, 1>> whitened(residual);
+  whitened = sqrt_information.cast<T>() * in_plane;
+  residual[3] = phi[0] / T(bounds.tilt_sigma_rad);
+  residual[4] = phi[1] / T(bounds.tilt_sigma_rad);
+  residual[5] = translation_ij[2] / T(bounds.height_sigma_m);
+}
+
+// A planar log's link between whole poses, its measurement fixed.
+struct GroundOdometryLinkCost {
+  GroundOdometryLinkCost(const PlanarPose& measured,
+                         const Eigen::Matrix3d& sqrt_information,
+                         const GroundBounds& bounds)
+      : measured_(measured),
+        sqrt_information_(sqrt_information),
+        bounds_(bounds) {}
+
+  template <typename T>
+  bool operator()(const T* pose_i,
+                  const T* tilt_i,
+                  const T* pose_j,
+                  const T* tilt_j,
+                  T* residual) const {
+    const T measured[3] = {
+        T(measured_.x), T(measured_.y), T(measured_.yaw_rad)};
+    GroundLinkResidual(pose_i,
+                       tilt_i,
+                       pose_j,
+                       tilt_j,
+                       measured,
+                       sqrt_information_,
+                       bounds_,
+                       residual);
+    return true;
+  }
+
+  PlanarPose measured_;
+  Eigen::Matrix3d sqrt_information_;
+  GroundBounds bounds_;
+};
+
+// The same, its measurement the logged odometry re-integrated with the
+// systematics being refined (as SystematicOdometryLinkCost).
+struct GroundSystematicOdometryLinkCost {
+  GroundSystematicOdometryLinkCost(const OdometrySamples& samples,
+                                   const Eigen::Matrix3d& sqrt_information,
+                                   const GroundBounds& bounds,
+                                   double wheel_track_m)
+      : samples_(samples),
+        sqrt_information_(sqrt_information),
+        bounds_(bounds),
+        wheel_track_m_(wheel_track_m) {}
+
+  template <typename T>
+  bool operator()(const T* pose_i,
+                  const T* tilt_i,
+                  const T* pose_j,
+                  const T* tilt_j,
+                  const T* intrinsics,
+                  const T* offset_change_s,
+                  T* residual) const {
+    const PlanarMotion<T> motion = CorrectedOdometryMotion(
+        samples_, intrinsics, offset_change_s[0], wheel_track_m_);
+    const T measured[3] = {motion.x, motion.y, motion.yaw};
+    GroundLinkResidual(pose_i,
+                       tilt_i,
+                       pose_j,
+                       tilt_j,
+                       measured,
+                       sqrt_information_,
+                       bounds_,
+                       residual);
+    return true;
+  }
+
+  OdometrySamples samples_;
+  Eigen::Matrix3d sqrt_information_;
+  GroundBounds bounds_;
+  double wheel_track_m_;
+};
+
 // Lower-triangular W with W^T W = covariance^-1; false when the covariance
 // is not positive definite.
 bool SqrtInformation(const Eigen::Matrix3d& covariance, Eigen::Matrix3d* w);

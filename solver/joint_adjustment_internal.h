@@ -17,6 +17,7 @@
 //   - joint_adjustment_extrinsic_covariance.cc: the extrinsic's covariance.
 #pragma once
 
+#include "odomcal/solver/angles.h"
 #include "odomcal/solver/camera_intrinsics_manifold.h"
 #include "odomcal/solver/joint_adjustment.h"
 
@@ -84,6 +85,14 @@ class JointProblem {
 
   double OdometryFactor() const { return odometry_factor_; }
 
+  // RobotMotionModel::kOnGround: the ground's tilt rate (rad/m) from the
+  // links' out-of-plane residuals (their whitened mean square, 3 per link),
+  // within [kMinGroundRate, kMaxGroundRate]; returns it.
+  static constexpr double kMinGroundRate = 0.001 * kDegToRad;
+  static constexpr double kMaxGroundRate = 20.0 * kDegToRad;
+  double EstimateGroundRate();
+  double GroundRate() const { return ground_rate_; }
+
   // Root mean square of the odometry residuals whitened by the links'
   // given covariances, at the current values.
   double OdometryRms() const;
@@ -110,8 +119,15 @@ class JointProblem {
  private:
   const JointAdjustmentProblem& input_;
   const JointAdjustmentOptions& options_;
-  // Whole robot poses (RobotMotionModel::kSE3): tilts_ are parameters.
+  // Whole robot poses (kSE3, kOnGround): tilts_ are parameters.
   bool tilted_ = false;
+  bool on_ground_ = false;    // kOnGround
+  double ground_rate_ = 0.0;  // rad/m (kOnGround)
+  // A planar link's residual at the current values: kOnGround's six
+  // (in-plane whitened by `w`, then out of plane) or kPlanar's three.
+  void PlanarLinkResidual(const OdometryLink& link,
+                          const Eigen::Matrix3d& w,
+                          double* residual) const;
   std::vector<std::array<double, 3>> poses_;  // x, y, yaw
   std::vector<std::array<double, 3>> tilts_;  // z, roll, pitch
   std::vector<Eigen::Vector3d> points_;

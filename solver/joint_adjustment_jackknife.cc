@@ -117,6 +117,10 @@ JointJackknife JackknifeJointExtrinsic(const JointAdjustmentProblem& problem,
   JointAdjustmentOptions resolve = options;
   resolve.pixel_sigma = result->pixel_sigma;
   resolve.estimate_odometry_noise = false;
+  resolve.estimate_ground_tilt_rate = false;
+  if (result->ground_tilt_rate_deg_per_m > 0.0) {
+    resolve.ground_tilt_rate_deg_per_m = result->ground_tilt_rate_deg_per_m;
+  }
   resolve.compute_covariance = false;
   // The full solve's outliers are already out; the rest stays in.
   resolve.max_reprojection_sigmas = std::numeric_limits<double>::max();

@@ -64,7 +64,8 @@ JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
 }
 
 double JointProblem::EstimateOdometryFactor() {
-  const double per_link = tilted_ ? 6.0 : 3.0;
+  // The in-plane part only where the ground bounds the rest (kOnGround).
+  const double per_link = tilted_ && !on_ground_ ? 6.0 : 3.0;
   const double dof = per_link * static_cast<double>(input_.links.size()) - 3.0;
   constexpr double kMinDof = 30.0;
   if (dof < kMinDof) return odometry_factor_;
@@ -76,10 +77,67 @@ double JointProblem::EstimateOdometryFactor() {
   return odometry_factor_;
 }
 
+void JointProblem::PlanarLinkResidual(const OdometryLink& link,
+                                      const Eigen::Matrix3d& w,
+                                      double* residual) const {
+  const double length =
+      std::hypot(link.odom_i_from_odom_j.x, link.odom_i_from_odom_j.y);
+  const GroundBounds bounds = GroundBoundsOf(ground_rate_, length);
+  if (input_.systematics) {
+    const double wheel_track = input_.systematics->intrinsics.wheel_track_m;
+    if (on_ground_) {
+      GroundSystematicOdometryLinkCost(*link.samples, w, bounds, wheel_track)(
+          poses_[link.image_i].data(),
+          tilts_[link.image_i].data(),
+          poses_[link.image_j].data(),
+          tilts_[link.image_j].data(),
+          intrinsics_,
+          &offset_change_s_,
+          residual);
+    } else {
+      SystematicOdometryLinkCost(*link.samples, w, wheel_track)(
+          poses_[link.image_i].data(),
+          poses_[link.image_j].data(),
+          intrinsics_,
+          &offset_change_s_,
+          residual);
+    }
+  } else if (on_ground_) {
+    GroundOdometryLinkCost(link.odom_i_from_odom_j, w, bounds)(
+        poses_[link.image_i].data(),
+        tilts_[link.image_i].data(),
+        poses_[link.image_j].data(),
+        tilts_[link.image_j].data(),
+        residual);
+  } else {
+    OdometryLinkCost(link.odom_i_from_odom_j, w)(
+        poses_[link.image_i].data(), poses_[link.image_j].data(), residual);
+  }
+}
+
+double JointProblem::EstimateGroundRate() {
+  if (!on_ground_ || input_.links.empty()) return ground_rate_;
+  double sum = 0.0;
+  for (const OdometryLink& link : input_.links) {
+    Eigen::Matrix3d w;
+    SqrtInformation(link.covariance, &w);
+    double residual[6];
+    PlanarLinkResidual(link, w, residual);
+    sum += residual[3] * residual[3] + residual[4] * residual[4] +
+           residual[5] * residual[5];
+  }
+  // The bounds grow with the rate (but for their floors): one factor on
+  // its variance.
+  const double factor = sum / (3.0 * static_cast<double>(input_.links.size()));
+  ground_rate_ = std::clamp(
+      ground_rate_ * std::sqrt(factor), kMinGroundRate, kMaxGroundRate);
+  return ground_rate_;
+}
+
 double JointProblem::OdometryRms() const {
   double sum = 0.0;
   for (const OdometryLink& link : input_.links) {
-    if (tilted_) {
+    if (tilted_ && !on_ground_) {
       Eigen::Matrix<double, 6, 6> w6;
       SqrtInformation(link.motion_3d->covariance, &w6);
       const Se3OdometryLinkCost cost(link.motion_3d->odom_i_from_odom_j, w6);
@@ -94,24 +152,12 @@ double JointProblem::OdometryRms() const {
     }
     Eigen::Matrix3d w;
     SqrtInformation(link.covariance, &w);
-    Eigen::Vector3d residual;
-    if (input_.systematics) {
-      const SystematicOdometryLinkCost cost(
-          *link.samples, w, input_.systematics->intrinsics.wheel_track_m);
-      cost(poses_[link.image_i].data(),
-           poses_[link.image_j].data(),
-           intrinsics_,
-           &offset_change_s_,
-           residual.data());
-    } else {
-      const OdometryLinkCost cost(link.odom_i_from_odom_j, w);
-      cost(poses_[link.image_i].data(),
-           poses_[link.image_j].data(),
-           residual.data());
-    }
-    sum += residual.squaredNorm();
+    double residual[6];
+    PlanarLinkResidual(link, w, residual);
+    sum += residual[0] * residual[0] + residual[1] * residual[1] +
+           residual[2] * residual[2];
   }
-  const double per_link = tilted_ ? 6.0 : 3.0;
+  const double per_link = tilted_ && !on_ground_ ? 6.0 : 3.0;
   return std::sqrt(sum / (per_link * static_cast<double>(input_.links.size())));
 }
 

@@ -64,11 +64,13 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
                            const JointAdjustmentOptions& options)
     : input_(input),
       options_(options),
-      tilted_(input.motion_model == RobotMotionModel::kSE3) {
+      tilted_(input.motion_model != RobotMotionModel::kPlanar),
+      on_ground_(input.motion_model == RobotMotionModel::kOnGround),
+      ground_rate_(options.ground_tilt_rate_deg_per_m * kDegToRad) {
   poses_.reserve(input.images.size());
   tilts_.reserve(input.images.size());
   for (const JointImage& image : input.images) {
-    if (tilted_) {
+    if (tilted_ && !on_ground_) {
       // origin_from_odom = (x, y, z), Rz(yaw) Ry(pitch) Rx(roll).
       const Eigen::Matrix3d r =
           image.origin_from_odom.rotation.normalized().toRotationMatrix();
@@ -233,7 +235,7 @@ void JointProblem::Build(double pixel_sigma) {
     SqrtInformation(link.covariance, &w);
     w /= std::sqrt(odometry_factor_);
     ceres::ResidualBlockId id = nullptr;
-    if (tilted_) {
+    if (tilted_ && !on_ground_) {
       Eigen::Matrix<double, 6, 6> w6;
       SqrtInformation(link.motion_3d->covariance, &w6);
       w6 /= std::sqrt(odometry_factor_);
@@ -245,6 +247,44 @@ void JointProblem::Build(double pixel_sigma) {
           tilts_[link.image_i].data(),
           poses_[link.image_j].data(),
           tilts_[link.image_j].data());
+    } else if (on_ground_) {
+      const double length =
+          std::hypot(link.odom_i_from_odom_j.x, link.odom_i_from_odom_j.y);
+      const GroundBounds bounds = GroundBoundsOf(ground_rate_, length);
+      if (input_.systematics) {
+        id = problem_->AddResidualBlock(
+            new ceres::AutoDiffCostFunction<GroundSystematicOdometryLinkCost,
+                                            6,
+                                            3,
+                                            3,
+                                            3,
+                                            3,
+                                            3,
+                                            1>(
+                new GroundSystematicOdometryLinkCost(
+                    *link.samples,
+                    w,
+                    bounds,
+                    input_.systematics->intrinsics.wheel_track_m)),
+            nullptr,
+            {poses_[link.image_i].data(),
+             tilts_[link.image_i].data(),
+             poses_[link.image_j].data(),
+             tilts_[link.image_j].data(),
+             intrinsics_,
+             &offset_change_s_});
+      } else {
+        id = problem_->AddResidualBlock(
+            new ceres::
+                AutoDiffCostFunction<GroundOdometryLinkCost, 6, 3, 3, 3, 3>(
+                    new GroundOdometryLinkCost(
+                        link.odom_i_from_odom_j, w, bounds)),
+            nullptr,
+            poses_[link.image_i].data(),
+            tilts_[link.image_i].data(),
+            poses_[link.image_j].data(),
+            tilts_[link.image_j].data());
+      }
     } else if (input_.systematics) {
       id = problem_->AddResidualBlock(
           new ceres::
@@ -379,10 +419,19 @@ void JointProblem::WriteResult(JointAdjustmentResult* result) const {
   for (size_t m = 1; m < mounts_.size(); ++m) {
     result->other_mounts.push_back(odom_from_cam(mounts_[m]));
   }
+  result->motion_model = input_.motion_model;
   result->origin_from_odom.clear();
+  result->max_robot_tilt_deg = 0.0;
   for (size_t i = 0; i < poses_.size(); ++i) {
     result->origin_from_odom.push_back(PoseOf(i));
+    const double up =
+        (result->origin_from_odom.back().rotation * Eigen::Vector3d::UnitZ())
+            .z();
+    result->max_robot_tilt_deg =
+        std::max(result->max_robot_tilt_deg,
+                 std::acos(std::clamp(up, -1.0, 1.0)) / kDegToRad);
   }
+  if (on_ground_) result->ground_tilt_rate_deg_per_m = ground_rate_ / kDegToRad;
   result->points = points_;
   result->cameras = input_.cameras;
   for (size_t c = 0; c < params_.size(); ++c) {

@@ -1,14 +1,18 @@
-// The joint adjustment with whole robot poses (RobotMotionModel::kSE3) on
-// ground that pitches and banks (datasets/simulation/joint_scene.h).
+// The joint adjustment with whole robot poses on ground that pitches and
+// banks (datasets/simulation/joint_scene.h): a 3-D log's links
+// (RobotMotionModel::kSE3) and a planar log's (kOnGround).
 #include "odomcal/datasets/simulation/joint_scene.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/solver/joint_adjustment.h"
+#include "odomcal/solver/joint_adjustment_jackknife.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <vector>
 
 namespace odomcal {
 namespace {
@@ -117,6 +121,49 @@ TEST(AdjustJointlySe3, OnLevelGroundStatesWhatTheLogLeaves) {
   }
   EXPECT_LT(ErrorOverSigma(a, se3.odom_from_cam).cwiseAbs().maxCoeff(), 4.0);
   EXPECT_LT(ErrorOverSigma(b, planar.odom_from_cam).cwiseAbs().maxCoeff(), 4.0);
+}
+
+// A planar log on the same ground (kOnGround): the poses tilt with it, the
+// images fit at their noise, and the extrinsic, which the ground's shape
+// along the one drive biases, is within its sigma once the jackknife over
+// stretches of the drive widened it (benchmarks/ground_poses_study: 10
+// seeds).
+TEST(AdjustJointlyOnGround, FollowsSlopedGroundWithAPlanarLog) {
+  JointScene scene = MakeSlopedScene(1, 3.0, false);
+  scene.problem.motion_model = RobotMotionModel::kOnGround;
+  JointAdjustmentResult result =
+      AdjustJointly(scene.problem, JointAdjustmentOptions());
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  EXPECT_NEAR(result.pixel_sigma, 0.5, 0.05);
+  EXPECT_GT(result.ground_tilt_rate_deg_per_m, 0.1);
+  EXPECT_GT(result.max_robot_tilt_deg, 1.0);
+  std::vector<int> order(scene.problem.images.size());
+  std::iota(order.begin(), order.end(), 0);
+  const JointJackknife jackknife =
+      JackknifeJointExtrinsic(scene.problem,
+                              JointAdjustmentOptions(),
+                              order,
+                              JointJackknifeOptions(),
+                              &result);
+  ASSERT_TRUE(jackknife.ran) << jackknife.reason;
+  EXPECT_LT(ErrorOverSigma(result, scene.odom_from_cam).cwiseAbs().maxCoeff(),
+            4.0);
+}
+
+// On level ground the estimated tilt rate is the images' noise, and the
+// roll and pitch stay known to thousandths of a degree.
+TEST(AdjustJointlyOnGround, OnLevelGroundFindsItLevel) {
+  JointScene scene = MakeSlopedScene(3, 0.0, false);
+  scene.problem.motion_model = RobotMotionModel::kOnGround;
+  const JointAdjustmentResult result =
+      AdjustJointly(scene.problem, JointAdjustmentOptions());
+  ASSERT_TRUE(result.IsSuccess()) << result.message;
+  EXPECT_LT(result.ground_tilt_rate_deg_per_m, 0.02);
+  EXPECT_LT(result.max_robot_tilt_deg, 0.1);
+  EXPECT_LT(std::sqrt(result.covariance(0, 0)), 0.02 * kDegToRad);
+  EXPECT_LT(std::sqrt(result.covariance(1, 1)), 0.02 * kDegToRad);
+  EXPECT_LT(ErrorOverSigma(result, scene.odom_from_cam).cwiseAbs().maxCoeff(),
+            4.0);
 }
 
 TEST(AdjustJointlySe3, RefusesLinksWithoutTheWholeMotion) {

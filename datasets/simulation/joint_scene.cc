@@ -34,19 +34,28 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
   const double slope = std::tan(options.ground_slope_deg * kDegToRad);
   constexpr double kWavelength = 20.0;
   const double amplitude = slope * kWavelength / (2.0 * kPi);
+  // The waves' phases vary with the seed (their own generator: the other
+  // draws stay those of a level scene).
+  std::mt19937 ground_random(options.seed + 7919u);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * kPi);
+  const double phase_x0 = phase(ground_random);
+  const double phase_y0 = phase(ground_random);
   const auto on_ground = [&](const PlanarPose& planar) {
-    const double phase_x = 2.0 * kPi * planar.x / kWavelength;
-    const double phase_y = 2.0 * kPi * planar.y / kWavelength;
+    const double phase_x = 2.0 * kPi * planar.x / kWavelength + phase_x0;
+    const double phase_y = 2.0 * kPi * planar.y / kWavelength + phase_y0;
     const double z = amplitude * (std::sin(phase_x) + 0.8 * std::cos(phase_y));
     const double gx = slope * std::cos(phase_x);
     const double gy = -0.8 * slope * std::sin(phase_y);
+    // The odometry frame on the ground: z its normal, x the heading
+    // along it.
+    const Eigen::Vector3d up = Eigen::Vector3d(-gx, -gy, 1.0).normalized();
     const double c = std::cos(planar.yaw_rad);
     const double s = std::sin(planar.yaw_rad);
-    const double pitch = -std::atan(c * gx + s * gy);
-    const double roll = std::atan(-s * gx + c * gy);
-    return Rigid3d{Eigen::AngleAxisd(planar.yaw_rad, Eigen::Vector3d::UnitZ()) *
-                       Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()),
+    const Eigen::Vector3d ahead =
+        Eigen::Vector3d(c, s, c * gx + s * gy).normalized();
+    Eigen::Matrix3d rotation;
+    rotation << ahead, up.cross(ahead), up;
+    return Rigid3d{Eigen::Quaterniond(rotation),
                    Eigen::Vector3d(planar.x, planar.y, z)};
   };
   PlanarPose pose;

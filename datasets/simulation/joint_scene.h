@@ -34,8 +34,8 @@ struct JointSceneOptions {
   bool rear_camera = false;
   bool rear_shares_points = true;
   // Ground that pitches and banks (slopes up to this many degrees along x
-  // and y, 20 m waves), on which the robot rides: its poses are SE(3). 0: a
-  // level floor.
+  // and y, 20 m waves whose phases vary with the seed), on which the robot
+  // rides: its poses are SE(3). 0: a level floor.
   double ground_slope_deg = 0.0;
   // The odometry measures the whole motion (RobotMotionModel::kSE3, its
   // tilt to 0.05 deg + 1 % of the turn per link); else its planar part.

@@ -286,7 +286,7 @@ void AddOdometryLinks(const ColmapCalibrationInputs& inputs,
 }
 
 RobotMotionModel MotionModelOf(const MotionPairs& links) {
-  return IsPlanarOdometry(links) ? RobotMotionModel::kPlanar
+  return IsPlanarOdometry(links) ? RobotMotionModel::kOnGround
                                  : RobotMotionModel::kSE3;
 }
 

@@ -76,9 +76,10 @@ void AddOdometryLinks(const ColmapCalibrationInputs& inputs,
                       const ColmapCalibrationRun& run,
                       JointInput* input);
 
-// SE(3) robot poses where the links' odometry leaves the plane (a 3-D log
-// whose tilts and height follow the ground), planar ones where every link
-// is planar (IsPlanarMotion: a planar log, or a 3-D one of a level floor).
+// Whole robot poses either way: kSE3 where the links' odometry leaves the
+// plane (a 3-D log, whose tilts and height follow the ground), kOnGround
+// where every link is planar (IsPlanarMotion: a planar log, or a 3-D one of
+// a level floor), whose robot may still pitch and bank with the ground.
 RobotMotionModel MotionModelOf(const MotionPairs& links);
 
 // The odometry's systematics refined in the adjustment where the two-step

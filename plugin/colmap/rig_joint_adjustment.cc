@@ -159,6 +159,10 @@ int AddClockOffsetUncertainty(
   JointAdjustmentOptions resolve = options;
   resolve.pixel_sigma = result.pixel_sigma;
   resolve.estimate_odometry_noise = false;
+  resolve.estimate_ground_tilt_rate = false;
+  if (result.ground_tilt_rate_deg_per_m > 0.0) {
+    resolve.ground_tilt_rate_deg_per_m = result.ground_tilt_rate_deg_per_m;
+  }
   resolve.compute_covariance = false;
   resolve.max_reprojection_sigmas = std::numeric_limits<double>::max();
   resolve.progress = nullptr;

@@ -100,6 +100,12 @@ json JointAdjustmentToJson(const ColmapCalibrationRun& run) {
   out["num_observations_left_out"] = r.num_observations_left_out;
   out["pixel_sigma_px"] = r.pixel_sigma;
   out["odometry_sigma_ratio"] = r.odometry_sigma_ratio;
+  out["robot_poses"] = ToString(r.motion_model);
+  out["max_robot_tilt_deg"] = r.max_robot_tilt_deg;
+  out["ground_tilt_rate_deg_per_m"] =
+      r.motion_model == RobotMotionModel::kOnGround
+          ? json(r.ground_tilt_rate_deg_per_m)
+          : json(nullptr);
   out["camera_intrinsics"] = JointCameraIntrinsicsToJson(
       joint.cameras_before, joint.refine_intrinsics, r.cameras);
   out["covariance_widening"] = {r.covariance_widening[0],
@@ -228,6 +234,19 @@ std::string JointAdjustmentSummary(const ColmapCalibrationRun& run) {
       << ", odometry " << FormatPrintf("x%.2g", r.odometry_sigma_ratio)
       << " the two-step's noise model" << (at_bound ? " (at its bound)" : "")
       << "\n";
+  if (r.motion_model == RobotMotionModel::kOnGround) {
+    out << "  joint robot poses: on the ground (a planar log: its x, y and "
+           "yaw as measured, the tilt and height between images bounded by "
+           "the ground's tilt rate, "
+        << FormatPrintf("%.3f deg/m", r.ground_tilt_rate_deg_per_m)
+        << " estimated); the robot tilted up to "
+        << FormatPrintf("%.2f deg", r.max_robot_tilt_deg)
+        << " from the first image's level\n";
+  } else if (r.motion_model == RobotMotionModel::kSE3) {
+    out << "  joint robot poses: SE(3) (a 3-D log); the robot tilted up to "
+        << FormatPrintf("%.2f deg", r.max_robot_tilt_deg)
+        << " from the first image's level\n";
+  }
   if (joint.jackknife.ran) {
     const auto& w = r.covariance_widening;
     out << "  joint sigma widening (roll/pitch/yaw, x/y), from the tracks and "
