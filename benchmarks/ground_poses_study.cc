@@ -5,8 +5,9 @@
 // seed), adjusted with level poses and a planar log (kPlanar), whole poses
 // and a planar log (kOnGround) and whole poses and a 3-D log (kSE3); each
 // with its jackknife over 8 stretches. Prints, per run, the pixel sigma,
-// the estimated tilt rate, and roll / pitch / yaw / x / y error over the
-// stated sigma; then per model the share within 3 sigma and the RMS.
+// the estimated tilt rate, the stated roll and pitch sigma, and roll /
+// pitch / yaw / x / y error over the stated sigma; then per model the share
+// within 3 sigma and the RMS.
 //
 //   <build>/benchmarks/ground_poses_study [--slope_deg 3] [--seeds 10]
 #include "odomcal/datasets/simulation/joint_scene.h"
@@ -46,9 +47,10 @@ int Main(int argc, char** argv) {
                                      RobotMotionModel::kOnGround,
                                      RobotMotionModel::kSE3};
   Tally tallies[3];
-  std::printf("slope %.1f deg: model seed | pixel sigma | tilt rate deg/m | "
-              "error / sigma (roll pitch yaw x y)\n",
-              slope_deg);
+  std::printf(
+      "slope %.1f deg: model seed | pixel sigma | tilt rate deg/m | "
+      "roll / pitch sigma deg | error / sigma (roll pitch yaw x y)\n",
+      slope_deg);
   for (int seed = 1; seed <= num_seeds; ++seed) {
     for (int m = 0; m < 3; ++m) {
       JointSceneOptions options;
@@ -62,22 +64,33 @@ int Main(int argc, char** argv) {
       JointAdjustmentResult result =
           AdjustJointly(scene.problem, JointAdjustmentOptions());
       if (!result.IsSuccess()) {
-        std::printf("%s %d | %s: %s\n", ToString(models[m]), seed,
-                    ToString(result.status), result.message.c_str());
+        std::printf("%s %d | %s: %s\n",
+                    ToString(models[m]),
+                    seed,
+                    ToString(result.status),
+                    result.message.c_str());
         continue;
       }
       std::vector<int> order(scene.problem.images.size());
       std::iota(order.begin(), order.end(), 0);
-      JackknifeJointExtrinsic(scene.problem, JointAdjustmentOptions(), order,
-                              JointJackknifeOptions(), &result);
+      JackknifeJointExtrinsic(scene.problem,
+                              JointAdjustmentOptions(),
+                              order,
+                              JointJackknifeOptions(),
+                              &result);
       Eigen::Matrix<double, 5, 1> error;
       error.head<3>() = LogRotation(result.odom_from_cam.rotation *
                                     scene.odom_from_cam.rotation.conjugate());
-      error.tail<2>() = (result.odom_from_cam.translation -
-                         scene.odom_from_cam.translation)
-                            .head<2>();
-      std::printf("%s %d | %.2f | %.3f |", ToString(models[m]), seed,
-                  result.pixel_sigma, result.ground_tilt_rate_deg_per_m);
+      error.tail<2>() =
+          (result.odom_from_cam.translation - scene.odom_from_cam.translation)
+              .head<2>();
+      std::printf("%s %d | %.2f | %.3f | %.4f / %.4f |",
+                  ToString(models[m]),
+                  seed,
+                  result.pixel_sigma,
+                  result.ground_tilt_rate_deg_per_m,
+                  std::sqrt(result.covariance(0, 0)) / kDegToRad,
+                  std::sqrt(result.covariance(1, 1)) / kDegToRad);
       Tally& tally = tallies[m];
       ++tally.runs;
       for (int k = 0; k < 5; ++k) {
@@ -93,10 +106,14 @@ int Main(int argc, char** argv) {
   for (int m = 0; m < 3; ++m) {
     const Tally& t = tallies[m];
     if (t.values == 0) continue;
-    std::printf("%s: %d runs, %d of %d parameters within 3 sigma, RMS "
-                "error/sigma %.2f\n",
-                ToString(models[m]), t.runs, t.within, t.values,
-                std::sqrt(t.sum_squares / t.values));
+    std::printf(
+        "%s: %d runs, %d of %d parameters within 3 sigma, RMS "
+        "error/sigma %.2f\n",
+        ToString(models[m]),
+        t.runs,
+        t.within,
+        t.values,
+        std::sqrt(t.sum_squares / t.values));
   }
   return 0;
 }
