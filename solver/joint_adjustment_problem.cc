@@ -70,6 +70,8 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
   poses_.reserve(input.images.size());
   tilts_.reserve(input.images.size());
   for (const JointImage& image : input.images) {
+    // A 3-D log's poses start whole; level poses and a planar log's start
+    // level (the planar part of the start), the tilts found by the solve.
     if (tilted_ && !on_ground_) {
       // origin_from_odom = (x, y, z), Rz(yaw) Ry(pitch) Rx(roll).
       const Eigen::Matrix3d r =

@@ -130,6 +130,12 @@ json RigJointToJson(const RigCalibrationRun& rig) {
   if (joint.Succeeded()) {
     out["pixel_sigma"] = joint.result.pixel_sigma;
     out["odometry_sigma_ratio"] = joint.result.odometry_sigma_ratio;
+    out["robot_poses"] = ToString(joint.result.motion_model);
+    out["max_robot_tilt_deg"] = joint.result.max_robot_tilt_deg;
+    out["ground_tilt_rate_deg_per_m"] =
+        joint.result.motion_model == RobotMotionModel::kOnGround
+            ? json(joint.result.ground_tilt_rate_deg_per_m)
+            : json(nullptr);
     out["jackknife_blocks"] =
         joint.jackknife.ran ? json(joint.jackknife.num_blocks) : json(nullptr);
     out["camera_intrinsics"] = JointCameraIntrinsicsToJson(

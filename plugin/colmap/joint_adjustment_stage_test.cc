@@ -72,6 +72,11 @@ TEST_F(JointAdjustmentStageTest, TakesTheDriftOutOfTheMetricModel) {
       << progress.back() << "; " << run.joint.jackknife.reason;
   const JointAdjustmentResult& joint = run.joint.result;
   ASSERT_TRUE(joint.IsSuccess()) << joint.message;
+  // A planar log: whole robot poses on the ground, which the images find
+  // level (the simulated drive's floor is).
+  EXPECT_EQ(joint.motion_model, RobotMotionModel::kOnGround);
+  EXPECT_LT(joint.max_robot_tilt_deg, 0.2);
+  EXPECT_LT(joint.ground_tilt_rate_deg_per_m, 0.1);
   // The two-step cut the drifting model into parts; the adjustment joins
   // them into one.
   ASSERT_EQ(run.metric_models.size(), 1u);
