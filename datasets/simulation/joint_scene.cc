@@ -208,6 +208,7 @@ JointScene SimulateJointScene(const JointSceneOptions& options) {
     problem.cameras.push_back(problem.cameras[0]);
     const int rear_first = num_images;
     std::vector<Rigid3d> rear_truth;
+    rear_truth.reserve(rear_poses.size());
     for (const PlanarPose& rear : rear_poses) {
       rear_truth.push_back(on_ground(rear));
     }
