@@ -121,7 +121,11 @@ class JointProblem {
   const JointAdjustmentOptions& options_;
   // Whole robot poses (kSE3, kOnGround): tilts_ are parameters.
   bool tilted_ = false;
-  bool on_ground_ = false;    // kOnGround
+  bool se3_ = false;        // kSE3: links of the whole motion
+  bool on_ground_ = false;  // kOnGround
+  // Odometry residuals per link that measure it: 6 for a whole motion, 3
+  // for a planar one (kOnGround's out-of-plane three bound the ground).
+  double MeasuredLinkDof() const { return se3_ ? 6.0 : 3.0; }
   double ground_rate_ = 0.0;  // rad/m (kOnGround)
   // A planar link's residual at the current values: kOnGround's six
   // (in-plane whitened by `w`, then out of plane) or kPlanar's three.

@@ -64,8 +64,7 @@ JointProblem::PixelStatistics JointProblem::UpdatePixelSigma(
 }
 
 double JointProblem::EstimateOdometryFactor() {
-  // The in-plane part only where the ground bounds the rest (kOnGround).
-  const double per_link = tilted_ && !on_ground_ ? 6.0 : 3.0;
+  const double per_link = MeasuredLinkDof();
   const double dof = per_link * static_cast<double>(input_.links.size()) - 3.0;
   constexpr double kMinDof = 30.0;
   if (dof < kMinDof) return odometry_factor_;
@@ -137,7 +136,7 @@ double JointProblem::EstimateGroundRate() {
 double JointProblem::OdometryRms() const {
   double sum = 0.0;
   for (const OdometryLink& link : input_.links) {
-    if (tilted_ && !on_ground_) {
+    if (se3_) {
       Eigen::Matrix<double, 6, 6> w6;
       SqrtInformation(link.motion_3d->covariance, &w6);
       const Se3OdometryLinkCost cost(link.motion_3d->odom_i_from_odom_j, w6);
@@ -157,7 +156,7 @@ double JointProblem::OdometryRms() const {
     sum += residual[0] * residual[0] + residual[1] * residual[1] +
            residual[2] * residual[2];
   }
-  const double per_link = tilted_ && !on_ground_ ? 6.0 : 3.0;
+  const double per_link = MeasuredLinkDof();
   return std::sqrt(sum / (per_link * static_cast<double>(input_.links.size())));
 }
 

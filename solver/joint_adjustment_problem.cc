@@ -65,6 +65,7 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
     : input_(input),
       options_(options),
       tilted_(input.motion_model != RobotMotionModel::kPlanar),
+      se3_(input.motion_model == RobotMotionModel::kSE3),
       on_ground_(input.motion_model == RobotMotionModel::kOnGround),
       ground_rate_(options.ground_tilt_rate_deg_per_m * kDegToRad) {
   poses_.reserve(input.images.size());
@@ -72,7 +73,7 @@ JointProblem::JointProblem(const JointAdjustmentProblem& input,
   for (const JointImage& image : input.images) {
     // A 3-D log's poses start whole; level poses and a planar log's start
     // level (the planar part of the start), the tilts found by the solve.
-    if (tilted_ && !on_ground_) {
+    if (se3_) {
       // origin_from_odom = (x, y, z), Rz(yaw) Ry(pitch) Rx(roll).
       const Eigen::Matrix3d r =
           image.origin_from_odom.rotation.normalized().toRotationMatrix();
@@ -233,11 +234,14 @@ void JointProblem::Build(double pixel_sigma) {
   }
   for (size_t l = 0; l < input_.links.size(); ++l) {
     const OdometryLink& link = input_.links[l];
-    Eigen::Matrix3d w;
-    SqrtInformation(link.covariance, &w);
-    w /= std::sqrt(odometry_factor_);
     ceres::ResidualBlockId id = nullptr;
-    if (tilted_ && !on_ground_) {
+    // The planar links' whitening (the SE(3) ones have their own).
+    Eigen::Matrix3d w = Eigen::Matrix3d::Zero();
+    if (!se3_) {
+      SqrtInformation(link.covariance, &w);
+      w /= std::sqrt(odometry_factor_);
+    }
+    if (se3_) {
       Eigen::Matrix<double, 6, 6> w6;
       SqrtInformation(link.motion_3d->covariance, &w6);
       w6 /= std::sqrt(odometry_factor_);
