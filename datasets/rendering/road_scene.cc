@@ -392,9 +392,13 @@ Rigid3d PoseOnGround(const RoadGround& ground, const PlanarPose& pose) {
   const Eigen::Vector2d slope = ground.Gradient(p);
   const Eigen::Vector3d z =
       Eigen::Vector3d(-slope.x(), -slope.y(), 1.0).normalized();
-  const Eigen::Vector3d heading(
-      std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), 0.0);
-  const Eigen::Vector3d x = (heading - heading.dot(z) * z).normalized();
+  // The car moves along its x axis (its wheels do not slip sideways): the
+  // heading lifted onto the ground, the direction in which the path climbs.
+  // It lies in the ground's plane, so it is normal to z.
+  const double c = std::cos(pose.yaw_rad);
+  const double s = std::sin(pose.yaw_rad);
+  const Eigen::Vector3d x =
+      Eigen::Vector3d(c, s, c * slope.x() + s * slope.y()).normalized();
   Eigen::Matrix3d rotation;
   rotation.col(0) = x;
   rotation.col(1) = z.cross(x);

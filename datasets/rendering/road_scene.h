@@ -121,8 +121,8 @@ class RoadGround {
 RoadGround MakeRoadGround(const RoadOptions& options);
 
 // room_from_odom of a car at the planar pose: on the ground at (x, y), its z
-// axis the ground's normal there, its x axis the heading tilted into the
-// ground's plane.
+// axis the ground's normal there, its x axis the heading lifted onto the
+// ground (the direction the car moves in: no side slip).
 Rigid3d PoseOnGround(const RoadGround& ground, const PlanarPose& pose);
 
 // Surfaces and textures (see above); scene.seed seeds the textures and the

@@ -91,6 +91,42 @@ TEST(RoadScene, SlopedGroundPitchesAndBanksTheCar) {
   EXPECT_LE(max_y, 2.0);
 }
 
+// A car does not slip sideways: along the whole sloped route it moves along
+// its own x axis (the motion between two nearby poses on one tile has no
+// component along the car's y axis), so a wheel odometer's planar log
+// measures its motion. A heading tilted into the ground's plane by the
+// normal's projection would crab by up to the product of the two slopes
+// (about 0.09 deg here).
+TEST(RoadScene, CarOnSlopedGroundMovesAlongItsHeading) {
+  RoadOptions options;
+  options.slope_x_deg = 2.5;
+  options.slope_y_deg = 2.0;
+  const RoadGround ground = MakeRoadGround(options);
+  const UnicyclePath path = MakeRoadPath(options, 12.0);
+  constexpr int64_t kStepNs = 1000000;  // 1 ms: 7 mm at 7 m/s
+  int checked = 0;
+  double max_slip_deg = 0.0;
+  for (int64_t t = kStepNs; t < 12000000000 - kStepNs; t += 50000000) {
+    const PlanarPose before = path.PoseAt(t - kStepNs);
+    const PlanarPose after = path.PoseAt(t + kStepNs);
+    if (!ground.Gradient({before.x, before.y})
+             .isApprox(ground.Gradient({after.x, after.y}))) {
+      continue;  // across a tile border
+    }
+    const Rigid3d pose = PoseOnGround(ground, path.PoseAt(t));
+    const Eigen::Vector3d motion =
+        pose.rotation.conjugate() *
+        (PoseOnGround(ground, after).translation -
+         PoseOnGround(ground, before).translation);
+    max_slip_deg = std::max(
+        max_slip_deg, std::abs(std::atan2(motion.y(), motion.x())) / kDeg);
+    EXPECT_GT(motion.x(), 0.0);
+    ++checked;
+  }
+  EXPECT_GT(checked, 150);
+  EXPECT_LT(max_slip_deg, 1e-4);
+}
+
 // The ground's tiles meet: every tile's corners lie on the ground.
 TEST(RoadScene, GroundTilesLieOnTheGround) {
   RoadOptions options;
