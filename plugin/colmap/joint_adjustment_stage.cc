@@ -393,19 +393,6 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
         "disagree; "
         "check the reconstruction (scale drift, folds) and the odometry");
   }
-  // A planar log on ground that pitched and banked: the adjustment's poses
-  // follow the ground, the log and the two-step's planar model do not (the
-  // rendered sloped road: yaw up to 4 sigma off with its planar log).
-  constexpr double kTiltedGroundDeg = 1.0;
-  if (joint.result.motion_model == RobotMotionModel::kOnGround &&
-      joint.result.max_robot_tilt_deg > kTiltedGroundDeg) {
-    result.warnings.push_back(
-        name + ": the robot pitched and banked by up to " +
-        FormatPrintf("%.1f deg", joint.result.max_robot_tilt_deg) +
-        " along the drive (its robot poses), which a planar odometry log "
-        "does not measure: the yaw can be biased beyond its sigma; a 3-D "
-        "odometry log (SE(3) poses) avoids this");
-  }
   if (check && !contradicted) {  // the two-step estimate stands
     joint.jackknife.reason =
         "a check that agreed: the two-step estimate stands";
