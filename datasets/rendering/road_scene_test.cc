@@ -115,9 +115,8 @@ TEST(RoadScene, CarOnSlopedGroundMovesAlongItsHeading) {
     }
     const Rigid3d pose = PoseOnGround(ground, path.PoseAt(t));
     const Eigen::Vector3d motion =
-        pose.rotation.conjugate() *
-        (PoseOnGround(ground, after).translation -
-         PoseOnGround(ground, before).translation);
+        pose.rotation.conjugate() * (PoseOnGround(ground, after).translation -
+                                     PoseOnGround(ground, before).translation);
     max_slip_deg = std::max(
         max_slip_deg, std::abs(std::atan2(motion.y(), motion.x())) / kDeg);
     EXPECT_GT(motion.x(), 0.0);
