@@ -327,8 +327,8 @@ void ApplyJointAdjustment(const ColmapCalibrationInputs& inputs,
   }
   if (result.observability.translation_z == Determination::kEstimated) {
     skip(
-        "it models planar motion, and the SE(3) odometry's tilts "
-        "determine z here");
+        "it holds the extrinsic's z, which the SE(3) odometry's tilts "
+        "determine here");
     return;
   }
   JointInput input;

@@ -257,11 +257,11 @@ RigJointAdjustment AdjustRigJointly(
     }
     if (run->check.result.observability.translation_z_source ==
         TranslationZSource::kMotion) {
-      // As one camera's adjustment: planar robot poses cannot follow the
-      // tilts that determined z.
+      // As one camera's adjustment: it holds the extrinsic's z, which the
+      // tilts determined with an uncertainty the adjustment would drop.
       left_out += (left_out.empty() ? "" : "; ") + names.at(k) +
-                  ": it models planar motion, and the SE(3) odometry's tilts "
-                  "determine z here";
+                  ": it holds the extrinsic's z, which the SE(3) odometry's "
+                  "tilts determine here";
       continue;
     }
     JointInput part;

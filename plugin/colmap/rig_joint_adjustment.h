@@ -69,7 +69,7 @@ struct RigJointAdjustment {
 // calibration, or null where it has
 // none; a camera takes part when its calibration succeeded with rotation, x
 // and y estimated and it has metric models, unless SE(3) odometry's tilts
-// determined its z (the adjustment models planar motion). `inputs`: the
+// determined its z (the adjustment holds z). `inputs`: the
 // project's (odometry noise model, joint adjustment settings and limits).
 // `progress`, when set, hears the adjustment's iterations.
 RigJointAdjustment AdjustRigJointly(
