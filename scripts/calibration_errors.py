@@ -30,6 +30,11 @@ def errors_and_sigmas(result, truth):
     sd = result["stddev"]
     sigmas = list(sd["rotation_axes_deg"]) + [
         sd["translation_x_m"], sd["translation_y_m"], sd["translation_z_m"]]
+    # z held under its prior and moved by the data (SE(3) odometry's tilts):
+    # its uncertainty is the prior's posterior.
+    prior = result.get("translation_z_prior") or {}
+    if sigmas[5] is None and prior.get("moved_by_data"):
+        sigmas[5] = prior.get("stddev_m")
     sigmas = [s if s is not None and s > 0 else None for s in sigmas]
     t = result["odom_from_cam"]["translation_m"]
     errors = rotation_error_deg(q, truth["quaternion_wxyz"]) + [

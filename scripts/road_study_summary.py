@@ -81,7 +81,8 @@ for preset in presets:
             status = result["status"] + (", joint adjustment adopted" if adopted else "")
             print(f"| {name} | {odometry} | {wall_cell} | {status} | "
                   + " / ".join(f"{e:+.3f}" for e in errors[:3]) + " | "
-                  + " / ".join(f"{1000 * e:+.1f}" for e in errors[3:]) + " | "
+                  + " / ".join(f"{1000 * e:+.1f}" if s is not None else "held"
+                               for e, s in zip(errors[3:], sigmas[3:])) + " | "
                   + " / ".join(ratio_cells) + " |")
         repeat = load(base + "_repeat/calibration.json")
         first = load(base + "_ws/calibration.json")
