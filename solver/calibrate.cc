@@ -564,12 +564,29 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
     AddGroundTiltCovariance(options, &d.planarity, &information, &result);
   }
   // The held z's prior joins the data's information (z last).
+  double z_prior_information = 0.0;
   if (z_prior.moved_by_data) {
     const Eigen::Index z = information.rows() - 1;
     z_prior.data_stddev_m =
         1.0 / std::sqrt(MarginalInformationOfLast(information));
-    information(z, z) += 1.0 / (options.translation_z_prior_sigma_m *
-                                options.translation_z_prior_sigma_m);
+    z_prior_information = 1.0 / (options.translation_z_prior_sigma_m *
+                                 options.translation_z_prior_sigma_m);
+    information(z, z) += z_prior_information;
+  }
+  // The scale's wander inside a segment, which one scale per segment does
+  // not follow (scale_drift_covariance.h).
+  if (d.refined) {
+    d.scale_drift = AddScaleDriftCovariance(weighted_pairs,
+                                            used,
+                                            result.odom_from_cam,
+                                            result.metric_scales,
+                                            weighted,
+                                            information_segments,
+                                            z_prior_information,
+                                            &information);
+    if (d.scale_drift.named) {
+      result.warnings.push_back(ScaleDriftWarning(d.scale_drift));
+    }
   }
   AnalyseInformation(
       information, information_segments, num_segments, options, &result);

@@ -69,7 +69,9 @@ TEST(CalibrateZPrior, ClimbingRoadXIsCoveredUnderThePrior) {
     // Informed, not determined: more than the 5 cm limit, less than the prior.
     EXPECT_GT(z.data_stddev_m, prior.max_translation_stddev_m);
     EXPECT_LT(z.data_stddev_m, 0.5);
-    EXPECT_LT(z.stddev_m, z.data_stddev_m);
+    // Below the prior's; data_stddev_m is without the term of the scale's
+    // wander (scale_drift_covariance.h), which joins after the prior.
+    EXPECT_LT(z.stddev_m, z.prior_stddev_m);
     EXPECT_EQ(z.estimate_m, result.odom_from_cam.translation.z());
     EXPECT_LE(std::abs(z.estimate_m - truth.translation.z()), 3.0 * z.stddev_m);
     ASSERT_TRUE(result.covariance.has_value());

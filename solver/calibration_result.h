@@ -6,6 +6,7 @@
 #include "odomcal/solver/observability.h"
 #include "odomcal/solver/planarity_check.h"
 #include "odomcal/solver/rigid3.h"
+#include "odomcal/solver/scale_drift_covariance.h"
 
 #include <Eigen/Core>
 
@@ -72,6 +73,10 @@ struct CalibrationDiagnostics {
   // Out-of-plane motion under the estimate (planar odometry only).
   PlanarityCheck planarity;
 
+  // The reconstruction's scale wandering inside the segments, and its term
+  // in the covariance (scale_drift_covariance.h).
+  ScaleDriftTerm scale_drift;
+
   // Closed-form estimate before refinement.
   Rigid3d linear_odom_from_cam;
   std::vector<double> linear_metric_scales;
@@ -90,7 +95,8 @@ struct TranslationZPrior {
   bool used = false;
   double held_m = 0.0;          // the prior's mean, fixed_translation_z_m
   double prior_stddev_m = 0.0;  // translation_z_prior_sigma_m
-  // The data's own standard deviation of z (the others free); infinite
+  // The data's own standard deviation of z (the others free; without the
+  // scale drift term of CalibrationDiagnostics::scale_drift); infinite
   // where the data carry no information on z (planar odometry).
   double data_stddev_m = 0.0;
   // z and its standard deviation under the prior and the data: the held

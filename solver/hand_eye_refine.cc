@@ -132,8 +132,9 @@ class HandEyeProblem {
     return true;
   }
 
-  // J^T J in the reported coordinates, see the file comment.
-  Eigen::MatrixXd Information(std::vector<int>* segments) {
+  // The pairs' whitened Jacobian (6 rows per pair, in `indices` order) in
+  // the reported coordinates, see the file comment.
+  Eigen::MatrixXd ReportedJacobian(std::vector<int>* segments) {
     ceres::Problem::EvaluateOptions evaluate_options;
     evaluate_options.apply_loss_function = false;
     evaluate_options.residual_blocks = pair_blocks_;  // not the prior
@@ -160,8 +161,43 @@ class HandEyeProblem {
     for (size_t k = 0; k < segments->size(); ++k) {
       chain(5 + k) = 1.0 / std::exp(log_scales_.at((*segments)[k]));
     }
-    const Eigen::MatrixXd scaled = jacobian * chain.asDiagonal();
-    return scaled.transpose() * scaled;
+    return jacobian * chain.asDiagonal();
+  }
+
+  // J^T J in the reported coordinates.
+  Eigen::MatrixXd Information(std::vector<int>* segments) {
+    const Eigen::MatrixXd jacobian = ReportedJacobian(segments);
+    return jacobian.transpose() * jacobian;
+  }
+
+  // HandEyeScaleSensitivity's matrices.
+  void ScaleSensitivity(const MotionPairs& pairs,
+                        const std::vector<int>& indices,
+                        std::vector<int>* segments,
+                        Eigen::MatrixXd* information,
+                        Eigen::MatrixXd* sensitivity) {
+    const Eigen::MatrixXd jacobian = ReportedJacobian(segments);
+    *information = jacobian.transpose() * jacobian;
+    sensitivity->setZero(jacobian.cols(),
+                         static_cast<Eigen::Index>(indices.size()));
+    if (jacobian.rows() != 6 * static_cast<Eigen::Index>(indices.size())) {
+      *sensitivity = Eigen::MatrixXd();
+      return;
+    }
+    std::map<int, Eigen::Index> column;  // of each segment's scale
+    for (size_t k = 0; k < segments->size(); ++k) {
+      column[(*segments)[k]] = 5 + static_cast<Eigen::Index>(k);
+    }
+    for (size_t p = 0; p < indices.size(); ++p) {
+      const int segment = pairs[indices[p]].segment;
+      const auto rows =
+          jacobian.middleRows(6 * static_cast<Eigen::Index>(p), 6);
+      // d r_p / d log s: the reported scale column times s.
+      const Eigen::VectorXd per_log_scale =
+          rows.col(column.at(segment)) * std::exp(log_scales_.at(segment));
+      sensitivity->col(static_cast<Eigen::Index>(p)) =
+          rows.transpose() * per_log_scale;
+    }
   }
 
  private:
@@ -274,6 +310,32 @@ Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
                          z,
                          /*with_loss=*/false);
   return problem.Information(information_segments);
+}
+
+HandEyeSensitivity HandEyeScaleSensitivity(
+    const MotionPairs& pairs,
+    const std::vector<int>& indices,
+    const Rigid3d& odom_from_cam,
+    const std::vector<double>& metric_scales,
+    const CalibrationOptions& options,
+    TranslationZ z) {
+  HandEyeSensitivity result;
+  if (indices.empty() || !ValidStart(indices, pairs, metric_scales)) {
+    return result;
+  }
+  HandEyeProblem problem(pairs,
+                         indices,
+                         odom_from_cam,
+                         metric_scales,
+                         options,
+                         z,
+                         /*with_loss=*/false);
+  problem.ScaleSensitivity(pairs,
+                           indices,
+                           &result.information_segments,
+                           &result.information,
+                           &result.scale_sensitivity);
+  return result;
 }
 
 }  // namespace odomcal

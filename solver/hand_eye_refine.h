@@ -102,4 +102,24 @@ Eigen::MatrixXd HandEyeInformation(const MotionPairs& pairs,
                                    std::vector<int>* information_segments,
                                    TranslationZ z = TranslationZ::kHold);
 
+// The information and, per pair of `indices`, the change of the fit's
+// gradient J^T r per relative change of that pair's camera translation alone
+// (its scale): column p of `scale_sensitivity` is J_p^T dr_p/d(log s), J_p
+// the pair's whitened Jacobian, in the information's order and coordinates.
+// Relative scale errors e of the pairs move the estimate by -H^-1 B e to
+// first order (scale_drift_covariance.h). Both empty where the starting point
+// is not valid (a pair without a positive scale).
+struct HandEyeSensitivity {
+  Eigen::MatrixXd information;
+  Eigen::MatrixXd scale_sensitivity;
+  std::vector<int> information_segments;
+};
+HandEyeSensitivity HandEyeScaleSensitivity(
+    const MotionPairs& pairs,
+    const std::vector<int>& indices,
+    const Rigid3d& odom_from_cam,
+    const std::vector<double>& metric_scales,
+    const CalibrationOptions& options,
+    TranslationZ z = TranslationZ::kHold);
+
 }  // namespace odomcal

@@ -200,6 +200,11 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
   std::mt19937_64 step_rng(options.seed ^ 0x5eed5eed5eed5eedULL);
   bool have_previous_camera = false;
   Rigid3d previous_true_world_from_cam, previous_vo_world_from_cam;
+  std::mt19937_64 walk_rng(options.seed ^ 0x5ca1e5ca1e5ca1e5ULL);
+  double scale_walk = 0.0;  // e(t) of camera_scale_walk_per_sqrt_s
+  bool have_previous_position = false;
+  Eigen::Vector3d previous_true_position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d previous_walked_position = Eigen::Vector3d::Zero();
 
   const int64_t period_ns =
       static_cast<int64_t>(std::llround(1e9 / options.odometry_rate_hz));
@@ -234,6 +239,19 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
           sfm_rotation * origin_from_cam.rotation,
           (sfm_rotation * origin_from_cam.translation + sfm_translation) /
               options.metric_scale);
+      if (options.camera_scale_walk_per_sqrt_s > 0.0) {
+        const Eigen::Vector3d true_position = world_from_cam.translation;
+        if (have_previous_position) {
+          scale_walk += options.camera_scale_walk_per_sqrt_s *
+                        std::sqrt(dt * odometry_per_camera) * gauss(walk_rng);
+          world_from_cam.translation =
+              previous_walked_position +
+              (1.0 + scale_walk) * (true_position - previous_true_position);
+        }
+        have_previous_position = true;
+        previous_true_position = true_position;
+        previous_walked_position = world_from_cam.translation;
+      }
       if (options.camera_step_rotation_noise_deg > 0.0 ||
           options.camera_step_translation_noise_rel > 0.0) {
         const Rigid3d true_world_from_cam = world_from_cam;
@@ -298,6 +316,20 @@ SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options) {
     time_in_manoeuvre += dt;
   }
   return drive;
+}
+
+DriveSimulatorOptions CarDriveOptions(uint64_t seed,
+                                      double scale_walk_per_sqrt_s) {
+  DriveSimulatorOptions options;
+  options.seed = seed;
+  options.duration_s = 90.0;
+  options.profile = DriveProfile::kSmooth;
+  options.max_speed_mps = 8.0;
+  options.max_yaw_rate_radps = 0.3;
+  options.camera_rotation_noise_deg = 0.02;
+  options.camera_position_noise = 0.002;
+  options.camera_scale_walk_per_sqrt_s = scale_walk_per_sqrt_s;
+  return options;
 }
 
 }  // namespace odomcal

@@ -84,6 +84,11 @@ struct DriveSimulatorOptions {
   // length.
   double camera_step_rotation_noise_deg = 0.0;
   double camera_step_translation_noise_rel = 0.0;
+  // SfM scale drift: the camera's positions are composed from its true steps
+  // each scaled by (1 + e(t)), e a random walk in time from 0 at the start
+  // with this standard deviation per square-root second (a COLMAP model
+  // whose scale wanders along a forward drive). 0: none.
+  double camera_scale_walk_per_sqrt_s = 0.0;
   // Random wheel odometry error: each wheel's travel per odometry period is
   // scaled by (1 + wheel_travel_noise_rel * N(0, 1)), so odometry errors
   // accumulate as a random walk with the distance driven.
@@ -117,5 +122,12 @@ struct SimulatedDrive {
 };
 
 SimulatedDrive SimulateDrive(const DriveSimulatorOptions& options);
+
+// A car's 90 s drive: smooth, up to 8 m/s with turns of 15-30 m radius both
+// ways, camera poses with per-pose noise (0.02 deg, 0.002 units) and a
+// reconstruction scale that wanders by `scale_walk_per_sqrt_s` (the case of
+// scale_drift_covariance.h).
+DriveSimulatorOptions CarDriveOptions(uint64_t seed,
+                                      double scale_walk_per_sqrt_s);
 
 }  // namespace odomcal

@@ -75,6 +75,29 @@ json PlanarityToJson(const PlanarityCheck& p) {
   };
 }
 
+json ScaleDriftToJson(const ScaleDriftTerm& term) {
+  const auto stddevs = [](const Eigen::Matrix<double, 5, 1>& v) {
+    return json{{"rx_deg", v(0)},
+                {"ry_deg", v(1)},
+                {"rz_deg", v(2)},
+                {"x_m", v(3)},
+                {"y_m", v(4)}};
+  };
+  json out = {{"estimated", term.rate.estimated},
+              {"num_pairs", term.rate.num_pairs},
+              {"num_segments", term.rate.num_segments},
+              {"rate_per_s", term.rate.rate_per_s},
+              {"scatter_factor", term.rate.scatter_factor},
+              {"likelihood_ratio", term.rate.likelihood_ratio},
+              {"applied", term.applied},
+              {"named", term.named}};
+  if (term.applied) {
+    out["stddev_before"] = stddevs(term.stddev_before);
+    out["stddev_after"] = stddevs(term.stddev_after);
+  }
+  return out;
+}
+
 json DiagnosticsToJson(const CalibrationDiagnostics& d) {
   json out;
   out["num_pairs_in"] = d.num_pairs_in;
@@ -117,6 +140,7 @@ json DiagnosticsToJson(const CalibrationDiagnostics& d) {
       {"reduced_chi_square", d.reduced_chi_square},
   };
   out["planarity"] = PlanarityToJson(d.planarity);
+  out["scale_drift"] = ScaleDriftToJson(d.scale_drift);
   out["ransac_num_iterations"] = d.ransac_num_iterations;
   out["refined"] = d.refined;
   out["refinement_num_iterations"] = d.refinement_num_iterations;
