@@ -1,5 +1,5 @@
 #!/bin/bash
-# How often the planarity and clock-offset warnings fire on simulated
+# How often the planarity, clock-offset and scale drift warnings fire on simulated
 # 2-minute drives (docs/statistics.md, "Warnings"): flat synchronised drives
 # with the odometry as CSV (x, y, yaw) and as TUM (the same poses as
 # quaternions), manoeuvres and smooth driving, and drives over ground tilted
@@ -15,7 +15,7 @@ tally() {  # case name, then one calibration.json per seed on stdin
   python3 -c '
 import json, sys
 name = sys.argv[1]
-runs = planar = offset = 0
+runs = planar = offset = drift = 0
 rc, cl = [], []
 for path in sys.stdin.read().split():
     r = json.load(open(path))
@@ -23,12 +23,13 @@ for path in sys.stdin.read().split():
     w = " ".join(r.get("warnings", []))
     planar += "not planar" in w
     offset += "camera_time_offset_s not estimated" in w
+    drift += "scale wanders" in w
     p = r.get("diagnostics", {}).get("planarity") or {}
     if p.get("checked"):
         rc.append(p["reduced_chi_square"]); cl.append(p["correlation_length"])
 fmt = lambda v: "%.2f-%.2f" % (min(v), max(v)) if v else "-"
-print("%-22s runs %2d  planarity warnings %2d  offset warnings %2d  reduced chi2 %s  correlation %s"
-      % (name, runs, planar, offset, fmt(rc), fmt(cl)))' "$1"
+print("%-22s runs %2d  planarity warnings %2d  offset warnings %2d  scale drift warnings %2d  reduced chi2 %s  correlation %s"
+      % (name, runs, planar, offset, drift, fmt(rc), fmt(cl)))' "$1"
 }
 run_case() {  # name, demo flags...
   local name=$1
