@@ -180,6 +180,41 @@ void AddGroundTiltCovariance(const CalibrationOptions& options,
   }
 }
 
+// The held z's prior joins the data's information (z last); then the
+// scale's wander inside a segment, which one scale per segment does not
+// follow (scale_drift_covariance.h), joins its covariance.
+void AddZPriorAndScaleDrift(const MotionPairs& weighted_pairs,
+                            const std::vector<int>& used,
+                            const CalibrationOptions& options,
+                            const CalibrationOptions& weighted,
+                            const std::vector<int>& information_segments,
+                            Eigen::MatrixXd* information,
+                            CalibrationResult* result) {
+  TranslationZPrior& z_prior = result->translation_z_prior;
+  double z_prior_information = 0.0;
+  if (z_prior.moved_by_data) {
+    const Eigen::Index z = information->rows() - 1;
+    z_prior.data_stddev_m =
+        1.0 / std::sqrt(MarginalInformationOfLast(*information));
+    z_prior_information = 1.0 / (options.translation_z_prior_sigma_m *
+                                 options.translation_z_prior_sigma_m);
+    (*information)(z, z) += z_prior_information;
+  }
+  CalibrationDiagnostics& d = result->diagnostics;
+  if (!d.refined) return;
+  d.scale_drift = AddScaleDriftCovariance(weighted_pairs,
+                                          used,
+                                          result->odom_from_cam,
+                                          result->metric_scales,
+                                          weighted,
+                                          information_segments,
+                                          z_prior_information,
+                                          information);
+  if (d.scale_drift.named) {
+    result->warnings.push_back(ScaleDriftWarning(d.scale_drift));
+  }
+}
+
 void ComputeResiduals(const MotionPairs& pairs,
                       const std::vector<int>& used,
                       const CalibrationOptions& options,
@@ -563,31 +598,13 @@ CalibrationResult CalibrateOdomCam(const MotionPairs& pairs,
   if (d.planarity.checked && d.planarity.ground_tilt_seen) {
     AddGroundTiltCovariance(options, &d.planarity, &information, &result);
   }
-  // The held z's prior joins the data's information (z last).
-  double z_prior_information = 0.0;
-  if (z_prior.moved_by_data) {
-    const Eigen::Index z = information.rows() - 1;
-    z_prior.data_stddev_m =
-        1.0 / std::sqrt(MarginalInformationOfLast(information));
-    z_prior_information = 1.0 / (options.translation_z_prior_sigma_m *
-                                 options.translation_z_prior_sigma_m);
-    information(z, z) += z_prior_information;
-  }
-  // The scale's wander inside a segment, which one scale per segment does
-  // not follow (scale_drift_covariance.h).
-  if (d.refined) {
-    d.scale_drift = AddScaleDriftCovariance(weighted_pairs,
-                                            used,
-                                            result.odom_from_cam,
-                                            result.metric_scales,
-                                            weighted,
-                                            information_segments,
-                                            z_prior_information,
-                                            &information);
-    if (d.scale_drift.named) {
-      result.warnings.push_back(ScaleDriftWarning(d.scale_drift));
-    }
-  }
+  AddZPriorAndScaleDrift(weighted_pairs,
+                         used,
+                         options,
+                         weighted,
+                         information_segments,
+                         &information,
+                         &result);
   AnalyseInformation(
       information, information_segments, num_segments, options, &result);
   if (result.observability.translation_z == Determination::kEstimated) {

@@ -117,7 +117,7 @@ TEST(ScaleDriftCovariance, IsTheSandwichOfTheRandomWalksCovariance) {
       const MotionPair& a = series.pairs[i];
       const MotionPair& b = series.pairs[j];
       if (a.segment != b.segment) continue;
-      const int64_t start = 1000 * a.segment * kSecond;
+      const int64_t start = int64_t{1000} * a.segment * kSecond;
       walk(i, j) =
           rate * 1e-9 *
           static_cast<double>(std::min(a.stamp_i_ns, b.stamp_i_ns) - start);
