@@ -243,7 +243,11 @@ ScaleDriftTerm AddScaleDriftCovariance(
       used,
       PerPairMetricScales(pairs, odom_from_cam, metric_scales, options.noise),
       metric_scales);
-  if (!term.rate.estimated || !(term.rate.rate_per_s > 0.0)) return term;
+  if (!term.rate.estimated || !(term.rate.rate_per_s > 0.0) ||
+      !(term.rate.likelihood_ratio >
+        ScaleDriftRate::kSignificantLikelihoodRatio)) {
+    return term;
+  }
   const bool with_z = n == 6 + num_scales;
   HandEyeSensitivity sensitivity = HandEyeScaleSensitivity(
       pairs,

@@ -57,6 +57,12 @@ struct ScaleDriftRate {
   double likelihood_ratio = 0.0;
 
   static constexpr int kMinPairs = 10;
+  // The walk joins the covariance only where it is significant at 5 %: the
+  // 95 % point of the likelihood ratio without drift, half chi-square(0)
+  // and half chi-square(1) (q = 0 lies on the boundary), is chi-square(1)'s
+  // 90 % point. Independent per-pair scale errors whose variance the noise
+  // model has wrong in shape can otherwise favour a small walk by chance.
+  static constexpr double kSignificantLikelihoodRatio = 2.706;
 };
 
 // `pair_scales` is PerPairMetricScales() of `pairs` under the fit;
@@ -82,7 +88,9 @@ Eigen::MatrixXd ScaleDriftCovariance(const MotionPairs& pairs,
 // rx, ry, rz (deg, small-angle axes) and x, y (m) without and with the term.
 struct ScaleDriftTerm {
   ScaleDriftRate rate;
-  bool applied = false;  // the term joined the covariance (q > 0)
+  // The term joined the covariance: q > 0 and likelihood_ratio above
+  // ScaleDriftRate::kSignificantLikelihoodRatio.
+  bool applied = false;
   Eigen::Matrix<double, 5, 1> stddev_before =
       Eigen::Matrix<double, 5, 1>::Zero();
   Eigen::Matrix<double, 5, 1> stddev_after =
