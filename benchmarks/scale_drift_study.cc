@@ -1,7 +1,7 @@
 // Not a Google Benchmark: coverage of the rotation axes, x and y on car
 // drives whose reconstruction scale wanders (CarDriveOptions), without and
 // with the scale drift term (solver/scale_drift_covariance.h), over seeds
-// 1..N per walk rate. Prints a markdown table (docs/statistics.md).
+// 1..N per walk rate. Prints a markdown table (docs/scale_drift_covariance.md).
 //   <build>/benchmarks/scale_drift_study 60
 
 #include "odomcal/adapters/association.h"
