@@ -211,12 +211,22 @@ Eigen::MatrixXd ScaleDriftCovariance(const MotionPairs& pairs,
   // time order, min(t_i, t_j) = sum over m <= min(i, j) of (t_m - t_m-1), so
   // B K B^T = q sum_m (t_m - t_m-1) S_m S_m^T with S_m the sum of B's
   // columns from m on: linear in the number of pairs.
+  // Each segment's columns are centred: the walk is taken about its mean
+  // over the segment's pairs, not about its value at the first pair. That
+  // leaves the extrinsic's rows as they are (a constant wander moves only
+  // the segment's scale) and keeps in the scale's rows only what the wander
+  // does to the scale of the segment as a whole.
   Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(n, n);
   for (const std::vector<Observation>& observations :
        SegmentSeries(pairs, used, nullptr, nullptr)) {
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(n);
+    for (const Observation& o : observations) {
+      mean += sensitivity.col(o.index);
+    }
+    mean /= static_cast<double>(observations.size());
     Eigen::VectorXd tail = Eigen::VectorXd::Zero(n);
     for (size_t m = observations.size(); m-- > 1;) {
-      tail += sensitivity.col(observations[m].index);
+      tail += sensitivity.col(observations[m].index) - mean;
       const double step = observations[m].time_s - observations[m - 1].time_s;
       spread += step * tail * tail.transpose();
     }

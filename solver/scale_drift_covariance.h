@@ -25,8 +25,11 @@
 // H the information of the fit, B's column i the change of its gradient per
 // relative scale change of pair i alone (hand_eye_refine.h), and K the
 // random walk's covariance over the pairs' mid times, K_ij = q min(t_i, t_j)
-// from the segment's first pair. A constant wander only changes the
-// segment's scale, so the term is zero for it, as it should be.
+// from the segment's first pair, taken about its mean over the segment (B's
+// columns centred per segment): a constant wander only changes the
+// segment's scale, so the extrinsic's term is zero for it, and the scale's
+// holds what the wander does to the segment's scale as a whole, not the
+// walk's distance from its start.
 #pragma once
 
 #include "odomcal/solver/calibration_options.h"
@@ -74,7 +77,8 @@ ScaleDriftRate EstimateScaleDriftRate(
     const std::vector<PairMetricScale>& pair_scales,
     const std::vector<double>& metric_scales);
 
-// H^-1 B K B^T H^-1 for `information` (H) and `sensitivity` (B, one column
+// H^-1 B C K C^T B^T H^-1 (C centres per segment) for `information` (H)
+// and `sensitivity` (B, one column
 // per entry of `used`, as HandEyeScaleSensitivity returns them) under the
 // random walk `rate_per_s`. Empty when H cannot be inverted or the inputs
 // do not match.

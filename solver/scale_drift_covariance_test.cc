@@ -123,9 +123,19 @@ TEST(ScaleDriftCovariance, IsTheSandwichOfTheRandomWalksCovariance) {
           static_cast<double>(std::min(a.stamp_i_ns, b.stamp_i_ns) - start);
     }
   }
+  // Centred per segment: C = I - 1/n_k within segment k.
+  Eigen::MatrixXd centre = Eigen::MatrixXd::Identity(m, m);
+  for (int i = 0; i < m; ++i) {
+    for (int j = 0; j < m; ++j) {
+      if (series.pairs[i].segment == series.pairs[j].segment) {
+        centre(i, j) -= 1.0 / 7.0;
+      }
+    }
+  }
   const Eigen::MatrixXd inverse = information.inverse();
-  const Eigen::MatrixXd expected =
-      inverse * sensitivity * walk * sensitivity.transpose() * inverse;
+  const Eigen::MatrixXd expected = inverse * sensitivity * centre * walk *
+                                   centre.transpose() *
+                                   sensitivity.transpose() * inverse;
   const Eigen::MatrixXd covariance = ScaleDriftCovariance(
       series.pairs, series.used, information, sensitivity, rate);
   ASSERT_EQ(covariance.rows(), n);
