@@ -178,12 +178,12 @@ class HandEyeProblem {
                         Eigen::MatrixXd* sensitivity) {
     const Eigen::MatrixXd jacobian = ReportedJacobian(segments);
     *information = jacobian.transpose() * jacobian;
-    sensitivity->setZero(jacobian.cols(),
-                         static_cast<Eigen::Index>(indices.size()));
     if (jacobian.rows() != 6 * static_cast<Eigen::Index>(indices.size())) {
       *sensitivity = Eigen::MatrixXd();
       return;
     }
+    sensitivity->resize(jacobian.cols(),
+                        static_cast<Eigen::Index>(indices.size()));
     std::map<int, Eigen::Index> column;  // of each segment's scale
     for (size_t k = 0; k < segments->size(); ++k) {
       column[(*segments)[k]] = 5 + static_cast<Eigen::Index>(k);
