@@ -13,6 +13,8 @@
 #include "odomcal/adapters/trajectory_io.h"
 #include "odomcal/datasets/simulation/camera_mount.h"
 #include "odomcal/datasets/simulation/drive_simulator.h"
+#include "odomcal/plugin/cli/colmap_rig_outputs.h"
+#include "odomcal/plugin/colmap/colmap_rig_calibration.h"
 #include "odomcal/solver/angles.h"
 #include "odomcal/tests/rig_expectations.h"
 #include "odomcal/tests/test_files.h"
@@ -387,6 +389,31 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
       << out << err;
   const json apart = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
   EXPECT_TRUE(apart["rig_joint_adjustment"].is_null());
+  // The default, a check: the cameras adjusted together agree with each
+  // camera's own estimate on this clean drive, which stands, with the
+  // pairs of independent estimates.
+  ASSERT_EQ(Run(arguments, &out, &err), 0) << out << err;
+  EXPECT_NE(out.find("rig joint adjustment check: every camera's own "
+                     "estimate stands"),
+            std::string::npos)
+      << out;
+  const json checked = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
+  const json& check = checked["rig_joint_adjustment"];
+  ASSERT_TRUE(check.is_object()) << checked.dump(1);
+  EXPECT_EQ(check["use"], "check");
+  EXPECT_EQ(check["status"], "success") << check["message"];
+  EXPECT_FALSE(check["adopted"].get<bool>());
+  EXPECT_LE(check["max_disagreement_sigmas"].get<double>(), 3.0);
+  EXPECT_TRUE(check["max_disagreement_sigmas_jackknifed"].is_null());
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    EXPECT_EQ(checked["cameras"][k]["odom_from_cam"],
+              apart["cameras"][k]["odom_from_cam"]);
+  }
+  for (const json& pair : checked["camera_pairs"]) {
+    EXPECT_FALSE(pair["adjusted_together"].get<bool>());
+  }
+  EXPECT_NE(ReadFile(dir_ / "out" / "report.html").find("own estimate stands"),
+            std::string::npos);
   ASSERT_EQ(Run(arguments + " --joint_adjustment on", &out, &err), 0)
       << out << err;
   EXPECT_NE(out.find("rig joint adjustment: front, rear, right adjusted "
@@ -396,6 +423,8 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
   const json result = json::parse(ReadFile(dir_ / "out" / "calibration.json"));
   const json& joint = result["rig_joint_adjustment"];
   ASSERT_TRUE(joint.is_object()) << result.dump(1);
+  EXPECT_EQ(joint["use"], "on");
+  EXPECT_TRUE(joint["adopted"].get<bool>());
   EXPECT_EQ(joint["status"], "success") << joint["message"];
   EXPECT_EQ(joint["cameras"], json::array({"front", "rear", "right"}));
   EXPECT_GT(joint["num_links_across_cameras"].get<int>(),
@@ -474,6 +503,77 @@ TEST_F(ColmapRigCli, JointAdjustmentOnAdjustsEveryCameraTogether) {
       std::sqrt(sum_squares / static_cast<double>(errors.size()));
   EXPECT_GT(rms, 0.3);
   EXPECT_LT(rms, 1.6);
+}
+
+// The rig's default check where one camera's own estimate is off: the
+// rear camera's two-step yaw moved by 0.5 deg (about 7 of its sigmas)
+// before the cameras are adjusted together. The adjustment, from the
+// images and the odometry, contradicts it, and is reported for every
+// camera with the cross terms; the same cameras without the move leave
+// their own estimates standing (the test above).
+TEST_F(ColmapRigCli, RigCheckReportsTheAdjustmentWhereACameraIsContradicted) {
+  const uint64_t seed = TestSeed(47);
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  const std::vector<RigCamera> cameras = ThreeCameras();
+  WriteProject(seed, cameras, /*with_points=*/true, /*duration_s=*/20.0);
+  ColmapCalibrationInputs inputs;
+  inputs.model_path = Path("project/sparse");
+  inputs.odometry_path = Path("odometry.csv");
+  inputs.image_timestamps_path = Path("project/image_timestamps.csv");
+  inputs.calibration.fixed_translation_z_m = 0.5;
+  inputs.joint_adjustment.use = JointAdjustmentUse::kOff;
+  inputs.joint_adjustment.jackknife.num_blocks = 0;
+  ColmapRigRun rig = CalibrateColmapRig(
+      inputs, FindColmapProjectCameras(inputs.model_path), 0);
+  ASSERT_EQ(rig.cameras.size(), 3u);
+  ASSERT_EQ(rig.cameras[1].camera.name, "rear");
+  ASSERT_TRUE(rig.cameras[1].run);
+  CalibrationResult& rear = rig.cameras[1].run->check.result;
+  ASSERT_TRUE(rear.IsSuccess()) << rear.message;
+  const Rigid3d rear_before = rear.odom_from_cam;
+  rear.odom_from_cam.rotation =
+      Eigen::Quaterniond(
+          Eigen::AngleAxisd(0.5 * kDegToRad, Eigen::Vector3d::UnitZ())) *
+      rear.odom_from_cam.rotation;
+
+  inputs.joint_adjustment.use = JointAdjustmentUse::kCheck;
+  AdjustColmapRigJointly(inputs, {}, &rig);
+  const RigJointAdjustment& joint = rig.joint;
+  ASSERT_TRUE(joint.Succeeded()) << joint.result.message << joint.skipped;
+  EXPECT_EQ(joint.use, JointAdjustmentUse::kCheck);
+  EXPECT_GT(joint.max_disagreement_sigmas, 3.0);
+  ASSERT_FALSE(joint.disagreements.empty());
+  for (const RigDisagreement& d : joint.disagreements) {
+    EXPECT_EQ(d.camera, 1) << d.quantity.quantity;
+  }
+  EXPECT_TRUE(joint.Adopted());
+  EXPECT_GE(joint.max_disagreement_sigmas_jackknifed, 0.0);
+  // The adjustment's rear camera is back near its estimate before the move.
+  const int mount = joint.MountOf(1);
+  ASSERT_GE(mount, 0);
+  const Rigid3d& adjusted = mount == 0 ? joint.result.odom_from_cam
+                                       : joint.result.other_mounts[mount - 1];
+  EXPECT_LT(adjusted.rotation.angularDistance(rear_before.rotation) * kRadToDeg,
+            0.1);
+
+  // Taken into the rig: every camera's extrinsic the adjustment's, the
+  // pairs with its cross terms, and the contradiction named.
+  RigCalibrationRun as_rig = RigCalibrationOf(rig, "odomcal colmap", {});
+  for (const RigCameraPair& pair : as_rig.pairs) {
+    EXPECT_TRUE(pair.adjusted_together);
+  }
+  EXPECT_LT(as_rig.cameras[1].run.result.odom_from_cam.rotation.angularDistance(
+                rear_before.rotation) *
+                kRadToDeg,
+            0.1);
+  bool named = false;
+  for (const std::string& finding : as_rig.findings) {
+    if (finding.rfind("rig joint adjustment check: camera rear's yaw", 0) ==
+        0) {
+      named = true;
+    }
+  }
+  EXPECT_TRUE(named);
 }
 
 // A camera that saw only its first seconds: named with its reason, the

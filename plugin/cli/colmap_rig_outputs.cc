@@ -6,6 +6,7 @@
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 #include "odomcal/plugin/report/colmap_report.h"
 #include "odomcal/plugin/report/rig_report_html.h"
+#include "odomcal/solver/format_number.h"
 
 #include <filesystem>
 
@@ -69,11 +70,23 @@ RigReport ColmapRigReport(const ColmapRigRun& rig,
         {pair.camera_a, pair.camera_b, pair.transform, pair.adjusted_together});
   }
   report.shared_scales = rig.shared_scales;
-  if (as_rig.joint.Succeeded()) {
+  if (as_rig.joint.Adopted()) {
     for (const int camera : as_rig.joint.cameras) {
       report.adjusted_together.push_back(as_rig.cameras.at(camera).name);
     }
     report.num_points_across_cameras = as_rig.joint.num_points_across_cameras;
+    report.joint_note =
+        as_rig.joint.use == JointAdjustmentUse::kOn
+            ? "--joint_adjustment on"
+            : "reported because the images of all cameras contradicted the "
+              "cameras' own estimates, see the warnings";
+  } else if (as_rig.joint.Succeeded()) {
+    report.joint_note =
+        "The cameras adjusted together with the odometry (the default "
+        "check, --joint_adjustment check) agree with each camera's own "
+        "estimate within " +
+        FormatPrintf("%.1f", as_rig.joint.FinalDisagreementSigmas()) +
+        " sigma of the difference: each camera's own estimate stands.";
   }
   return report;
 }

@@ -2,6 +2,7 @@
 
 #include "odomcal/adapters/format_error.h"
 #include "odomcal/adapters/input_plausibility.h"
+#include "odomcal/solver/format_number.h"
 #include "odomcal/solver/joint_extrinsic.h"
 
 #include <map>
@@ -165,7 +166,7 @@ void PairCalibratedCameras(RigCalibrationRun* rig) {
       const int mount_a = joint.MountOf(pair.camera_a);
       const int mount_b = joint.MountOf(pair.camera_b);
       Eigen::Matrix<double, 6, 6> cross = Eigen::Matrix<double, 6, 6>::Zero();
-      if (joint.Succeeded() && mount_a >= 0 && mount_b >= 0) {
+      if (joint.Adopted() && mount_a >= 0 && mount_b >= 0) {
         cross.topLeftCorner<5, 5>() =
             joint.result.mounts_covariance.block<5, 5>(
                 Eigen::Index{5} * mount_a, Eigen::Index{5} * mount_b);
@@ -182,16 +183,50 @@ void AdoptRigJointAdjustment(const RigJointAdjustment& joint,
                              const CalibrationOptions& limits,
                              RigCalibrationRun* rig) {
   rig->joint = joint;
-  if (joint.ran && !joint.result.IsSuccess()) {
+  const bool check = joint.use == JointAdjustmentUse::kCheck;
+  if (!check && joint.ran && !joint.result.IsSuccess()) {
     rig->findings.push_back("the rig's joint adjustment failed (" +
                             std::string(ToString(joint.result.status)) +
                             "): " + joint.result.message +
                             "; each camera's own result stands");
-  } else if (!joint.ran && !joint.skipped.empty()) {
+  } else if (!check && !joint.ran && !joint.skipped.empty()) {
     rig->findings.push_back("the rig's joint adjustment not run: " +
                             joint.skipped);
   }
-  if (joint.Succeeded()) {
+  if (check && joint.Succeeded() && !joint.disagreements.empty()) {
+    for (const RigDisagreement& d : joint.disagreements) {
+      const ExtrinsicDisagreement& q = d.quantity;
+      const bool angle = q.quantity.find("translation") == std::string::npos;
+      rig->findings.push_back(
+          "rig joint adjustment check: camera " +
+          rig->cameras.at(d.camera).name + "'s " + q.quantity +
+          " differs from its own estimate by " +
+          (angle ? FormatPrintf("%.3f deg", q.difference)
+                 : FormatPrintf("%.1f mm", q.difference * 1e3)) +
+          " (" + FormatPrintf("%.1f", q.Sigmas()) +
+          " sigma of the difference)");
+    }
+    const std::string before =
+        FormatPrintf("%.1f", joint.max_disagreement_sigmas);
+    const std::string after =
+        FormatPrintf("%.1f", joint.max_disagreement_sigmas_jackknifed);
+    rig->findings.push_back(
+        joint.adopted
+            ? "rig joint adjustment check: the images of all cameras "
+              "contradict the cameras' own estimates (" +
+                  before + " sigma of the difference apart, more than " +
+                  FormatPrintf("%.0f", kJointContradictionSigmas) + "; " +
+                  after +
+                  " after the adjustment's jackknife): the cameras adjusted "
+                  "together are reported"
+            : "rig joint adjustment check: the adjustment's own "
+              "uncertainty, widened by its jackknife over stretches of the "
+              "drive, covers the difference (" +
+                  after + " sigma of it, " + before +
+                  " before) and is wider than the cameras' own: each "
+                  "camera's own estimate stands");
+  }
+  if (joint.Adopted()) {
     for (size_t mount = 0; mount < joint.cameras.size(); ++mount) {
       RigCameraRun& camera = rig->cameras.at(joint.cameras[mount]);
       JointAdjustmentResult one;

@@ -82,8 +82,9 @@ struct RigCalibrationRun {
   std::vector<RigCameraPair> pairs;
   // The rig's own findings (cameras that disagree on a shared scale).
   std::vector<std::string> findings;
-  // `--joint_adjustment on` on a COLMAP rig: the cameras adjusted together
-  // (their extrinsics are the adjustment's where it succeeded).
+  // A COLMAP rig under `--joint_adjustment check` or `on`: the cameras
+  // adjusted together (their extrinsics are the adjustment's where it was
+  // adopted).
   RigJointAdjustment joint;
 
   int NumCalibrated() const;
@@ -93,15 +94,17 @@ struct RigCalibrationRun {
 };
 
 // Fills rig->pairs from its calibrated cameras (with the cross terms of
-// rig->joint for two cameras it adjusted).
+// rig->joint for two cameras it adjusted and that were adopted).
 void PairCalibratedCameras(RigCalibrationRun* rig);
 
-// Takes `joint` into the rig: where it succeeded, each of its cameras'
-// rotation and translation x/y and their covariance become the
-// adjustment's (AdoptJointExtrinsic; refused as kUnobservable beyond
-// `limits`, RefuseLooseAdoptedExtrinsic), with a note in its warnings;
-// where it did not, a warning says why and the cameras stay as calibrated.
-// Then pairs the cameras again.
+// Takes `joint` into the rig: where it was adopted (RigJointAdjustment::
+// Adopted), each of its cameras' rotation and translation x/y and their
+// covariance become the adjustment's (AdoptJointExtrinsic; refused as
+// kUnobservable beyond `limits`, RefuseLooseAdoptedExtrinsic); a check
+// that contradicted a camera names each quantity in the findings. Under
+// `on`, an adjustment that failed or did not run is a finding; under the
+// check, it is said in the JSON only (the cameras' own estimates stand, as
+// without it). Then pairs the cameras again.
 void AdoptRigJointAdjustment(const RigJointAdjustment& joint,
                              const CalibrationOptions& limits,
                              RigCalibrationRun* rig);

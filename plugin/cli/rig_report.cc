@@ -103,8 +103,8 @@ json PairToJson(const RigCalibrationRun& rig, const RigCameraPair& pair) {
   };
 }
 
-// The rig's joint adjustment (`--joint_adjustment on`); null when it was
-// not asked for.
+// The rig's joint adjustment (`--joint_adjustment check` or `on`); null
+// when it was not asked for (`off`, or a rig from `odomcal calibrate`).
 json RigJointToJson(const RigCalibrationRun& rig) {
   const RigJointAdjustment& joint = rig.joint;
   if (!joint.ran && joint.skipped.empty()) return nullptr;
@@ -112,8 +112,16 @@ json RigJointToJson(const RigCalibrationRun& rig) {
   for (const int camera : joint.cameras) {
     cameras.push_back(rig.cameras.at(camera).name);
   }
+  const auto measured = [](double sigmas) {
+    return sigmas >= 0.0 ? json(sigmas) : json(nullptr);
+  };
   json out = {
+      {"use", ToString(joint.use)},
       {"ran", joint.ran},
+      {"adopted", joint.Adopted()},
+      {"max_disagreement_sigmas", measured(joint.max_disagreement_sigmas)},
+      {"max_disagreement_sigmas_jackknifed",
+       measured(joint.max_disagreement_sigmas_jackknifed)},
       {"status",
        joint.ran ? json(ToString(joint.result.status)) : json(nullptr)},
       {"message", joint.ran ? joint.result.message : joint.skipped},
@@ -281,7 +289,14 @@ std::string RigCalibrationSummary(const RigCalibrationRun& rig) {
     }
     out << "\n";
   }
-  if (rig.joint.Succeeded()) {
+  if (rig.joint.Succeeded() && !rig.joint.Adopted()) {
+    out << "  rig joint adjustment check: every camera's own estimate "
+           "stands (the cameras adjusted together differ from them by at "
+           "most "
+        << Printf("%.1f", rig.joint.FinalDisagreementSigmas())
+        << " sigma of the difference)\n";
+  }
+  if (rig.joint.Adopted()) {
     std::string names;
     for (const int camera : rig.joint.cameras) {
       names += (names.empty() ? "" : ", ") + rig.cameras.at(camera).name;

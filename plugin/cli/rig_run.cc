@@ -181,8 +181,12 @@ int RunRigReconstruction(
     rig.cameras.push_back(std::move(camera_run));
     as_rig.cameras.push_back(std::move(summary));
   }
-  if (run.project.joint_adjustment.use == JointAdjustmentUse::kOn) {
-    std::cout << "rig joint adjustment of the calibrated cameras ...\n"
+  if (run.project.joint_adjustment.use != JointAdjustmentUse::kOff &&
+      as_rig.NumCalibrated() > 1) {
+    std::cout << (run.project.joint_adjustment.use == JointAdjustmentUse::kOn
+                      ? "rig joint adjustment"
+                      : "rig joint adjustment check")
+              << " of the calibrated cameras ...\n"
               << std::flush;
   }
   AdjustColmapRigJointly(run.project, {}, &rig);

@@ -119,7 +119,7 @@ ColmapRigRun CalibrateColmapRig(const ColmapCalibrationInputs& inputs,
 void AdjustColmapRigJointly(const ColmapCalibrationInputs& inputs,
                             const CalibrationProgress& progress,
                             ColmapRigRun* rig) {
-  if (inputs.joint_adjustment.use != JointAdjustmentUse::kOn) return;
+  if (inputs.joint_adjustment.use == JointAdjustmentUse::kOff) return;
   std::vector<const ColmapCalibrationRun*> runs;
   std::vector<std::string> names;
   for (const ColmapRigCameraRun& camera : rig->cameras) {

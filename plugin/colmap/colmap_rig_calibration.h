@@ -3,9 +3,10 @@
 // (CalibrateColmapProject with the camera's camera_ids), each with its own
 // clock offset, floor height and metric model; then, where two cameras'
 // images share a sub-model, their metric scales compared: one model has one
-// scale, so two cameras that disagree on it cannot both be right. With
-// `--joint_adjustment on`, the calibrated cameras are then adjusted together
-// (rig_joint_adjustment.h).
+// scale, so two cameras that disagree on it cannot both be right. Then the
+// calibrated cameras are adjusted together (rig_joint_adjustment.h): as a
+// check of their own estimates (`--joint_adjustment check`, the default) or
+// reported (`on`).
 #pragma once
 
 #include "odomcal/adapters/colmap_cameras.h"
@@ -47,13 +48,13 @@ struct ColmapRigRun {
   int reference = 0;
   // Every sub-model two calibrated cameras both hold as one segment.
   std::vector<SharedSubModelScale> shared_scales;
-  // `--joint_adjustment on`: every calibrated camera adjusted together (not
-  // run otherwise: ran false, skipped empty).
+  // Every calibrated camera adjusted together (`--joint_adjustment check`
+  // or `on`; not run under `off`: ran false, skipped empty).
   RigJointAdjustment joint;
 };
 
-// Under `--joint_adjustment on` (inputs.joint_adjustment.use), adjusts the
-// rig's calibrated cameras together into rig->joint.
+// Under `--joint_adjustment check` or `on` (inputs.joint_adjustment.use),
+// adjusts the rig's calibrated cameras together into rig->joint.
 void AdjustColmapRigJointly(const ColmapCalibrationInputs& inputs,
                             const CalibrationProgress& progress,
                             ColmapRigRun* rig);

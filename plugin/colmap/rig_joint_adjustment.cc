@@ -232,6 +232,58 @@ int AddClockOffsetUncertainty(
   return propagated;
 }
 
+// Every mount's rotation (roll, pitch, yaw), x and y against its camera's
+// own estimate; each quantity's difference over the sigma of the
+// difference, the adjustment's covariance as it stands.
+std::vector<RigDisagreement> MountsAgainstCameras(
+    const std::vector<const ColmapCalibrationRun*>& runs,
+    const RigJointAdjustment& joint) {
+  std::vector<RigDisagreement> all;
+  for (size_t mount = 0; mount < joint.cameras.size(); ++mount) {
+    const CalibrationResult& own = runs[joint.cameras[mount]]->check.result;
+    const Rigid3d& adjusted = mount == 0 ? joint.result.odom_from_cam
+                                         : joint.result.other_mounts[mount - 1];
+    const Eigen::Index row = static_cast<Eigen::Index>(5 * mount);
+    for (const ExtrinsicDisagreement& d : ExtrinsicDisagreements(
+             adjusted,
+             joint.result.mounts_covariance.block<5, 5>(row, row),
+             own.odom_from_cam,
+             own.covariance->topLeftCorner<5, 5>(),
+             0.0)) {
+      all.push_back({joint.cameras[mount], d});
+    }
+  }
+  return all;
+}
+
+double MaxSigmas(const std::vector<RigDisagreement>& all) {
+  double max = 0.0;
+  for (const RigDisagreement& d : all) max = std::max(max, d.quantity.Sigmas());
+  return max;
+}
+
+// The check's verdict once the adjustment has its jackknife: whether the
+// cameras' own estimates stand (the widened adjustment covers every
+// difference and is the less precise in each quantity that contradicted).
+bool OwnEstimatesStand(const std::vector<const ColmapCalibrationRun*>& runs,
+                       RigJointAdjustment* joint) {
+  const std::vector<RigDisagreement> after = MountsAgainstCameras(runs, *joint);
+  joint->max_disagreement_sigmas_jackknifed = MaxSigmas(after);
+  if (joint->max_disagreement_sigmas_jackknifed > kJointContradictionSigmas) {
+    return false;
+  }
+  for (const RigDisagreement& d : after) {
+    for (const RigDisagreement& before : joint->disagreements) {
+      if (before.camera == d.camera &&
+          before.quantity.quantity == d.quantity.quantity &&
+          !(d.quantity.joint_stddev > d.quantity.two_step_stddev)) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 int RigJointAdjustment::MountOf(int camera) const {
@@ -245,6 +297,8 @@ RigJointAdjustment AdjustRigJointly(
     const ColmapCalibrationInputs& inputs,
     const CalibrationProgress& progress) {
   RigJointAdjustment out;
+  out.use = inputs.joint_adjustment.use;
+  if (out.use == JointAdjustmentUse::kOff) return out;
   JointInput all;
   SharedPoints points;
   std::vector<int> mount_of_image;
@@ -325,6 +379,21 @@ RigJointAdjustment AdjustRigJointly(
   out.refine_intrinsics = options.refine_intrinsics;
   out.result = AdjustJointly(all.problem, options);
   if (!out.result.IsSuccess()) return out;
+  const bool check = out.use == JointAdjustmentUse::kCheck;
+  if (check) {
+    const std::vector<RigDisagreement> before = MountsAgainstCameras(runs, out);
+    out.max_disagreement_sigmas = MaxSigmas(before);
+    for (const RigDisagreement& d : before) {
+      if (d.quantity.Sigmas() > kJointContradictionSigmas) {
+        out.disagreements.push_back(d);
+      }
+    }
+    if (out.disagreements.empty()) {
+      out.jackknife.reason =
+          "a check that agreed: each camera's own estimate stands";
+      return out;
+    }
+  }
   out.jackknife = JackknifeJointExtrinsic(all.problem,
                                           options,
                                           order,
@@ -332,6 +401,7 @@ RigJointAdjustment AdjustRigJointly(
                                           &out.result);
   out.num_clock_offsets_propagated = AddClockOffsetUncertainty(
       runs, inputs, order, mount_of_image, options, std::move(all), &out);
+  out.adopted = !check || !OwnEstimatesStand(runs, &out);
   return out;
 }
 

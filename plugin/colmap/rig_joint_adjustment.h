@@ -24,18 +24,40 @@
 // camera-to-camera transform carries the uncertainty of the rig, not of two
 // independent estimates; and each camera's extrinsic adjusted with the
 // images of all.
+//
+// `--joint_adjustment check` (the default) runs it as a check of every
+// camera's own estimate, as one camera's check (joint_adjustment_stage.h):
+// without its jackknife, each mount compared with its camera's estimate per
+// roll, pitch, yaw, x and y against the sigma of their difference. Within
+// kJointContradictionSigmas everywhere, each camera's own estimate stands
+// (and the camera pairs are those of independent estimates); beyond, the
+// jackknife and the clock offsets' re-solves run and the difference is
+// measured again: where the widened adjustment covers it and is the less
+// precise in every quantity that contradicted, the cameras' own estimates
+// stand; else the adjustment is reported for every camera (adopted).
 #pragma once
 
 #include "odomcal/plugin/colmap/colmap_calibration.h"
+#include "odomcal/plugin/colmap/joint_adjustment_run.h"
 #include "odomcal/solver/joint_adjustment.h"
 #include "odomcal/solver/joint_adjustment_jackknife.h"
+#include "odomcal/solver/joint_extrinsic.h"
 
 #include <string>
 #include <vector>
 
 namespace odomcal {
 
+// One quantity of one camera on which the rig's adjustment and the
+// camera's own estimate differ (check).
+struct RigDisagreement {
+  int camera = 0;  // index among the runs
+  ExtrinsicDisagreement quantity;
+};
+
 struct RigJointAdjustment {
+  // kOn: its estimate is reported; kCheck: only where adopted (above).
+  JointAdjustmentUse use = JointAdjustmentUse::kOff;
   bool ran = false;     // the adjustment was attempted
   std::string skipped;  // why not (fewer than two calibrated cameras, ...)
   // Per mount (mount 0 first), the index of its camera among the runs.
@@ -59,8 +81,26 @@ struct RigJointAdjustment {
   std::vector<JointCamera> cameras_before;
   std::vector<int> mount_of_camera;
   bool refine_intrinsics = false;
+  // Its estimate (every mount's rotation, x and y and the cross terms) is
+  // the one reported: kOn, or a check the cameras' own estimates failed.
+  bool adopted = false;
+  // Check: the largest difference between a mount and its camera's own
+  // estimate over the difference's sigma, with the adjustment's covariance
+  // before and after its jackknife (-1: not measured), and the quantities
+  // beyond kJointContradictionSigmas before it.
+  double max_disagreement_sigmas = -1.0;
+  double max_disagreement_sigmas_jackknifed = -1.0;
+  std::vector<RigDisagreement> disagreements;
 
   bool Succeeded() const { return ran && result.IsSuccess(); }
+  bool Adopted() const { return Succeeded() && adopted; }
+  // The check's last measured disagreement: after the jackknife where it
+  // ran, else before (-1: not measured).
+  double FinalDisagreementSigmas() const {
+    return max_disagreement_sigmas_jackknifed >= 0.0
+               ? max_disagreement_sigmas_jackknifed
+               : max_disagreement_sigmas;
+  }
   // Mount of camera `camera` (index among the runs), or -1.
   int MountOf(int camera) const;
 };
@@ -70,7 +110,8 @@ struct RigJointAdjustment {
 // none; a camera takes part when its calibration succeeded with rotation, x
 // and y estimated and it has metric models, unless SE(3) odometry's tilts
 // determined its z (the adjustment holds z). `inputs`: the
-// project's (odometry noise model, joint adjustment settings and limits).
+// project's (odometry noise model, joint adjustment settings and limits;
+// inputs.joint_adjustment.use kOn or kCheck, else it does not run).
 // `progress`, when set, hears the adjustment's iterations.
 RigJointAdjustment AdjustRigJointly(
     const std::vector<const ColmapCalibrationRun*>& runs,

@@ -404,8 +404,8 @@ std::string RigReportHtml(const RigReport& rig) {
       names += (names.empty() ? "" : ", ") + EscapeMarkup(name);
     }
     html << " Then adjusted together with the odometry (the rig's joint "
-            "adjustment, <code>--joint_adjustment on</code>): "
-         << names
+            "adjustment, "
+         << EscapeMarkup(rig.joint_note) << "): " << names
          << ". Their rotation, x and y below are its; each camera's own "
             "report keeps its own calibration.";
     if (rig.num_points_across_cameras > 0) {
@@ -414,6 +414,8 @@ std::string RigReportHtml(const RigReport& rig) {
               "images: one point each, which ties those cameras together "
               "directly.";
     }
+  } else if (!rig.joint_note.empty()) {
+    html << " " << EscapeMarkup(rig.joint_note);
   }
   html << "</p>\n";
   html << "<table class=\"rig-cameras\"><tr><th>camera</th><th>status</th>"

@@ -53,6 +53,10 @@ struct RigReport {
   // Points of one COLMAP model that the adjustment's images of two or more
   // cameras see (one point each).
   int num_points_across_cameras = 0;
+  // How the adjustment came to be reported ("--joint_adjustment on", or
+  // the default check's contradiction) or, where it ran as a check that left
+  // the cameras' own estimates, what it found; empty when it did not run.
+  std::string joint_note;
   // Indices into `cameras`.
   std::vector<SharedSubModelScale> shared_scales;
 };
