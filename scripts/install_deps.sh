@@ -9,6 +9,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   colmap
   libceres-dev libeigen3-dev libopencv-dev libsqlite3-dev
+  libsuitesparse-dev  # AMD: the joint adjustment covariance's fill-reducing order
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev
   python3-dev python3-numpy pybind11-dev  # the Python module (docs/python.md)

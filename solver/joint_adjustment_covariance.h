@@ -1,8 +1,8 @@
 // The extrinsic's covariance in the joint adjustment from its sparse
 // Jacobian, without forming a dense inverse: a sparse LDL^T factor of the
-// Gauss-Newton information J^T J (approximate minimum degree ordering: the
-// points, each tied to a few images, go first, which is the Schur
-// complement on the poses) and one solve per wanted unknown.
+// Gauss-Newton information J^T J (SuiteSparse's approximate minimum degree
+// ordering: the points, each tied to a few images, go first, which is the
+// Schur complement on the poses) and one solve per wanted unknown.
 //
 // Two covariances of the leading unknowns:
 //   - the model's, (J^T J)^-1: right when every residual's noise is

@@ -307,7 +307,9 @@ TEST(JackknifeJointExtrinsic, AgreesWithTheModelWhereItsNoiseIsRight) {
     // a standard deviation within about -60 % / +150 %.
     EXPECT_GT(jackknife.ratio[k], 0.4) << "component " << k;
     EXPECT_LT(jackknife.ratio[k], 2.5) << "component " << k;
-    EXPECT_GE(result.covariance(k, k), before(k, k));
+    // Never narrowed (up to the rounding of undoing and redoing the
+    // model's widening).
+    EXPECT_GE(result.covariance(k, k), before(k, k) * (1.0 - 1e-12));
   }
 }
 

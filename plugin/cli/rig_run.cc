@@ -12,6 +12,7 @@
 #include "odomcal/plugin/report/colmap_calibration_outputs.h"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <set>
@@ -189,7 +190,17 @@ int RunRigReconstruction(
               << " of the calibrated cameras ...\n"
               << std::flush;
   }
-  AdjustColmapRigJointly(run.project, {}, &rig);
+  // A rig's adjustment of thousands of images takes minutes: where it is,
+  // every 10 s.
+  auto last_line = std::chrono::steady_clock::now();
+  AdjustColmapRigJointly(
+      run.project, [&](const std::string& message) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_line < std::chrono::seconds(10)) return;
+        last_line = now;
+        std::cout << "  " << message << "\n" << std::flush;
+      },
+      &rig);
   AdoptRigJointAdjustment(rig.joint, run.project.calibration, &as_rig);
   const std::vector<std::string> written = WriteColmapRigOutputs(
       rig, as_rig, run.workspace_path, /*write_camera_folders=*/false);
