@@ -1,7 +1,8 @@
 #include "odomcal/solver/joint_adjustment_covariance.h"
 
-#include <Eigen/SparseCholesky>
 #include <amd.h>
+
+#include <Eigen/SparseCholesky>
 
 #include <algorithm>
 #include <array>
@@ -11,7 +12,8 @@
 namespace odomcal {
 namespace {
 
-using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>;
+using Permutation =
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>;
 
 // A fill-reducing order of the unknowns of the symmetric `information` by
 // SuiteSparse's AMD: the permutation P with (P x)[k] the unknown eliminated

@@ -194,7 +194,8 @@ int RunRigReconstruction(
   // every 10 s.
   auto last_line = std::chrono::steady_clock::now();
   AdjustColmapRigJointly(
-      run.project, [&](const std::string& message) {
+      run.project,
+      [&](const std::string& message) {
         const auto now = std::chrono::steady_clock::now();
         if (now - last_line < std::chrono::seconds(10)) return;
         last_line = now;
