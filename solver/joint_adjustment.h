@@ -290,6 +290,16 @@ struct JointAdjustmentResult {
   double covariance_time_s = 0.0;
 
   bool IsSuccess() const { return status == JointAdjustmentStatus::kSuccess; }
+  // Mount `mount`'s odom_from_cam (0: odom_from_cam, k > 0:
+  // other_mounts[k - 1]) and its [rx, ry, rz, tx, ty] block of
+  // mounts_covariance.
+  const Rigid3d& MountOdomFromCam(int mount) const {
+    return mount == 0 ? odom_from_cam : other_mounts.at(mount - 1);
+  }
+  Eigen::Matrix<double, 5, 5> MountCovariance(int mount) const {
+    const Eigen::Index row = Eigen::Index{5} * mount;
+    return mounts_covariance.block<5, 5>(row, row);
+  }
 };
 
 // Throws std::invalid_argument for invalid options; invalid problems give

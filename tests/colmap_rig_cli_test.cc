@@ -551,8 +551,7 @@ TEST_F(ColmapRigCli, RigCheckReportsTheAdjustmentWhereACameraIsContradicted) {
   // The adjustment's rear camera is back near its estimate before the move.
   const int mount = joint.MountOf(1);
   ASSERT_GE(mount, 0);
-  const Rigid3d& adjusted = mount == 0 ? joint.result.odom_from_cam
-                                       : joint.result.other_mounts[mount - 1];
+  const Rigid3d& adjusted = joint.result.MountOdomFromCam(mount);
   EXPECT_LT(adjusted.rotation.angularDistance(rear_before.rotation) * kRadToDeg,
             0.1);
 

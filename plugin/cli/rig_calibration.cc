@@ -230,10 +230,9 @@ void AdoptRigJointAdjustment(const RigJointAdjustment& joint,
     for (size_t mount = 0; mount < joint.cameras.size(); ++mount) {
       RigCameraRun& camera = rig->cameras.at(joint.cameras[mount]);
       JointAdjustmentResult one;
-      one.odom_from_cam = mount == 0 ? joint.result.odom_from_cam
-                                     : joint.result.other_mounts[mount - 1];
-      const Eigen::Index row = static_cast<Eigen::Index>(5 * mount);
-      one.covariance = joint.result.mounts_covariance.block<5, 5>(row, row);
+      one.odom_from_cam =
+          joint.result.MountOdomFromCam(static_cast<int>(mount));
+      one.covariance = joint.result.MountCovariance(static_cast<int>(mount));
       CalibrationResult& result = camera.run.result;
       AdoptJointExtrinsic(one, &result);
       RefuseLooseAdoptedExtrinsic(limits, &result);

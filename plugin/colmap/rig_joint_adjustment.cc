@@ -241,15 +241,13 @@ std::vector<RigDisagreement> MountsAgainstCameras(
   std::vector<RigDisagreement> all;
   for (size_t mount = 0; mount < joint.cameras.size(); ++mount) {
     const CalibrationResult& own = runs[joint.cameras[mount]]->check.result;
-    const Rigid3d& adjusted = mount == 0 ? joint.result.odom_from_cam
-                                         : joint.result.other_mounts[mount - 1];
-    const Eigen::Index row = static_cast<Eigen::Index>(5 * mount);
-    for (const ExtrinsicDisagreement& d : ExtrinsicDisagreements(
-             adjusted,
-             joint.result.mounts_covariance.block<5, 5>(row, row),
-             own.odom_from_cam,
-             own.covariance->topLeftCorner<5, 5>(),
-             0.0)) {
+    const int m = static_cast<int>(mount);
+    for (const ExtrinsicDisagreement& d :
+         ExtrinsicDisagreements(joint.result.MountOdomFromCam(m),
+                                joint.result.MountCovariance(m),
+                                own.odom_from_cam,
+                                own.covariance->topLeftCorner<5, 5>(),
+                                0.0)) {
       all.push_back({joint.cameras[mount], d});
     }
   }
